@@ -1,0 +1,254 @@
+/* bw98.c — Baraff–Witkin stretch and shear membrane (seed 002; DESIGN.md "Energy terms").
+ *
+ * Per face, with F = Ds Dm^-1 = [wu wv] (warp and weft directions after deformation):
+ *   E = a [ k_u/2 (|wu| - b_u)^2 + k_v/2 (|wv| - b_v)^2 + k_s/2 (wu.wv)^2 ],
+ * a the rest (u,v) area (m^2), k in N/m.  wu = sum_i cu_i x_i and wv = sum_i cv_i x_i are linear
+ * in the corners, so with psi(wu, wv) the density, dE/dx_i = a (cu_i dpsi/dwu + cv_i dpsi/dwv)
+ * and the Hessian block (i,j) = a (cu_i cu_j Puu + cu_i cv_j Puv + cv_i cu_j Pvu + cv_i cv_j Pvv)
+ * where P = d2psi/d(wu,wv)^2 is a 2d x 2d matrix.  That map is a congruence, so a positive
+ * semi-definite P gives a PSD block: the projection is done on P, one condition at a time
+ * (each replaced by its nearest PSD matrix, in closed form), and the sum of PSD parts is PSD. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "terms.h"
+#include "util.h"
+
+typedef struct bw98_param {
+  double k_u, k_v, k_s;   /* N/m */
+  double b_u, b_v;        /* rest stretch, 1 */
+  double *cu, *cv;        /* (nf x 3) corner coefficients of wu and wv, 1/m */
+} bw98_param;
+
+static void bw98_free(void *p) {
+  bw98_param *bp = p;
+  if (!bp) return;
+  sw_free(bp->cu);
+  sw_free(bp->cv);
+  sw_free(bp);
+}
+
+/* k/2 (|w| - b)^2: energy, gradient g (d) and Hessian H (d x d, leading dimension ld). */
+static double stretch(const double *w, int d, double k, double b, int project, double *g,
+                      double *H, int ld) {
+  double l = 0.0;
+  for (int a = 0; a < d; a++) l += w[a] * w[a];
+  l = sqrt(l);
+  double n[3] = {1.0, 0.0, 0.0};
+  if (l > 0.0)
+    for (int a = 0; a < d; a++) n[a] = w[a] / l;
+  for (int a = 0; a < d; a++) g[a] = k * (l - b) * n[a];
+  if (H) {
+    /* H = k n n^T + k (1 - b/|w|) (I - n n^T); the second coefficient is negative in compression. */
+    double perp = l > 0.0 ? k * (1.0 - b / l) : 0.0;
+    if (project && perp < 0.0) perp = 0.0;
+    for (int a = 0; a < d; a++)
+      for (int c = 0; c < d; c++)
+        H[a * ld + c] = k * n[a] * n[c] + perp * ((a == c) - n[a] * n[c]);
+  }
+  return 0.5 * k * (l - b) * (l - b);
+}
+
+/* A unit vector along v, or any unit vector when v is (nearly) zero; returns |v|. */
+static double unit(const double *v, int d, double *n) {
+  double l = 0.0;
+  for (int a = 0; a < d; a++) l += v[a] * v[a];
+  l = sqrt(l);
+  for (int a = 0; a < d; a++) n[a] = l > 0.0 ? v[a] / l : (a == 0);
+  return l;
+}
+
+/* Add c * [x; sx*x][y; sy*y]^T / 2-style rank terms: P += c * [u1; u2][w1; w2]^T. */
+static void add_outer(double *P, int ld, int d, double c, const double *u1, const double *u2,
+                      const double *w1, const double *w2) {
+  for (int a = 0; a < d; a++)
+    for (int b = 0; b < d; b++) {
+      P[a * ld + b] += c * u1[a] * w1[b];
+      P[a * ld + d + b] += c * u1[a] * w2[b];
+      P[(d + a) * ld + b] += c * u2[a] * w1[b];
+      P[(d + a) * ld + d + b] += c * u2[a] * w2[b];
+    }
+}
+
+/* Nearest PSD matrix of the shear Hessian k (g g^T + s J), g = [wv; wu], J = [[0,I],[I,0]].
+ * With p = (wu+wv)/2, q = (wv-wu)/2: g = sqrt2|p| e1 + sqrt2|q| e2, e1 = [p^;p^]/sqrt2 (J e1 = e1),
+ * e2 = [q^;-q^]/sqrt2 (J e2 = -e2).  On span(e1,e2) the matrix is the 2x2
+ * [[2|p|^2 + s, 2|p||q|], [2|p||q|, 2|q|^2 - s]]; on the rest of J's +1 space it is s, on the
+ * rest of its -1 space -s.  Each eigenvalue is clamped at zero. */
+static void shear_projected(const double *wu, const double *wv, int d, double k, double *P, int ld) {
+  double p[3], q[3], ph[3], qh[3];
+  for (int a = 0; a < d; a++) {
+    p[a] = 0.5 * (wu[a] + wv[a]);
+    q[a] = 0.5 * (wv[a] - wu[a]);
+  }
+  double lp = unit(p, d, ph), lq = unit(q, d, qh);
+  double s = 0.0;
+  for (int a = 0; a < d; a++) s += wu[a] * wv[a];
+  /* 2x2 block: eigen-decomposition in closed form. */
+  double A = 2 * lp * lp + s, B = 2 * lq * lq - s, C = 2 * lp * lq;
+  double mean = 0.5 * (A + B), r = sqrt(0.25 * (A - B) * (A - B) + C * C);
+  double lam[2] = {mean + r, mean - r};
+  double v1[2];
+  if (r > 0.0) {
+    double x1 = C, y1 = lam[0] - A, x2 = lam[0] - B, y2 = C;
+    if (x1 * x1 + y1 * y1 >= x2 * x2 + y2 * y2) { v1[0] = x1; v1[1] = y1; }
+    else { v1[0] = x2; v1[1] = y2; }
+    double n = sqrt(v1[0] * v1[0] + v1[1] * v1[1]);
+    v1[0] /= n;
+    v1[1] /= n;
+  } else {
+    v1[0] = 1.0;
+    v1[1] = 0.0;
+  }
+  double vec[2][2] = {{v1[0], v1[1]}, {-v1[1], v1[0]}};
+  const double h = sqrt(0.5);
+  for (int e = 0; e < 2; e++) {
+    if (lam[e] <= 0.0) continue;
+    /* z = c1 e1 + c2 e2 = h [c1 p^ + c2 q^; c1 p^ - c2 q^] */
+    double z1[3], z2[3];
+    for (int a = 0; a < d; a++) {
+      z1[a] = h * (vec[e][0] * ph[a] + vec[e][1] * qh[a]);
+      z2[a] = h * (vec[e][0] * ph[a] - vec[e][1] * qh[a]);
+    }
+    add_outer(P, ld, d, k * lam[e], z1, z2, z1, z2);
+  }
+  /* J's +1 space orthogonal to e1: (1/2)[[Pp, Pp],[Pp, Pp]], Pp = I - p^p^T, eigenvalue s;
+   * J's -1 space orthogonal to e2: (1/2)[[Pq, -Pq],[-Pq, Pq]], eigenvalue -s. */
+  double cplus = k * SW_MAX(s, 0.0), cminus = k * SW_MAX(-s, 0.0);
+  for (int a = 0; a < d; a++)
+    for (int b = 0; b < d; b++) {
+      double pp = ((a == b) - ph[a] * ph[b]) * 0.5 * cplus;
+      double pq = ((a == b) - qh[a] * qh[b]) * 0.5 * cminus;
+      P[a * ld + b] += pp + pq;
+      P[a * ld + d + b] += pp - pq;
+      P[(d + a) * ld + b] += pp - pq;
+      P[(d + a) * ld + d + b] += pp + pq;
+    }
+}
+
+/* Exact shear Hessian k [[wv wv^T, wv wu^T + s I], [wu wv^T + s I, wu wu^T]]. */
+static void shear_exact(const double *wu, const double *wv, int d, double k, double *P, int ld) {
+  double s = 0.0;
+  for (int a = 0; a < d; a++) s += wu[a] * wv[a];
+  add_outer(P, ld, d, k, wv, wu, wv, wu);
+  for (int a = 0; a < d; a++) {
+    P[a * ld + d + a] += k * s;
+    P[(d + a) * ld + a] += k * s;
+  }
+}
+
+/* psi and its derivatives for one face: gu, gv (d) and P (2d x 2d) when asked. */
+static double density(const bw98_param *bp, const double *wu, const double *wv, int d,
+                      int project, double *gu, double *gv, double *P) {
+  const int ld = 2 * d;
+  double Hu[9], Hv[9], s = 0.0;
+  double e = stretch(wu, d, bp->k_u, bp->b_u, project, gu, P ? Hu : NULL, d);
+  e += stretch(wv, d, bp->k_v, bp->b_v, project, gv, P ? Hv : NULL, d);
+  for (int a = 0; a < d; a++) s += wu[a] * wv[a];
+  e += 0.5 * bp->k_s * s * s;
+  for (int a = 0; a < d; a++) {
+    gu[a] += bp->k_s * s * wv[a];
+    gv[a] += bp->k_s * s * wu[a];
+  }
+  if (P) {
+    memset(P, 0, sizeof(double) * (size_t)(ld * ld));
+    for (int a = 0; a < d; a++)
+      for (int b = 0; b < d; b++) {
+        P[a * ld + b] = Hu[a * d + b];
+        P[(d + a) * ld + d + b] = Hv[a * d + b];
+      }
+    if (project) shear_projected(wu, wv, d, bp->k_s, P, ld);
+    else shear_exact(wu, wv, d, bp->k_s, P, ld);
+  }
+  return e;
+}
+
+/* Hessian block of a face from P: (3d x 3d), row-major, vertex-major. */
+static void face_block(const double *cu, const double *cv, double area, const double *P, int d,
+                       double *blk) {
+  const int ld = 2 * d, n = 3 * d;
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++) {
+      double uu = area * cu[i] * cu[j], uv = area * cu[i] * cv[j];
+      double vu = area * cv[i] * cu[j], vv = area * cv[i] * cv[j];
+      for (int a = 0; a < d; a++)
+        for (int b = 0; b < d; b++)
+          blk[(i * d + a) * n + j * d + b] +=
+              uu * P[a * ld + b] + uv * P[a * ld + d + b] + vu * P[(d + a) * ld + b] +
+              vv * P[(d + a) * ld + d + b];
+    }
+}
+
+static int bw98_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, double *energy) {
+  const bw98_param *bp = t->param;
+  const int d = m->dim;
+  double total = 0.0;
+  for (int f = 0; f < m->nf; f++) {
+    const int *c = m->face + 3 * f;
+    const double *cu = bp->cu + 3 * f, *cv = bp->cv + 3 * f;
+    double wu[3] = {0}, wv[3] = {0}, gu[3], gv[3], P[36];
+    for (int i = 0; i < 3; i++)
+      for (int a = 0; a < d; a++) {
+        wu[a] += cu[i] * ev->x[c[i] * d + a];
+        wv[a] += cv[i] * ev->x[c[i] * d + a];
+      }
+    double area = m->area[f];
+    total += area * density(bp, wu, wv, d, ev->project, gu, gv, ev->hess ? P : NULL);
+    if (ev->grad)
+      for (int i = 0; i < 3; i++)
+        for (int a = 0; a < d; a++)
+          ev->grad[c[i] * d + a] += area * (cu[i] * gu[a] + cv[i] * gv[a]);
+    if (ev->hess) face_block(cu, cv, area, P, d, ev->hess + t->hptr[f]);
+  }
+  *energy = total;
+  return isfinite(total) ? SW_OK : SW_RECOVER;
+}
+
+static const sw_term_ops bw98_ops = {.kind = "bw98", .eval = bw98_eval, .free_param = bw98_free};
+
+void sw_face_coeffs(const sw_model *m, int f, double cu[3], double cv[3]) {
+  /* wu = (x1-x0) Dinv00 + (x2-x0) Dinv10, wv = (x1-x0) Dinv01 + (x2-x0) Dinv11 (seed 000). */
+  const double *di = m->dminv + 4 * f;
+  cu[0] = -(di[0] + di[2]);
+  cu[1] = di[0];
+  cu[2] = di[2];
+  cv[0] = -(di[1] + di[3]);
+  cv[1] = di[1];
+  cv[2] = di[3];
+}
+
+void sw_face_F(const sw_model *m, int f, const double *x, double *wu, double *wv) {
+  double cu[3], cv[3];
+  sw_face_coeffs(m, f, cu, cv);
+  const int d = m->dim, *c = m->face + 3 * f;
+  for (int a = 0; a < d; a++) {
+    wu[a] = wv[a] = 0.0;
+    for (int i = 0; i < 3; i++) {
+      wu[a] += cu[i] * x[c[i] * d + a];
+      wv[a] += cv[i] * x[c[i] * d + a];
+    }
+  }
+}
+
+int sw_bw98_build(sw_term *t, const sw_model *m, char *err, size_t errsz) {
+  bw98_param *bp = sw_calloc(1, sizeof *bp);
+  t->ops = &bw98_ops;
+  t->param = bp;
+  snprintf(t->name, sizeof t->name, "%s", "bw98");
+  if (!bp) return sw_errf(err, errsz, "out of memory"), -1;
+  bp->k_u = m->mat.k_u;
+  bp->k_v = m->mat.k_v;
+  bp->k_s = m->mat.k_shear;
+  bp->b_u = m->mat.b_u;
+  bp->b_v = m->mat.b_v;
+  bp->cu = sw_calloc((size_t)m->nf, 3 * sizeof(double));
+  bp->cv = sw_calloc((size_t)m->nf, 3 * sizeof(double));
+  if (!bp->cu || !bp->cv || sw_term_alloc_stencils(t, m->nf, 3, m->dim))
+    return sw_errf(err, errsz, "out of memory"), -1;
+  for (int f = 0; f < m->nf; f++) {
+    sw_face_coeffs(m, f, bp->cu + 3 * f, bp->cv + 3 * f);
+    for (int i = 0; i < 3; i++) t->sidx[3 * f + i] = m->face[3 * f + i];
+  }
+  return 0;
+}

@@ -1,0 +1,28 @@
+/* gravity.c — uniform gravity on the lumped masses: E = -sum_i m_i g.x_i (J).
+ * Linear in x: no Hessian, so it declares no stencils. */
+#include <stdio.h>
+
+#include "terms.h"
+
+static int gravity_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, double *energy) {
+  (void)t;
+  const int d = m->dim;
+  double e = 0.0;
+  for (int i = 0; i < m->nv; i++)
+    for (int a = 0; a < d; a++) {
+      e -= m->mass[i] * m->gravity[a] * ev->x[i * d + a];
+      if (ev->grad) ev->grad[i * d + a] -= m->mass[i] * m->gravity[a];
+    }
+  *energy = e;
+  return SW_OK;
+}
+
+static const sw_term_ops gravity_ops = {.kind = "gravity", .eval = gravity_eval};
+
+int sw_gravity_build(sw_term *t, const sw_model *m, char *err, size_t errsz) {
+  (void)err;
+  (void)errsz;
+  t->ops = &gravity_ops;
+  snprintf(t->name, sizeof t->name, "%s", "gravity");
+  return sw_term_alloc_stencils(t, 0, 1, m->dim);
+}

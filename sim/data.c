@@ -1,0 +1,93 @@
+/* data.c — the mutable state of a run (sw_data) and the evaluation of all terms. */
+#include <math.h>
+#include <string.h>
+
+#include "terms.h"
+#include "util.h"
+
+sw_data *sw_data_new(const sw_model *m) {
+  sw_data *d = sw_calloc(1, sizeof *d);
+  if (!d) return NULL;
+  size_t nd = (size_t)m->nv * (size_t)m->dim, nf = (size_t)m->nf;
+  d->hoff = sw_calloc((size_t)m->nterm + 1, sizeof(long));
+  if (!d->hoff) return sw_data_free(d), NULL;
+  for (int k = 0; k < m->nterm; k++) d->hoff[k + 1] = d->hoff[k] + m->term[k].hptr[m->term[k].nstencil];
+  d->x = sw_calloc(nd, sizeof(double));
+  d->v = sw_calloc(nd, sizeof(double));
+  d->grad = sw_calloc(nd, sizeof(double));
+  d->hess = sw_calloc((size_t)d->hoff[m->nterm], sizeof(double));
+  d->term_energy = sw_calloc((size_t)m->nterm, sizeof(double));
+  d->txy = sw_calloc(nf, sizeof(double));
+  d->stretch_u = sw_calloc(nf, sizeof(double));
+  d->stretch_v = sw_calloc(nf, sizeof(double));
+  d->shear = sw_calloc(nf, sizeof(double));
+  d->rlu = sw_calloc(nf, sizeof(double));
+  d->rlv = sw_calloc(nf, sizeof(double));
+  d->scratch = sw_calloc(nf, sizeof(double));
+  if (!d->x || !d->v || !d->grad || !d->hess || !d->term_energy || !d->txy || !d->stretch_u ||
+      !d->stretch_v || !d->shear || !d->rlu || !d->rlv || !d->scratch)
+    return sw_data_free(d), NULL;
+  memcpy(d->x, m->x0, nd * sizeof(double));
+  memcpy(d->v, m->v0, nd * sizeof(double));
+  for (int i = 0; i < m->nv; i++)
+    if (m->pinned[i]) memset(d->v + (size_t)i * m->dim, 0, (size_t)m->dim * sizeof(double));
+  d->last_dt = 0.0;
+  sw_tension_xy_reference(m, d);
+  return d;
+}
+
+void sw_data_free(sw_data *d) {
+  if (!d) return;
+  sw_free(d->x);
+  sw_free(d->v);
+  sw_free(d->grad);
+  sw_free(d->hess);
+  sw_free(d->hoff);
+  sw_free(d->term_energy);
+  sw_free(d->txy);
+  sw_free(d->stretch_u);
+  sw_free(d->stretch_v);
+  sw_free(d->shear);
+  sw_free(d->rlu);
+  sw_free(d->rlv);
+  sw_free(d->scratch);
+  sw_free(d);
+}
+
+int sw_eval_terms(const sw_model *m, sw_data *d, const double *x, double t, int want_grad,
+                  int want_hess, int project, double *energy) {
+  size_t nd = (size_t)m->nv * (size_t)m->dim;
+  if (want_grad) memset(d->grad, 0, nd * sizeof(double));
+  if (want_hess) memset(d->hess, 0, (size_t)d->hoff[m->nterm] * sizeof(double));
+  double total = 0.0;
+  for (int k = 0; k < m->nterm; k++) {
+    sw_eval ev = {.t = t, .x = x, .grad = want_grad ? d->grad : NULL,
+                  .hess = want_hess ? d->hess + d->hoff[k] : NULL, .project = project};
+    double e = 0.0;
+    int rc = m->term[k].ops->eval(&m->term[k], m, &ev, &e);
+    if (rc) {
+      sw_errf(d->err, sizeof d->err, "term %s failed at t = %g s", m->term[k].name, t);
+      return rc;
+    }
+    if (!isfinite(e)) {
+      sw_errf(d->err, sizeof d->err, "term %s: energy is not finite at t = %g s", m->term[k].name, t);
+      return SW_RECOVER;
+    }
+    d->term_energy[k] = e;
+    total += e;
+  }
+  if (want_grad) d->nforce++;
+  if (want_hess) d->nassemble++;
+  *energy = total;
+  return SW_OK;
+}
+
+double sw_kinetic(const sw_model *m, const double *v) {
+  double k = 0.0;
+  for (int i = 0; i < m->nv; i++) {
+    double s = 0.0;
+    for (int a = 0; a < m->dim; a++) s += v[i * m->dim + a] * v[i * m->dim + a];
+    k += 0.5 * m->mass[i] * s; /* J */
+  }
+  return k;
+}

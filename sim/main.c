@@ -1,0 +1,124 @@
+/* main.c — the sinew command line, a thin client of libsinew's public API (sinew.h). */
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "sinew.h"
+
+static void usage(FILE *fp) {
+  fprintf(fp,
+          "usage: sinew run SCENE [--out DIR] [--method M] [--dt DT] [--duration T] [--quiet]\n"
+          "       sinew check SCENE\n"
+          "       sinew --help | --version\n"
+          "\n"
+          "  run     simulate SCENE (YAML) headless and write its logs and frames to the output\n"
+          "          folder (the scene's output.dir, or DIR): tension.csv, energy.csv,\n"
+          "          summary.json, frames/*.vtu and frames.pvd\n"
+          "  check   validate SCENE and print the model it describes\n"
+          "\n"
+          "  --out DIR       output folder (overrides output.dir)\n"
+          "  --method M      integrator (overrides integrator.method); one of:\n");
+  for (const char *const *n = sw_method_names(); *n; n++) fprintf(fp, "                    %s\n", *n);
+  fprintf(fp,
+          "  --dt DT         time step in s (overrides integrator.dt)\n"
+          "  --duration T    simulated time in s (overrides duration)\n"
+          "  --quiet         no progress line\n");
+}
+
+static int parse_positive(const char *opt, const char *s, int allow_zero, double *out) {
+  char *end;
+  errno = 0;
+  double v = strtod(s, &end);
+  if (errno || end == s || *end || !isfinite(v) || v < 0 || (!allow_zero && v == 0)) {
+    fprintf(stderr, "sinew: %s expects a %s number of seconds, got '%s'\n", opt,
+            allow_zero ? "non-negative" : "positive", s);
+    return -1;
+  }
+  *out = v;
+  return 0;
+}
+
+static int known_method(const char *name) {
+  for (const char *const *n = sw_method_names(); *n; n++)
+    if (!strcmp(*n, name)) return 1;
+  return 0;
+}
+
+typedef struct cli {
+  const char *scene, *out, *method;
+  double dt, duration;
+  int quiet;
+} cli;
+
+static int parse_run_args(int argc, char **argv, cli *c) {
+  for (int i = 2; i < argc; i++) {
+    const char *a = argv[i];
+    int has_val = i + 1 < argc;
+    if (!strcmp(a, "--quiet")) c->quiet = 1;
+    else if (!strcmp(a, "--out") && has_val) c->out = argv[++i];
+    else if (!strcmp(a, "--method") && has_val) c->method = argv[++i];
+    else if (!strcmp(a, "--dt") && has_val) {
+      if (parse_positive(a, argv[++i], 0, &c->dt)) return -1;
+    } else if (!strcmp(a, "--duration") && has_val) {
+      if (parse_positive(a, argv[++i], 1, &c->duration)) return -1;
+    } else if (a[0] == '-' && a[1]) {
+      fprintf(stderr, "sinew: unknown option or missing value: %s (see sinew --help)\n", a);
+      return -1;
+    } else if (!c->scene) c->scene = a;
+    else return fprintf(stderr, "sinew: more than one scene given: %s\n", a), -1;
+  }
+  if (!c->scene) return fprintf(stderr, "sinew: no scene file given (see sinew --help)\n"), -1;
+  if (c->method && !known_method(c->method)) {
+    fprintf(stderr, "sinew: unknown method '%s' (see sinew --help)\n", c->method);
+    return -1;
+  }
+  return 0;
+}
+
+static int cmd_run(int argc, char **argv) {
+  cli c = {.dt = -1, .duration = -1};
+  if (parse_run_args(argc, argv, &c)) return 2;
+  char err[SW_ERRSZ];
+  sw_model *m = sw_scene_load(c.scene, err, sizeof err);
+  if (!m) return fprintf(stderr, "sinew: %s\n", err), 1;
+  if (c.out) snprintf(m->opt.out_dir, sizeof m->opt.out_dir, "%s", c.out);
+  if (c.method) snprintf(m->opt.method, sizeof m->opt.method, "%s", c.method);
+  if (c.dt > 0) m->opt.dt = c.dt;
+  if (c.duration >= 0) m->opt.duration = c.duration;
+  if (!c.quiet)
+    fprintf(stderr, "sinew: %s: %d vertices, %d free DOFs, %s, dt = %g s, to t = %g s\n",
+            m->name, m->nv, m->ndof, m->opt.method, m->opt.dt, m->opt.duration);
+  int rc = sw_run(m, !c.quiet, err, sizeof err);
+  if (rc) fprintf(stderr, "sinew: run failed: %s\n", err);
+  fprintf(stderr, "sinew: results in %s/ (summary.json, tension.csv, energy.csv, frames.pvd)\n",
+          m->opt.out_dir);
+  sw_model_free(m);
+  return rc ? 1 : 0;
+}
+
+static int cmd_check(int argc, char **argv) {
+  if (argc != 3) return usage(stderr), 2;
+  char err[SW_ERRSZ];
+  sw_model *m = sw_scene_load(argv[2], err, sizeof err);
+  if (!m) return fprintf(stderr, "sinew: %s\n", err), 1;
+  sw_model_print(m, stdout);
+  sw_model_free(m);
+  return 0;
+}
+
+int main(int argc, char **argv) {
+  if (argc < 2) return usage(stderr), 2;
+  const char *cmd = argv[1];
+  if (!strcmp(cmd, "--help") || !strcmp(cmd, "-h") || !strcmp(cmd, "help")) return usage(stdout), 0;
+  if (!strcmp(cmd, "--version")) return printf("sinew %s\n", SW_VERSION), 0;
+  if (!strcmp(cmd, "run")) {
+    for (int i = 2; i < argc; i++)
+      if (!strcmp(argv[i], "--help")) return usage(stdout), 0;
+    return cmd_run(argc, argv);
+  }
+  if (!strcmp(cmd, "check")) return cmd_check(argc, argv);
+  fprintf(stderr, "sinew: unknown command '%s' (see sinew --help)\n", cmd);
+  return 2;
+}

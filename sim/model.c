@@ -1,0 +1,168 @@
+/* model.c — the immutable model: rest shapes, lumped masses, the DOF map and the terms. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "terms.h"
+#include "util.h"
+
+sw_model *sw_model_new(void) {
+  sw_model *m = sw_calloc(1, sizeof *m);
+  if (!m) return NULL;
+  m->dim = 3;
+  sw_options *o = &m->opt;
+  snprintf(o->method, sizeof o->method, "%s", "backward-euler");
+  o->dt = 0.01;
+  o->duration = 1.0;
+  o->newton_max = 50;
+  o->newton_tol = 1e-6;
+  o->max_halvings = 8;
+  o->frames_every = 0.0;
+  o->tx_clip = 5e4;
+  o->tx_reference_uv = 0;
+  o->tx_k_u = o->tx_k_v = -1.0;
+  m->mat.b_u = m->mat.b_v = 1.0;
+  return m;
+}
+
+void sw_model_free(sw_model *m) {
+  if (!m) return;
+  for (int k = 0; k < m->nterm; k++) sw_term_free(&m->term[k]);
+  sw_free(m->term);
+  sw_free(m->x0);
+  sw_free(m->v0);
+  sw_free(m->face);
+  sw_free(m->uv);
+  sw_free(m->dminv);
+  sw_free(m->area);
+  sw_free(m->mass);
+  sw_free(m->pinned);
+  sw_free(m->dof);
+  sw_free(m);
+}
+
+static int check_faces(const sw_model *m, char *err, size_t errsz) {
+  for (int f = 0; f < m->nf; f++) {
+    const int *c = m->face + 3 * f;
+    for (int i = 0; i < 3; i++)
+      if (c[i] < 0 || c[i] >= m->nv) {
+        sw_errf(err, errsz, "face %d: vertex %d outside the mesh (0..%d)", f, c[i], m->nv - 1);
+        return -1;
+      }
+    if (c[0] == c[1] || c[1] == c[2] || c[0] == c[2]) {
+      sw_errf(err, errsz, "face %d repeats a vertex (%d %d %d)", f, c[0], c[1], c[2]);
+      return -1;
+    }
+  }
+  return 0;
+}
+
+/* Dm = [uv1-uv0, uv2-uv0] (seed 000/001), its inverse and the rest area |det Dm|/2. */
+static int rest_shapes(sw_model *m, int need_area, char *err, size_t errsz) {
+  for (int f = 0; f < m->nf; f++) {
+    const double *uv = m->uv + 6 * f;
+    double a = uv[2] - uv[0], b = uv[4] - uv[0]; /* first row of Dm: du1, du2 */
+    double c = uv[3] - uv[1], e = uv[5] - uv[1]; /* second row: dv1, dv2 */
+    double det = a * e - b * c;
+    double scale = fabs(a * e) + fabs(b * c);
+    if (!(fabs(det) > 1e-12 * scale) || !isfinite(det)) {
+      if (need_area) {
+        sw_errf(err, errsz, "face %d has zero rest area in its (u,v) layout", f);
+        return -1;
+      }
+      memset(m->dminv + 4 * f, 0, 4 * sizeof(double));
+      m->area[f] = 0.0;
+      continue;
+    }
+    double *di = m->dminv + 4 * f;
+    di[0] = e / det;
+    di[1] = -b / det;
+    di[2] = -c / det;
+    di[3] = a / det;
+    m->area[f] = 0.5 * fabs(det);
+  }
+  return 0;
+}
+
+/* Lumped mass: each triangle gives a third of density * area to each corner (DESIGN.md). */
+static void lumped_mass(sw_model *m) {
+  m->total_mass = 0.0;
+  for (int f = 0; f < m->nf; f++) {
+    double share = m->mat.density * m->area[f] / 3.0; /* kg */
+    for (int i = 0; i < 3; i++) m->mass[m->face[3 * f + i]] += share;
+    m->total_mass += 3.0 * share;
+  }
+}
+
+static int dof_map(sw_model *m, char *err, size_t errsz) {
+  int n = 0;
+  for (int i = 0; i < m->nv; i++) {
+    if (!m->pinned[i] && !(m->mass[i] > 0.0)) {
+      sw_errf(err, errsz, "vertex %d is free but has no mass (it is in no face with area)", i);
+      return -1;
+    }
+    for (int a = 0; a < m->dim; a++) m->dof[i * m->dim + a] = m->pinned[i] ? -1 : n++;
+  }
+  m->ndof = n;
+  return 0;
+}
+
+static int build_terms(sw_model *m, char *err, size_t errsz) {
+  m->term = sw_calloc(4, sizeof *m->term);
+  if (!m->term) return sw_errf(err, errsz, "out of memory"), -1;
+  if (m->mat.membrane == SW_MEMBRANE_BW98) {
+    if (sw_bw98_build(&m->term[m->nterm], m, err, errsz)) return -1;
+    m->nterm++;
+  }
+  if (m->has_gravity) {
+    if (sw_gravity_build(&m->term[m->nterm], m, err, errsz)) return -1;
+    m->nterm++;
+  }
+  return 0;
+}
+
+int sw_model_finish(sw_model *m, char *err, size_t errsz) {
+  if (m->dim != 2 && m->dim != 3) return sw_errf(err, errsz, "dimension must be 2 or 3"), -1;
+  if (m->nv <= 0) return sw_errf(err, errsz, "the model has no vertices"), -1;
+  if (!m->x0 || !m->v0 || !m->pinned || (m->nf > 0 && (!m->face || !m->uv)))
+    return sw_errf(err, errsz, "model arrays missing"), -1;
+  if (check_faces(m, err, errsz)) return -1;
+  size_t nd = (size_t)m->nv * (size_t)m->dim;
+  m->dminv = sw_calloc((size_t)m->nf, 4 * sizeof(double));
+  m->area = sw_calloc((size_t)m->nf, sizeof(double));
+  m->mass = sw_calloc((size_t)m->nv, sizeof(double));
+  m->dof = sw_calloc(nd, sizeof(int));
+  if (!m->dminv || !m->area || !m->mass || !m->dof)
+    return sw_errf(err, errsz, "out of memory"), -1;
+  int need_area = m->mat.membrane != SW_MEMBRANE_NONE || m->mat.density > 0.0;
+  if (rest_shapes(m, need_area, err, errsz)) return -1;
+  lumped_mass(m);
+  if (dof_map(m, err, errsz)) return -1;
+  if (m->mat.membrane == SW_MEMBRANE_BW98) {
+    if (m->opt.tx_k_u < 0) m->opt.tx_k_u = m->mat.k_u;
+    if (m->opt.tx_k_v < 0) m->opt.tx_k_v = m->mat.k_v;
+  }
+  return build_terms(m, err, errsz);
+}
+
+void sw_model_print(const sw_model *m, void *file) {
+  FILE *fp = file;
+  int npin = 0;
+  for (int i = 0; i < m->nv; i++) npin += m->pinned[i];
+  double area = 0.0;
+  for (int f = 0; f < m->nf; f++) area += m->area[f];
+  fprintf(fp, "scene       %s (%s)\n", m->name, m->path);
+  fprintf(fp, "dimension   %d\n", m->dim);
+  fprintf(fp, "vertices    %d (%d pinned)\n", m->nv, npin);
+  fprintf(fp, "faces       %d\n", m->nf);
+  fprintf(fp, "rest area   %.6g m^2\n", area);
+  fprintf(fp, "mass        %.6g kg\n", m->total_mass);
+  fprintf(fp, "free DOFs   %d\n", m->ndof);
+  fprintf(fp, "terms      ");
+  for (int k = 0; k < m->nterm; k++) fprintf(fp, " %s", m->term[k].name);
+  fprintf(fp, "%s\n", m->nterm ? "" : " (none)");
+  fprintf(fp, "system nnz  %ld (lower triangle, free DOFs)\n", sw_system_nnz(m));
+  fprintf(fp, "integrator  %s, dt = %g s, duration = %g s\n", m->opt.method, m->opt.dt,
+          m->opt.duration);
+  fprintf(fp, "output      %s\n", m->opt.out_dir);
+}

@@ -1,0 +1,28 @@
+/* output.h — the writers of a run's folder (DESIGN.md "Outputs").
+ *
+ * While a run is going, the CSV logs are written as NAME.csv.part, a whole line at a time and
+ * flushed after every step; sw_output_close renames them to NAME.csv.  summary.json is written
+ * through a temporary file and rename, first with status "running", finally "ok" or "failed".
+ * So a killed run leaves *.part files and a summary saying "running": nothing looks complete
+ * that is not.  Frames are written to a temporary name and renamed when complete. */
+#ifndef SW_OUTPUT_H
+#define SW_OUTPUT_H
+
+#include "sinew.h"
+
+typedef struct sw_output sw_output;
+
+/* Create m->opt.out_dir (and frames/), open the logs and write their headers. */
+sw_output *sw_output_open(const sw_model *m, char *err, size_t errsz);
+/* One line of tension.csv and energy.csv for the state after an accepted step. */
+int sw_output_step(sw_output *o, const sw_model *m, const sw_data *d, char *err, size_t errsz);
+/* frames/frame_NNNNNN.vtu of the current state, and its entry in frames.pvd. */
+int sw_output_frame(sw_output *o, const sw_model *m, const sw_data *d, char *err, size_t errsz);
+/* Write summary.json with status ("running", "ok", "failed") and a message. */
+int sw_output_summary(sw_output *o, const sw_model *m, const sw_data *d, const char *status,
+                      const char *message, double wall, char *err, size_t errsz);
+/* Flush and rename the logs, write the final summary, free.  status "ok" or "failed". */
+int sw_output_close(sw_output *o, const sw_model *m, const sw_data *d, const char *status,
+                    const char *message, double wall, char *err, size_t errsz);
+
+#endif

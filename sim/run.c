@@ -1,0 +1,134 @@
+/* run.c — the run loop: state -> integrator step -> diagnostics -> logs (DESIGN.md data flow).
+ * A failed step is retried with half the step up to opt.max_halvings times; a run that cannot
+ * go on stops with a message naming the time, the method and the reason, keeps its logs, writes
+ * the last good state as a frame and a summary.json with status "failed". */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "output.h"
+#include "solver.h"
+#include "util.h"
+
+typedef struct run_ctx {
+  const sw_model *m;
+  sw_data *d;
+  sw_output *out;
+  double next_frame;   /* s */
+  double wall0, last_progress;
+  int progress;
+} run_ctx;
+
+/* Diagnostics of the current state, one log line, and a frame when one is due. */
+static int record(run_ctx *r, int force_frame, char *err, size_t errsz) {
+  const sw_model *m = r->m;
+  sw_data *d = r->d;
+  double u;
+  int rc = sw_eval_terms(m, d, d->x, d->t, 0, 0, 0, &u);
+  if (rc) return sw_errf(err, errsz, "%s", d->err), rc;
+  sw_tension_xy(m, d);
+  if (sw_output_step(r->out, m, d, err, errsz)) return SW_FATAL;
+  double fe = m->opt.frames_every;
+  int due = fe > 0.0 && d->t >= r->next_frame - 1e-9 * fmax(fe, 1.0);
+  if (due || force_frame) {
+    if (sw_output_frame(r->out, m, d, err, errsz)) return SW_FATAL;
+    if (fe > 0.0)
+      while (r->next_frame <= d->t + 1e-9 * fmax(fe, 1.0)) r->next_frame += fe;
+  }
+  return SW_OK;
+}
+
+static void show_progress(run_ctx *r, int final) {
+  if (!r->progress) return;
+  double now = sw_now();
+  if (!final && now - r->last_progress < 0.25) return;
+  r->last_progress = now;
+  const sw_data *d = r->d;
+  fprintf(stderr, "\r  t = %9.4f / %g s  steps %ld  newton %ld  factorizations %ld  %6.1f s%s",
+          d->t, r->m->opt.duration, d->nstep, d->nnewton, d->nfactor, now - r->wall0,
+          final ? "\n" : "");
+  fflush(stderr);
+}
+
+/* One step of size dt, halving it on recoverable failures.  Returns the last error code. */
+static int step_with_retries(const sw_integrator_ops *ops, void *st, run_ctx *r, double dt,
+                             char *err, size_t errsz) {
+  const sw_model *m = r->m;
+  sw_data *d = r->d;
+  double h = dt, end = d->t + dt;
+  int k = 0, rc = SW_OK;
+  for (; k <= m->opt.max_halvings; k++, h *= 0.5) {
+    double t0 = sw_now();
+    rc = ops->step(st, m, d, fmin(h, end - d->t));
+    d->time_step += sw_now() - t0;
+    /* After a success with a reduced step, finish [t, t + dt] with it, logging each one. */
+    while (rc == SW_OK && d->t < end - 1e-12 * dt) {
+      if (record(r, 0, err, errsz)) return SW_FATAL;
+      t0 = sw_now();
+      rc = ops->step(st, m, d, fmin(h, end - d->t));
+      d->time_step += sw_now() - t0;
+    }
+    if (rc == SW_OK) return SW_OK;
+    if (rc < 0) break;
+    d->nretry++;
+  }
+  sw_errf(err, errsz, "t = %.9g s: %s: %s (step %g s, halved %d times)", d->t, m->opt.method,
+          d->err, dt, SW_MIN(k, m->opt.max_halvings));
+  return SW_FATAL;
+}
+
+static int integrate(run_ctx *r, char *err, size_t errsz) {
+  const sw_model *m = r->m;
+  sw_data *d = r->d;
+  const sw_integrator_ops *ops = sw_integrator_find(m->opt.method);
+  if (!ops) return sw_errf(err, errsz, "unknown method '%s'", m->opt.method), SW_FATAL;
+  void *st = NULL;
+  int rc = ops->init(&st, m, d, err, errsz);
+  if (rc) return rc;
+  const double T = m->opt.duration, dt = m->opt.dt;
+  while (rc == SW_OK && d->t < T - 1e-12 * dt) {
+    rc = step_with_retries(ops, st, r, fmin(dt, T - d->t), err, errsz);
+    if (rc == SW_OK) rc = record(r, d->t >= T - 1e-12 * dt, err, errsz);
+    show_progress(r, 0);
+  }
+  ops->free(st);
+  return rc;
+}
+
+static int static_run(run_ctx *r, char *err, size_t errsz) {
+  double reaction[3];
+  int rc = sw_static_solve(r->m, r->d, reaction, err, errsz);
+  if (rc) return rc;
+  r->d->nstep = 1;
+  if (r->progress)
+    fprintf(stderr, "static equilibrium: pin reactions sum to (%.9g, %.9g, %.9g) N\n",
+            reaction[0], reaction[1], reaction[2]);
+  return record(r, 1, err, errsz);
+}
+
+int sw_run(const sw_model *m, int progress, char *err, size_t errsz) {
+  run_ctx r = {.m = m, .wall0 = sw_now(), .progress = progress && isatty(2)};
+  r.d = sw_data_new(m);
+  if (!r.d) return sw_errf(err, errsz, "out of memory allocating the state"), SW_FATAL;
+  r.out = sw_output_open(m, err, errsz);
+  if (!r.out) return sw_data_free(r.d), SW_FATAL;
+  r.next_frame = m->opt.frames_every;
+  int is_static = !strcmp(m->opt.method, "static");
+  int rc = is_static ? SW_OK : record(&r, 1, err, errsz);
+  if (rc == SW_OK) rc = is_static ? static_run(&r, err, errsz) : integrate(&r, err, errsz);
+  show_progress(&r, 1);
+  char msg[SW_ERRSZ];
+  snprintf(msg, sizeof msg, "%s", rc ? err : "");
+  if (rc) {
+    char ferr[SW_ERRSZ]; /* the last good state, as a frame */
+    sw_tension_xy(m, r.d);
+    sw_output_frame(r.out, m, r.d, ferr, sizeof ferr);
+  }
+  char cerr[SW_ERRSZ];
+  int crc = sw_output_close(r.out, m, r.d, rc ? "failed" : "ok", msg, sw_now() - r.wall0, cerr,
+                            sizeof cerr);
+  if (!rc && crc) sw_errf(err, errsz, "%s", cerr), rc = SW_FATAL;
+  sw_data_free(r.d);
+  return rc;
+}

@@ -1,0 +1,208 @@
+/* sinew.h — the one public header of libsinew, an implicit cloth-plus-tendon simulator.
+ *
+ * Data flows one way (DESIGN.md): scene file -> sw_model (immutable after load) -> sw_data
+ * (t, x, v, workspaces, counters) -> integrator step -> terms -> sparse system -> CHOLMOD ->
+ * new state -> diagnostics -> logs.  Every numeric callback returns SW_OK (0), a positive
+ * code (recoverable: the caller may retry with a smaller step) or a negative code (fatal).
+ * Units are SI throughout: m, s, kg, N.  Arrays are flat and their shape is given as (rows x cols).
+ */
+#ifndef SINEW_H
+#define SINEW_H
+
+#include <stddef.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#if defined(SINEW_BUILD) && defined(__GNUC__)
+#define SW_API __attribute__((visibility("default")))
+#else
+#define SW_API
+#endif
+
+#define SW_VERSION "0.1.0"
+#define SW_ERRSZ 1024 /* size of every caller-owned error buffer */
+#define SW_NAMESZ 64
+#define SW_PATHSZ 4096
+
+enum { SW_OK = 0, SW_RECOVER = 1, SW_FATAL = -1 };
+
+typedef struct sw_model sw_model;
+typedef struct sw_data sw_data;
+typedef struct sw_term sw_term;
+
+/* ------------------------------------------------------------------ mesh */
+
+/* A triangle mesh as read from an OBJ file or generated: positions and (u,v) are indexed
+ * separately per face corner, so a seam vertex has one position and one (u,v) per panel. */
+typedef struct sw_mesh {
+  int nv;                      /* number of positions */
+  int nuv;                     /* number of texture coordinates (0: the mesh has no vt) */
+  int nf;                      /* number of triangles (polygons are fan-triangulated) */
+  double *x;                   /* (nv x 3) positions, m */
+  double *uv;                  /* (nuv x 2) texture coordinates (rest layout, m after scaling) */
+  int *f;                      /* (nf x 3) position index of each corner, 0-based */
+  int *fuv;                    /* (nf x 3) uv index of each corner, or NULL when nuv == 0 */
+  int *fgroup;                 /* (nf) index into group[] (usemtl or g name; 0 = default) */
+  int ngroup;                  /* number of groups, >= 1 */
+  char (*group)[SW_NAMESZ];    /* (ngroup) group names; group[0] is "default" */
+} sw_mesh;
+
+SW_API void sw_mesh_free(sw_mesh *mesh);
+/* Read an OBJ file.  On error returns nonzero and writes "file:line:column: what was expected". */
+SW_API int sw_obj_read(const char *path, sw_mesh *mesh, char *err, size_t errsz);
+/* A regular grid of size[0] x size[1] metres with nx x ny vertices in plane "xy", "xz" or "yz";
+ * (u,v) is the grid's own planar layout in metres.  Vertex (i, j) has index j*nx + i. */
+SW_API int sw_mesh_grid(sw_mesh *mesh, const double size[2], int nx, int ny, const char *plane,
+                        char *err, size_t errsz);
+
+/* ----------------------------------------------------------------- terms */
+
+/* What a term is asked to evaluate.  grad and hess are accumulated into (+=), not overwritten. */
+typedef struct sw_eval {
+  double t;                    /* time, s */
+  const double *x;             /* (nv x dim) positions, m (pinned ones included) */
+  double *grad;                /* (nv x dim) += dE/dx, N; or NULL */
+  double *hess;                /* += d2E/dx2 per stencil block (see sw_term.hptr), N/m; or NULL */
+  int project;                 /* nonzero: each block is replaced by a positive semi-definite one */
+} sw_eval;
+
+/* The table of operations of one energy term (models/). */
+typedef struct sw_term_ops {
+  const char *kind;            /* "bw98", "gravity", ... */
+  /* energy (J) into *energy; gradient and Hessian blocks as asked by ev. */
+  int (*eval)(const sw_term *term, const sw_model *m, const sw_eval *ev, double *energy);
+  void (*free_param)(void *param);
+} sw_term_ops;
+
+/* One energy term: its operations, its Hessian stencils (declared once), its parameters.
+ * Stencil s covers vertices sidx[sptr[s] .. sptr[s+1]-1]; its dense Hessian block of
+ * (n*dim) x (n*dim) doubles (row-major, vertex-major then component) starts at hess + hptr[s]. */
+struct sw_term {
+  const sw_term_ops *ops;
+  char name[SW_NAMESZ];
+  int nstencil;
+  int *sptr;                   /* (nstencil + 1) */
+  int *sidx;                   /* (sptr[nstencil]) vertex indices */
+  long *hptr;                  /* (nstencil + 1) offsets of the blocks, in doubles */
+  void *param;                 /* the term's own immutable data */
+};
+
+/* ----------------------------------------------------------------- model */
+
+enum { SW_MEMBRANE_NONE = 0, SW_MEMBRANE_BW98 = 1 };
+
+typedef struct sw_material {
+  double density;              /* kg/m^2 of rest (u,v) area */
+  int membrane;                /* SW_MEMBRANE_* */
+  double k_u, k_v, k_shear;    /* bw98 warp, weft and shear stiffness, N/m */
+  double b_u, b_v;             /* bw98 rest stretch of warp and weft (1 = no pre-stretch) */
+} sw_material;
+
+/* Newton's system matrix: the PSD-projected Hessian (always positive definite with a mass
+ * term; linear convergence where the cloth is compressed), the exact one (quadratic
+ * convergence; fails where S is indefinite), or exact with a fall-back to projected for an
+ * iteration whose S is not positive definite. */
+enum { SW_HESSIAN_PROJECTED = 0, SW_HESSIAN_EXACT = 1, SW_HESSIAN_AUTO = 2 };
+
+typedef struct sw_options {
+  char method[SW_NAMESZ];      /* integrator name, see sw_method_names() */
+  double dt;                   /* step, s */
+  double duration;             /* simulated time, s */
+  int newton_max;              /* Newton iterations per step before the step fails */
+  double newton_tol;           /* Newton converges when max |dx| <= newton_tol * dt (m/s);
+                                  static solve: when max |grad| <= newton_tol (N) */
+  int max_halvings;            /* a failed step is retried with dt/2 at most this many times */
+  int hessian;                 /* SW_HESSIAN_*: which Hessian Newton's systems use */
+  char out_dir[SW_PATHSZ];     /* output folder */
+  double frames_every;         /* s between VTU frames (0: first and last only) */
+  double tx_clip;              /* tension XY stiffness clip, N/m (seed 000: 5e4) */
+  int tx_reference_uv;         /* 1: rlu = rlv = 1 (uv layout); 0: the initial configuration */
+  double tx_k_u, tx_k_v;       /* stiffness used by tension XY, N/m (defaults: the membrane's) */
+} sw_options;
+
+struct sw_model {
+  char name[128];              /* scene name */
+  char path[SW_PATHSZ];        /* scene file */
+  int dim;                     /* 2 or 3: DOFs per vertex */
+  int nv, nf;                  /* vertices, triangles */
+  double *x0;                  /* (nv x dim) initial positions, m */
+  double *v0;                  /* (nv x dim) initial velocities, m/s */
+  int *face;                   /* (nf x 3) vertex indices */
+  double *uv;                  /* (nf x 6) rest (u,v) of each corner, m */
+  double *dminv;               /* (nf x 4) Dm^-1 row-major, Dm = [uv1-uv0, uv2-uv0], 1/m */
+  double *area;                /* (nf) rest area |det Dm|/2, m^2 */
+  double *mass;                /* (nv) lumped mass, kg */
+  double total_mass;           /* kg */
+  unsigned char *pinned;       /* (nv) 1 if the vertex is pinned */
+  int *dof;                    /* (nv x dim) free DOF index, or -1 for a pinned component */
+  int ndof;                    /* free DOFs */
+  double gravity[3];           /* m/s^2 */
+  int has_gravity;
+  sw_material mat;
+  int nterm;
+  sw_term *term;               /* (nterm) energy terms, only those the scene names */
+  sw_options opt;
+};
+
+/* Allocate an empty model with default options. */
+SW_API sw_model *sw_model_new(void);
+/* After a loader filled dim, nv, nf, x0, v0, face, uv, pinned, gravity, mat and opt: compute
+ * rest shapes, lumped masses, the DOF map and build the terms.  Nonzero on error. */
+SW_API int sw_model_finish(sw_model *m, char *err, size_t errsz);
+SW_API void sw_model_free(sw_model *m);
+/* Load and validate a scene file (YAML).  NULL on error, with "file:line:column: message". */
+SW_API sw_model *sw_scene_load(const char *path, char *err, size_t errsz);
+/* Nonzeros of the lower triangle of the system matrix on the free DOFs (-1 on error). */
+SW_API long sw_system_nnz(const sw_model *m);
+/* Print what `sinew check` shows. */
+SW_API void sw_model_print(const sw_model *m, void *file /* FILE* */);
+
+/* ------------------------------------------------------------------ data */
+
+struct sw_data {
+  double t;                    /* s */
+  double *x, *v;               /* (nv x dim) positions m, velocities m/s */
+  double *grad;                /* (nv x dim) gradient workspace */
+  double *hess;                /* Hessian blocks of every term; term k starts at hoff[k] */
+  long *hoff;                  /* (nterm + 1) */
+  double *term_energy;         /* (nterm) J, at the last evaluation */
+  /* diagnostics (after every accepted step) */
+  double *txy;                 /* (nf) tension XY, N/m */
+  double *stretch_u, *stretch_v; /* (nf) warp and weft stretch |wu|, |wv| */
+  double *shear;               /* (nf) shear angle between wu and wv, rad (0 = orthogonal) */
+  double *rlu, *rlv;           /* (nf) reference stretch of tension XY */
+  double *scratch;             /* (nf) for percentiles */
+  /* counters (cumulative over the run) */
+  long nstep, nnewton, nfactor, nassemble, nforce, nretry, nlinesearch;
+  int last_newton;             /* Newton iterations of the last step */
+  double last_dt;              /* size of the last accepted step, s */
+  double time_assemble, time_factor, time_solve, time_step; /* s of wall time */
+  char err[SW_ERRSZ];          /* why the last failing call failed */
+};
+
+SW_API sw_data *sw_data_new(const sw_model *m);
+SW_API void sw_data_free(sw_data *d);
+/* Evaluate every term at d->x, time d->t: d->term_energy, and (when asked) d->grad, d->hess. */
+SW_API int sw_eval_terms(const sw_model *m, sw_data *d, const double *x, double t, int want_grad,
+                         int want_hess, int project, double *energy);
+SW_API double sw_kinetic(const sw_model *m, const double *v);
+/* Tension XY of seed 000 and the strain diagnostics of every face at d->x. */
+SW_API void sw_tension_xy(const sw_model *m, sw_data *d);
+
+/* ------------------------------------------------------------------- run */
+
+SW_API const char *const *sw_method_names(void);
+/* Simulate the model and write the output folder.  0 on success; nonzero with err on failure
+ * (the logs are flushed up to the failure and summary.json says "failed"). */
+SW_API int sw_run(const sw_model *m, int progress, char *err, size_t errsz);
+/* Static equilibrium from x0: minimise the total potential.  Fills x (nv x dim) and the sum of
+ * the pin reactions (3, N).  0 on success. */
+SW_API int sw_static_solve(const sw_model *m, sw_data *d, double reaction[3], char *err,
+                           size_t errsz);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,24 @@
+/* util.h — small shared helpers: allocation (one hook for the whole library), errors, clocks. */
+#ifndef SW_UTIL_H
+#define SW_UTIL_H
+
+#include <stddef.h>
+
+/* Every allocation of the library goes through these two, so that tests can make the k-th one
+ * fail.  sw_calloc returns zeroed memory, or NULL (n == 0 gives a valid unique pointer). */
+void *sw_calloc(size_t n, size_t size);
+void *sw_realloc(void *p, size_t n, size_t size);
+void sw_free(void *p);
+/* Make allocation number k (counted from now, 1-based) and all later ones fail; 0 disables. */
+void sw_alloc_fail_after(long k);
+
+/* snprintf into a caller-owned error buffer (never overflows; NULL buffer is ignored). */
+void sw_errf(char *err, size_t errsz, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+
+double sw_now(void); /* monotonic wall clock, s */
+
+#define SW_MIN(a, b) ((a) < (b) ? (a) : (b))
+#define SW_MAX(a, b) ((a) > (b) ? (a) : (b))
+
+#endif

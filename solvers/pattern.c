@@ -1,0 +1,172 @@
+/* pattern.c — the fixed sparsity pattern of S = c^2 M + c D + H on the free DOFs.
+ * Built once per run from the terms' stencils: vertex adjacency -> lower-triangle CSC with
+ * sorted rows -> for every entry of every term's Hessian blocks, the slot it adds into. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "solver.h"
+#include "util.h"
+
+static int cmp_long(const void *a, const void *b) {
+  long x = *(const long *)a, y = *(const long *)b;
+  return (x > y) - (x < y);
+}
+
+/* Sorted, unique vertex neighbours (self included) of every vertex: CSR in (*ptr, *adj). */
+static int vertex_graph(const sw_model *m, long **ptr_out, int **adj_out) {
+  long npair = m->nv; /* self pairs */
+  for (int k = 0; k < m->nterm; k++) {
+    const sw_term *t = &m->term[k];
+    for (int s = 0; s < t->nstencil; s++) {
+      long len = t->sptr[s + 1] - t->sptr[s];
+      npair += len * (len - 1);
+    }
+  }
+  long *key = sw_calloc((size_t)npair, sizeof(long));
+  long *ptr = sw_calloc((size_t)m->nv + 1, sizeof(long));
+  if (!key || !ptr) return sw_free(key), sw_free(ptr), -1;
+  long np = 0;
+  for (int i = 0; i < m->nv; i++) key[np++] = (long)i * m->nv + i;
+  for (int k = 0; k < m->nterm; k++) {
+    const sw_term *t = &m->term[k];
+    for (int s = 0; s < t->nstencil; s++)
+      for (int i = t->sptr[s]; i < t->sptr[s + 1]; i++)
+        for (int j = t->sptr[s]; j < t->sptr[s + 1]; j++)
+          if (i != j) key[np++] = (long)t->sidx[i] * m->nv + t->sidx[j];
+  }
+  qsort(key, (size_t)np, sizeof(long), cmp_long);
+  long nu = 0;
+  for (long q = 0; q < np; q++)
+    if (nu == 0 || key[q] != key[nu - 1]) key[nu++] = key[q];
+  int *adj = sw_calloc((size_t)nu, sizeof(int));
+  if (!adj) return sw_free(key), sw_free(ptr), -1;
+  for (long q = 0; q < nu; q++) {
+    ptr[key[q] / m->nv + 1]++;
+    adj[q] = (int)(key[q] % m->nv);
+  }
+  for (int i = 0; i < m->nv; i++) ptr[i + 1] += ptr[i];
+  sw_free(key);
+  *ptr_out = ptr;
+  *adj_out = adj;
+  return 0;
+}
+
+/* Lower-triangle CSC: column c (vertex b, component beta) holds rows r >= c of the free
+ * components of b's neighbours.  DOFs are numbered vertex-major, so rows come out sorted. */
+static int build_csc(sw_pattern *p, const sw_model *m, const long *vptr, const int *adj) {
+  const int d = m->dim;
+  p->colptr = sw_calloc((size_t)p->n + 1, sizeof(long));
+  p->diag = sw_calloc((size_t)p->n, sizeof(long));
+  if (!p->colptr || !p->diag) return -1;
+  for (int pass = 0; pass < 2; pass++) {
+    long nz = 0;
+    for (int b = 0; b < m->nv; b++)
+      for (int be = 0; be < d; be++) {
+        int c = m->dof[b * d + be];
+        if (c < 0) continue;
+        if (pass == 0) p->colptr[c] = nz;
+        for (long q = vptr[b]; q < vptr[b + 1]; q++)
+          for (int al = 0; al < d; al++) {
+            int r = m->dof[adj[q] * d + al];
+            if (r < c) continue;
+            if (pass == 1) {
+              if (r == c) p->diag[c] = nz;
+              p->rowind[nz] = r;
+            }
+            nz++;
+          }
+      }
+    if (pass == 0) {
+      p->colptr[p->n] = p->nnz = nz;
+      p->rowind = sw_calloc((size_t)nz, sizeof(long));
+      if (!p->rowind) return -1;
+    }
+  }
+  return 0;
+}
+
+static long find_slot(const sw_pattern *p, int r, int c) {
+  long lo = p->colptr[c], hi = p->colptr[c + 1] - 1;
+  while (lo <= hi) {
+    long mid = (lo + hi) / 2;
+    if (p->rowind[mid] == r) return mid;
+    if (p->rowind[mid] < r) lo = mid + 1;
+    else hi = mid - 1;
+  }
+  return -1;
+}
+
+static int build_maps(sw_pattern *p, const sw_model *m) {
+  const int d = m->dim;
+  p->map = sw_calloc((size_t)m->nterm + 1, sizeof(int *));
+  if (!p->map) return -1;
+  for (int k = 0; k < m->nterm; k++) {
+    const sw_term *t = &m->term[k];
+    p->map[k] = sw_calloc((size_t)t->hptr[t->nstencil], sizeof(int));
+    if (!p->map[k]) return -1;
+    for (int s = 0; s < t->nstencil; s++) {
+      int len = t->sptr[s + 1] - t->sptr[s], w = len * d;
+      const int *v = t->sidx + t->sptr[s];
+      int *mp = p->map[k] + t->hptr[s];
+      for (int i = 0; i < w; i++)
+        for (int j = 0; j < w; j++) {
+          int r = m->dof[v[i / d] * d + i % d], c = m->dof[v[j / d] * d + j % d];
+          mp[i * w + j] = (r < 0 || c < 0 || r < c) ? -1 : (int)find_slot(p, r, c);
+        }
+    }
+  }
+  return 0;
+}
+
+int sw_pattern_build(sw_pattern *p, const sw_model *m, char *err, size_t errsz) {
+  memset(p, 0, sizeof *p);
+  p->n = m->ndof;
+  long *vptr = NULL;
+  int *adj = NULL;
+  if (vertex_graph(m, &vptr, &adj) || build_csc(p, m, vptr, adj) || p->nnz > 2147483647L ||
+      build_maps(p, m)) {
+    sw_free(vptr);
+    sw_free(adj);
+    sw_pattern_free(p, m->nterm);
+    sw_errf(err, errsz, "cannot build the sparsity pattern (out of memory or too large)");
+    return SW_FATAL;
+  }
+  sw_free(vptr);
+  sw_free(adj);
+  return SW_OK;
+}
+
+void sw_pattern_free(sw_pattern *p, int nterm) {
+  if (p->map)
+    for (int k = 0; k < nterm; k++) sw_free(p->map[k]);
+  sw_free(p->map);
+  sw_free(p->colptr);
+  sw_free(p->rowind);
+  sw_free(p->diag);
+  memset(p, 0, sizeof *p);
+}
+
+void sw_pattern_fill(const sw_pattern *p, const sw_model *m, const sw_data *d, double mass_coef,
+                     double *values) {
+  memset(values, 0, (size_t)p->nnz * sizeof(double));
+  for (int k = 0; k < m->nterm; k++) {
+    const int *mp = p->map[k];
+    const double *h = d->hess + d->hoff[k];
+    long len = d->hoff[k + 1] - d->hoff[k];
+    for (long q = 0; q < len; q++)
+      if (mp[q] >= 0) values[mp[q]] += h[q];
+  }
+  for (int i = 0; i < m->nv; i++)
+    for (int a = 0; a < m->dim; a++) {
+      int c = m->dof[i * m->dim + a];
+      if (c >= 0) values[p->diag[c]] += mass_coef * m->mass[i];
+    }
+}
+
+long sw_system_nnz(const sw_model *m) {
+  sw_pattern p;
+  if (sw_pattern_build(&p, m, NULL, 0)) return -1;
+  long nnz = p.nnz;
+  sw_pattern_free(&p, m->nterm);
+  return nnz;
+}

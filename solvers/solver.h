@@ -1,0 +1,98 @@
+/* solver.h — the shared linear-algebra path of every implicit method (DESIGN.md "Integrators"):
+ * a fixed lower-triangle CSC pattern on the free DOFs built once from the terms' stencils,
+ * CHOLMOD analysed once and refactorised per Newton iteration, Newton's method on an
+ * incremental potential, and the table of operations every integrator fills. */
+#ifndef SW_SOLVER_H
+#define SW_SOLVER_H
+
+#include <suitesparse/cholmod.h>
+
+#include "sinew.h"
+
+/* ---------------------------------------------------------------- pattern.c */
+typedef struct sw_pattern {
+  int n;                 /* free DOFs */
+  long nnz;              /* stored entries (lower triangle) */
+  long *colptr;          /* (n + 1) */
+  long *rowind;          /* (nnz), sorted within each column */
+  long *diag;            /* (n) slot of each diagonal entry */
+  int **map;             /* (nterm) for term k: the slot of each Hessian block entry, or -1 */
+} sw_pattern;
+
+int sw_pattern_build(sw_pattern *p, const sw_model *m, char *err, size_t errsz);
+void sw_pattern_free(sw_pattern *p, int nterm);
+/* values = mass_coef * M + (sum of the terms' blocks in d->hess), on the pattern. */
+void sw_pattern_fill(const sw_pattern *p, const sw_model *m, const sw_data *d, double mass_coef,
+                     double *values);
+
+/* ---------------------------------------------------------------- cholmod.c */
+typedef struct sw_chol {
+  cholmod_common c;
+  int started;
+  cholmod_sparse *A;     /* symmetric, lower triangle stored (stype -1) */
+  cholmod_factor *L;
+  cholmod_dense *b, *x, *Y, *E; /* persistent solve workspaces */
+} sw_chol;
+
+int sw_chol_init(sw_chol *ch, const sw_pattern *p, char *err, size_t errsz);
+double *sw_chol_values(sw_chol *ch);
+/* Numeric factorisation of the current values: SW_OK, SW_RECOVER (not positive definite). */
+int sw_chol_factor(sw_chol *ch, char *err, size_t errsz);
+/* sol = A^-1 rhs (n doubles each; may alias). */
+int sw_chol_solve(sw_chol *ch, const double *rhs, double *sol, char *err, size_t errsz);
+void sw_chol_free(sw_chol *ch);
+
+/* ----------------------------------------------------------------- newton.c */
+/* Minimise Phi(x) = a/2 (x - xhat)^T M (x - xhat) + U(x, t) over the free DOFs (pinned
+ * components of x stay as given).  a = 1/h^2 for backward Euler (the incremental potential). */
+typedef struct sw_newton {
+  sw_pattern pat;
+  sw_chol chol;
+  int n;
+  double *g, *dx;        /* (n) gradient and step on the free DOFs */
+  double *xtry;          /* (nv x dim) line-search trial */
+  int nterm;
+} sw_newton;
+
+typedef struct sw_newton_opts {
+  double a;              /* mass coefficient, 1/s^2 */
+  double t;              /* time at which U is evaluated, s */
+  int max_iter;
+  double tol_dx;         /* converged when max |dx| <= tol_dx (m) */
+  int line_search;       /* backtracking on Phi; 0: take full steps */
+  int must_converge;     /* 0: stop after max_iter without failing (one-step variants) */
+  int hessian;           /* SW_HESSIAN_* */
+} sw_newton_opts;
+
+int sw_newton_init(sw_newton *nw, const sw_model *m, char *err, size_t errsz);
+void sw_newton_free(sw_newton *nw);
+/* x: initial guess in, minimiser out.  SW_OK, SW_RECOVER (d->err says why), or SW_FATAL. */
+int sw_newton_solve(sw_newton *nw, const sw_model *m, sw_data *d, double *x, const double *xhat,
+                    const sw_newton_opts *o);
+/* Phi at x; its free gradient into nw->g when want_grad; the terms' (projected) Hessian
+ * blocks into d->hess when want_hess. */
+int sw_newton_phi(sw_newton *nw, const sw_model *m, sw_data *d, const double *x,
+                  const double *xhat, double a, double t, int want_grad, int want_hess,
+                  int project, double *phi);
+
+/* Backtracking (Armijo) along nw->dx from x, slope = grad Phi . dx < 0; on success x holds the
+ * accepted point.  Each halving counts in d->nlinesearch. */
+int sw_newton_line_search(sw_newton *nw, const sw_model *m, sw_data *d, double *x,
+                          const double *xhat, const sw_newton_opts *o, double phi0, double slope);
+
+/* ------------------------------------------------------------ integrators.c */
+typedef struct sw_integrator_ops {
+  const char *name;
+  const char *summary;   /* one line for --help */
+  int (*init)(void **state, const sw_model *m, sw_data *d, char *err, size_t errsz);
+  /* Advance d->t, d->x, d->v by dt.  On a nonzero return the state is unchanged and d->err
+   * says why (positive: a smaller step may succeed). */
+  int (*step)(void *state, const sw_model *m, sw_data *d, double dt);
+  void (*free)(void *state);
+} sw_integrator_ops;
+
+extern const sw_integrator_ops sw_backward_euler_ops;
+extern const sw_integrator_ops sw_baraff_witkin_ops;
+const sw_integrator_ops *sw_integrator_find(const char *name);
+
+#endif

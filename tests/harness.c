@@ -1,0 +1,68 @@
+/* harness.c — see harness.h. */
+#include "harness.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+double th_rand(unsigned long *s) {
+  *s = *s * 6364136223846793005UL + 1442695040888963407UL;
+  return (double)(*s >> 11) / (double)(1UL << 52) - 1.0;
+}
+
+sw_model *th_grid_model(int dim, int nx, int ny, double sx, double sy, double rho, double kuv,
+                        double kshear, const double *g, int pin_top) {
+  sw_mesh mesh;
+  char err[SW_ERRSZ];
+  double size[2] = {sx, sy};
+  if (sw_mesh_grid(&mesh, size, nx, ny, "xy", err, sizeof err)) return NULL;
+  sw_model *m = sw_model_new();
+  m->dim = dim;
+  m->nv = mesh.nv;
+  m->nf = mesh.nf;
+  m->x0 = calloc((size_t)m->nv * dim, sizeof(double));
+  m->v0 = calloc((size_t)m->nv * dim, sizeof(double));
+  m->pinned = calloc((size_t)m->nv, 1);
+  m->face = calloc((size_t)m->nf * 3, sizeof(int));
+  m->uv = calloc((size_t)m->nf * 6, sizeof(double));
+  for (int i = 0; i < m->nv; i++)
+    for (int a = 0; a < dim; a++) m->x0[i * dim + a] = mesh.x[i * 3 + a];
+  for (int f = 0; f < m->nf; f++)
+    for (int c = 0; c < 3; c++) {
+      m->face[3 * f + c] = mesh.f[3 * f + c];
+      m->uv[6 * f + 2 * c] = mesh.uv[2 * mesh.fuv[3 * f + c]];
+      m->uv[6 * f + 2 * c + 1] = mesh.uv[2 * mesh.fuv[3 * f + c] + 1];
+    }
+  sw_mesh_free(&mesh);
+  m->mat.density = rho;
+  if (kuv > 0) {
+    m->mat.membrane = SW_MEMBRANE_BW98;
+    m->mat.k_u = kuv;
+    m->mat.k_v = 0.7 * kuv; /* warp and weft differ */
+    m->mat.k_shear = kshear;
+  }
+  if (g) {
+    m->has_gravity = 1;
+    for (int a = 0; a < dim; a++) m->gravity[a] = g[a];
+  }
+  if (pin_top)
+    for (int i = 0; i < nx; i++) m->pinned[(ny - 1) * nx + i] = 1;
+  if (sw_model_finish(m, err, sizeof err)) {
+    sw_model_free(m);
+    return NULL;
+  }
+  return m;
+}
+
+void th_dense_hessian(const sw_model *m, int k, const double *blocks, double *H) {
+  const int d = m->dim, n = m->nv * d;
+  const sw_term *t = &m->term[k];
+  memset(H, 0, sizeof(double) * (size_t)n * n);
+  for (int s = 0; s < t->nstencil; s++) {
+    int len = t->sptr[s + 1] - t->sptr[s], w = len * d;
+    const int *v = t->sidx + t->sptr[s];
+    const double *b = blocks + t->hptr[s];
+    for (int i = 0; i < w; i++)
+      for (int j = 0; j < w; j++)
+        H[(long)(v[i / d] * d + i % d) * n + v[j / d] * d + j % d] += b[i * w + j];
+  }
+}

@@ -1,0 +1,17 @@
+/* harness.h — helpers shared by the C tests: small models built in code, random states. */
+#ifndef SW_TEST_HARNESS_H
+#define SW_TEST_HARNESS_H
+
+#include "sinew.h"
+
+/* A deterministic uniform random number in [-1, 1). */
+double th_rand(unsigned long *state);
+/* A model on an nx x ny grid of size sx x sy (m) in the plane xy, in dimension dim: bw98 with
+ * k_u = kuv, k_v = 0.7 kuv, k_shear (N/m) when kuv > 0; gravity g (m/s^2, dim components) when
+ * g is not NULL; density rho (kg/m^2); the top row (y = sy) pinned when pin_top. */
+sw_model *th_grid_model(int dim, int nx, int ny, double sx, double sy, double rho, double kuv,
+                        double kshear, const double *g, int pin_top);
+/* The dense (nv*dim)^2 Hessian of term k from its blocks (all DOFs, pinned included). */
+void th_dense_hessian(const sw_model *m, int k, const double *blocks, double *H);
+
+#endif

@@ -1,0 +1,396 @@
+/* test_scene.c — the scene loader: a good scene fills the model as written, every bad scene is
+ * refused with "file:line:column:" and a word that says what is wrong.
+ *
+ * Usage: test_scene [SRCDIR]
+ * The scenes are written to a fresh folder made with mkdtemp under $TMPDIR (or /tmp) and
+ * removed at the end.  With SRCDIR (the source tree), scenes/hanging_cloth.yaml is loaded too. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "scene.h"
+#include "sinew.h"
+#include "util.h"
+
+static char tmpdir[1024];
+static const char *srcdir;
+static char written[64][1100];  /* files to remove at the end */
+static int nwritten;
+
+/* Write text to tmpdir/name; the full path into path. */
+static void write_file(const char *name, const char *text, char *path, size_t sz) {
+  snprintf(path, sz, "%s/%s", tmpdir, name);
+  FILE *f = fopen(path, "wb");
+  assert_non_null(f);
+  fputs(text, f);
+  fclose(f);
+  for (int i = 0; i < nwritten; i++)
+    if (!strcmp(written[i], path)) return;
+  if (nwritten < 64) snprintf(written[nwritten++], sizeof written[0], "%s", path);
+}
+
+static sw_model *load_text(const char *name, const char *text, char *err) {
+  char path[1100];
+  write_file(name, text, path, sizeof path);
+  return sw_scene_load(path, err, SW_ERRSZ);
+}
+
+static int count_pinned(const sw_model *m) {
+  int n = 0;
+  for (int i = 0; i < m->nv; i++) n += m->pinned[i];
+  return n;
+}
+
+/* ------------------------------------------------------------------ good scenes */
+
+static const char good_scene[] =
+    "name: test cloth\n"
+    "dimension: 3\n"
+    "mesh:\n"
+    "  grid: {size: [1.0, 2.0], vertices: [5, 9], plane: xy}\n"
+    "material:\n"
+    "  density: 0.2\n"
+    "  membrane: {model: bw98, k_u: 1000, k_v: 2000, k_shear: 50, b_v: 1.1}\n"
+    "gravity: [0, 0, -9.81]\n"
+    "pins:\n"
+    "  - {select: {vertices: [0, 4]}}\n"
+    "  - {select: {box: [[-0.01, 1.99, -1], [0.01, 2.01, 1]]}}   # vertex (0, 2 m) = 40\n"
+    "initial_velocity:\n"
+    "  - {velocity: [0, 0, 1.0]}\n"
+    "  - {velocity: [1, 0, 0], select: {vertices: [44]}}\n"
+    "integrator: {method: backward-euler, dt: 0.005, max_halvings: 4,\n"
+    "             newton: {max_iterations: 20, tol: 1e-8}}\n"
+    "duration: 3\n"
+    "output: {dir: out/here, frames_every: 0.1}\n"
+    "tension_xy: {clip: 1e4, reference: uv, k_v: 300}\n";
+
+static void test_good_scene(void **state) {
+  (void)state;
+  char err[SW_ERRSZ];
+  sw_model *m = load_text("good.yaml", good_scene, err);
+  if (!m) fail_msg("%s", err);
+  assert_string_equal(m->name, "test cloth");
+  assert_non_null(strstr(m->path, "good.yaml"));
+  assert_int_equal(m->dim, 3);
+  assert_int_equal(m->nv, 45);
+  assert_int_equal(m->nf, 2 * 4 * 8);
+  assert_int_equal(count_pinned(m), 3);
+  assert_true(m->pinned[0] && m->pinned[4] && m->pinned[40]);
+  assert_true(m->has_gravity);
+  assert_float_equal(m->gravity[2], -9.81, 1e-12);
+  assert_float_equal(m->gravity[0], 0.0, 0.0);
+  /* vertex 44 = (i 4, j 8) at (1, 2, 0) m */
+  assert_float_equal(m->x0[3 * 44 + 0], 1.0, 1e-12);
+  assert_float_equal(m->x0[3 * 44 + 1], 2.0, 1e-12);
+  assert_float_equal(m->x0[3 * 44 + 2], 0.0, 0.0);
+  assert_float_equal(m->v0[3 * 44 + 0], 1.0, 0.0);
+  assert_float_equal(m->v0[3 * 44 + 2], 0.0, 0.0);
+  assert_float_equal(m->v0[3 * 7 + 2], 1.0, 0.0);
+  assert_int_equal(m->mat.membrane, SW_MEMBRANE_BW98);
+  assert_float_equal(m->mat.density, 0.2, 1e-15);
+  assert_float_equal(m->mat.k_u, 1000, 0.0);
+  assert_float_equal(m->mat.k_v, 2000, 0.0);
+  assert_float_equal(m->mat.k_shear, 50, 0.0);
+  assert_float_equal(m->mat.b_u, 1.0, 0.0);
+  assert_float_equal(m->mat.b_v, 1.1, 1e-15);
+  assert_float_equal(m->total_mass, 0.2 * 2.0, 1e-12); /* kg/m^2 * m^2 */
+  assert_string_equal(m->opt.method, "backward-euler");
+  assert_float_equal(m->opt.dt, 0.005, 0.0);
+  assert_int_equal(m->opt.max_halvings, 4);
+  assert_int_equal(m->opt.newton_max, 20);
+  assert_float_equal(m->opt.newton_tol, 1e-8, 0.0);
+  assert_float_equal(m->opt.duration, 3.0, 0.0);
+  assert_string_equal(m->opt.out_dir, "out/here");
+  assert_float_equal(m->opt.frames_every, 0.1, 0.0);
+  assert_float_equal(m->opt.tx_clip, 1e4, 0.0);
+  assert_int_equal(m->opt.tx_reference_uv, 1);
+  assert_float_equal(m->opt.tx_k_u, 1000, 0.0); /* the membrane's */
+  assert_float_equal(m->opt.tx_k_v, 300, 0.0);
+  sw_model_free(m);
+}
+
+static void test_defaults(void **state) {
+  (void)state;
+  char err[SW_ERRSZ];
+  sw_model *m = load_text("minimal_scene.yaml",
+                          "mesh: {grid: {size: [1, 1], vertices: [3, 3]}}\n"
+                          "material: {density: 0.1}\n",
+                          err);
+  if (!m) fail_msg("%s", err);
+  assert_string_equal(m->name, "minimal_scene");
+  assert_string_equal(m->opt.out_dir, "out/minimal_scene");
+  assert_int_equal(m->dim, 3);
+  assert_int_equal(m->has_gravity, 0);
+  assert_int_equal(m->mat.membrane, SW_MEMBRANE_NONE);
+  assert_int_equal(count_pinned(m), 0);
+  assert_string_equal(m->opt.method, "backward-euler");
+  assert_float_equal(m->opt.dt, 0.01, 0.0);
+  assert_float_equal(m->opt.duration, 1.0, 0.0);
+  assert_int_equal(m->opt.newton_max, 50);
+  assert_int_equal(m->opt.max_halvings, 8);
+  assert_float_equal(m->opt.tx_k_u, -1.0, 0.0);
+  assert_float_equal(m->opt.tx_clip, 5e4, 0.0);
+  assert_int_equal(m->opt.tx_reference_uv, 0);
+  sw_model_free(m);
+}
+
+static void test_2d(void **state) {
+  (void)state;
+  char err[SW_ERRSZ];
+  sw_model *m = load_text("flat.yaml",
+                          "dimension: 2\n"
+                          "mesh: {grid: {size: [2, 1], vertices: [3, 2]}}\n"
+                          "material: {density: 1}\n"
+                          "gravity: [0, -9.81]\n"
+                          "pins: [{select: {box: [[1.9, -1], [2.1, 2]]}}]\n"
+                          "initial_velocity: [{velocity: [0.5, 0]}]\n",
+                          err);
+  if (!m) fail_msg("%s", err);
+  assert_int_equal(m->dim, 2);
+  assert_int_equal(m->nv, 6);
+  assert_int_equal(m->nf, 4);
+  assert_true(m->pinned[2] && m->pinned[5]);
+  assert_int_equal(count_pinned(m), 2);
+  assert_float_equal(m->x0[2 * 5 + 0], 2.0, 1e-12); /* vertex (2, 1): (2, 1) m */
+  assert_float_equal(m->x0[2 * 5 + 1], 1.0, 1e-12);
+  assert_float_equal(m->v0[2 * 3 + 0], 0.5, 0.0);
+  assert_float_equal(m->gravity[1], -9.81, 0.0);
+  sw_model_free(m);
+}
+
+static void test_obj(void **state) {
+  (void)state;
+  char err[SW_ERRSZ], path[1100];
+  snprintf(path, sizeof path, "%s/meshes", tmpdir);
+  mkdir(path, 0700);
+  write_file("meshes/tri.obj",
+             "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 0.5 0\nvt 0 0.5\nf 1/1 2/2 3/3\n", path,
+             sizeof path);
+  sw_model *m = load_text("objscene.yaml",
+                          "mesh: {obj: meshes/tri.obj, uv_scale: 2}\n"
+                          "material: {density: 2, membrane: {k_u: 1, k_v: 1, k_shear: 1}}\n"
+                          "pins: [{select: {vertices: [0]}}]\n",
+                          err);
+  if (!m) fail_msg("%s", err);
+  assert_int_equal(m->nv, 3);
+  assert_int_equal(m->nf, 1);
+  assert_float_equal(m->uv[2], 1.0, 1e-15); /* corner 1: vt (0.5, 0) * 2 m */
+  assert_float_equal(m->uv[5], 1.0, 1e-15); /* corner 2: vt (0, 0.5) * 2 m */
+  assert_float_equal(m->total_mass, 2.0 * 0.5, 1e-12);
+  sw_model_free(m);
+}
+
+static void test_repo_scene(void **state) {
+  (void)state;
+  char err[SW_ERRSZ], path[4096];
+  if (!srcdir) skip();
+  snprintf(path, sizeof path, "%s/scenes/hanging_cloth.yaml", srcdir);
+  sw_model *m = sw_scene_load(path, err, sizeof err);
+  if (!m) fail_msg("%s", err);
+  assert_int_equal(m->nv, 1600);
+  assert_int_equal(m->nf, 2 * 39 * 39);
+  assert_int_equal(count_pinned(m), 2);
+  assert_true(m->pinned[1560] && m->pinned[1599]);
+  assert_float_equal(m->x0[3 * 1599 + 1], 1.0, 1e-12);
+  assert_float_equal(m->opt.frames_every, 0.05, 0.0);
+  assert_string_equal(m->opt.out_dir, "out/hanging_cloth");
+  sw_model_free(m);
+}
+
+/* The in-memory entry reads exactly len bytes (ASan sees any overread) and refuses NUL. */
+static void test_memory(void **state) {
+  (void)state;
+  char err[SW_ERRSZ];
+  static const char text[] = "mesh: {grid: {size: [1, 1], vertices: [2, 2]}}\n"
+                             "material: {density: 1}\nduration: 5";
+  char *buf = malloc(sizeof text - 1);
+  assert_non_null(buf);
+  memcpy(buf, text, sizeof text - 1);
+  sw_model *m = sw_scene_parse("mem/scene.yaml", buf, sizeof text - 1, err, sizeof err);
+  if (!m) fail_msg("%s", err);
+  assert_float_equal(m->opt.duration, 5.0, 0.0);
+  assert_string_equal(m->name, "scene");
+  sw_model_free(m);
+  m = sw_scene_parse("mem/scene.yaml", "a: 1\n  \0b", 9, err, sizeof err);
+  assert_null(m);
+  assert_non_null(strstr(err, "mem/scene.yaml:2:3: "));
+  assert_non_null(strstr(err, "NUL"));
+  free(buf);
+}
+
+/* Every allocation failing in turn: NULL with a message, never a crash or a leak. */
+static void test_alloc_failures(void **state) {
+  (void)state;
+  char err[SW_ERRSZ], path[1100];
+  write_file("alloc.yaml", good_scene, path, sizeof path);
+  for (long k = 1; k < 100000; k++) {
+    sw_alloc_fail_after(k);
+    sw_model *m = sw_scene_load(path, err, sizeof err);
+    sw_alloc_fail_after(0);
+    if (m) {
+      sw_model_free(m);
+      return;
+    }
+    assert_true(err[0] != '\0');
+  }
+  fail_msg("never succeeded");
+}
+
+/* ------------------------------------------------------------------ bad scenes */
+
+typedef struct bad_case {
+  const char *file;
+  const char *text;
+  int line, col;        /* where the error must point (1-based) */
+  const char *keyword;  /* the message must contain this */
+} bad_case;
+
+#define GRID "mesh: {grid: {size: [1, 1], vertices: [3, 3]}}\n"
+#define MAT "material: {density: 0.1}\n"
+
+static const bad_case bad[] = {
+    {"syntax.yaml", GRID MAT "duration: 1: 2\n", 3, 12, "invalid YAML"},
+    {"unclosed.yaml", GRID MAT "gravity: [0, 0, -9.81\n", 4, 1, "invalid YAML"},
+    {"unknown_top.yaml", GRID MAT "colour: red\n", 3, 1, "unknown key 'colour'"},
+    {"unknown_nested.yaml", GRID MAT "integrator: {method: backward-euler, step: 0.1}\n", 3, 38,
+     "unknown key 'step'"},
+    {"dt_string.yaml", GRID MAT "integrator: {dt: fast}\n", 3, 18, "dt"},
+    {"dt_quoted.yaml", GRID MAT "integrator: {dt: \"0.01\"}\n", 3, 18, "quoted string"},
+    {"dt_zero.yaml", GRID MAT "integrator:\n  dt: 0\n", 4, 7, "dt is 0"},
+    {"dt_neg.yaml", GRID MAT "integrator: {dt: -0.01}\n", 3, 18, "> 0"},
+    {"density.yaml", GRID "material: {density: -0.1}\n", 2, 21, "density"},
+    {"k_u.yaml", GRID "material:\n  density: 0.1\n  membrane: {k_u: -1, k_v: 1, k_shear: 1}\n",
+     4, 19, "k_u"},
+    {"k_missing.yaml", GRID "material:\n  density: 0.1\n  membrane: {k_u: 1, k_v: 1}\n", 4, 13,
+     "k_shear"},
+    {"model.yaml", GRID "material:\n  density: 0.1\n  membrane: {model: neo, k_u: 1, k_v: 1,"
+                        " k_shear: 1}\n", 4, 22, "bw98"},
+    {"dimension.yaml", "dimension: 4\n" GRID MAT, 1, 12, "dimension"},
+    {"vertices.yaml", "mesh: {grid: {size: [1, 1], vertices: [1, 5]}}\n" MAT, 1, 40,
+     "vertices[0]"},
+    {"size.yaml", "mesh: {grid: {size: [1, 0], vertices: [3, 3]}}\n" MAT, 1, 25, "size[1]"},
+    {"pin_index.yaml", GRID MAT "pins:\n  - {select: {vertices: [0, 9]}}\n", 4, 29, "[0, 8]"},
+    {"pin_box.yaml", GRID MAT "pins:\n  - select: {box: [[2, 2, 2], [3, 3, 3]]}\n", 4, 13,
+     "selects no vertex"},
+    {"box_order.yaml", GRID MAT "pins: [{select: {box: [[1, 0, 0], [0, 1, 1]]}}]\n", 3, 23,
+     "min <= max"},
+    {"select_both.yaml", GRID MAT "pins: [{select: {vertices: [0], box: [[0,0,0],[1,1,1]]}}]\n",
+     3, 17, "exactly one"},
+    {"no_mesh.yaml", "name: x\n" MAT, 1, 1, "'mesh'"},
+    {"no_material.yaml", GRID "duration: 1\n", 1, 1, "'material'"},
+    {"both.yaml", "mesh: {grid: {size: [1, 1], vertices: [3, 3]}, obj: a.obj}\n" MAT, 1, 7,
+     "exactly one of grid or obj"},
+    {"uv_scale.yaml", "mesh: {grid: {size: [1, 1], vertices: [3, 3]}, uv_scale: 2}\n" MAT, 1, 58,
+     "uv_scale"},
+    {"missing_obj.yaml", "mesh:\n  obj: meshes/nothere.obj\n" MAT, 2, 8, "No such file"},
+    {"obj_parse.yaml", "mesh:\n  obj: meshes/bad.obj\n" MAT, 2, 8,
+     "in mesh obj: "},  /* then "<tmpdir>/meshes/bad.obj:3:6:" */
+    {"obj_novt.yaml", "mesh: {obj: meshes/novt.obj}\nmaterial:\n  density: 0.1\n"
+                      "  membrane: {k_u: 1, k_v: 1, k_shear: 1}\n", 4, 13,
+     "no texture coordinates"},
+    {"obj_2d.yaml", "dimension: 2\nmesh: {obj: meshes/tilted.obj}\n" MAT, 2, 13, "z = 0.5"},
+    {"gravity.yaml", GRID MAT "gravity: [0, -9.81]\n", 3, 10, "components"},
+    {"gravity_nan.yaml", GRID MAT "gravity: [0, 0, .nan]\n", 3, 17, "not finite"},
+    {"method.yaml", GRID MAT "integrator: {method: rk4}\n", 3, 22, "backward-euler"},
+    {"halvings.yaml", GRID MAT "integrator: {max_halvings: 61}\n", 3, 28, "[0, 60]"},
+    {"newton.yaml", GRID MAT "integrator: {newton: {max_iterations: 0}}\n", 3, 39,
+     "max_iterations"},
+    {"plane_2d.yaml", "dimension: 2\nmesh: {grid: {size: [1, 1], vertices: [3, 3], plane: xz}}\n"
+                      MAT, 2, 54, "xy"},
+    {"duplicate.yaml", GRID MAT "duration: 1\nduration: 2\n", 4, 1, "duplicate key 'duration'"},
+    {"duplicate_nested.yaml", GRID MAT "output: {dir: a, dir: b}\n", 3, 18, "duplicate"},
+    {"velocity.yaml", GRID MAT "initial_velocity: [{velocity: [1, 2]}]\n", 3, 31, "components"},
+    {"reference.yaml", GRID MAT "tension_xy: {reference: rest}\n", 3, 25, "initial, uv"},
+    {"duration.yaml", GRID MAT "duration: -1\n", 3, 11, ">= 0"},
+    {"frames.yaml", GRID MAT "output: {frames_every: [1]}\n", 3, 24, "a sequence"},
+    {"name.yaml", "name: {a: 1}\n" GRID MAT, 1, 7, "a string"},
+    {"empty.yaml", "", 1, 1, "empty"},
+    {"scalar.yaml", "hello\n", 1, 1, "expected a mapping"},
+    {"list.yaml", "- mesh\n", 1, 1, "a sequence"},
+    {"alias.yaml", GRID MAT "duration: &d 1\noutput: {frames_every: *d}\n", 4, 25, "alias"},
+    {"tag.yaml", GRID MAT "duration: !!float 1\n", 3, 19, "tag"},
+    {"two_docs.yaml", GRID MAT "---\nname: y\n", 4, 1, "second YAML document"},
+    {"deep.yaml", GRID MAT "x: [[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]\n",
+     3, 35, "nested"},
+};
+
+static void write_meshes(void) {
+  char path[1100];
+  snprintf(path, sizeof path, "%s/meshes", tmpdir);
+  mkdir(path, 0700);
+  write_file("meshes/bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1\nf 1 2 3\n", path, sizeof path);
+  write_file("meshes/novt.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", path, sizeof path);
+  write_file("meshes/tilted.obj",
+             "v 0 0 0\nv 1 0 0\nv 0 1 0.5\nvt 0 0\nvt 1 0\nvt 0 1\nf 1/1 2/2 3/3\n", path,
+             sizeof path);
+}
+
+static void test_bad_scenes(void **state) {
+  (void)state;
+  write_meshes();
+  for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
+    char err[SW_ERRSZ], path[1100], prefix[1200];
+    write_file(bad[i].file, bad[i].text, path, sizeof path);
+    memset(err, 0, sizeof err);
+    sw_model *m = sw_scene_load(path, err, sizeof err);
+    if (m) {
+      sw_model_free(m);
+      fail_msg("%s: loaded, expected an error", bad[i].file);
+    }
+    snprintf(prefix, sizeof prefix, "%s:%d:%d: ", path, bad[i].line, bad[i].col);
+    if (strncmp(err, prefix, strlen(prefix)) || !strstr(err, bad[i].keyword))
+      fail_msg("%s: got \"%s\", expected \"%s...%s...\"", bad[i].file, err, prefix,
+               bad[i].keyword);
+    if (!strcmp(bad[i].file, "obj_parse.yaml") && !strstr(err, "meshes/bad.obj:3:"))
+      fail_msg("obj_parse.yaml: got \"%s\", expected the OBJ position", err);
+  }
+}
+
+static void test_unreadable(void **state) {
+  (void)state;
+  char err[SW_ERRSZ], path[1100];
+  snprintf(path, sizeof path, "%s/nothere.yaml", tmpdir);
+  assert_null(sw_scene_load(path, err, sizeof err));
+  assert_non_null(strstr(err, "nothere.yaml"));
+  assert_non_null(strstr(err, "No such file"));
+}
+
+/* ------------------------------------------------------------------ main */
+
+static void cleanup(void) {
+  char path[1100];
+  for (int i = nwritten - 1; i >= 0; i--) unlink(written[i]);
+  snprintf(path, sizeof path, "%s/meshes", tmpdir);
+  rmdir(path);
+  rmdir(tmpdir);
+}
+
+int main(int argc, char **argv) {
+  const char *base = getenv("TMPDIR");
+  srcdir = argc > 1 ? argv[1] : NULL;
+  snprintf(tmpdir, sizeof tmpdir, "%s/sinew_test_scene_XXXXXX", base && *base ? base : "/tmp");
+  if (!mkdtemp(tmpdir)) {
+    perror("mkdtemp");
+    return 1;
+  }
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(test_good_scene),   cmocka_unit_test(test_defaults),
+      cmocka_unit_test(test_2d),           cmocka_unit_test(test_obj),
+      cmocka_unit_test(test_repo_scene),   cmocka_unit_test(test_memory),
+      cmocka_unit_test(test_bad_scenes),   cmocka_unit_test(test_unreadable),
+      cmocka_unit_test(test_alloc_failures),
+  };
+  int rc = cmocka_run_group_tests(tests, NULL, NULL);
+  cleanup();
+  return rc;
+}
