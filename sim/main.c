@@ -24,6 +24,7 @@ static void usage(FILE *fp) {
   fprintf(fp,
           "  --dt DT         time step in s (overrides integrator.dt)\n"
           "  --duration T    simulated time in s (overrides duration)\n"
+          "  --threads N     OpenBLAS threads for CHOLMOD (default: $OPENBLAS_NUM_THREADS, else 1)\n"
           "  --quiet         no progress line\n");
 }
 
@@ -49,7 +50,7 @@ static int known_method(const char *name) {
 typedef struct cli {
   const char *scene, *out, *method;
   double dt, duration;
-  int quiet;
+  int quiet, threads;
 } cli;
 
 static int parse_run_args(int argc, char **argv, cli *c) {
@@ -63,6 +64,12 @@ static int parse_run_args(int argc, char **argv, cli *c) {
       if (parse_positive(a, argv[++i], 0, &c->dt)) return -1;
     } else if (!strcmp(a, "--duration") && has_val) {
       if (parse_positive(a, argv[++i], 1, &c->duration)) return -1;
+    } else if (!strcmp(a, "--threads") && has_val) {
+      char *end;
+      long v = strtol(argv[++i], &end, 10);
+      if (*end || end == argv[i] || v < 1 || v > 1024)
+        return fprintf(stderr, "sinew: --threads expects an integer 1..1024, got '%s'\n", argv[i]), -1;
+      c->threads = (int)v;
     } else if (a[0] == '-' && a[1]) {
       fprintf(stderr, "sinew: unknown option or missing value: %s (see sinew --help)\n", a);
       return -1;
@@ -87,6 +94,7 @@ static int cmd_run(int argc, char **argv) {
   if (c.method) snprintf(m->opt.method, sizeof m->opt.method, "%s", c.method);
   if (c.dt > 0) m->opt.dt = c.dt;
   if (c.duration >= 0) m->opt.duration = c.duration;
+  if (c.threads > 0) m->opt.blas_threads = c.threads;
   if (!c.quiet)
     fprintf(stderr, "sinew: %s: %d vertices, %d free DOFs, %s, dt = %g s, to t = %g s\n",
             m->name, m->nv, m->ndof, m->opt.method, m->opt.dt, m->opt.duration);

@@ -17,6 +17,7 @@ sw_model *sw_model_new(void) {
   o->newton_max = 50;
   o->newton_tol = 1e-6;
   o->max_halvings = 8;
+  o->hessian = SW_HESSIAN_AUTO;
   o->frames_every = 0.0;
   o->tx_clip = 5e4;
   o->tx_reference_uv = 0;

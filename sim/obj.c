@@ -2,10 +2,14 @@
  *
  * Positions (v) and texture coordinates (vt) are indexed separately per face corner, so a seam
  * vertex keeps one position and one (u,v) per panel.  Polygons are fan-triangulated from their
- * first corner.  `g NAME` and `usemtl NAME` both switch the current face group.  vn, o, s,
- * mtllib, l, p, comments and blank lines are accepted and ignored.  The reader is strict:
- * anything else is an error "name:line:column: found X, expected Y" (column 1-based, in bytes).
- * Positions are in the file's units (m for sinew); (u,v) are copied as written.
+ * first corner; a face naming one position twice is an error (degenerate).  `g NAME` and
+ * `usemtl NAME` both switch the current face group (NAME: the rest of the line; a bare `g`
+ * returns to "default").  Faces all have vt indices or none has.  `v x y z [w]` and
+ * `v x y z r g b` (vertex colours) are read; vn (counted for index checks), o, s, mtllib, l, p,
+ * comments (also at the end of a line), blank lines, CRLF and a UTF-8 BOM are accepted and
+ * ignored.  Anything else is an error "name:line:column: found X, expected Y" (column 1-based,
+ * in bytes).  Positions are in the file's units (m for sinew); (u,v) are copied as written.
+ * Numbers are read with strtod, so the C locale (decimal point '.') is assumed.
  *
  * The input is untrusted (it is fuzzed): every count is bounded by OBJ_MAX_COUNT, every array
  * grows with overflow-checked sizes, and the text is never assumed to be NUL-terminated. */
@@ -43,6 +47,8 @@ typedef struct obj_state {
   size_t nf, capf, capfuv, capfg;
   char (*group)[SW_NAMESZ];
   size_t ngroup, capg;
+  int *gslot;               /* (nslot) hash table of group names: group index + 1, 0 = empty */
+  size_t nslot;
   int cur_group;
   int has_uv;               /* -1: no face yet; 0: faces have no vt; 1: they all have vt */
   size_t has_uv_line;       /* the line of the first face, which set has_uv */
@@ -330,10 +336,43 @@ static int read_face(obj_state *st) {
   return append_fan(st, nc);
 }
 
-/* Index of the group called name (n bytes), added if new; -1 on error (message written). */
+static size_t name_hash(const char *s, size_t n) { /* FNV-1a */
+  uint64_t h = 1469598103934665603u;
+  for (size_t i = 0; i < n; i++) h = (h ^ (unsigned char)s[i]) * 1099511628211u;
+  return (size_t)h;
+}
+
+/* The hash slot holding the group called name (n bytes), or the empty slot where it goes. */
+static size_t group_slot(const obj_state *st, const char *name, size_t n) {
+  size_t mask = st->nslot - 1, i = name_hash(name, n) & mask;
+  for (;; i = (i + 1) & mask) {
+    int g = st->gslot[i] - 1;
+    if (g < 0 || (strlen(st->group[g]) == n && memcmp(st->group[g], name, n) == 0)) return i;
+  }
+}
+
+/* Keep the hash table of group names at most half full. */
+static int group_rehash(obj_state *st) {
+  if (2 * (st->ngroup + 1) <= st->nslot) return 0;
+  size_t nslot = st->nslot ? 2 * st->nslot : 64;
+  int *slot = sw_calloc(nslot, sizeof *slot);
+  if (!slot) return -1;
+  sw_free(st->gslot);
+  st->gslot = slot;
+  st->nslot = nslot;
+  for (size_t g = 0; g < st->ngroup; g++) {
+    const char *name = st->group[g];
+    slot[group_slot(st, name, strlen(name))] = (int)g + 1;
+  }
+  return 0;
+}
+
+/* Index of the group called name (n < SW_NAMESZ bytes), added if new; -1 on error (message
+ * written).  Hashed: a file may switch groups on every line. */
 static int find_group(obj_state *st, const char *name, size_t n) {
-  for (size_t i = 0; i < st->ngroup; i++)
-    if (strlen(st->group[i]) == n && memcmp(st->group[i], name, n) == 0) return (int)i;
+  if (group_rehash(st)) return fail_oom(st);
+  size_t i = group_slot(st, name, n);
+  if (st->gslot[i]) return st->gslot[i] - 1;
   if (st->ngroup >= OBJ_MAX_GROUPS)
     return fail_at(st, name, "found more than %d groups, expected fewer", OBJ_MAX_GROUPS);
   char(*g)[SW_NAMESZ] = reserve(st->group, &st->capg, st->ngroup + 1, sizeof *g);
@@ -341,7 +380,8 @@ static int find_group(obj_state *st, const char *name, size_t n) {
   st->group = g;
   memcpy(g[st->ngroup], name, n);
   g[st->ngroup][n] = '\0';
-  return (int)st->ngroup++;
+  st->gslot[i] = (int)++st->ngroup;
+  return (int)st->ngroup - 1;
 }
 
 /* g [NAME] or usemtl NAME: the rest of the line (trimmed) names the current group. */
@@ -404,6 +444,20 @@ static int read_line(obj_state *st, const char *buf, size_t len, size_t pos, siz
   return read_statement(st);
 }
 
+/* Every line of buf (len bytes), then the check that there was a face. */
+static int read_lines(obj_state *st, const char *buf, size_t len) {
+  size_t pos = 0;
+  if (len >= 3 && memcmp(buf, "\xef\xbb\xbf", 3) == 0) pos = 3; /* UTF-8 byte order mark */
+  while (pos < len)
+    if (read_line(st, buf, len, pos, &pos)) return -1;
+  if (st->nf == 0) {
+    sw_errf(st->err, st->errsz, "%s: found no faces, expected at least one f statement",
+            st->name);
+    return -1;
+  }
+  return 0;
+}
+
 static void state_free(obj_state *st) {
   sw_free(st->x);
   sw_free(st->uv);
@@ -413,6 +467,7 @@ static void state_free(obj_state *st) {
   sw_free(st->group);
   sw_free(st->poly);
   sw_free(st->seen);
+  sw_free(st->gslot);
 }
 
 /* Move the arrays of a successful parse into mesh. */
@@ -434,6 +489,7 @@ static void state_to_mesh(obj_state *st, sw_mesh *mesh) {
   }
   sw_free(st->poly);
   sw_free(st->seen);
+  sw_free(st->gslot);
   memset(st, 0, sizeof *st);
 }
 
@@ -450,23 +506,13 @@ int sw_obj_parse(const char *name, const char *buf, size_t len, sw_mesh *mesh, c
     return SW_FATAL;
   }
   memset(mesh, 0, sizeof *mesh);
-  st.group = reserve(NULL, &st.capg, 1, sizeof *st.group);
-  if (!st.group) {
+  st.ls = st.le = st.p = ""; /* no line yet */
+  if (find_group(&st, "default", 7) != 0) {
     sw_errf(err, errsz, "%s: out of memory", st.name);
+    state_free(&st);
     return SW_FATAL;
   }
-  strcpy(st.group[0], "default");
-  st.ngroup = 1;
-  size_t pos = 0;
-  if (!buf) len = 0;
-  if (len >= 3 && memcmp(buf, "\xef\xbb\xbf", 3) == 0) pos = 3; /* UTF-8 byte order mark */
-  while (pos < len)
-    if (read_line(&st, buf, len, pos, &pos)) {
-      state_free(&st);
-      return SW_FATAL;
-    }
-  if (st.nf == 0) {
-    sw_errf(err, errsz, "%s: found no faces, expected at least one f statement", st.name);
+  if (read_lines(&st, buf, buf ? len : 0)) {
     state_free(&st);
     return SW_FATAL;
   }

@@ -17,6 +17,7 @@
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -69,10 +70,15 @@ __attribute__((format(printf, 2, 3))) static void w_printf(writer *w, const char
   va_end(ap);
 }
 
-/* %.17g for a finite number; "nan", "inf", "-inf" otherwise (pandas reads all three). */
+/* The shortest of %.15g, %.16g, %.17g that reads back as exactly v (so 0.03 is written "0.03",
+ * and every number still round-trips); "nan", "inf", "-inf" otherwise (pandas reads all). */
 static int fmt_num(char *buf, size_t sz, double v) {
   if (isnan(v)) return snprintf(buf, sz, "nan");
   if (isinf(v)) return snprintf(buf, sz, v > 0 ? "inf" : "-inf");
+  for (int prec = 15; prec < 17; prec++) {
+    int n = snprintf(buf, sz, "%.*g", prec, v);
+    if (strtod(buf, NULL) == v) return n;
+  }
   return snprintf(buf, sz, "%.17g", v);
 }
 
@@ -565,7 +571,8 @@ static void w_key(writer *w, const char *key) { w_printf(w, ",\n  \"%s\": ", key
 
 static void w_json_num(writer *w, const char *key, double v) {
   w_key(w, key);
-  if (isfinite(v)) w_printf(w, "%.17g", v);
+  char buf[NUMSZ];
+  if (isfinite(v)) fmt_num(buf, sizeof buf, v), w_puts(w, buf);
   else w_puts(w, "null");
 }
 

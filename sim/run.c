@@ -4,6 +4,7 @@
  * the last good state as a frame and a summary.json with status "failed". */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
@@ -51,12 +52,13 @@ static void show_progress(run_ctx *r, int final) {
   fflush(stderr);
 }
 
-/* One step of size dt, halving it on recoverable failures.  Returns the last error code. */
-static int step_with_retries(const sw_integrator_ops *ops, void *st, run_ctx *r, double dt,
+/* One step from d->t to end, halving it on recoverable failures.  Returns the last error code. */
+static int step_with_retries(const sw_integrator_ops *ops, void *st, run_ctx *r, double end,
                              char *err, size_t errsz) {
   const sw_model *m = r->m;
   sw_data *d = r->d;
-  double h = dt, end = d->t + dt;
+  const double dt = end - d->t;
+  double h = dt;
   int k = 0, rc = SW_OK;
   for (; k <= m->opt.max_halvings; k++, h *= 0.5) {
     double t0 = sw_now();
@@ -69,7 +71,10 @@ static int step_with_retries(const sw_integrator_ops *ops, void *st, run_ctx *r,
       rc = ops->step(st, m, d, fmin(h, end - d->t));
       d->time_step += sw_now() - t0;
     }
-    if (rc == SW_OK) return SW_OK;
+    if (rc == SW_OK) {
+      d->t = end; /* no drift from summing steps */
+      return SW_OK;
+    }
     if (rc < 0) break;
     d->nretry++;
   }
@@ -87,9 +92,12 @@ static int integrate(run_ctx *r, char *err, size_t errsz) {
   int rc = ops->init(&st, m, d, err, errsz);
   if (rc) return rc;
   const double T = m->opt.duration, dt = m->opt.dt;
-  while (rc == SW_OK && d->t < T - 1e-12 * dt) {
-    rc = step_with_retries(ops, st, r, fmin(dt, T - d->t), err, errsz);
-    if (rc == SW_OK) rc = record(r, d->t >= T - 1e-12 * dt, err, errsz);
+  for (long n = 1; rc == SW_OK && d->t < T; n++) {
+    /* step n ends at n dt (not a running sum), and a last sliver below dt/1e6 is merged */
+    double end = fmin((double)n * dt, T);
+    if (T - end < 1e-6 * dt) end = T;
+    rc = step_with_retries(ops, st, r, end, err, errsz);
+    if (rc == SW_OK) rc = record(r, d->t >= T, err, errsz);
     show_progress(r, 0);
   }
   ops->free(st);
@@ -107,7 +115,17 @@ static int static_run(run_ctx *r, char *err, size_t errsz) {
   return record(r, 1, err, errsz);
 }
 
+void openblas_set_num_threads(int num_threads); /* OpenBLAS' cblas.h */
+
+/* One BLAS thread unless asked: on this project's 2-core machines two threads made the 40 x 40
+ * cloth's factorisations 3x slower (docs/performance.md); large systems gain from more. */
+static void set_blas_threads(const sw_model *m) {
+  if (m->opt.blas_threads > 0) openblas_set_num_threads(m->opt.blas_threads);
+  else if (!getenv("OPENBLAS_NUM_THREADS")) openblas_set_num_threads(1);
+}
+
 int sw_run(const sw_model *m, int progress, char *err, size_t errsz) {
+  set_blas_threads(m);
   run_ctx r = {.m = m, .wall0 = sw_now(), .progress = progress && isatty(2)};
   r.d = sw_data_new(m);
   if (!r.d) return sw_errf(err, errsz, "out of memory allocating the state"), SW_FATAL;

@@ -38,6 +38,8 @@ typedef struct yparser {
   struct fy_parser *fyp;
   struct fy_diag *diag;
   const char *name;  /* file name for messages */
+  const char *buf;   /* the YAML text */
+  size_t len;        /* bytes in buf */
   char *err;
   size_t errsz;
   int line, col;     /* position of the last event that had one, 1-based */
@@ -110,21 +112,48 @@ static int node_append(yparser *p, ynode *y, ynode *kid) {
   return 0;
 }
 
+/* The text of a scalar token (escapes processed) into y->text.  libfyaml 0.7.12's
+ * fy_token_get_text leaks on some single-quoted scalars with '' escapes; its chunk iterator
+ * does not. */
+static int scalar_text(yparser *p, struct fy_token *tok, ynode *y) {
+  struct fy_token_iter *it = tok ? fy_token_iter_create(tok) : NULL;
+  const struct fy_iter_chunk *ch = NULL;
+  size_t cap = 0;
+  int bad = tok && !it, rc = 0;
+  while (!bad && (ch = fy_token_iter_chunk_next(it, ch, &rc))) {
+    if (ch->len >= SIZE_MAX / 2 - y->len) bad = 1;
+    if (!bad && y->len + ch->len + 1 > cap) {
+      size_t want = SW_MAX(2 * cap, y->len + ch->len + 1);
+      char *t = sw_realloc(y->text, want, 1);
+      if (!t) bad = 1;
+      else y->text = t, cap = want;
+    }
+    if (!bad && ch->len) memcpy(y->text + y->len, ch->str, ch->len), y->len += ch->len;
+  }
+  if (it) fy_token_iter_destroy(it);
+  if (!bad && !rc && !y->text && !(y->text = sw_calloc(1, 1))) bad = 1;
+  if (bad || rc)
+    return yerr(p, "%s", bad ? "out of memory" : "an unreadable YAML scalar; expected text"), -1;
+  y->text[y->len] = '\0';
+  return 0;
+}
+
 static ynode *build_scalar(yparser *p, struct fy_event *e) {
   ynode *y = node_new(p, Y_SCALAR);
   if (!y) return NULL;
   struct fy_token *tok = e->scalar.value;
-  size_t len = 0;
-  const char *t = tok ? fy_token_get_text(tok, &len) : NULL;
-  if (!t) len = 0;
-  y->plain = !tok || fy_token_scalar_style(tok) == FYSS_PLAIN;
-  y->len = len;
-  y->text = len < SIZE_MAX ? sw_calloc(len + 1, 1) : NULL;
-  if (!y->text) {
+  enum fy_scalar_style style = tok ? fy_token_scalar_style(tok) : FYSS_PLAIN;
+  y->plain = style == FYSS_PLAIN;
+  /* libfyaml marks a quoted scalar after its opening quote: point at the quote */
+  const struct fy_mark *mk = fy_event_start_mark(e);
+  char before = mk && mk->input_pos > 0 && mk->input_pos <= p->len ? p->buf[mk->input_pos - 1] : 0;
+  if ((style == FYSS_SINGLE_QUOTED || style == FYSS_DOUBLE_QUOTED) && y->col > 1 &&
+      (before == '\'' || before == '"'))
+    y->col--;
+  if (scalar_text(p, tok, y)) {
     node_free(y);
-    return yerr(p, "out of memory");
+    return NULL;
   }
-  if (len) memcpy(y->text, t, len);
   return y;
 }
 
@@ -230,23 +259,47 @@ static void diag_discard(struct fy_diag *diag, void *user, const char *buf, size
   (void)diag, (void)user, (void)buf, (void)len;
 }
 
-/* A NUL byte ends libfyaml's input silently: refuse it with its position. */
-static int check_nul(yparser *p, const char *buf, size_t len) {
-  const char *z = len ? memchr(buf, 0, len) : NULL;
-  if (!z) return 0;
+/* Bytes in the UTF-8 sequence at s (at most n bytes), or 0 if it is not valid UTF-8
+ * (overlong forms, surrogates and code points above U+10FFFF are invalid). */
+static size_t utf8_len(const unsigned char *s, size_t n) {
+  size_t k;
+  if (s[0] < 0x80) return 1;
+  if (s[0] >= 0xC2 && s[0] <= 0xDF) k = 2;
+  else if (s[0] >= 0xE0 && s[0] <= 0xEF) k = 3;
+  else if (s[0] >= 0xF0 && s[0] <= 0xF4) k = 4;
+  else return 0;
+  if (k > n) return 0;
+  for (size_t i = 1; i < k; i++)
+    if ((s[i] & 0xC0) != 0x80) return 0;
+  if (k == 3 && ((s[0] == 0xE0 && s[1] < 0xA0) || (s[0] == 0xED && s[1] >= 0xA0))) return 0;
+  if (k == 4 && ((s[0] == 0xF0 && s[1] < 0x90) || (s[0] == 0xF4 && s[1] >= 0x90))) return 0;
+  return k;
+}
+
+/* Refuse a NUL byte (it ends libfyaml's input silently) and invalid UTF-8 (libfyaml 0.7.12
+ * loops forever on some, e.g. "%r\xff"), with the position of the offending byte. */
+static int check_text(yparser *p, const char *buf, size_t len) {
+  const unsigned char *s = (const unsigned char *)buf;
   p->line = p->col = 1;
-  for (const char *s = buf; s < z; s++) {
-    if (*s == '\n') p->line++, p->col = 1;
-    else if (((unsigned char)*s & 0xC0) != 0x80) p->col++;  /* count UTF-8 characters */
+  for (size_t i = 0; i < len;) {
+    size_t k = s[i] ? utf8_len(s + i, len - i) : 0;
+    if (k == 0) {
+      yerr(p, "%s; expected UTF-8 text", s[i] ? "a byte that is not valid UTF-8" : "a NUL byte");
+      return -1;
+    }
+    if (s[i] == '\n') p->line++, p->col = 1;
+    else p->col++;
+    i += k;
   }
-  yerr(p, "a NUL byte; expected text");
-  return -1;
+  p->line = p->col = 1;
+  return 0;
 }
 
 /* Parse YAML text into a ynode tree; NULL with "name:line:column: ..." in err. */
 static ynode *yaml_parse(const char *name, const char *buf, size_t len, char *err, size_t errsz) {
-  yparser p = {.name = name, .err = err, .errsz = errsz, .line = 1, .col = 1};
-  if (check_nul(&p, buf, len)) return NULL;
+  yparser p = {.name = name, .buf = buf, .len = len, .err = err, .errsz = errsz, .line = 1,
+               .col = 1};
+  if (check_text(&p, buf, len)) return NULL;
   struct fy_diag_cfg dcfg;
   fy_diag_cfg_default(&dcfg);
   dcfg.fp = NULL;                 /* never print: collect instead */
@@ -345,7 +398,10 @@ static const char *clip_text(const ynode *y, char *t, size_t sz) {
     unsigned char ch = (unsigned char)y->text[i];
     t[n++] = (ch < 32 || ch == 127) ? '?' : (char)ch;
   }
-  if (y->len > n) memcpy(t + n, "...", 3), n += 3;
+  if (y->len > n) {  /* cut at a character boundary */
+    while (n > 0 && ((unsigned char)y->text[n] & 0xC0) == 0x80) n--;
+    memcpy(t + n, "...", 3), n += 3;
+  }
   t[n] = '\0';
   return t;
 }
@@ -488,7 +544,7 @@ static int get_seq(const ctx *c, const ynode *y, const char *what, const char *e
 /* A sequence of exactly n numbers, each >= lo (> lo when strict). */
 static int get_vec(const ctx *c, const ynode *y, const char *what, int n, double lo, int strict,
                    const char *unit, double *out) {
-  char exp[160], lab[160];
+  char exp[160], lab[224];
   snprintf(exp, sizeof exp, "a sequence of %d numbers (%s)", n, unit ? unit : "");
   if (get_seq(c, y, what, exp)) return -1;
   if (y->n != n) return fail(c, y, "%s has %d components; expected %d", what, y->n, n);
@@ -634,8 +690,9 @@ static int check_uv(const ctx *c, const ynode *at, const mesh_in *mi, const char
   int ok = me->nuv > 0 && me->fuv;
   for (long k = 0; ok && k < 3L * me->nf; k++) ok = me->fuv[k] >= 0 && me->fuv[k] < me->nuv;
   if (ok || me->nf == 0) return 0;
-  return fail(c, at, "%s needs the rest (u,v) layout, but the mesh '%s' has no texture "
-              "coordinates (vt) on every face; expected an OBJ with vt", what, mi->obj);
+  return fail(c, at, "%s needs the rest (u,v) layout, but mesh obj '%s' has no texture "
+              "coordinates (vt) on every face; expected an OBJ whose faces all have vt", what,
+              mi->obj);
 }
 
 static int load_material(const ctx *c, const ynode *y, const mesh_in *mi) {
@@ -726,7 +783,7 @@ static int load_geometry(ctx *c, const ynode **v) {
 static const char *const sel_keys[] = {"vertices", "box"};
 
 static int select_list(const ctx *c, const ynode *y, const char *what) {
-  char lab[160];
+  char lab[176];
   if (get_seq(c, y, what, "a sequence of vertex indices")) return -1;
   for (int i = 0; i < y->n; i++) {
     int k;
@@ -739,7 +796,7 @@ static int select_list(const ctx *c, const ynode *y, const char *what) {
 
 static int select_box(const ctx *c, const ynode *y, const char *what) {
   const sw_model *m = c->m;
-  char lab[160];
+  char lab[176];
   double lo[3], hi[3];
   if (get_seq(c, y, what, "[[min corner], [max corner]]")) return -1;
   if (y->n != 2) return fail(c, y, "%s has %d corners; expected 2 (min and max)", what, y->n);
@@ -765,7 +822,7 @@ static int select_box(const ctx *c, const ynode *y, const char *what) {
 /* Mark the vertices that the selection y picks in c->sel. */
 static int select_vertices(const ctx *c, const ynode *y, const char *what) {
   const ynode *v[2];
-  char lab[160];
+  char lab[128];
   memset(c->sel, 0, (size_t)c->m->nv);
   if (get_map(c, y, what, sel_keys, 2, v)) return -1;
   if (!v[0] == !v[1])
@@ -840,7 +897,7 @@ static const char *const newton_keys[] = {"max_iterations", "tol"};
 static int load_method(const ctx *c, const ynode *y) {
   const char *const *names = sw_method_names();
   static const char *const none[] = {NULL};
-  int n = 0, k;
+  int n = 0, k = 0;
   if (!names) names = none;
   while (names[n]) n++;
   if (get_choice(c, y, "integrator method", names, n, &k)) return -1;

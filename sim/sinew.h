@@ -115,6 +115,7 @@ typedef struct sw_options {
                                   static solve: when max |grad| <= newton_tol (N) */
   int max_halvings;            /* a failed step is retried with dt/2 at most this many times */
   int hessian;                 /* SW_HESSIAN_*: which Hessian Newton's systems use */
+  int blas_threads;            /* OpenBLAS threads; 0: $OPENBLAS_NUM_THREADS if set, else 1 */
   char out_dir[SW_PATHSZ];     /* output folder */
   double frames_every;         /* s between VTU frames (0: first and last only) */
   double tx_clip;              /* tension XY stiffness clip, N/m (seed 000: 5e4) */

@@ -24,6 +24,8 @@
 #include "sinew.h"
 #include "util.h"
 
+#define V3 "v 0 0 0\nv 1 0 0\nv 0 1 0\n" /* three positions, a valid start */
+
 static char tmpdir[256];
 
 /* |a - b| <= tol (cmocka 1.1 has only a float version) */
@@ -355,6 +357,31 @@ static void test_obj_groups(void **state) {
   sw_mesh_free(&m);
 }
 
+/* Many groups (hashed names): reuse by name, and a limit of 65536 including "default". */
+static void test_obj_many_groups(void **state) {
+  (void)state;
+  size_t cap = 16 * 70000 + 100, len = 0;
+  char *text = malloc(cap);
+  assert_non_null(text);
+  len += (size_t)snprintf(text, cap, V3);
+  for (int k = 1; k <= 5000; k++)
+    len += (size_t)snprintf(text + len, cap - len, "g g%d\nf 1 2 3\n", k % 3000);
+  sw_mesh m;
+  read_ok(text, &m);
+  assert_int_equal(m.ngroup, 3001);
+  assert_int_equal(m.nf, 5000);
+  for (int t = 0; t < m.nf; t++) {
+    char name[16];
+    snprintf(name, sizeof name, "g%d", (t + 1) % 3000);
+    assert_string_equal(m.group[m.fgroup[t]], name);
+  }
+  sw_mesh_free(&m);
+  len = (size_t)snprintf(text, cap, V3 "f 1 2 3\n");
+  for (int k = 1; k <= 65536; k++) len += (size_t)snprintf(text + len, cap - len, "g %d\n", k);
+  expect_obj_error(text, len, "65540:3");
+  free(text);
+}
+
 static void test_obj_crlf_and_ignored(void **state) {
   (void)state;
   sw_mesh m;
@@ -425,8 +452,6 @@ static void test_obj_long_lines(void **state) {
 }
 
 /* ---------------------------------------------------------------- OBJ: bad */
-
-#define V3 "v 0 0 0\nv 1 0 0\nv 0 1 0\n"
 
 static void test_obj_bad_statements(void **state) {
   (void)state;
@@ -612,6 +637,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(test_obj_seam),
       cmocka_unit_test(test_obj_negative_indices),
       cmocka_unit_test(test_obj_groups),
+      cmocka_unit_test(test_obj_many_groups),
       cmocka_unit_test(test_obj_crlf_and_ignored),
       cmocka_unit_test(test_obj_normals_only),
       cmocka_unit_test(test_obj_long_lines),

@@ -5,13 +5,16 @@
  *     -Isim tests/fuzz/fuzz_obj.c sim/obj.c sim/mesh.c sim/util.c -lm -o fuzz_obj
  * Run:  ./fuzz_obj -max_total_time=180 CORPUS_DIR
  * Any crash input goes to tests/fuzz/regress/obj/ (test_mesh reads every file there).
- * Besides ASan/UBSan findings, an accepted mesh that breaks an invariant aborts. */
+ * Besides ASan/UBSan findings, an accepted mesh that breaks an invariant aborts.
+ * With -DSW_FUZZ_ALLOC the first input byte b makes allocation number b+1 fail (b < 64), to
+ * fuzz the out-of-memory paths for leaks. */
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "obj.h"
 #include "sinew.h"
+#include "util.h"
 
 static void check_mesh(const sw_mesh *m) {
   if (m->nv <= 0 || m->nf <= 0 || m->ngroup < 1 || !m->x || !m->f || !m->fgroup || !m->group)
@@ -35,7 +38,15 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
   char err[SW_ERRSZ];
   sw_mesh m;
   err[0] = '\0';
-  if (sw_obj_parse("fuzz.obj", (const char *)data, size, &m, err, sizeof err) == 0)
+#ifdef SW_FUZZ_ALLOC
+  if (size == 0) return 0;
+  sw_alloc_fail_after(data[0] < 64 ? data[0] + 1 : 0);
+  data++;
+  size--;
+#endif
+  int rc = sw_obj_parse("fuzz.obj", (const char *)data, size, &m, err, sizeof err);
+  sw_alloc_fail_after(0);
+  if (rc == 0)
     check_mesh(&m);
   else if (strncmp(err, "fuzz.obj", 8) != 0)
     abort(); /* every error names the file */

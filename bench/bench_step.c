@@ -1,0 +1,172 @@
+/* bench_step.c — per-step wall time of an implicit integrator on the hanging cloth, N x N grid.
+ *
+ *   bench_step [--header] N [steps] [method]
+ *
+ * Builds scenes/hanging_cloth.yaml in code with N x N vertices instead of 40 x 40 (1 m square
+ * in the xy plane, 3D, density 0.1 kg/m^2, bw98 k_u = k_v = 5000, k_shear = 100 N/m, gravity
+ * (0, 0, -9.81), the two corners of the edge y = 1 pinned; default options: Hessian "auto",
+ * Newton tol 1e-6, at most 50 iterations), then takes `steps` (default 20) steps of dt = 0.01 s
+ * of `method` (default backward-euler) through the integrator's operations directly: no scene
+ * file, no output, no diagnostics.  Prints one CSV line on stdout (--header: the header line
+ * first; --header alone: only the header):
+ *
+ *   N, dofs, nnz (lower triangle of the system), steps, newton_iterations, factorizations,
+ *   step_s (mean wall s per step), assembly_s, factor_s, solve_s, rest_s (each per step;
+ *   rest = step - assembly - factor - solve), nonfactor_share (1 - (factor + solve) / step),
+ *   peak_rss_mib (getrusage ru_maxrss of the whole process / 1024),
+ *   assembly_per_iter_s, factor_per_iter_s (per Newton iteration).
+ *
+ * "assembly" is the solver's own timer (term gradients and Hessian blocks at each Newton
+ * iterate plus the scatter into the CSC values); "rest" is mostly the line search's energy
+ * evaluations and the vector work of Newton and the step.  The setup (pattern, CHOLMOD's
+ * analysis) is outside the step and reported on stderr with a checksum of the final positions,
+ * so that a change meant to leave results alone can be checked bit for bit. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/resource.h>
+
+#include "solver.h"
+#include "util.h"
+
+void openblas_set_num_threads(int num_threads); /* OpenBLAS' cblas.h */
+
+static const char *header =
+    "N,dofs,nnz,steps,newton_iterations,factorizations,step_s,assembly_s,factor_s,solve_s,"
+    "rest_s,nonfactor_share,peak_rss_mib,assembly_per_iter_s,factor_per_iter_s";
+
+static sw_model *hanging_cloth(int n, char *err, size_t errsz) {
+  sw_mesh mesh;
+  const double size[2] = {1.0, 1.0};
+  if (sw_mesh_grid(&mesh, size, n, n, "xy", err, errsz)) return NULL;
+  sw_model *m = sw_model_new();
+  if (!m) return sw_mesh_free(&mesh), sw_errf(err, errsz, "out of memory"), NULL;
+  const int dim = 3;
+  m->dim = dim;
+  m->nv = mesh.nv;
+  m->nf = mesh.nf;
+  m->x0 = calloc((size_t)m->nv * dim, sizeof(double));
+  m->v0 = calloc((size_t)m->nv * dim, sizeof(double));
+  m->pinned = calloc((size_t)m->nv, 1);
+  m->face = calloc((size_t)m->nf * 3, sizeof(int));
+  m->uv = calloc((size_t)m->nf * 6, sizeof(double));
+  if (!m->x0 || !m->v0 || !m->pinned || !m->face || !m->uv) {
+    sw_mesh_free(&mesh);
+    sw_model_free(m);
+    sw_errf(err, errsz, "out of memory");
+    return NULL;
+  }
+  for (int i = 0; i < m->nv; i++)
+    for (int a = 0; a < dim; a++) m->x0[i * dim + a] = mesh.x[i * 3 + a];
+  for (int f = 0; f < m->nf; f++)
+    for (int c = 0; c < 3; c++) {
+      m->face[3 * f + c] = mesh.f[3 * f + c];
+      m->uv[6 * f + 2 * c] = mesh.uv[2 * mesh.fuv[3 * f + c]];
+      m->uv[6 * f + 2 * c + 1] = mesh.uv[2 * mesh.fuv[3 * f + c] + 1];
+    }
+  sw_mesh_free(&mesh);
+  snprintf(m->name, sizeof m->name, "hanging cloth %d x %d", n, n);
+  m->mat.density = 0.1;
+  m->mat.membrane = SW_MEMBRANE_BW98;
+  m->mat.k_u = m->mat.k_v = 5000.0;
+  m->mat.k_shear = 100.0;
+  m->mat.b_u = m->mat.b_v = 1.0;
+  m->has_gravity = 1;
+  m->gravity[0] = m->gravity[1] = 0.0;
+  m->gravity[2] = -9.81;
+  /* vertex (i, j) is j*n + i at (i, j)/(n-1) m: the corners (0, 1) and (1, 1) */
+  m->pinned[(n - 1) * n] = m->pinned[(n - 1) * n + n - 1] = 1;
+  m->opt.dt = 0.01;
+  if (sw_model_finish(m, err, errsz)) {
+    sw_model_free(m);
+    return NULL;
+  }
+  return m;
+}
+
+static int usage(void) {
+  fprintf(stderr, "usage: bench_step [--header] N [steps] [method]\n"
+                  "  N >= 2 vertices per side, steps >= 1 (default 20), method (default "
+                  "backward-euler)\n");
+  return 2;
+}
+
+int main(int argc, char **argv) {
+  int want_header = 0, npos = 0;
+  const char *pos[3] = {NULL, NULL, NULL};
+  for (int i = 1; i < argc; i++) {
+    if (!strcmp(argv[i], "--header")) want_header = 1;
+    else if (argv[i][0] == '-' && argv[i][1] != '\0') return usage();
+    else if (npos < 3) pos[npos++] = argv[i];
+    else return usage();
+  }
+  if (want_header) puts(header);
+  if (npos == 0) return want_header ? 0 : usage();
+  char *end;
+  long n = strtol(pos[0], &end, 10);
+  if (*end || n < 2 || n > 20000) return usage();
+  long steps = 20;
+  if (pos[1]) {
+    steps = strtol(pos[1], &end, 10);
+    if (*end || steps < 1) return usage();
+  }
+  const char *method = pos[2] ? pos[2] : "backward-euler";
+  const sw_integrator_ops *ops = sw_integrator_find(method);
+  if (!ops) {
+    fprintf(stderr, "bench_step: unknown method '%s'\n", method);
+    return 2;
+  }
+  /* as sw_run does: one BLAS thread unless OPENBLAS_NUM_THREADS says otherwise */
+  if (!getenv("OPENBLAS_NUM_THREADS")) openblas_set_num_threads(1);
+
+  char err[SW_ERRSZ];
+  sw_model *m = hanging_cloth((int)n, err, sizeof err);
+  if (!m) {
+    fprintf(stderr, "bench_step: %s\n", err);
+    return 1;
+  }
+  const double dt = m->opt.dt;
+  m->opt.duration = (double)steps * dt;
+  snprintf(m->opt.method, sizeof m->opt.method, "%s", method);
+  long nnz = sw_system_nnz(m);
+  sw_data *d = sw_data_new(m);
+  if (!d || nnz < 0) {
+    fprintf(stderr, "bench_step: out of memory\n");
+    return 1;
+  }
+  void *st = NULL;
+  double t0 = sw_now();
+  if (ops->init(&st, m, d, err, sizeof err)) {
+    fprintf(stderr, "bench_step: %s\n", err);
+    return 1;
+  }
+  double t_init = sw_now() - t0;
+  for (long k = 0; k < steps; k++) {
+    t0 = sw_now();
+    int rc = ops->step(st, m, d, dt);
+    d->time_step += sw_now() - t0;
+    if (rc) {
+      fprintf(stderr, "bench_step: N = %ld, step %ld (t = %g s): %s\n", n, k + 1, d->t, d->err);
+      return 1;
+    }
+  }
+  ops->free(st);
+
+  struct rusage ru;
+  getrusage(RUSAGE_SELF, &ru);
+  double s = (double)steps, it = d->nnewton > 0 ? (double)d->nnewton : 1.0;
+  double step = d->time_step / s, as = d->time_assemble / s, fa = d->time_factor / s,
+         so = d->time_solve / s;
+  printf("%ld,%d,%ld,%ld,%ld,%ld,%.6g,%.6g,%.6g,%.6g,%.6g,%.4f,%.1f,%.6g,%.6g\n", n, m->ndof, nnz,
+         steps, d->nnewton, d->nfactor, step, as, fa, so, step - as - fa - so,
+         step > 0 ? 1.0 - (fa + so) / step : 0.0, (double)ru.ru_maxrss / 1024.0,
+         d->time_assemble / it, d->time_factor / it);
+  double sum = 0.0;
+  for (int i = 0; i < m->nv * m->dim; i++) sum += d->x[i];
+  fprintf(stderr, "bench_step: N = %ld %s: setup (pattern + analysis) %.4g s, "
+                  "line-search halvings %ld, sum of x at t = %g s: %.17g\n",
+          n, method, t_init, d->nlinesearch, d->t, sum);
+  sw_data_free(d);
+  sw_model_free(m);
+  return 0;
+}

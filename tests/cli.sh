@@ -1,0 +1,55 @@
+#!/usr/bin/env bash
+# tests/cli.sh SINEW — the command line end to end: help and version, check, a short run of the
+# default scene with every output in place and complete, and bad input refused with
+# file:line:column, a non-zero exit and nothing written.
+set -u
+sinew=$1
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+fails=0
+fail() { echo "FAIL: $*"; fails=$((fails + 1)); }
+
+"$sinew" --version | grep -q '^sinew [0-9]' || fail "--version"
+"$sinew" --help | grep -q 'backward-euler' || fail "--help lists the methods"
+"$sinew" run --help | grep -q -- '--duration' || fail "run --help"
+"$sinew" frobnicate >/dev/null 2>&1 && fail "unknown command accepted"
+
+out=$("$sinew" check scenes/hanging_cloth.yaml) || fail "check of the default scene"
+grep -q 'vertices    1600 (2 pinned)' <<<"$out" || fail "check: vertices ($out)"
+grep -q 'free DOFs   4794' <<<"$out" || fail "check: free DOFs"
+grep -q 'terms       bw98 gravity' <<<"$out" || fail "check: terms"
+grep -Eq 'system nnz  [0-9]+' <<<"$out" || fail "check: nnz"
+
+# A short run: t = 0 and three steps logged, frames and summary complete, no .part left.
+"$sinew" run scenes/hanging_cloth.yaml --out "$tmp/run" --duration 0.03 --quiet 2>"$tmp/err" ||
+  fail "short run: $(cat "$tmp/err")"
+[ "$(wc -l <"$tmp/run/tension.csv")" -eq 5 ] || fail "tension.csv has header + 4 lines"
+[ "$(wc -l <"$tmp/run/energy.csv")" -eq 5 ] || fail "energy.csv has header + 4 lines"
+head -1 "$tmp/run/tension.csv" | grep -q '^time,txy_max,txy_mean,txy_p95' || fail "tension header"
+grep -q '"status": "ok"' "$tmp/run/summary.json" || fail "summary status ok"
+ls "$tmp/run"/*.part >/dev/null 2>&1 && fail ".part files left after a complete run"
+ls "$tmp/run/frames/"*.vtu >/dev/null 2>&1 || fail "no frames"
+grep -q '<VTKFile type="Collection"' "$tmp/run/frames.pvd" || fail "frames.pvd"
+tail -1 "$tmp/run/tension.csv" | grep -q '^0.03' || fail "last line at t = 0.03"
+
+# Overrides are validated.
+"$sinew" run scenes/hanging_cloth.yaml --dt -1 --out "$tmp/x" >/dev/null 2>&1 && fail "--dt -1"
+"$sinew" run scenes/hanging_cloth.yaml --method nope --out "$tmp/x" >/dev/null 2>&1 && fail "--method nope"
+[ -e "$tmp/x" ] && fail "a refused run wrote $tmp/x"
+
+# Bad scene: file:line:column, non-zero exit, nothing written.
+printf 'mesh: {grid: {size: [1, 1], vertices: [4, 4]}}\nmaterial: {density: -0.1}\noutput: {dir: %s}\n' \
+  "$tmp/bad_out" >"$tmp/bad.yaml"
+if "$sinew" run "$tmp/bad.yaml" 2>"$tmp/err" >/dev/null; then fail "bad scene accepted"; fi
+grep -Eq "bad.yaml:2:[0-9]+: " "$tmp/err" || fail "bad scene message: $(cat "$tmp/err")"
+[ -e "$tmp/bad_out" ] && fail "a bad scene wrote its output folder"
+
+# An output folder that cannot be created: clear message, non-zero exit.
+touch "$tmp/file"
+if "$sinew" run scenes/hanging_cloth.yaml --out "$tmp/file/sub" --duration 0.01 --quiet 2>"$tmp/err"; then
+  fail "run into an impossible folder succeeded"
+fi
+grep -q "$tmp/file" "$tmp/err" || fail "impossible folder message: $(cat "$tmp/err")"
+
+echo "$fails failure(s)"
+[ "$fails" -eq 0 ]
