@@ -300,6 +300,13 @@ static double max_of(const double *a, int n) { /* NaN-propagating; 0 when n == 0
   return mx;
 }
 
+static double max_abs_of(const double *a, int n) { /* NaN-propagating; 0 when n == 0 */
+  double mx = 0.0;
+  for (int i = 0; i < n && !isnan(mx); i++)
+    if (isnan(a[i]) || fabs(a[i]) > mx) mx = fabs(a[i]);
+  return mx;
+}
+
 static double mean_of(const double *a, int n) {
   if (n <= 0) return 0.0;
   double s = 0.0;
@@ -364,7 +371,7 @@ static int step_tension(sw_output *o, const sw_model *m, const sw_data *d, char 
   line_num(o, &len, p95_of(d->txy, nf, scratch));
   line_num(o, &len, max_of(d->stretch_u, nf));
   line_num(o, &len, max_of(d->stretch_v, nf));
-  line_num(o, &len, max_of(d->shear, nf));
+  line_num(o, &len, max_abs_of(d->shear, nf)); /* shear is signed; log its largest magnitude */
   line_end(o, len);
   return put_line(o, LOG_TENSION, err, errsz);
 }
