@@ -7,7 +7,9 @@
  * (0, 0, -9.81), the two corners of the edge y = 1 pinned; default options: Hessian "auto",
  * Newton tol 1e-6, at most 50 iterations), then takes `steps` (default 20) steps of dt = 0.01 s
  * of `method` (default backward-euler) through the integrator's operations directly: no scene
- * file, no output, no diagnostics.  Prints one CSV line on stdout (--header: the header line
+ * file, no output, no diagnostics.  A step that fails recoverably is retried with dt/2, dt/4, ...
+ * exactly as sim/run.c does, and the failed attempts count in its time (--verbose: one line per
+ * step on stderr with its Newton iterations and retries).  Prints one CSV line on stdout (--header: the header line
  * first; --header alone: only the header):
  *
  *   N, dofs, nnz (lower triangle of the system), steps, newton_iterations, factorizations,
@@ -84,18 +86,46 @@ static sw_model *hanging_cloth(int n, char *err, size_t errsz) {
   return m;
 }
 
+/* One step of the run from d->t to end, as sim/run.c takes it: a recoverable failure is retried
+ * with half the step (opt.max_halvings times at most), and after a success with a reduced step
+ * the rest of [t, end] is taken with it.  Every attempt's wall time counts in d->time_step. */
+static int step_with_retries(const sw_integrator_ops *ops, void *st, const sw_model *m,
+                             sw_data *d, double end) {
+  const double dt = end - d->t;
+  double h = dt;
+  int rc = SW_OK;
+  for (int k = 0; k <= m->opt.max_halvings; k++, h *= 0.5) {
+    double t0 = sw_now();
+    rc = ops->step(st, m, d, h < end - d->t ? h : end - d->t);
+    d->time_step += sw_now() - t0;
+    while (rc == SW_OK && d->t < end - 1e-12 * dt) {
+      t0 = sw_now();
+      rc = ops->step(st, m, d, h < end - d->t ? h : end - d->t);
+      d->time_step += sw_now() - t0;
+    }
+    if (rc == SW_OK) {
+      d->t = end;
+      return SW_OK;
+    }
+    if (rc < 0) break;
+    d->nretry++;
+  }
+  return rc;
+}
+
 static int usage(void) {
-  fprintf(stderr, "usage: bench_step [--header] N [steps] [method]\n"
+  fprintf(stderr, "usage: bench_step [--header] [--verbose] N [steps] [method]\n"
                   "  N >= 2 vertices per side, steps >= 1 (default 20), method (default "
                   "backward-euler)\n");
   return 2;
 }
 
 int main(int argc, char **argv) {
-  int want_header = 0, npos = 0;
+  int want_header = 0, verbose = 0, npos = 0;
   const char *pos[3] = {NULL, NULL, NULL};
   for (int i = 1; i < argc; i++) {
     if (!strcmp(argv[i], "--header")) want_header = 1;
+    else if (!strcmp(argv[i], "--verbose")) verbose = 1;
     else if (argv[i][0] == '-' && argv[i][1] != '\0') return usage();
     else if (npos < 3) pos[npos++] = argv[i];
     else return usage();
@@ -141,12 +171,15 @@ int main(int argc, char **argv) {
     return 1;
   }
   double t_init = sw_now() - t0;
-  for (long k = 0; k < steps; k++) {
-    t0 = sw_now();
-    int rc = ops->step(st, m, d, dt);
-    d->time_step += sw_now() - t0;
+  for (long k = 1; k <= steps; k++) {
+    long nit0 = d->nnewton, nret0 = d->nretry;
+    double w0 = sw_now();
+    int rc = step_with_retries(ops, st, m, d, (double)k * dt);
+    if (verbose)
+      fprintf(stderr, "step %ld: t = %g s, %ld Newton iterations, %ld retries, %.4g s\n", k, d->t,
+              d->nnewton - nit0, d->nretry - nret0, sw_now() - w0);
     if (rc) {
-      fprintf(stderr, "bench_step: N = %ld, step %ld (t = %g s): %s\n", n, k + 1, d->t, d->err);
+      fprintf(stderr, "bench_step: N = %ld, step %ld: %s\n", n, k, d->err);
       return 1;
     }
   }
@@ -164,8 +197,8 @@ int main(int argc, char **argv) {
   double sum = 0.0;
   for (int i = 0; i < m->nv * m->dim; i++) sum += d->x[i];
   fprintf(stderr, "bench_step: N = %ld %s: setup (pattern + analysis) %.4g s, "
-                  "line-search halvings %ld, sum of x at t = %g s: %.17g\n",
-          n, method, t_init, d->nlinesearch, d->t, sum);
+                  "line-search halvings %ld, retried steps %ld, sum of x at t = %g s: %.17g\n",
+          n, method, t_init, d->nlinesearch, d->nretry, d->t, sum);
   sw_data_free(d);
   sw_model_free(m);
   return 0;
