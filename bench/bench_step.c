@@ -1,6 +1,6 @@
 /* bench_step.c — per-step wall time of an implicit integrator on the hanging cloth, N x N grid.
  *
- *   bench_step [--header] N [steps] [method]
+ *   bench_step [--header] [--verbose] [--hessian=auto|exact|projected] N [steps] [method]
  *
  * Builds scenes/hanging_cloth.yaml in code with N x N vertices instead of 40 x 40 (1 m square
  * in the xy plane, 3D, density 0.1 kg/m^2, bw98 k_u = k_v = 5000, k_shear = 100 N/m, gravity
@@ -9,8 +9,9 @@
  * of `method` (default backward-euler) through the integrator's operations directly: no scene
  * file, no output, no diagnostics.  A step that fails recoverably is retried with dt/2, dt/4, ...
  * exactly as sim/run.c does, and the failed attempts count in its time (--verbose: one line per
- * step on stderr with its Newton iterations and retries).  Prints one CSV line on stdout (--header: the header line
- * first; --header alone: only the header):
+ * step on stderr with its Newton iterations and retries; --hessian: Newton's matrix, default
+ * auto as in the scene).  Prints one CSV line on stdout (--header: the header line first;
+ * --header alone: only the header):
  *
  *   N, dofs, nnz (lower triangle of the system), steps, newton_iterations, factorizations,
  *   step_s (mean wall s per step), assembly_s, factor_s, solve_s, rest_s (each per step;
@@ -114,18 +115,22 @@ static int step_with_retries(const sw_integrator_ops *ops, void *st, const sw_mo
 }
 
 static int usage(void) {
-  fprintf(stderr, "usage: bench_step [--header] [--verbose] N [steps] [method]\n"
+  fprintf(stderr, "usage: bench_step [--header] [--verbose] [--hessian=auto|exact|projected] N [steps] "
+                  "[method]\n"
                   "  N >= 2 vertices per side, steps >= 1 (default 20), method (default "
                   "backward-euler)\n");
   return 2;
 }
 
 int main(int argc, char **argv) {
-  int want_header = 0, verbose = 0, npos = 0;
+  int want_header = 0, verbose = 0, npos = 0, hessian = SW_HESSIAN_AUTO;
   const char *pos[3] = {NULL, NULL, NULL};
   for (int i = 1; i < argc; i++) {
     if (!strcmp(argv[i], "--header")) want_header = 1;
     else if (!strcmp(argv[i], "--verbose")) verbose = 1;
+    else if (!strcmp(argv[i], "--hessian=auto")) hessian = SW_HESSIAN_AUTO;
+    else if (!strcmp(argv[i], "--hessian=exact")) hessian = SW_HESSIAN_EXACT;
+    else if (!strcmp(argv[i], "--hessian=projected")) hessian = SW_HESSIAN_PROJECTED;
     else if (argv[i][0] == '-' && argv[i][1] != '\0') return usage();
     else if (npos < 3) pos[npos++] = argv[i];
     else return usage();
@@ -158,6 +163,7 @@ int main(int argc, char **argv) {
   const double dt = m->opt.dt;
   m->opt.duration = (double)steps * dt;
   snprintf(m->opt.method, sizeof m->opt.method, "%s", method);
+  m->opt.hessian = hessian;
   long nnz = sw_system_nnz(m);
   sw_data *d = sw_data_new(m);
   if (!d || nnz < 0) {

@@ -43,8 +43,9 @@ static double max_abs(const double *v, long n) {
 /* grad vs central differences of E; step h relative to the state's size. */
 static void check_gradient(probe *p, double h) {
   int n = p->n;
-  double *g = calloc((size_t)n, sizeof *g), *fd = calloc((size_t)n, sizeof *fd);
-  double *xp = malloc(sizeof(double) * (size_t)n);
+  size_t nz = (unsigned)n;
+  double *g = calloc(nz, sizeof *g), *fd = calloc(nz, sizeof *fd);
+  double *xp = malloc(sizeof(double) * nz);
   term_energy(p, p->x, g, NULL, 0);
   for (int i = 0; i < n; i++) {
     memcpy(xp, p->x, sizeof(double) * (size_t)n);
