@@ -20,9 +20,11 @@ static int gravity_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, 
 static const sw_term_ops gravity_ops = {.kind = "gravity", .eval = gravity_eval};
 
 int sw_gravity_build(sw_term *t, const sw_model *m, char *err, size_t errsz) {
-  (void)err;
-  (void)errsz;
   t->ops = &gravity_ops;
   snprintf(t->name, sizeof t->name, "%s", "gravity");
-  return sw_term_alloc_stencils(t, 0, 1, m->dim);
+  if (sw_term_alloc_stencils(t, 0, 1, m->dim)) {
+    snprintf(err, errsz, "out of memory");
+    return -1;
+  }
+  return 0;
 }

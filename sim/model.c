@@ -112,11 +112,13 @@ static int build_terms(sw_model *m, char *err, size_t errsz) {
   m->term = sw_calloc(4, sizeof *m->term);
   if (!m->term) return sw_errf(err, errsz, "out of memory"), -1;
   if (m->mat.membrane == SW_MEMBRANE_BW98) {
-    if (sw_bw98_build(&m->term[m->nterm], m, err, errsz)) return -1;
+    if (sw_bw98_build(&m->term[m->nterm], m, err, errsz))
+      return sw_term_free(&m->term[m->nterm]), -1;
     m->nterm++;
   }
   if (m->has_gravity) {
-    if (sw_gravity_build(&m->term[m->nterm], m, err, errsz)) return -1;
+    if (sw_gravity_build(&m->term[m->nterm], m, err, errsz))
+      return sw_term_free(&m->term[m->nterm]), -1;
     m->nterm++;
   }
   return 0;

@@ -571,7 +571,6 @@ static void file_stem(const char *path, char *out, size_t sz) {
 
 typedef struct mesh_in {
   sw_mesh mesh;
-  int is_obj;
   const ynode *at;        /* the grid or obj value, for messages */
   char obj[SW_PATHSZ];    /* the OBJ file as opened */
 } mesh_in;
@@ -654,7 +653,6 @@ static int load_mesh(const ctx *c, const ynode *y, mesh_in *mi, double *uv_scale
                 "(a grid's (u,v) layout is already in m)");
   if (v[2] && get_num(c, v[2], "mesh uv_scale", 0, 1, "m per OBJ (u,v) unit", uv_scale))
     return -1;
-  mi->is_obj = v[1] != NULL;
   mi->at = v[0] ? v[0] : v[1];
   return v[0] ? load_grid(c, v[0], mi) : load_obj(c, v[1], mi);
 }
@@ -891,7 +889,9 @@ static int load_gravity(const ctx *c, const ynode *y) {
 
 /* ================================================================ options */
 
-static const char *const int_keys[] = {"method", "dt", "max_halvings", "newton"};
+static const char *const int_keys[] = {"method", "dt", "max_halvings", "newton", "hessian"};
+/* in the order of SW_HESSIAN_PROJECTED, _EXACT, _AUTO */
+static const char *const hessian_modes[] = {"projected", "exact", "auto"};
 static const char *const newton_keys[] = {"max_iterations", "tol"};
 
 static int load_method(const ctx *c, const ynode *y) {
@@ -907,8 +907,9 @@ static int load_method(const ctx *c, const ynode *y) {
 
 static int load_integrator(const ctx *c, const ynode *y) {
   sw_options *o = &c->m->opt;
-  const ynode *v[4], *nv[2];
-  if (get_map(c, y, "integrator", int_keys, 4, v)) return -1;
+  const ynode *v[5], *nv[2];
+  if (get_map(c, y, "integrator", int_keys, 5, v)) return -1;
+  if (v[4] && get_choice(c, v[4], "integrator hessian", hessian_modes, 3, &o->hessian)) return -1;
   if (v[0] && load_method(c, v[0])) return -1;
   if (v[1] && get_num(c, v[1], "integrator dt", 0, 1, "s", &o->dt)) return -1;
   if (v[2] && get_int(c, v[2], "integrator max_halvings", 0, 60, &o->max_halvings)) return -1;

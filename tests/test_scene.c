@@ -3,7 +3,9 @@
  *
  * Usage: test_scene [SRCDIR]
  * The scenes are written to a fresh folder made with mkdtemp under $TMPDIR (or /tmp) and
- * removed at the end.  With SRCDIR (the source tree), scenes/hanging_cloth.yaml is loaded too. */
+ * removed at the end.  SRCDIR (the source tree; default: the current folder when it holds
+ * scenes/hanging_cloth.yaml) adds scenes/hanging_cloth.yaml and every fuzzing regression input
+ * in tests/fuzz/regress/scene/ (each must load or fail cleanly, "file:..."). */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -11,6 +13,7 @@
 
 #include <cmocka.h>
 
+#include <dirent.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -68,7 +71,7 @@ static const char good_scene[] =
     "initial_velocity:\n"
     "  - {velocity: [0, 0, 1.0]}\n"
     "  - {velocity: [1, 0, 0], select: {vertices: [44]}}\n"
-    "integrator: {method: backward-euler, dt: 0.005, max_halvings: 4,\n"
+    "integrator: {method: backward-euler, dt: 0.005, max_halvings: 4, hessian: projected,\n"
     "             newton: {max_iterations: 20, tol: 1e-8}}\n"
     "duration: 3\n"
     "output: {dir: out/here, frames_every: 0.1}\n"
@@ -107,6 +110,7 @@ static void test_good_scene(void **state) {
   assert_string_equal(m->opt.method, "backward-euler");
   assert_float_equal(m->opt.dt, 0.005, 0.0);
   assert_int_equal(m->opt.max_halvings, 4);
+  assert_int_equal(m->opt.hessian, SW_HESSIAN_PROJECTED);
   assert_int_equal(m->opt.newton_max, 20);
   assert_float_equal(m->opt.newton_tol, 1e-8, 0.0);
   assert_float_equal(m->opt.duration, 3.0, 0.0);
@@ -138,6 +142,7 @@ static void test_defaults(void **state) {
   assert_float_equal(m->opt.duration, 1.0, 0.0);
   assert_int_equal(m->opt.newton_max, 50);
   assert_int_equal(m->opt.max_halvings, 8);
+  assert_int_equal(m->opt.hessian, SW_HESSIAN_AUTO);
   assert_float_equal(m->opt.tx_k_u, -1.0, 0.0);
   assert_float_equal(m->opt.tx_clip, 5e4, 0.0);
   assert_int_equal(m->opt.tx_reference_uv, 0);
@@ -232,6 +237,29 @@ static void test_memory(void **state) {
   free(buf);
 }
 
+/* Inputs the fuzzer once found (hangs and leaks in libfyaml): no crash, no leak, no hang. */
+static void test_regress(void **state) {
+  (void)state;
+  char dir[4096], path[4400], err[SW_ERRSZ];
+  if (!srcdir) skip();
+  snprintf(dir, sizeof dir, "%s/tests/fuzz/regress/scene", srcdir);
+  DIR *d = opendir(dir);
+  if (!d) skip();
+  struct dirent *de;
+  int n = 0;
+  while ((de = readdir(d))) {
+    if (de->d_name[0] == '.') continue;
+    snprintf(path, sizeof path, "%s/%s", dir, de->d_name);
+    sw_model *m = sw_scene_load(path, err, sizeof err);
+    if (!m && (strncmp(err, path, strlen(path)) || err[strlen(path)] != ':'))
+      fail_msg("%s: message \"%s\" does not start with the file name", de->d_name, err);
+    sw_model_free(m);
+    n++;
+  }
+  closedir(d);
+  assert_true(n > 0);
+}
+
 /* Every allocation failing in turn: NULL with a message, never a crash or a leak. */
 static void test_alloc_failures(void **state) {
   (void)state;
@@ -307,6 +335,7 @@ static const bad_case bad[] = {
     {"gravity_nan.yaml", GRID MAT "gravity: [0, 0, .nan]\n", 3, 17, "not finite"},
     {"method.yaml", GRID MAT "integrator: {method: rk4}\n", 3, 22, "backward-euler"},
     {"halvings.yaml", GRID MAT "integrator: {max_halvings: 61}\n", 3, 28, "[0, 60]"},
+    {"hessian.yaml", GRID MAT "integrator: {hessian: fancy}\n", 3, 23, "projected, exact, auto"},
     {"newton.yaml", GRID MAT "integrator: {newton: {max_iterations: 0}}\n", 3, 39,
      "max_iterations"},
     {"plane_2d.yaml", "dimension: 2\nmesh: {grid: {size: [1, 1], vertices: [3, 3], plane: xz}}\n"
@@ -381,7 +410,7 @@ static void cleanup(void) {
 
 int main(int argc, char **argv) {
   const char *base = getenv("TMPDIR");
-  srcdir = argc > 1 ? argv[1] : NULL;
+  srcdir = argc > 1 ? argv[1] : access("scenes/hanging_cloth.yaml", R_OK) == 0 ? "." : NULL;
   snprintf(tmpdir, sizeof tmpdir, "%s/sinew_test_scene_XXXXXX", base && *base ? base : "/tmp");
   if (!mkdtemp(tmpdir)) {
     perror("mkdtemp");
@@ -392,7 +421,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(test_2d),           cmocka_unit_test(test_obj),
       cmocka_unit_test(test_repo_scene),   cmocka_unit_test(test_memory),
       cmocka_unit_test(test_bad_scenes),   cmocka_unit_test(test_unreadable),
-      cmocka_unit_test(test_alloc_failures),
+      cmocka_unit_test(test_regress),      cmocka_unit_test(test_alloc_failures),
   };
   int rc = cmocka_run_group_tests(tests, NULL, NULL);
   cleanup();
