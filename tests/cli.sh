@@ -51,5 +51,22 @@ if "$sinew" run scenes/hanging_cloth.yaml --out "$tmp/file/sub" --duration 0.01 
 fi
 grep -q "$tmp/file" "$tmp/err" || fail "impossible folder message: $(cat "$tmp/err")"
 
+# A run that cannot go on: Newton allowed one iteration with an unreachable tolerance.  It says
+# when, which method and why, exits 1, keeps its logs (renamed, complete up to the failure),
+# writes the last good state as a frame and a summary saying "failed".
+sed -e 's/newton: {max_iterations: 50, tol: 1e-6}/newton: {max_iterations: 1, tol: 1e-12}/' \
+    -e 's/max_halvings: 8 /max_halvings: 2 /' scenes/hanging_cloth.yaml >"$tmp/failing.yaml"
+if "$sinew" run "$tmp/failing.yaml" --out "$tmp/fail" --quiet 2>"$tmp/err"; then
+  fail "a failing run exited 0"
+fi
+grep -q 't = 0 s: backward-euler: Newton did not converge in 1 iterations' "$tmp/err" ||
+  fail "failure message: $(cat "$tmp/err")"
+grep -q 'halved 2 times' "$tmp/err" || fail "failure message names the halvings"
+grep -q '"status": "failed"' "$tmp/fail/summary.json" || fail "summary says failed"
+grep -q '"retries": 3' "$tmp/fail/summary.json" || fail "summary counts 3 tries that failed"
+[ "$(wc -l <"$tmp/fail/tension.csv")" -eq 2 ] || fail "logs kept up to the failure (t = 0)"
+ls "$tmp/fail"/*.part >/dev/null 2>&1 && fail ".part files left after a failed run"
+[ "$(ls "$tmp/fail/frames/"*.vtu | wc -l)" -eq 2 ] || fail "initial frame and last good state"
+
 echo "$fails failure(s)"
 [ "$fails" -eq 0 ]
