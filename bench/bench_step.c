@@ -32,7 +32,6 @@
 #include "solver.h"
 #include "util.h"
 
-void openblas_set_num_threads(int num_threads); /* OpenBLAS' cblas.h */
 
 static const char *header =
     "N,dofs,nnz,steps,newton_iterations,factorizations,step_s,assembly_s,factor_s,solve_s,"
@@ -174,8 +173,8 @@ int main(int argc, char **argv) {
     fprintf(stderr, "bench_step: unknown method '%s'\n", method);
     return 2;
   }
-  /* as sw_run does: one BLAS thread unless OPENBLAS_NUM_THREADS says otherwise */
-  if (!getenv("OPENBLAS_NUM_THREADS")) openblas_set_num_threads(1);
+  /* the thread settings sw_run uses */
+  sw_set_threads(0);
 
   char err[SW_ERRSZ];
   sw_model *m = hanging_cloth((int)n, err, sizeof err);

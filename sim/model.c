@@ -164,7 +164,7 @@ void sw_model_print(const sw_model *m, void *file) {
   fprintf(fp, "terms      ");
   for (int k = 0; k < m->nterm; k++) fprintf(fp, " %s", m->term[k].name);
   fprintf(fp, "%s\n", m->nterm ? "" : " (none)");
-  fprintf(fp, "system nnz  %ld (lower triangle, free DOFs)\n", sw_system_nnz(m));
+  fprintf(fp, "system nnz  %ld (upper triangle, free DOFs)\n", sw_system_nnz(m));
   fprintf(fp, "integrator  %s, dt = %g s, duration = %g s\n", m->opt.method, m->opt.dt,
           m->opt.duration);
   fprintf(fp, "output      %s\n", m->opt.out_dir);

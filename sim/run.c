@@ -2,6 +2,8 @@
  * A failed step is retried with half the step up to opt.max_halvings times; a run that cannot
  * go on stops with a message naming the time, the method and the reason, keeps its logs, writes
  * the last good state as a frame and a summary.json with status "failed". */
+#define _GNU_SOURCE /* dlsym(RTLD_DEFAULT) */
+#include <dlfcn.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -117,15 +119,24 @@ static int static_run(run_ctx *r, char *err, size_t errsz) {
 
 void openblas_set_num_threads(int num_threads); /* OpenBLAS' cblas.h */
 
-/* One BLAS thread unless asked: on this project's 2-core machines two threads made the 40 x 40
- * cloth's factorisations 3x slower (docs/performance.md); large systems gain from more. */
-static void set_blas_threads(const sw_model *m) {
-  if (m->opt.blas_threads > 0) openblas_set_num_threads(m->opt.blas_threads);
+/* Threads (docs/performance.md).  Debian's CHOLMOD runs small loops of its factorisation on 4
+ * OpenMP threads, compiled in; on 2 cores they fight and a step got 2.3x slower, so nested
+ * OpenMP parallelism is switched off unless the user sets OMP_MAX_ACTIVE_LEVELS or
+ * OMP_THREAD_LIMIT (looked up at run time: no dependency on libgomp, nothing if it is absent).
+ * Then one BLAS thread unless asked: with the OpenMP fix two threads gave no gain per
+ * factorisation at 77k DOFs for twice the CPU, and were slower on small systems. */
+void sw_set_threads(int blas_threads) {
+  if (!getenv("OMP_MAX_ACTIVE_LEVELS") && !getenv("OMP_THREAD_LIMIT")) {
+    void (*set_levels)(int);
+    *(void **)&set_levels = dlsym(RTLD_DEFAULT, "omp_set_max_active_levels");
+    if (set_levels) set_levels(0);
+  }
+  if (blas_threads > 0) openblas_set_num_threads(blas_threads);
   else if (!getenv("OPENBLAS_NUM_THREADS")) openblas_set_num_threads(1);
 }
 
 int sw_run(const sw_model *m, int progress, char *err, size_t errsz) {
-  set_blas_threads(m);
+  sw_set_threads(m->opt.blas_threads);
   run_ctx r = {.m = m, .wall0 = sw_now(), .progress = progress && isatty(2)};
   r.d = sw_data_new(m);
   if (!r.d) return sw_errf(err, errsz, "out of memory allocating the state"), SW_FATAL;

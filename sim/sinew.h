@@ -155,7 +155,7 @@ SW_API int sw_model_finish(sw_model *m, char *err, size_t errsz);
 SW_API void sw_model_free(sw_model *m);
 /* Load and validate a scene file (YAML).  NULL on error, with "file:line:column: message". */
 SW_API sw_model *sw_scene_load(const char *path, char *err, size_t errsz);
-/* Nonzeros of the lower triangle of the system matrix on the free DOFs (-1 on error). */
+/* Nonzeros of the upper triangle of the system matrix on the free DOFs (-1 on error). */
 SW_API long sw_system_nnz(const sw_model *m);
 /* Print what `sinew check` shows. */
 SW_API void sw_model_print(const sw_model *m, void *file /* FILE* */);
@@ -195,6 +195,10 @@ SW_API void sw_tension_xy(const sw_model *m, sw_data *d);
 /* ------------------------------------------------------------------- run */
 
 SW_API const char *const *sw_method_names(void);
+/* Thread settings of the linear algebra (sw_run calls it): OpenMP nesting in CHOLMOD off unless
+ * OMP_MAX_ACTIVE_LEVELS or OMP_THREAD_LIMIT is set; OpenBLAS threads = blas_threads, or when 0,
+ * $OPENBLAS_NUM_THREADS if set, else 1. */
+SW_API void sw_set_threads(int blas_threads);
 /* Simulate the model and write the output folder.  0 on success; nonzero with err on failure
  * (the logs are flushed up to the failure and summary.json says "failed"). */
 SW_API int sw_run(const sw_model *m, int progress, char *err, size_t errsz);

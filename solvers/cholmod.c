@@ -15,7 +15,7 @@ int sw_chol_init(sw_chol *ch, const sw_pattern *p, char *err, size_t errsz) {
   ch->c.error_handler = NULL;
   ch->c.final_ll = 1; /* simplicial factors as LL^T too, so an indefinite S is detected */
   size_t n = (size_t)p->n;
-  ch->A = cholmod_l_allocate_sparse(n, n, (size_t)p->nnz, 1, 1, -1, CHOLMOD_REAL, &ch->c);
+  ch->A = cholmod_l_allocate_sparse(n, n, (size_t)p->nnz, 1, 1, 1, CHOLMOD_REAL, &ch->c);
   ch->b = cholmod_l_zeros(n, 1, CHOLMOD_REAL, &ch->c);
   if (!ch->A || !ch->b) {
     sw_errf(err, errsz, "CHOLMOD: out of memory allocating a %zu x %zu system", n, n);

@@ -1,5 +1,5 @@
 /* pattern.c — the fixed sparsity pattern of S = c^2 M + c D + H on the free DOFs.
- * Built once per run from the terms' stencils: vertex adjacency -> lower-triangle CSC with
+ * Built once per run from the terms' stencils: vertex adjacency -> upper-triangle CSC with
  * sorted rows -> for every entry of every term's Hessian blocks, the slot it adds into. */
 #include <stdlib.h>
 #include <string.h>
@@ -51,8 +51,9 @@ static int vertex_graph(const sw_model *m, long **ptr_out, int **adj_out) {
   return 0;
 }
 
-/* Lower-triangle CSC: column c (vertex b, component beta) holds rows r >= c of the free
- * components of b's neighbours.  DOFs are numbered vertex-major, so rows come out sorted. */
+/* Upper-triangle CSC: column c (vertex b, component beta) holds rows r <= c of the free
+ * components of b's neighbours.  DOFs are numbered vertex-major, so rows come out sorted.
+ * (Upper, not lower: CHOLMOD then makes one transpose per factorisation instead of two.) */
 static int build_csc(sw_pattern *p, const sw_model *m, const long *vptr, const int *adj) {
   const int d = m->dim;
   p->colptr = sw_calloc((size_t)p->n + 1, sizeof(long));
@@ -68,7 +69,7 @@ static int build_csc(sw_pattern *p, const sw_model *m, const long *vptr, const i
         for (long q = vptr[b]; q < vptr[b + 1]; q++)
           for (int al = 0; al < d; al++) {
             int r = m->dof[adj[q] * d + al];
-            if (r < c) continue;
+            if (r < 0 || r > c) continue;
             if (pass == 1) {
               if (r == c) p->diag[c] = nz;
               p->rowind[nz] = r;
@@ -111,7 +112,7 @@ static int build_maps(sw_pattern *p, const sw_model *m) {
       for (int i = 0; i < w; i++)
         for (int j = 0; j < w; j++) {
           int r = m->dof[v[i / d] * d + i % d], c = m->dof[v[j / d] * d + j % d];
-          mp[i * w + j] = (r < 0 || c < 0 || r < c) ? -1 : (int)find_slot(p, r, c);
+          mp[i * w + j] = (r < 0 || c < 0 || r > c) ? -1 : (int)find_slot(p, r, c);
         }
     }
   }

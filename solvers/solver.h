@@ -1,5 +1,5 @@
 /* solver.h — the shared linear-algebra path of every implicit method (DESIGN.md "Integrators"):
- * a fixed lower-triangle CSC pattern on the free DOFs built once from the terms' stencils,
+ * a fixed upper-triangle CSC pattern on the free DOFs built once from the terms' stencils,
  * CHOLMOD analysed once and refactorised per Newton iteration, Newton's method on an
  * incremental potential, and the table of operations every integrator fills. */
 #ifndef SW_SOLVER_H
@@ -12,7 +12,7 @@
 /* ---------------------------------------------------------------- pattern.c */
 typedef struct sw_pattern {
   int n;                 /* free DOFs */
-  long nnz;              /* stored entries (lower triangle) */
+  long nnz;              /* stored entries (upper triangle) */
   long *colptr;          /* (n + 1) */
   long *rowind;          /* (nnz), sorted within each column */
   long *diag;            /* (n) slot of each diagonal entry */
@@ -29,7 +29,7 @@ void sw_pattern_fill(const sw_pattern *p, const sw_model *m, const sw_data *d, d
 typedef struct sw_chol {
   cholmod_common c;
   int started;
-  cholmod_sparse *A;     /* symmetric, lower triangle stored (stype -1) */
+  cholmod_sparse *A;     /* symmetric, upper triangle stored (stype +1) */
   cholmod_factor *L;
   cholmod_dense *b, *x, *Y, *E; /* persistent solve workspaces */
 } sw_chol;

@@ -41,7 +41,7 @@ static void fill_matches_dense(int dim) {
       int r = m->dof[i], c = m->dof[j];
       if (r < 0 || c < 0) continue;
       double want = H[(long)i * n + j] + (i == j ? a * m->mass[i / dim] : 0.0), got = 0.0;
-      int rr = r > c ? r : c, cc = r > c ? c : r;
+      int rr = r < c ? r : c, cc = r < c ? c : r; /* upper triangle: row <= column */
       for (long q = p.colptr[cc]; q < p.colptr[cc + 1]; q++)
         if (p.rowind[q] == rr) got = val[q];
       assert_float_equal(got, want, 1e-9 * (fabs(want) + 1.0));
