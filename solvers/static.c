@@ -1,7 +1,7 @@
 /* static.c — static equilibrium: minimise the total potential U(x) over the free DOFs.
- * Newton on U with a Levenberg–Marquardt shift, S = H + mu M (H projected PSD, so S is positive
- * definite for mu > 0 even where the cloth is slack), mu shrunk after full steps and grown after
- * line-search cuts or failed factorisations, and a backtracking line search on U.  Converged
+ * Newton on U with a Levenberg–Marquardt shift, S = H + mu M (H exact, or projected PSD when the
+ * scene asks for hessian: projected), mu shrunk after full steps and grown after line-search
+ * cuts or factorisations that find S not positive definite, and a backtracking line search on U.  Converged
  * when the free forces sum to at most 1e-10 of the force scale (the initial free forces or the
  * total weight, whichever is larger) in the 1-norm; then the pin reactions are grad U at the
  * pinned DOFs (the force each pin must supply) and their sum is reported. */
@@ -59,8 +59,9 @@ static int static_iteration(sw_newton *nw, const sw_model *m, sw_data *d, double
 
 static int static_loop(sw_newton *nw, const sw_model *m, sw_data *d, char *err, size_t errsz) {
   double *x = d->x, phi, scale = 0.0, mu = 0.0, ratio = 1.0;
+  int project = m->opt.hessian == SW_HESSIAN_PROJECTED;
   for (int it = 0; it < STATIC_MAX_ITER; it++) {
-    int rc = sw_newton_phi(nw, m, d, x, x, 0.0, d->t, 1, 1, 1, &phi);
+    int rc = sw_newton_phi(nw, m, d, x, x, 0.0, d->t, 1, 1, project, &phi);
     if (rc) return sw_errf(err, errsz, "static solve: %s", d->err), rc;
     double res = norm1(nw->g, nw->n);
     if (it == 0) {
