@@ -29,6 +29,7 @@
 #include <string.h>
 #include <sys/resource.h>
 
+#include "scene.h"
 #include "solver.h"
 #include "util.h"
 
@@ -37,53 +38,20 @@ static const char *header =
     "N,dofs,nnz,steps,newton_iterations,factorizations,step_s,assembly_s,factor_s,solve_s,"
     "rest_s,nonfactor_share,peak_rss_mib,assembly_per_iter_s,factor_per_iter_s";
 
+/* scenes/hanging_cloth.yaml with n x n vertices, through the scene loader itself. */
 static sw_model *hanging_cloth(int n, char *err, size_t errsz) {
-  sw_mesh mesh;
-  const double size[2] = {1.0, 1.0};
-  if (sw_mesh_grid(&mesh, size, n, n, "xy", err, errsz)) return NULL;
-  sw_model *m = sw_model_new();
-  if (!m) return sw_mesh_free(&mesh), sw_errf(err, errsz, "out of memory"), NULL;
-  const int dim = 3;
-  m->dim = dim;
-  m->nv = mesh.nv;
-  m->nf = mesh.nf;
-  m->x0 = calloc((size_t)m->nv * dim, sizeof(double));
-  m->v0 = calloc((size_t)m->nv * dim, sizeof(double));
-  m->pinned = calloc((size_t)m->nv, 1);
-  m->face = calloc((size_t)m->nf * 3, sizeof(int));
-  m->uv = calloc((size_t)m->nf * 6, sizeof(double));
-  if (!m->x0 || !m->v0 || !m->pinned || !m->face || !m->uv) {
-    sw_mesh_free(&mesh);
-    sw_model_free(m);
-    sw_errf(err, errsz, "out of memory");
-    return NULL;
-  }
-  for (int i = 0; i < m->nv; i++)
-    for (int a = 0; a < dim; a++) m->x0[i * dim + a] = mesh.x[i * 3 + a];
-  for (int f = 0; f < m->nf; f++)
-    for (int c = 0; c < 3; c++) {
-      m->face[3 * f + c] = mesh.f[3 * f + c];
-      m->uv[6 * f + 2 * c] = mesh.uv[2 * mesh.fuv[3 * f + c]];
-      m->uv[6 * f + 2 * c + 1] = mesh.uv[2 * mesh.fuv[3 * f + c] + 1];
-    }
-  sw_mesh_free(&mesh);
-  snprintf(m->name, sizeof m->name, "hanging cloth %d x %d", n, n);
-  m->mat.density = 0.1;
-  m->mat.membrane = SW_MEMBRANE_BW98;
-  m->mat.k_u = m->mat.k_v = 5000.0;
-  m->mat.k_shear = 100.0;
-  m->mat.b_u = m->mat.b_v = 1.0;
-  m->has_gravity = 1;
-  m->gravity[0] = m->gravity[1] = 0.0;
-  m->gravity[2] = -9.81;
-  /* vertex (i, j) is j*n + i at (i, j)/(n-1) m: the corners (0, 1) and (1, 1) */
-  m->pinned[(n - 1) * n] = m->pinned[(n - 1) * n + n - 1] = 1;
-  m->opt.dt = 0.01;
-  if (sw_model_finish(m, err, errsz)) {
-    sw_model_free(m);
-    return NULL;
-  }
-  return m;
+  char yaml[1024];
+  snprintf(yaml, sizeof yaml,
+           "name: hanging cloth %d x %d\n"
+           "mesh: {grid: {size: [1.0, 1.0], vertices: [%d, %d], plane: xy}}\n"
+           "material:\n"
+           "  density: 0.1\n"
+           "  membrane: {model: bw98, k_u: 5000, k_v: 5000, k_shear: 100}\n"
+           "gravity: [0, 0, -9.81]\n"
+           "pins: [{select: {vertices: [%d, %d]}}]   # the corners (0, 1) and (1, 1)\n"
+           "integrator: {method: backward-euler, dt: 0.01}\n",
+           n, n, n, n, (n - 1) * n, n * n - 1);
+  return sw_scene_parse("bench_step.yaml", yaml, strlen(yaml), err, errsz);
 }
 
 /* One step of the run from d->t to end, as sim/run.c takes it: a recoverable failure is retried
