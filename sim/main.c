@@ -9,7 +9,8 @@
 
 static void usage(FILE *fp) {
   fprintf(fp,
-          "usage: sinew run SCENE [--out DIR] [--method M] [--dt DT] [--duration T] [--quiet]\n"
+          "usage: sinew run SCENE [--out DIR] [--method M] [--dt DT] [--duration T]\n"
+          "                 [--rtol R] [--atol A] [--threads N] [--quiet]\n"
           "       sinew check SCENE\n"
           "       sinew --help | --version\n"
           "\n"
@@ -24,6 +25,8 @@ static void usage(FILE *fp) {
   fprintf(fp,
           "  --dt DT         time step in s (overrides integrator.dt)\n"
           "  --duration T    simulated time in s (overrides duration)\n"
+          "  --rtol R        relative tolerance of adaptive methods (overrides integrator.rtol)\n"
+          "  --atol A        absolute tolerance of adaptive methods, m and m/s (integrator.atol)\n"
           "  --threads N     OpenBLAS threads for CHOLMOD (default: $OPENBLAS_NUM_THREADS, else 1)\n"
           "  --quiet         no progress line\n");
 }
@@ -33,7 +36,7 @@ static int parse_positive(const char *opt, const char *s, int allow_zero, double
   errno = 0;
   double v = strtod(s, &end);
   if (errno || end == s || *end || !isfinite(v) || v < 0 || (!allow_zero && v == 0)) {
-    fprintf(stderr, "sinew: %s expects a %s number of seconds, got '%s'\n", opt,
+    fprintf(stderr, "sinew: %s expects a %s number, got '%s'\n", opt,
             allow_zero ? "non-negative" : "positive", s);
     return -1;
   }
@@ -49,7 +52,7 @@ static int known_method(const char *name) {
 
 typedef struct cli {
   const char *scene, *out, *method;
-  double dt, duration;
+  double dt, duration, rtol, atol;
   int quiet, threads;
 } cli;
 
@@ -64,6 +67,10 @@ static int parse_run_args(int argc, char **argv, cli *c) {
       if (parse_positive(a, argv[++i], 0, &c->dt)) return -1;
     } else if (!strcmp(a, "--duration") && has_val) {
       if (parse_positive(a, argv[++i], 1, &c->duration)) return -1;
+    } else if (!strcmp(a, "--rtol") && has_val) {
+      if (parse_positive(a, argv[++i], 0, &c->rtol)) return -1;
+    } else if (!strcmp(a, "--atol") && has_val) {
+      if (parse_positive(a, argv[++i], 0, &c->atol)) return -1;
     } else if (!strcmp(a, "--threads") && has_val) {
       char *end;
       long v = strtol(argv[++i], &end, 10);
@@ -95,6 +102,8 @@ static int cmd_run(int argc, char **argv) {
   if (c.dt > 0) m->opt.dt = c.dt;
   if (c.duration >= 0) m->opt.duration = c.duration;
   if (c.threads > 0) m->opt.blas_threads = c.threads;
+  if (c.rtol > 0) m->opt.rtol = c.rtol;
+  if (c.atol > 0) m->opt.atol = c.atol;
   if (!c.quiet)
     fprintf(stderr, "sinew: %s: %d vertices, %d free DOFs, %s, dt = %g s, to t = %g s\n",
             m->name, m->nv, m->ndof, m->opt.method, m->opt.dt, m->opt.duration);

@@ -18,6 +18,11 @@ sw_model *sw_model_new(void) {
   o->newton_tol = 1e-6;
   o->max_halvings = 8;
   o->hessian = SW_HESSIAN_AUTO;
+  o->rtol = 1e-6;
+  o->atol = 1e-8;
+  o->max_order = 5;
+  o->max_step = 0.0;
+  o->energy_bound = 0.0;
   o->frames_every = 0.0;
   o->tx_clip = 5e4;
   o->tx_reference_uv = 0;

@@ -36,7 +36,7 @@ struct sw_output {
   int final[NLOG];             /* 1 once renamed to NAME.csv */
   char *line;                  /* (linesz) one log line, formatted before it is written */
   size_t linesz;
-  long prev_nfactor, prev_nlinesearch; /* cumulative counters at the previous log line */
+  long prev[6];                /* cumulative counters at the previous log line (see counters) */
   double prev_time_step;       /* cumulative step wall time at the previous log line, s */
   int nframe, frame_cap;
   double *frame_t;             /* (frame_cap) time of each complete frame, s */
@@ -239,8 +239,8 @@ static void log_header(writer *w, int k, const sw_model *m) {
     w_puts(w, ",E_");
     w_csv_name(w, m->term[i].name);
   }
-  w_puts(w, ",potential,total,dt,newton_iterations,factorizations,linesearch_backtracks,"
-            "step_wall_s\n");
+  w_puts(w, ",potential,total,dt,steps,newton_iterations,factorizations,force_evaluations,"
+            "error_test_failures,linesearch_backtracks,step_wall_s\n");
 }
 
 static int open_log(sw_output *o, int k, const sw_model *m, char *err, size_t errsz) {
@@ -389,14 +389,13 @@ static int step_energy(sw_output *o, const sw_model *m, const sw_data *d, char *
   line_num(o, &len, pot);
   line_num(o, &len, kin + pot);
   line_num(o, &len, d->last_dt);
-  line_long(o, &len, d->last_newton);
-  line_long(o, &len, d->nfactor - o->prev_nfactor);
-  line_long(o, &len, d->nlinesearch - o->prev_nlinesearch);
+  /* what this line's interval cost: differences of the cumulative counters */
+  const long now[6] = {d->nstep, d->nnewton, d->nfactor, d->nforce, d->nerrfail, d->nlinesearch};
+  for (int k = 0; k < 6; k++) line_long(o, &len, now[k] - o->prev[k]);
   line_num(o, &len, d->time_step - o->prev_time_step);
   line_end(o, len);
   if (put_line(o, LOG_ENERGY, err, errsz)) return -1;
-  o->prev_nfactor = d->nfactor;
-  o->prev_nlinesearch = d->nlinesearch;
+  for (int k = 0; k < 6; k++) o->prev[k] = now[k];
   o->prev_time_step = d->time_step;
   return 0;
 }
@@ -615,6 +614,8 @@ static void summary_counters(writer *w, const sw_data *d, double wall) {
   w_json_long(w, "force_evaluations", d->nforce);
   w_json_long(w, "retries", d->nretry);
   w_json_long(w, "linesearch_backtracks", d->nlinesearch);
+  w_json_long(w, "error_test_failures", d->nerrfail);
+  w_json_long(w, "linear_setups", d->nsetup);
   w_json_num(w, "time_assemble_s", d->time_assemble);
   w_json_num(w, "time_factor_s", d->time_factor);
   w_json_num(w, "time_solve_s", d->time_solve);

@@ -143,6 +143,7 @@ int sw_run(const sw_model *m, int progress, char *err, size_t errsz) {
   r.out = sw_output_open(m, err, errsz);
   if (!r.out) return sw_data_free(r.d), SW_FATAL;
   r.next_frame = m->opt.frames_every;
+  r.d->energy_bound = m->opt.energy_bound > 0.0 ? m->opt.energy_bound : sw_energy_bound(m, r.d);
   int is_static = !strcmp(m->opt.method, "static");
   int rc = is_static ? SW_OK : record(&r, 1, err, errsz);
   if (rc == SW_OK) rc = is_static ? static_run(&r, err, errsz) : integrate(&r, err, errsz);

@@ -889,7 +889,8 @@ static int load_gravity(const ctx *c, const ynode *y) {
 
 /* ================================================================ options */
 
-static const char *const int_keys[] = {"method", "dt", "max_halvings", "newton", "hessian"};
+static const char *const int_keys[] = {"method", "dt", "max_halvings", "newton", "hessian",
+                                       "rtol", "atol", "max_order", "max_step", "energy_bound"};
 /* in the order of SW_HESSIAN_PROJECTED, _EXACT, _AUTO */
 static const char *const hessian_modes[] = {"projected", "exact", "auto"};
 static const char *const newton_keys[] = {"max_iterations", "tol"};
@@ -907,8 +908,14 @@ static int load_method(const ctx *c, const ynode *y) {
 
 static int load_integrator(const ctx *c, const ynode *y) {
   sw_options *o = &c->m->opt;
-  const ynode *v[5], *nv[2];
-  if (get_map(c, y, "integrator", int_keys, 5, v)) return -1;
+  const ynode *v[10], *nv[2];
+  if (get_map(c, y, "integrator", int_keys, 10, v)) return -1;
+  if (v[5] && get_num(c, v[5], "integrator rtol", 0, 1, NULL, &o->rtol)) return -1;
+  if (v[6] && get_num(c, v[6], "integrator atol", 0, 1, NULL, &o->atol)) return -1;
+  if (v[7] && get_int(c, v[7], "integrator max_order", 1, 5, &o->max_order)) return -1;
+  if (v[8] && get_num(c, v[8], "integrator max_step", 0, 0, "s", &o->max_step)) return -1;
+  if (v[9] && get_num(c, v[9], "integrator energy_bound", 0, 1, "J", &o->energy_bound))
+    return -1;
   if (v[4] && get_choice(c, v[4], "integrator hessian", hessian_modes, 3, &o->hessian)) return -1;
   if (v[0] && load_method(c, v[0])) return -1;
   if (v[1] && get_num(c, v[1], "integrator dt", 0, 1, "s", &o->dt)) return -1;

@@ -116,6 +116,11 @@ typedef struct sw_options {
   int max_halvings;            /* a failed step is retried with dt/2 at most this many times */
   int hessian;                 /* SW_HESSIAN_*: which Hessian Newton's systems use */
   int blas_threads;            /* OpenBLAS threads; 0: $OPENBLAS_NUM_THREADS if set, else 1 */
+  double rtol, atol;           /* adaptive methods (CVODE, IDA): relative, absolute (m, m/s) */
+  int max_order;               /* adaptive methods: largest BDF order (1..5) */
+  double max_step;             /* adaptive methods: largest internal step, s (0: no limit) */
+  double energy_bound;         /* J: a step whose total energy exceeds it fails (0: automatic,
+                                  1e3 x the initial energy scale above the initial energy) */
   char out_dir[SW_PATHSZ];     /* output folder */
   double frames_every;         /* s between VTU frames (0: first and last only) */
   double tx_clip;              /* tension XY stiffness clip, N/m (seed 000: 5e4) */
@@ -177,6 +182,10 @@ struct sw_data {
   double *scratch;             /* (nf) for percentiles */
   /* counters (cumulative over the run) */
   long nstep, nnewton, nfactor, nassemble, nforce, nretry, nlinesearch;
+  long nerrfail;               /* error-test failures of adaptive methods */
+  long nsetup;                 /* linear-solver setups of SUNDIALS methods */
+  double energy_bound;         /* J: a step whose K + U exceeds this fails (0: no check; sw_run
+                                  sets it from opt.energy_bound) */
   int last_newton;             /* Newton iterations of the last step */
   double last_dt;              /* size of the last accepted step, s */
   double time_assemble, time_factor, time_solve, time_step; /* s of wall time */

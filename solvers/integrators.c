@@ -1,5 +1,7 @@
 /* integrators.c — the registry of time integrators (each one file in solvers/) and of the
  * static solve, which the run loop treats as a method of its own. */
+#include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "solver.h"
@@ -19,3 +21,35 @@ const sw_integrator_ops *sw_integrator_find(const char *name) {
 }
 
 const char *const *sw_method_names(void) { return names; }
+
+int sw_energy_check(const sw_model *m, sw_data *d, const double *x, const double *v, double t) {
+  double u;
+  int rc = sw_eval_terms(m, d, x, t, 0, 0, 0, &u);
+  if (rc) return rc;
+  double e = u + sw_kinetic(m, v);
+  if (!isfinite(e) || (d->energy_bound > 0.0 && e > d->energy_bound)) {
+    snprintf(d->err, sizeof d->err,
+             "energy blow-up: total energy %.6g J exceeds the bound %.6g J at t = %g s", e,
+             d->energy_bound, t);
+    return SW_RECOVER;
+  }
+  return SW_OK;
+}
+
+double sw_energy_bound(const sw_model *m, sw_data *d) {
+  double u, lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  if (sw_eval_terms(m, d, m->x0, 0.0, 0, 0, 0, &u)) return 0.0;
+  double k0 = sw_kinetic(m, m->v0), scale = fabs(u + k0) + k0 + 1e-6, diam = 0.0, g = 0.0;
+  for (int k = 0; k < m->nterm; k++) scale += fabs(d->term_energy[k]);
+  for (int i = 0; i < m->nv; i++)
+    for (int a = 0; a < m->dim; a++) {
+      lo[a] = fmin(lo[a], m->x0[i * m->dim + a]);
+      hi[a] = fmax(hi[a], m->x0[i * m->dim + a]);
+    }
+  for (int a = 0; a < m->dim; a++) {
+    diam += (hi[a] - lo[a]) * (hi[a] - lo[a]);
+    g += m->gravity[a] * m->gravity[a];
+  }
+  scale += m->total_mass * sqrt(g) * sqrt(diam);
+  return u + k0 + 1e3 * scale;
+}

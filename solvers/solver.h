@@ -91,6 +91,12 @@ typedef struct sw_integrator_ops {
   void (*free)(void *state);
 } sw_integrator_ops;
 
+/* SW_OK, or SW_RECOVER (with d->err) when K(v) + U(x, t) exceeds d->energy_bound (> 0) or is
+ * not finite: an explicit method blowing up fails the step instead of producing garbage. */
+int sw_energy_check(const sw_model *m, sw_data *d, const double *x, const double *v, double t);
+/* The automatic bound: E0 + 1e3 * (|E0| + sum of |term energies| + K0 + M |g| diam(x0) + 1 uJ). */
+double sw_energy_bound(const sw_model *m, sw_data *d);
+
 extern const sw_integrator_ops sw_backward_euler_ops;
 extern const sw_integrator_ops sw_baraff_witkin_ops;
 const sw_integrator_ops *sw_integrator_find(const char *name);

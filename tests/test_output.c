@@ -213,8 +213,10 @@ static void fake_step(fixture *fx, int s) {
   d->t = 0.01 * s; /* s, not exactly representable: checks %.17g */
   d->last_dt = 0.01;
   d->last_newton = s + 1;
+  d->nforce += 3;
+  d->nerrfail += s;         /* per step: 1, 2, 3 */
   d->nstep = s;
-  d->nnewton += s + 1;
+  d->nnewton += s + 1;      /* per step: 2, 3, 4 */
   d->nfactor += s + 1;      /* per step: 2, 3, 4 */
   d->nlinesearch += 2 * s;  /* per step: 2, 4, 6 */
   d->time_step += 0.5 * s;  /* per step: 0.5, 1, 1.5 s */
@@ -261,16 +263,17 @@ static void check_energy(const fixture *fx) {
   assert_non_null(s);
   assert_int_equal(count_char(s, '\n'), 4);
   assert_true(line_at(s, 0, line, sizeof line));
-  assert_string_equal(line, "time,kinetic,E_bw98,potential,total,dt,newton_iterations,"
-                            "factorizations,linesearch_backtracks,step_wall_s");
+  assert_string_equal(line, "time,kinetic,E_bw98,potential,total,dt,steps,newton_iterations,"
+                            "factorizations,force_evaluations,error_test_failures,"
+                            "linesearch_backtracks,step_wall_s");
   double kin = sw_kinetic(&fx->m, fx->d.v); /* J; v is the same at every step */
   for (int k = 1; k <= 3; k++) {
     double v[16], e = 1.0 / 3.0 * k;
     assert_true(line_at(s, k, line, sizeof line));
-    assert_int_equal(csv_fields(line, v, 16), 10);
+    assert_int_equal(csv_fields(line, v, 16), 13);
     assert_true(v[0] == 0.01 * k && v[1] == kin && v[2] == e && v[3] == e && v[4] == kin + e);
-    assert_true(v[5] == 0.01 && v[6] == k + 1 && v[7] == k + 1 && v[8] == 2 * k);
-    assert_true(v[9] == 0.5 * k);
+    assert_true(v[5] == 0.01 && v[6] == 1 && v[7] == k + 1 && v[8] == k + 1 && v[9] == 3);
+    assert_true(v[10] == k && v[11] == 2 * k && v[12] == 0.5 * k);
   }
   free(s);
 }
