@@ -21,7 +21,10 @@ static void usage(FILE *fp) {
           "\n"
           "  --out DIR       output folder (overrides output.dir)\n"
           "  --method M      integrator (overrides integrator.method); one of:\n");
-  for (const char *const *n = sw_method_names(); *n; n++) fprintf(fp, "                    %s\n", *n);
+  for (const char *const *n = sw_method_names(); *n; n++) {
+    const char *sum = sw_method_summary(*n);
+    fprintf(fp, "                    %-18s %s\n", *n, sum ? sum : "");
+  }
   fprintf(fp,
           "  --dt DT         time step in s (overrides integrator.dt)\n"
           "  --duration T    simulated time in s (overrides duration)\n"

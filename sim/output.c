@@ -7,13 +7,17 @@
  *   frames.pvd     ParaView collection of the complete frames
  *   frames/frame_NNNNNN.vtu
  * Logs live as NAME.csv.part until sw_output_close; every other file is written to NAME.tmp and
- * renamed, so a reader never sees a half-written file under a final name.  Every write is
- * checked; errors read "PATH: what failed: strerror(errno)".  sw_output_step allocates nothing.
+ * renamed, so a reader never sees a half-written file under a final name.  A log line goes out
+ * in one write(2) of the whole line (no stdio buffer), so a killed run leaves whole lines; a
+ * step whose lines fail part-way (disk full, file size limit) is cut back from every log, which
+ * then ends at the previous step.  Every write is checked; errors read
+ * "PATH: what failed: strerror(errno)".  sw_output_step allocates nothing.
  */
 #include "output.h"
 
 #include <dirent.h>
 #include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -32,9 +36,11 @@ static const char *const log_name[NLOG] = {"tension.csv", "energy.csv"};
 
 struct sw_output {
   char dir[SW_PATHSZ];         /* the run folder, without trailing '/' */
-  FILE *log[NLOG];             /* NAME.csv.part while the run goes */
+  int log[NLOG];               /* fd of NAME.csv.part while the run goes, -1 when closed */
+  off_t size[NLOG];            /* bytes of the whole lines written to each log */
+  int werr[NLOG];              /* errno of a failed write to each log (0: none) */
   int final[NLOG];             /* 1 once renamed to NAME.csv */
-  char *line;                  /* (linesz) one log line, formatted before it is written */
+  char *line;                  /* (linesz) one log line (or header), formatted before writing */
   size_t linesz;
   long prev[6];                /* cumulative counters at the previous log line (see counters) */
   double prev_time_step;       /* cumulative step wall time at the previous log line, s */
@@ -217,8 +223,16 @@ static int prepare_folder(sw_output *o, const sw_model *m, char *err, size_t err
 
 /* -------------------------------------------------------------------- logs */
 
-/* Replace what would break a CSV header (separators, quotes, blanks) in a term name. */
-static void w_csv_name(writer *w, const char *name) {
+/* Append a string to o->line (sized for the longest header and line, see output_alloc). */
+static void line_str(sw_output *o, size_t *len, const char *s) {
+  size_t n = strlen(s);
+  if (*len + n + 2 > o->linesz) return; /* cannot happen */
+  memcpy(o->line + *len, s, n + 1);
+  *len += n;
+}
+
+/* Append a term name, replacing what would break a CSV header (separators, quotes, blanks). */
+static void line_csv_name(sw_output *o, size_t *len, const char *name) {
   char buf[SW_NAMESZ];
   size_t n = strnlen(name, SW_NAMESZ - 1);
   for (size_t i = 0; i < n; i++) {
@@ -226,49 +240,69 @@ static void w_csv_name(writer *w, const char *name) {
     buf[i] = (c <= ' ' || c == ',' || c == '"' || c == 0x7f) ? '_' : (char)c;
   }
   buf[n] = '\0';
-  w_puts(w, buf);
+  line_str(o, len, buf);
 }
 
-static void log_header(writer *w, int k, const sw_model *m) {
+static void line_end(sw_output *o, size_t len);
+
+/* The header of log k into o->line. */
+static void log_header(sw_output *o, int k, const sw_model *m) {
+  size_t len = 0;
   if (k == LOG_TENSION) {
-    w_puts(w, "time,txy_max,txy_mean,txy_p95,stretch_u_max,stretch_v_max,shear_max\n");
-    return;
+    line_str(o, &len, "time,txy_max,txy_mean,txy_p95,stretch_u_max,stretch_v_max,shear_max");
+  } else {
+    line_str(o, &len, "time,kinetic");
+    for (int i = 0; i < m->nterm; i++) {
+      line_str(o, &len, ",E_");
+      line_csv_name(o, &len, m->term[i].name);
+    }
+    line_str(o, &len, ",potential,total,dt,steps,newton_iterations,factorizations,"
+                      "force_evaluations,error_test_failures,linesearch_backtracks,step_wall_s");
   }
-  w_puts(w, "time,kinetic");
-  for (int i = 0; i < m->nterm; i++) {
-    w_puts(w, ",E_");
-    w_csv_name(w, m->term[i].name);
+  line_end(o, len);
+}
+
+/* Write o->line to log k in one piece (write(2) again only after a short write).  On failure
+ * the log's error is remembered and o->size[k] still counts only the whole lines. */
+static int put_line(sw_output *o, int k, char *err, size_t errsz) {
+  int e = o->werr[k];
+  const char *s = o->line;
+  size_t n = strlen(s), done = 0;
+  while (!e && done < n) {
+    ssize_t w = write(o->log[k], s + done, n - done);
+    if (w > 0) done += (size_t)w;
+    else if (w < 0 && errno == EINTR) continue;
+    else e = w < 0 ? errno : EIO;
   }
-  w_puts(w, ",potential,total,dt,steps,newton_iterations,factorizations,force_evaluations,"
-            "error_test_failures,linesearch_backtracks,step_wall_s\n");
+  if (!e) {
+    o->size[k] += (off_t)n;
+    return 0;
+  }
+  o->werr[k] = e;
+  sw_errf(err, errsz, "%s/%s.part: cannot write: %s", o->dir, log_name[k], strerror(e));
+  return -1;
+}
+
+/* Cut log k back to its whole lines (o->size[k]) after a write that failed part-way. */
+static void cut_log(sw_output *o, int k, off_t size) {
+  o->size[k] = size;
+  if (ftruncate(o->log[k], size) != 0 && !o->werr[k]) o->werr[k] = errno ? errno : EIO;
 }
 
 static int open_log(sw_output *o, int k, const sw_model *m, char *err, size_t errsz) {
   char name[32];
   snprintf(name, sizeof name, "%s.part", log_name[k]);
   if (join(o->path, o->dir, name, err, errsz)) return -1;
-  writer w = {fopen(o->path, "w"), 0};
-  if (!w.f) {
+  /* O_APPEND: after a cut, the next line (if any) goes to the new end */
+  o->log[k] = open(o->path, O_WRONLY | O_CREAT | O_TRUNC | O_APPEND | O_CLOEXEC, 0666);
+  if (o->log[k] < 0) {
     sw_errf(err, errsz, "%s: cannot open for writing: %s", o->path, strerror(errno));
     return -1;
   }
-  o->log[k] = w.f;
-  log_header(&w, k, m);
-  errno = 0;
-  if (!w.err && fflush(w.f) == EOF) w_fail(&w);
-  if (!w.err) return 0;
-  sw_errf(err, errsz, "%s: cannot write: %s", o->path, strerror(w.err));
-  return -1;
-}
-
-/* Write o->line to log k as one piece and flush it. */
-static int put_line(sw_output *o, int k, char *err, size_t errsz) {
-  writer w = {o->log[k], 0};
-  w_puts(&w, o->line);
-  errno = 0;
-  if (!w.err && fflush(w.f) == EOF) w_fail(&w);
-  if (!w.err) return 0;
-  sw_errf(err, errsz, "%s/%s.part: cannot write: %s", o->dir, log_name[k], strerror(w.err));
+  o->size[k] = 0;
+  log_header(o, k, m);
+  if (put_line(o, k, err, errsz) == 0) return 0;
+  cut_log(o, k, 0);
   return -1;
 }
 
@@ -401,12 +435,15 @@ static int step_energy(sw_output *o, const sw_model *m, const sw_data *d, char *
 }
 
 int sw_output_step(sw_output *o, const sw_model *m, const sw_data *d, char *err, size_t errsz) {
-  if (!o || !o->log[LOG_TENSION] || !o->log[LOG_ENERGY]) {
+  if (!o || o->log[LOG_TENSION] < 0 || o->log[LOG_ENERGY] < 0) {
     sw_errf(err, errsz, "output: the logs are not open");
     return -1;
   }
-  if (step_tension(o, m, d, err, errsz)) return -1;
-  return step_energy(o, m, d, err, errsz);
+  const off_t before[NLOG] = {o->size[LOG_TENSION], o->size[LOG_ENERGY]};
+  if (step_tension(o, m, d, err, errsz) == 0 && step_energy(o, m, d, err, errsz) == 0) return 0;
+  /* Failed part-way: every log ends at the previous step again, with whole lines only. */
+  for (int k = 0; k < NLOG; k++) cut_log(o, k, before[k]);
+  return -1;
 }
 
 /* ------------------------------------------------------------------ frames */
@@ -663,14 +700,15 @@ int sw_output_summary(sw_output *o, const sw_model *m, const sw_data *d, const c
 
 static void output_free(sw_output *o) {
   for (int k = 0; k < NLOG; k++)
-    if (o->log[k]) fclose(o->log[k]);
+    if (o->log[k] >= 0) close(o->log[k]);
   sw_free(o->line);
   sw_free(o->frame_t);
   sw_free(o);
 }
 
 static int output_alloc(sw_output *o, const sw_model *m, char *err, size_t errsz) {
-  o->linesz = ((size_t)m->nterm + 16) * NUMSZ; /* the energy line is the longest */
+  /* the energy line or header is the longest: at most NUMSZ per field, or a term name */
+  o->linesz = ((size_t)m->nterm + 16) * (NUMSZ + SW_NAMESZ);
   o->line = sw_calloc(o->linesz, 1);
   int cap = 2; /* first and last frame */
   if (m->opt.frames_every > 0 && m->opt.duration > 0) {
@@ -690,6 +728,7 @@ sw_output *sw_output_open(const sw_model *m, char *err, size_t errsz) {
     sw_errf(err, errsz, "%s: out of memory for the output writers", m->opt.out_dir);
     return NULL;
   }
+  for (int k = 0; k < NLOG; k++) o->log[k] = -1;
   if (output_alloc(o, m, err, errsz) || prepare_folder(o, m, err, errsz) ||
       open_log(o, LOG_TENSION, m, err, errsz) || open_log(o, LOG_ENERGY, m, err, errsz) ||
       sw_output_summary(o, m, NULL, "running", "", 0.0, err, errsz)) {
@@ -701,18 +740,15 @@ sw_output *sw_output_open(const sw_model *m, char *err, size_t errsz) {
 
 /* Close log k and give it its final name; it keeps its .part name if anything failed. */
 static int finish_log(sw_output *o, int k, char *err, size_t errsz) {
-  writer w = {o->log[k], 0};
-  o->log[k] = NULL;
-  errno = 0;
-  if (fflush(w.f) == EOF) w_fail(&w);
-  errno = 0;
-  if (fclose(w.f) == EOF) w_fail(&w);
+  int e = o->werr[k]; /* a write failed: the log keeps its .part name */
+  if (close(o->log[k]) != 0 && !e) e = errno ? errno : EIO;
+  o->log[k] = -1;
   char name[32];
   snprintf(name, sizeof name, "%s.part", log_name[k]);
   if (join(o->tmp, o->dir, name, err, errsz) || join(o->path, o->dir, log_name[k], err, errsz))
     return -1;
-  if (w.err) {
-    sw_errf(err, errsz, "%s: cannot write: %s", o->tmp, strerror(w.err));
+  if (e) {
+    sw_errf(err, errsz, "%s: cannot write: %s", o->tmp, strerror(e));
     return -1;
   }
   if (rename(o->tmp, o->path)) {
@@ -732,10 +768,12 @@ int sw_output_close(sw_output *o, const sw_model *m, const sw_data *d, const cha
   char logerr[SW_ERRSZ] = "", msg[3 * SW_ERRSZ];
   int rc = 0;
   for (int k = 0; k < NLOG; k++)
-    if (o->log[k] && finish_log(o, k, rc ? NULL : logerr, sizeof logerr)) rc = -1;
+    if (o->log[k] >= 0 && finish_log(o, k, rc ? NULL : logerr, sizeof logerr)) rc = -1;
   if (rc) { /* the logs are incomplete: the run must not look like a success */
     int failed = status && strcmp(status, "failed") == 0 && message && *message;
-    snprintf(msg, sizeof msg, "%s%s%s", failed ? message : "", failed ? "; " : "", logerr);
+    int said = failed && strstr(message, logerr); /* the run's message already says why */
+    snprintf(msg, sizeof msg, "%s%s%s", failed ? message : "", failed && !said ? "; " : "",
+             said ? "" : logerr);
     status = "failed";
     message = msg;
     sw_errf(err, errsz, "%s", logerr);

@@ -23,19 +23,32 @@ typedef struct run_ctx {
   int progress;
 } run_ctx;
 
+/* Prefix err (an output failure) with the time it happened at; returns SW_FATAL. */
+static int output_failed(const sw_data *d, char *err, size_t errsz) {
+  if (err && errsz) {
+    char why[SW_ERRSZ];
+    snprintf(why, sizeof why, "%s", err);
+    sw_errf(err, errsz, "t = %.9g s: %s", d->t, why);
+  }
+  return SW_FATAL;
+}
+
 /* Diagnostics of the current state, one log line, and a frame when one is due. */
 static int record(run_ctx *r, int force_frame, char *err, size_t errsz) {
   const sw_model *m = r->m;
   sw_data *d = r->d;
   double u;
   int rc = sw_eval_terms(m, d, d->x, d->t, 0, 0, 0, &u);
-  if (rc) return sw_errf(err, errsz, "%s", d->err), rc;
+  if (rc) /* e.g. a step accepted a state whose energy is not finite */
+    return sw_errf(err, errsz, "t = %.9g s: %s: cannot evaluate the state to log it: %s", d->t,
+                   m->opt.method, d->err),
+           SW_FATAL;
   sw_tension_xy(m, d);
-  if (sw_output_step(r->out, m, d, err, errsz)) return SW_FATAL;
+  if (sw_output_step(r->out, m, d, err, errsz)) return output_failed(d, err, errsz);
   double fe = m->opt.frames_every;
   int due = fe > 0.0 && d->t >= r->next_frame - 1e-9 * fmax(fe, 1.0);
   if (due || force_frame) {
-    if (sw_output_frame(r->out, m, d, err, errsz)) return SW_FATAL;
+    if (sw_output_frame(r->out, m, d, err, errsz)) return output_failed(d, err, errsz);
     if (fe > 0.0)
       while (r->next_frame <= d->t + 1e-9 * fmax(fe, 1.0)) r->next_frame += fe;
   }
@@ -92,7 +105,12 @@ static int integrate(run_ctx *r, char *err, size_t errsz) {
   if (!ops) return sw_errf(err, errsz, "unknown method '%s'", m->opt.method), SW_FATAL;
   void *st = NULL;
   int rc = ops->init(&st, m, d, err, errsz);
-  if (rc) return rc;
+  if (rc) { /* name the method that could not start */
+    char why[SW_ERRSZ];
+    snprintf(why, sizeof why, "%s", err ? err : "");
+    sw_errf(err, errsz, "%s: cannot start: %s", m->opt.method, why);
+    return rc;
+  }
   const double T = m->opt.duration, dt = m->opt.dt;
   for (long n = 1; rc == SW_OK && d->t < T; n++) {
     /* step n ends at n dt (not a running sum), and a last sliver below dt/1e6 is merged */
@@ -139,7 +157,10 @@ int sw_run(const sw_model *m, int progress, char *err, size_t errsz) {
   sw_set_threads(m->opt.blas_threads);
   run_ctx r = {.m = m, .wall0 = sw_now(), .progress = progress && isatty(2)};
   r.d = sw_data_new(m);
-  if (!r.d) return sw_errf(err, errsz, "out of memory allocating the state"), SW_FATAL;
+  if (!r.d)
+    return sw_errf(err, errsz, "out of memory allocating the state (%d vertices, %d faces)",
+                   m->nv, m->nf),
+           SW_FATAL;
   r.out = sw_output_open(m, err, errsz);
   if (!r.out) return sw_data_free(r.d), SW_FATAL;
   r.next_frame = m->opt.frames_every;

@@ -204,6 +204,8 @@ SW_API void sw_tension_xy(const sw_model *m, sw_data *d);
 /* ------------------------------------------------------------------- run */
 
 SW_API const char *const *sw_method_names(void);
+/* The one-line summary of a method (as `sinew run --help` shows it), or NULL if unknown. */
+SW_API const char *sw_method_summary(const char *name);
 /* Thread settings of the linear algebra (sw_run calls it): OpenMP nesting in CHOLMOD off unless
  * OMP_MAX_ACTIVE_LEVELS or OMP_THREAD_LIMIT is set; OpenBLAS threads = blas_threads, or when 0,
  * $OPENBLAS_NUM_THREADS if set, else 1. */

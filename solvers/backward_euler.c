@@ -27,12 +27,12 @@ static void be_free(void *p) {
 
 static int init_common(void **state, const sw_model *m, int one_step, char *err, size_t errsz) {
   be_state *s = sw_calloc(1, sizeof *s);
-  if (!s) return sw_errf(err, errsz, "out of memory"), SW_FATAL;
+  if (!s) return sw_errf(err, errsz, "out of memory for the step's state"), SW_FATAL;
   s->one_step = one_step;
   size_t nd = (size_t)m->nv * (size_t)m->dim;
   s->xhat = sw_calloc(nd, sizeof(double));
   s->xnew = sw_calloc(nd, sizeof(double));
-  int rc = (!s->xhat || !s->xnew) ? (sw_errf(err, errsz, "out of memory"), SW_FATAL)
+  int rc = (!s->xhat || !s->xnew) ? (sw_errf(err, errsz, "out of memory for the step's state"), SW_FATAL)
                                   : sw_newton_init(&s->nw, m, err, errsz);
   if (rc) {
     be_free(s);

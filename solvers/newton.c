@@ -20,7 +20,7 @@ int sw_newton_init(sw_newton *nw, const sw_model *m, char *err, size_t errsz) {
   nw->dx = sw_calloc((size_t)nw->n, sizeof(double));
   nw->xtry = sw_calloc((size_t)m->nv * (size_t)m->dim, sizeof(double));
   if (!nw->g || !nw->dx || !nw->xtry) {
-    sw_errf(err, errsz, "out of memory");
+    sw_errf(err, errsz, "out of memory for Newton's workspaces (%d DOFs)", nw->n);
     return SW_FATAL;
   }
   return SW_OK;
@@ -100,9 +100,13 @@ int sw_newton_line_search(sw_newton *nw, const sw_model *m, sw_data *d, double *
   return SW_RECOVER;
 }
 
+/* max |v_i|, or NaN when any v_i is NaN (fmax would drop it, and a NaN step would "converge"). */
 static double max_abs(const double *v, int n) {
   double s = 0.0;
-  for (int i = 0; i < n; i++) s = fmax(s, fabs(v[i]));
+  for (int i = 0; i < n; i++) {
+    if (isnan(v[i])) return NAN;
+    s = fmax(s, fabs(v[i]));
+  }
   return s;
 }
 

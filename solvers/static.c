@@ -85,6 +85,11 @@ static int static_loop(sw_newton *nw, const sw_model *m, sw_data *d, char *err, 
 int sw_static_solve(const sw_model *m, sw_data *d, double reaction[3], char *err, size_t errsz) {
   sw_newton nw;
   int rc = sw_newton_init(&nw, m, err, errsz);
+  if (rc) { /* say which solve could not start */
+    char why[SW_ERRSZ];
+    snprintf(why, sizeof why, "%s", err ? err : "");
+    sw_errf(err, errsz, "static solve: cannot start: %s", why);
+  }
   if (!rc && nw.n > 0) rc = static_loop(&nw, m, d, err, errsz);
   if (!rc) {
     double u;

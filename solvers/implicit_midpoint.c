@@ -1,0 +1,96 @@
+/* implicit_midpoint.c — the implicit midpoint rule ("implicit-midpoint") on x' = v, M v' = f(x):
+ *   x_{n+1} = x_n + h (v_n + v_{n+1}) / 2,
+ *   v_{n+1} = v_n + h M^-1 f((x_n + x_{n+1}) / 2, t_n + h/2).
+ * With the midpoint y = (x_n + x_{n+1}) / 2, the first line gives v_{n+1} = 4 (y - x_n)/h - v_n;
+ * put into the second, 4/h^2 M (y - xhat) = f(y) with xhat = x_n + (h/2) v_n: the stationarity
+ * condition of
+ *   Phi(y) = a/2 (y - xhat)^T M (y - xhat) + U(y, t_n + h/2),  a = 4/h^2,
+ * minimised by one Newton solve (line search, to the scene's tolerance); then
+ *   x_{n+1} = 2 y - x_n,  v_{n+1} = 2 (x_{n+1} - x_n)/h - v_n.
+ * Order 2, A-stable with |R| = 1 on the imaginary axis: no numerical damping.  Symplectic and
+ * symmetric; it conserves quadratic invariants (linear and angular momentum, and the energy of
+ * a linear problem up to the Newton tolerance), and for nonlinear problems its energy error
+ * stays bounded (no drift).  Undamped stiff modes keep ringing. */
+#include <string.h>
+
+#include "solver.h"
+#include "util.h"
+
+typedef struct mid_state {
+  sw_newton nw;
+  double *xhat, *y, *vnew; /* (nv x dim) */
+} mid_state;
+
+static void mid_free(void *p) {
+  mid_state *s = p;
+  if (!s) return;
+  sw_newton_free(&s->nw);
+  sw_free(s->xhat);
+  sw_free(s->y);
+  sw_free(s->vnew);
+  sw_free(s);
+}
+
+static int mid_init(void **state, const sw_model *m, sw_data *d, char *err, size_t errsz) {
+  (void)d;
+  mid_state *s = sw_calloc(1, sizeof *s);
+  if (!s) return sw_errf(err, errsz, "out of memory"), SW_FATAL;
+  size_t nd = (size_t)m->nv * (size_t)m->dim;
+  s->xhat = sw_calloc(nd, sizeof(double));
+  s->y = sw_calloc(nd, sizeof(double));
+  s->vnew = sw_calloc(nd, sizeof(double));
+  int rc = (!s->xhat || !s->y || !s->vnew) ? (sw_errf(err, errsz, "out of memory"), SW_FATAL)
+                                           : sw_newton_init(&s->nw, m, err, errsz);
+  if (rc) {
+    mid_free(s);
+    return rc;
+  }
+  *state = s;
+  return SW_OK;
+}
+
+static int mid_step(void *p, const sw_model *m, sw_data *d, double h) {
+  mid_state *s = p;
+  const int nd = m->nv * m->dim;
+  for (int i = 0; i < nd; i++) {
+    s->xhat[i] = d->x[i] + 0.5 * h * d->v[i];
+    s->y[i] = m->dof[i] < 0 ? d->x[i] : s->xhat[i];
+  }
+  sw_newton_opts o = {
+      .a = 4.0 / (h * h),
+      .t = d->t + 0.5 * h,
+      .max_iter = m->opt.newton_max,
+      /* the Newton variable is the midpoint: an error e in y is 2e in x_{n+1} */
+      .tol_dx = 0.5 * m->opt.newton_tol * h,
+      .line_search = 1,
+      .must_converge = 1,
+      .hessian = m->opt.hessian,
+  };
+  int rc = sw_newton_solve(&s->nw, m, d, s->y, s->xhat, &o);
+  if (rc) return rc;
+  for (int i = 0; i < nd; i++) {
+    if (m->dof[i] < 0) {
+      s->y[i] = d->x[i];
+      s->vnew[i] = 0.0;
+    } else {
+      s->y[i] = 2.0 * s->y[i] - d->x[i]; /* now x_{n+1} */
+      s->vnew[i] = 2.0 * (s->y[i] - d->x[i]) / h - d->v[i];
+    }
+  }
+  rc = sw_energy_check(m, d, s->y, s->vnew, d->t + h);
+  if (rc) return rc;
+  memcpy(d->x, s->y, (size_t)nd * sizeof(double));
+  memcpy(d->v, s->vnew, (size_t)nd * sizeof(double));
+  d->t += h;
+  d->last_dt = h;
+  d->nstep++;
+  return SW_OK;
+}
+
+const sw_integrator_ops sw_implicit_midpoint_ops = {
+    .name = "implicit-midpoint",
+    .summary = "implicit midpoint, Newton (order 2, symplectic, no damping)",
+    .init = mid_init,
+    .step = mid_step,
+    .free = mid_free,
+};

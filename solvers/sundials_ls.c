@@ -1,0 +1,240 @@
+/* sundials_ls.c — see sundials_ls.h: the Schur-complement linear solver of CVODE and IDA. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "sundials_ls.h"
+#include "util.h"
+
+/* ------------------------------------------------------------ state and forces */
+
+void sw_sunls_gather(const sw_sunls *sys, const double *x, const double *v, double *y) {
+  const sw_model *m = sys->m;
+  for (int i = 0; i < m->nv * m->dim; i++) {
+    int c = m->dof[i];
+    if (c < 0) continue;
+    y[c] = x[i];
+    y[sys->n + c] = v[i];
+  }
+}
+
+void sw_sunls_scatter(const sw_sunls *sys, const double *y, double *x, double *v) {
+  const sw_model *m = sys->m;
+  for (int i = 0; i < m->nv * m->dim; i++) {
+    int c = m->dof[i];
+    if (c < 0) {
+      v[i] = 0.0;
+      continue;
+    }
+    x[i] = y[c];
+    v[i] = y[sys->n + c];
+  }
+}
+
+static void set_free(const sw_sunls *sys, const double *xf, double *x) {
+  const sw_model *m = sys->m;
+  for (int i = 0; i < m->nv * m->dim; i++)
+    if (m->dof[i] >= 0) x[i] = xf[m->dof[i]];
+}
+
+int sw_sunls_force(sw_sunls *sys, const double *xf, double t, double *f) {
+  const sw_model *m = sys->m;
+  sw_data *d = sys->d;
+  double t0 = sw_now(), u;
+  set_free(sys, xf, sys->xfull);
+  int rc = sw_eval_terms(m, d, sys->xfull, t, 1, 0, 0, &u);
+  d->time_assemble += sw_now() - t0;
+  if (rc) return rc;
+  for (int i = 0; i < m->nv * m->dim; i++) {
+    int c = m->dof[i];
+    if (c < 0) continue;
+    f[c] = -d->grad[i];
+    if (!isfinite(f[c])) {
+      sw_errf(d->err, sizeof d->err, "the force is not finite (NaN or Inf) at t = %g s", t);
+      return SW_RECOVER;
+    }
+  }
+  return SW_OK;
+}
+
+/* ------------------------------------------------------------------- Hessian */
+
+/* hval <- the Hessian at sys->xlin, sys->tlin; projected or exact. */
+static int eval_hessian(sw_sunls *sys, int project) {
+  const sw_model *m = sys->m;
+  sw_data *d = sys->d;
+  double t0 = sw_now(), u;
+  int rc = sw_eval_terms(m, d, sys->xlin, sys->tlin, 0, 1, project, &u);
+  if (rc == SW_OK) {
+    sw_pattern_fill(&sys->pat, m, d, 0.0, sys->hval);
+    for (long k = 0; k < sys->pat.nnz; k++)
+      if (!isfinite(sys->hval[k])) {
+        sw_errf(d->err, sizeof d->err, "the Hessian is not finite (NaN or Inf) at t = %g s",
+                sys->tlin);
+        rc = SW_RECOVER;
+        break;
+      }
+  }
+  sys->h_projected = project;
+  d->time_assemble += sw_now() - t0;
+  return rc;
+}
+
+int sw_sunls_hessian(sw_sunls *sys, const double *xf, double t) {
+  set_free(sys, xf, sys->xlin);
+  sys->tlin = t;
+  return eval_hessian(sys, sys->m->opt.hessian == SW_HESSIAN_PROJECTED);
+}
+
+void sw_sunls_hmul(const sw_sunls *sys, const double *x, double *y) {
+  const sw_pattern *p = &sys->pat;
+  memset(y, 0, (size_t)sys->n * sizeof(double));
+  for (int c = 0; c < sys->n; c++)
+    for (long k = p->colptr[c]; k < p->colptr[c + 1]; k++) {
+      long r = p->rowind[k];
+      double h = sys->hval[k];
+      y[r] += h * x[c];
+      if (r != c) y[c] += h * x[r];
+    }
+}
+
+/* S = cm M + cd D + ch H on the pattern (D = 0 for now), factorised. */
+static int fill_factor(sw_sunls *sys) {
+  sw_data *d = sys->d;
+  double t0 = sw_now();
+  double *val = sw_chol_values(&sys->chol);
+  for (long k = 0; k < sys->pat.nnz; k++) val[k] = sys->ch * sys->hval[k];
+  for (int c = 0; c < sys->n; c++) val[sys->pat.diag[c]] += sys->cm * sys->mdiag[c];
+  /* D: + sys->cd * D, once a damping term fills D on the pattern. */
+  double t1 = sw_now();
+  d->time_assemble += t1 - t0;
+  int rc = sw_chol_factor(&sys->chol, d->err, sizeof d->err);
+  d->time_factor += sw_now() - t1;
+  d->nfactor++;
+  return rc;
+}
+
+/* -------------------------------------------------- the custom SUNLinearSolver */
+
+static SUNLinearSolver_Type ls_gettype(SUNLinearSolver LS) {
+  (void)LS;
+  return SUNLINEARSOLVER_DIRECT;
+}
+
+static SUNLinearSolver_ID ls_getid(SUNLinearSolver LS) {
+  (void)LS;
+  return SUNLINEARSOLVER_CUSTOM;
+}
+
+/* Factorise S for the coefficients the method's callback just set; with hessian: auto, an S
+ * that is not positive definite is rebuilt from the projected Hessian at the same point. */
+static int ls_setup(SUNLinearSolver LS, SUNMatrix A) {
+  (void)A;
+  sw_sunls *sys = LS->content;
+  sys->coef = sys->coef_next;
+  int rc = fill_factor(sys);
+  if (rc == SW_RECOVER && sys->m->opt.hessian == SW_HESSIAN_AUTO && !sys->h_projected) {
+    rc = eval_hessian(sys, 1);
+    if (rc == SW_OK) rc = fill_factor(sys);
+  }
+  return rc == SW_OK ? SUNLS_SUCCESS : rc > 0 ? SUNLS_LUFACT_FAIL : SUNLS_PACKAGE_FAIL_UNREC;
+}
+
+static int ls_solve(SUNLinearSolver LS, SUNMatrix A, N_Vector x, N_Vector b, sw_real tol) {
+  (void)A, (void)tol; /* direct: tol is not used */
+  sw_sunls *sys = LS->content;
+  double t0 = sw_now();
+  int rc = sys->reduce(sys, N_VGetArrayPointer(b), N_VGetArrayPointer(x));
+  sys->d->time_solve += sw_now() - t0;
+  return rc == SW_OK ? SUNLS_SUCCESS : SUNLS_PACKAGE_FAIL_UNREC;
+}
+
+/* The content is the sw_sunls, owned by the method: free only the shell. */
+static int ls_free(SUNLinearSolver LS) {
+  SUNLinSolFreeEmpty(LS);
+  return SUNLS_SUCCESS;
+}
+
+static SUNMatrix_ID tok_getid(SUNMatrix A) {
+  (void)A;
+  return SUNMATRIX_CUSTOM;
+}
+
+static int tok_zero(SUNMatrix A) { /* IDA calls it before every jac: S is refilled anyway */
+  (void)A;
+  return SUNMAT_SUCCESS;
+}
+
+static void tok_destroy(SUNMatrix A) { SUNMatFreeEmpty(A); }
+
+/* ------------------------------------------------------------------ lifetime */
+
+int sw_sun_fail(char *err, size_t errsz, const char *solver, const char *what, char *flag_name,
+                const char *msg, const char *cause) {
+  char why[SW_ERRSZ];
+  snprintf(why, sizeof why, "%s", cause ? cause : "");
+  sw_errf(err, errsz, "%s %s: %s%s%s%s%s%s", solver, what, flag_name ? flag_name : "?",
+          *msg ? " (" : "", msg, *msg ? ")" : "", *why ? ": " : "", why);
+  free(flag_name);
+  return SW_FATAL;
+}
+
+int sw_sunls_init(sw_sunls *sys, const sw_model *m, sw_data *d, sw_sunls_reduce_fn reduce,
+                  char *err, size_t errsz) {
+  memset(sys, 0, sizeof *sys);
+  sys->m = m;
+  sys->d = d;
+  sys->n = m->ndof;
+  sys->reduce = reduce;
+  sys->cm = 1.0;
+  int rc = sw_pattern_build(&sys->pat, m, err, errsz);
+  if (rc) return rc;
+  if ((rc = sw_chol_init(&sys->chol, &sys->pat, err, errsz))) return rc;
+  size_t n = (size_t)sys->n, nd = (size_t)m->nv * (size_t)m->dim;
+  sys->mdiag = sw_calloc(n, sizeof(double));
+  sys->hval = sw_calloc((size_t)sys->pat.nnz, sizeof(double));
+  sys->xfull = sw_calloc(nd, sizeof(double));
+  sys->xlin = sw_calloc(nd, sizeof(double));
+  sys->w1 = sw_calloc(n, sizeof(double));
+  sys->w2 = sw_calloc(n, sizeof(double));
+  if (!sys->mdiag || !sys->hval || !sys->xfull || !sys->xlin || !sys->w1 || !sys->w2)
+    return sw_errf(err, errsz, "out of memory"), SW_FATAL;
+  memcpy(sys->xfull, d->x, nd * sizeof(double));
+  memcpy(sys->xlin, d->x, nd * sizeof(double));
+  for (int i = 0; i < m->nv; i++)
+    for (int a = 0; a < m->dim; a++)
+      if (m->dof[i * m->dim + a] >= 0) sys->mdiag[m->dof[i * m->dim + a]] = m->mass[i];
+  if (sw_sun_context(&sys->ctx))
+    return sw_errf(err, errsz, "SUNDIALS: cannot create a context"), SW_FATAL;
+  sys->LS = SUNLinSolNewEmpty(sys->ctx);
+  sys->A = SUNMatNewEmpty(sys->ctx);
+  if (!sys->LS || !sys->A)
+    return sw_errf(err, errsz, "SUNDIALS: out of memory creating the linear solver"), SW_FATAL;
+  sys->LS->content = sys;
+  sys->LS->ops->gettype = ls_gettype;
+  sys->LS->ops->getid = ls_getid;
+  sys->LS->ops->setup = ls_setup;
+  sys->LS->ops->solve = ls_solve;
+  sys->LS->ops->free = ls_free;
+  sys->A->content = sys;
+  sys->A->ops->getid = tok_getid;
+  sys->A->ops->zero = tok_zero;
+  sys->A->ops->destroy = tok_destroy;
+  return SW_OK;
+}
+
+void sw_sunls_free(sw_sunls *sys) {
+  if (sys->LS) SUNLinSolFree(sys->LS);
+  if (sys->A) SUNMatDestroy(sys->A);
+  if (sys->ctx) SUNContext_Free(&sys->ctx);
+  sw_chol_free(&sys->chol);
+  sw_pattern_free(&sys->pat, sys->m ? sys->m->nterm : 0);
+  sw_free(sys->mdiag);
+  sw_free(sys->hval);
+  sw_free(sys->xfull);
+  sw_free(sys->xlin);
+  sw_free(sys->w1);
+  sw_free(sys->w2);
+  memset(sys, 0, sizeof *sys);
+}

@@ -1,0 +1,92 @@
+/* sundials_ls.h — what CVODE (cvode.c) and IDA (ida.c) share: the state y = [x; v] on the free
+ * DOFs, force evaluation, the Hessian kept on the fixed pattern, and a custom SUNLinearSolver
+ * that solves SUNDIALS' 2n x 2n Newton systems through the n x n Schur complement
+ *   S = cm M + cd D + ch H    (CVODE: cm = 1, ch = gamma^2;  IDA: cm = cj^2, ch = 1)
+ * factorised by CHOLMOD (DESIGN.md "Integrators").  D is the damping matrix: there is none yet
+ * (cd is carried but D = 0); where it would enter is marked "D:" in the sources.
+ *
+ * The pairing that works with SUNDIALS 6.4.1: a linear solver of type SUNLINEARSOLVER_DIRECT
+ * (gettype, setup, solve, free) with a "token" SUNMatrix (getid SUNMATRIX_CUSTOM, a no-op zero,
+ * a destroy that leaves the content alone).  The method's callback (CVODE's linsys, IDA's
+ * jac) re-evaluates H when asked and sets the coefficients; setup fills S and factorises it;
+ * solve does the reduction with the coefficient frozen at that setup, as SUNDIALS' solution
+ * scaling (2 / (1 + gamma/gamma_setup)) assumes. */
+#ifndef SW_SUNDIALS_LS_H
+#define SW_SUNDIALS_LS_H
+
+#include <math.h>
+
+#include <sundials/sundials_linearsolver.h>
+#include <sundials/sundials_matrix.h>
+#include <sundials/sundials_nvector.h>
+
+#include "solver.h"
+#include "sundials_compat.h"
+
+typedef struct sw_sunls sw_sunls;
+/* The method's block solve: x = (2n) solution of its Newton matrix for the rhs b (2n), using
+ * sys->coef and the factorisation of the last setup.  SW_OK or SW_FATAL. */
+typedef int (*sw_sunls_reduce_fn)(sw_sunls *sys, const double *b, double *x);
+
+struct sw_sunls {
+  const sw_model *m;
+  sw_data *d;                  /* the run's data: counters, timers, err */
+  int n;                       /* free DOFs; y has 2n entries */
+  sw_pattern pat;
+  sw_chol chol;
+  double *mdiag;               /* (n) lumped mass of each free DOF, kg */
+  double *hval;                /* (pat.nnz) the Hessian H on the pattern (upper CSC), N/m */
+  double *xfull;               /* (nv x dim) positions for evaluations (pinned ones fixed) */
+  double *xlin;                /* (nv x dim) positions at which hval was evaluated */
+  double tlin;                 /* time at which hval was evaluated, s */
+  int h_projected;             /* hval holds the projected Hessian */
+  double cm, cd, ch;           /* coefficients of M, D, H in S for the next setup */
+  double coef_next;            /* gamma (CVODE) or cj (IDA) set with them by the callback */
+  double coef;                 /* ... frozen by the last setup: what solve uses */
+  double *w1, *w2;             /* (n) workspaces */
+  sw_sunls_reduce_fn reduce;
+  SUNContext ctx;
+  SUNLinearSolver LS;
+  SUNMatrix A;                 /* the token matrix: its content is this struct */
+  char msg[SW_ERRSZ];          /* the last error message of SUNDIALS (sundials_compat.h) */
+};
+
+/* Pattern, CHOLMOD analysis, workspaces, the SUNContext, LS and A; xfull = d->x. */
+int sw_sunls_init(sw_sunls *sys, const sw_model *m, sw_data *d, sw_sunls_reduce_fn reduce,
+                  char *err, size_t errsz);
+void sw_sunls_free(sw_sunls *sys);
+
+/* y (2n) <- the free components of x and v (nv x dim each); and back (pinned: v = 0). */
+void sw_sunls_gather(const sw_sunls *sys, const double *x, const double *v, double *y);
+void sw_sunls_scatter(const sw_sunls *sys, const double *y, double *x, double *v);
+/* f (n) = -dU/dx at the free positions xf (n), time t, pinned ones from sys->xfull.
+ * One force evaluation (d->nforce counts it).  SW_OK, SW_RECOVER (not finite, or a term
+ * failed recoverably; d->err says why) or SW_FATAL. */
+int sw_sunls_force(sw_sunls *sys, const double *xf, double t, double *f);
+/* Evaluate H at the free positions xf, time t, as m->opt.hessian asks (exact for auto) into
+ * sys->hval.  SW_OK, SW_RECOVER or SW_FATAL. */
+int sw_sunls_hessian(sw_sunls *sys, const double *xf, double t);
+/* y (n) = H x (n), with the symmetric hval. */
+void sw_sunls_hmul(const sw_sunls *sys, const double *x, double *y);
+
+/* The two reductions (cvode.c, ida.c), declared here for the tests. */
+int sw_cvode_reduce(sw_sunls *sys, const double *b, double *x);
+int sw_ida_reduce(sw_sunls *sys, const double *b, double *x);
+
+/* The smallest internal step for an output at tout, s: far below any step cloth needs, yet well
+ * above the round-off of t.  Without it a force that turns NaN at some time (the step returns a
+ * recoverable error) makes SUNDIALS creep towards that time with ever smaller steps until its
+ * mxstep (1e6) steps per output are spent: 44 s on 24 DOFs, hours on a real cloth.  With it the
+ * step fails at hmin after a few tries. */
+static inline double sw_sun_hmin(double tout) { return fmax(1e-12, 1e-11 * fabs(tout)); }
+
+/* err <- "SOLVER WHAT: FLAG_NAME (SUNDIALS' message): cause" and SW_FATAL.  flag_name is the
+ * malloc'ed string of CVodeGetReturnFlagName / IDAGetReturnFlagName (freed here); cause is
+ * the last reason one of our callbacks gave (may be "", may alias err). */
+int sw_sun_fail(char *err, size_t errsz, const char *solver, const char *what, char *flag_name,
+                const char *msg, const char *cause);
+
+/* SUNDIALS' return convention from ours: 0, 1 (recoverable), -1 (fatal). */
+static inline int sw_sun_rc(int rc) { return rc == SW_OK ? 0 : rc > 0 ? 1 : -1; }
+
+#endif
