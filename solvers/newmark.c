@@ -10,8 +10,9 @@
  * extra force evaluation) and the velocity from the second line.  a_0 is evaluated at init.
  * Order 2, A-stable with no numerical damping (|R| = 1 on the imaginary axis); for a linear
  * problem it conserves the energy like the implicit midpoint rule, to which it is then
- * equivalent; for a nonlinear one it is not symplectic, and its energy error is bounded in
- * practice but not guaranteed.  One-step: any step size, no restart. */
+ * equivalent; for a nonlinear one it is not symplectic, and on stiff nonlinear cloth at
+ * h w_max >> 1 its energy can grow until it blows up, like the midpoint rule's
+ * (docs/integrators.md).  One-step: any step size, no restart. */
 #include <math.h>
 #include <string.h>
 

@@ -438,6 +438,7 @@ static void test_write_fails_part_way(void **state) {
   last_line(dir, "energy.csv.part", le, sizeof le);
   assert_int_equal(strcspn(lt, ","), strcspn(le, ",")); /* the same time */
   assert_memory_equal(lt, le, strcspn(lt, ","));
+  print_message("both logs end at t = %.*s s\n", (int)strcspn(lt, ","), lt);
   assert_int_equal(check_frames(dir), 2);
   /* The same with no room at all: the logs cannot be opened; no summary says "ok". */
   remove_tree(dir);
