@@ -98,6 +98,15 @@ static int step_with_retries(const sw_integrator_ops *ops, void *st, run_ctx *r,
   return SW_FATAL;
 }
 
+/* n dt, snapped to the nearest 12-digit decimal when that is within 1e-9 dt of it, so that step
+ * times read 0.57 rather than 0.5700000000000001 (57 * 0.01) in the logs. */
+static double tidy_time(double t, double dt) {
+  char buf[32];
+  snprintf(buf, sizeof buf, "%.12g", t);
+  double v = strtod(buf, NULL);
+  return fabs(v - t) <= 1e-9 * dt ? v : t;
+}
+
 static int integrate(run_ctx *r, char *err, size_t errsz) {
   const sw_model *m = r->m;
   sw_data *d = r->d;
@@ -114,7 +123,7 @@ static int integrate(run_ctx *r, char *err, size_t errsz) {
   const double T = m->opt.duration, dt = m->opt.dt;
   for (long n = 1; rc == SW_OK && d->t < T; n++) {
     /* step n ends at n dt (not a running sum), and a last sliver below dt/1e6 is merged */
-    double end = fmin((double)n * dt, T);
+    double end = fmin(tidy_time((double)n * dt, dt), T);
     if (T - end < 1e-6 * dt) end = T;
     rc = step_with_retries(ops, st, r, end, err, errsz);
     if (rc == SW_OK) rc = record(r, d->t >= T, err, errsz);
