@@ -130,14 +130,28 @@ static int tmp_commit(writer *w, const char *tmp, const char *path, char *err, s
 
 /* ------------------------------------------------------------------ folder */
 
+#define ELIDE 160 /* a path longer than 2 ELIDE bytes is shown as its ends around "..." */
+
+/* p, or its first and last ELIDE bytes around "...", so that a message with a very long path
+ * still fits an error buffer and ends with the reason. */
+static const char *elide(const char *p, char buf[2 * ELIDE + 4]) {
+  size_t n = strlen(p);
+  if (n <= 2 * ELIDE) return p;
+  memcpy(buf, p, ELIDE);
+  memcpy(buf + ELIDE, "...", 3);
+  memcpy(buf + ELIDE + 3, p + n - ELIDE, ELIDE + 1);
+  return buf;
+}
+
 static int make_dir(const char *path, const char *dir, char *err, size_t errsz) {
   if (mkdir(path, 0777) == 0) return 0;
   int e = errno;
   struct stat st;
   if (e == EEXIST && stat(path, &st) == 0 && S_ISDIR(st.st_mode)) return 0;
   if (e == EEXIST) e = ENOTDIR;
-  sw_errf(err, errsz, "%s: cannot create the output folder: mkdir %s: %s", dir, path,
-          strerror(e));
+  char b1[2 * ELIDE + 4], b2[2 * ELIDE + 4];
+  sw_errf(err, errsz, "%s: cannot create the output folder: mkdir %s: %s", elide(dir, b1),
+          elide(path, b2), strerror(e));
   return -1;
 }
 
@@ -153,7 +167,8 @@ static int make_dirs(const char *dir, char *scratch, char *err, size_t errsz) {
   }
   if (make_dir(scratch, dir, err, errsz)) return -1;
   if (access(dir, W_OK | X_OK) == 0) return 0;
-  sw_errf(err, errsz, "%s: the output folder is not writable: %s", dir, strerror(errno));
+  char b[2 * ELIDE + 4];
+  sw_errf(err, errsz, "%s: the output folder is not writable: %s", elide(dir, b), strerror(errno));
   return -1;
 }
 

@@ -8,7 +8,7 @@
 #      wall-time column step_wall_s), frames.pvd and every frame are bit for bit the same, and
 #      summary.json too apart from its timers.
 set -u
-sinew=$1
+sinew=$(cd "$(dirname "$1")" && pwd)/$(basename "$1") # absolute: one test runs elsewhere
 tmp=$(mktemp -d)
 pid=
 trap '[ -n "$pid" ] && kill -9 "$pid" 2>/dev/null; rm -rf "$tmp"' EXIT
@@ -95,6 +95,17 @@ for delay in 0.15 0.3 0.45 0.6 0.8 1.1; do
   fi
   frames_complete "$dir"
 done
+
+# Odd command lines: a clear message and exit 1.
+"$sinew" run scenes/hanging_cloth.yaml --out "" --duration 0.01 --quiet 2>"$tmp/err" &&
+  fail "--out '' accepted"
+grep -q 'output folder: no folder given' "$tmp/err" || fail "--out '': $(cat "$tmp/err")"
+"$sinew" run "$tmp" --quiet 2>"$tmp/err" && fail "a folder as the scene accepted"
+grep -q 'cannot read the scene file: Is a directory' "$tmp/err" || fail "folder scene: $(cat "$tmp/err")"
+long=$(printf 'a%.0s' $(seq 1 5000))
+(cd "$tmp" && "$sinew" run "$OLDPWD/scenes/hanging_cloth.yaml" --out "$long" --duration 0.01 --quiet) \
+  2>"$tmp/err" && fail "a 5000-byte folder name accepted"
+head -1 "$tmp/err" | grep -q 'File name too long$' || fail "long --out: the reason is not at the end"
 
 # Reproducibility: the same run twice.
 for r in 1 2; do
