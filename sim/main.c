@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "sinew.h"
 
@@ -64,7 +65,12 @@ static int parse_run_args(int argc, char **argv, cli *c) {
     const char *a = argv[i];
     int has_val = i + 1 < argc;
     if (!strcmp(a, "--quiet")) c->quiet = 1;
-    else if (!strcmp(a, "--out") && has_val) c->out = argv[++i];
+    else if (!strcmp(a, "--out") && has_val) {
+      c->out = argv[++i];
+      if (!*c->out || strlen(c->out) >= SW_PATHSZ)
+        return fprintf(stderr, "sinew: --out expects a folder path of 1..%d bytes\n", SW_PATHSZ - 1),
+               -1;
+    }
     else if (!strcmp(a, "--method") && has_val) c->method = argv[++i];
     else if (!strcmp(a, "--dt") && has_val) {
       if (parse_positive(a, argv[++i], 0, &c->dt)) return -1;
@@ -112,8 +118,10 @@ static int cmd_run(int argc, char **argv) {
             m->name, m->nv, m->ndof, m->opt.method, m->opt.dt, m->opt.duration);
   int rc = sw_run(m, !c.quiet, err, sizeof err);
   if (rc) fprintf(stderr, "sinew: run failed: %s\n", err);
-  fprintf(stderr, "sinew: results in %s/ (summary.json, tension.csv, energy.csv, frames.pvd)\n",
-          m->opt.out_dir);
+  struct stat st;
+  if (stat(m->opt.out_dir, &st) == 0 && S_ISDIR(st.st_mode))
+    fprintf(stderr, "sinew: results in %s/ (summary.json, tension.csv, energy.csv, frames.pvd)\n",
+            m->opt.out_dir);
   sw_model_free(m);
   return rc ? 1 : 0;
 }
