@@ -42,7 +42,7 @@ typedef struct cv_state {
   double *ytmp;   /* (2n) */
   double tlast;   /* s */
   int stale;      /* CVODE must be restarted from d before the next step */
-  long nst, nni, nsetup, netf; /* CVODE's counters at the last step */
+  sw_sun_counts cnt; /* CVODE's counters at the last step */
 } cv_state;
 
 /* y' = [v; M^-1 f(x, t)] */
@@ -158,30 +158,14 @@ static int cv_init(void **state, const sw_model *m, sw_data *d, char *err, size_
   return SW_OK;
 }
 
-/* Was d changed since the last step (by the caller, not by us)?  Then CVODE restarts from it. */
-static int cv_changed(cv_state *s, const sw_data *d, double h) {
-  if (s->stale || fabs(d->t - s->tlast) > 1e-12 * (fabs(d->t) + fabs(h))) return 1;
-  sw_sunls_gather(&s->sys, d->x, d->v, s->ytmp);
-  return memcmp(s->ytmp, s->ylast, 2 * (size_t)s->sys.n * sizeof(double)) != 0;
-}
-
-static long delta(long now, long *last) {
-  long dlt = now - *last;
-  *last = now;
-  return dlt;
-}
-
+/* CVODE's counters since the last step, into d. */
 static void cv_counters(cv_state *s, sw_data *d) {
   long nst = 0, nni = 0, nsetup = 0, netf = 0;
   CVodeGetNumSteps(s->mem, &nst);
   CVodeGetNumNonlinSolvIters(s->mem, &nni);
   CVodeGetNumLinSolvSetups(s->mem, &nsetup);
   CVodeGetNumErrTestFails(s->mem, &netf);
-  d->nstep += delta(nst, &s->nst);
-  d->last_newton = (int)delta(nni, &s->nni);
-  d->nnewton += d->last_newton;
-  d->nsetup += delta(nsetup, &s->nsetup);
-  d->nerrfail += delta(netf, &s->netf);
+  sw_sun_counts_add(&s->cnt, d, nst, nni, nsetup, netf);
 }
 
 static int cv_step(void *p, const sw_model *m, sw_data *d, double h) {
@@ -195,12 +179,12 @@ static int cv_step(void *p, const sw_model *m, sw_data *d, double h) {
   (void)m;
   s->sys.d = d;
   double *yv = N_VGetArrayPointer(s->y);
-  if (cv_changed(s, d, h)) {
+  if (s->stale || sw_sunls_changed(&s->sys, d, h, s->tlast, s->ylast, s->ytmp)) {
     sw_sunls_gather(&s->sys, d->x, d->v, yv);
     s->sys.msg[0] = '\0';
     int flag = CVodeReInit(s->mem, d->t, s->y);
     if (flag) return cv_fail(s, d, "CVodeReInit", flag, "");
-    s->nst = s->nni = s->nsetup = s->netf = 0;
+    s->cnt = (sw_sun_counts){0};
     s->stale = 0;
   }
   const double tout = d->t + h;

@@ -32,7 +32,7 @@ typedef struct ida_state {
   double *ytmp;   /* (2n) */
   double tlast;   /* s */
   int stale;      /* IDA must be restarted from d before the next step */
-  long nst, nni, nsetup, netf; /* IDA's counters at the last step */
+  sw_sun_counts cnt; /* IDA's counters at the last step */
 } ida_state;
 
 /* F = [x' - v; M v' - f(x, t)] */
@@ -161,30 +161,14 @@ static int ida_init(void **state, const sw_model *m, sw_data *d, char *err, size
   return SW_OK;
 }
 
-/* Was d changed since the last step (by the caller, not by us)?  Then IDA restarts from it. */
-static int ida_changed(ida_state *s, const sw_data *d, double h) {
-  if (s->stale || fabs(d->t - s->tlast) > 1e-12 * (fabs(d->t) + fabs(h))) return 1;
-  sw_sunls_gather(&s->sys, d->x, d->v, s->ytmp);
-  return memcmp(s->ytmp, s->ylast, 2 * (size_t)s->sys.n * sizeof(double)) != 0;
-}
-
-static long delta(long now, long *last) {
-  long dlt = now - *last;
-  *last = now;
-  return dlt;
-}
-
+/* IDA's counters since the last step, into d. */
 static void ida_counters(ida_state *s, sw_data *d) {
   long nst = 0, nni = 0, nsetup = 0, netf = 0;
   IDAGetNumSteps(s->mem, &nst);
   IDAGetNumNonlinSolvIters(s->mem, &nni);
   IDAGetNumLinSolvSetups(s->mem, &nsetup);
   IDAGetNumErrTestFails(s->mem, &netf);
-  d->nstep += delta(nst, &s->nst);
-  d->last_newton = (int)delta(nni, &s->nni);
-  d->nnewton += d->last_newton;
-  d->nsetup += delta(nsetup, &s->nsetup);
-  d->nerrfail += delta(netf, &s->netf);
+  sw_sun_counts_add(&s->cnt, d, nst, nni, nsetup, netf);
 }
 
 static int ida_step(void *p, const sw_model *m, sw_data *d, double h) {
@@ -198,14 +182,14 @@ static int ida_step(void *p, const sw_model *m, sw_data *d, double h) {
   (void)m;
   s->sys.d = d;
   double *yv = N_VGetArrayPointer(s->y);
-  if (ida_changed(s, d, h)) {
+  if (s->stale || sw_sunls_changed(&s->sys, d, h, s->tlast, s->ylast, s->ytmp)) {
     sw_sunls_gather(&s->sys, d->x, d->v, yv);
     int rc = ida_consistent_yp(s, d->t);
     if (rc) return rc;
     s->sys.msg[0] = '\0';
     int flag = IDAReInit(s->mem, d->t, s->y, s->yp);
     if (flag) return ida_fail(s, d, "IDAReInit", flag, "");
-    s->nst = s->nni = s->nsetup = s->netf = 0;
+    s->cnt = (sw_sun_counts){0};
     s->stale = 0;
   }
   const double tout = d->t + h;

@@ -238,3 +238,25 @@ void sw_sunls_free(sw_sunls *sys) {
   sw_free(sys->w2);
   memset(sys, 0, sizeof *sys);
 }
+
+static long delta(long now, long *last) {
+  long dlt = now - *last;
+  *last = now;
+  return dlt;
+}
+
+void sw_sun_counts_add(sw_sun_counts *last, sw_data *d, long nst, long nni, long nsetup,
+                       long netf) {
+  d->nstep += delta(nst, &last->nst);
+  d->last_newton = (int)delta(nni, &last->nni);
+  d->nnewton += d->last_newton;
+  d->nsetup += delta(nsetup, &last->nsetup);
+  d->nerrfail += delta(netf, &last->netf);
+}
+
+int sw_sunls_changed(const sw_sunls *sys, const sw_data *d, double h, double tlast,
+                     const double *ylast, double *ytmp) {
+  if (fabs(d->t - tlast) > 1e-12 * (fabs(d->t) + fabs(h))) return 1;
+  sw_sunls_gather(sys, d->x, d->v, ytmp);
+  return memcmp(ytmp, ylast, 2 * (size_t)sys->n * sizeof(double)) != 0;
+}

@@ -70,6 +70,18 @@ int sw_sunls_hessian(sw_sunls *sys, const double *xf, double t);
 void sw_sunls_hmul(const sw_sunls *sys, const double *x, double *y);
 
 /* The two reductions (cvode.c, ida.c), declared here for the tests. */
+/* SUNDIALS' cumulative counters at the last step.  sw_sun_counts_add adds to d what changed
+ * since then (steps, Newton iterations, setups, error-test failures) and remembers the new ones. */
+typedef struct sw_sun_counts {
+  long nst, nni, nsetup, netf;
+} sw_sun_counts;
+void sw_sun_counts_add(sw_sun_counts *last, sw_data *d, long nst, long nni, long nsetup,
+                       long netf);
+/* Did the caller change d (t, x or v) since the last step, which ended at tlast in state ylast
+ * (2n)?  Then the integrator must restart from d.  ytmp: (2n) workspace. */
+int sw_sunls_changed(const sw_sunls *sys, const sw_data *d, double h, double tlast,
+                     const double *ylast, double *ytmp);
+
 int sw_cvode_reduce(sw_sunls *sys, const double *b, double *x);
 int sw_ida_reduce(sw_sunls *sys, const double *b, double *x);
 
