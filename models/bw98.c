@@ -237,11 +237,11 @@ int sw_bw98_build(sw_term *t, const sw_model *m, char *err, size_t errsz) {
   t->param = bp;
   snprintf(t->name, sizeof t->name, "%s", "bw98");
   if (!bp) return sw_errf(err, errsz, "out of memory"), -1;
-  bp->k_u = m->mat.k_u;
-  bp->k_v = m->mat.k_v;
-  bp->k_s = m->mat.k_shear;
-  bp->b_u = m->mat.b_u;
-  bp->b_v = m->mat.b_v;
+  bp->k_u = m->mat[0].k_u;
+  bp->k_v = m->mat[0].k_v;
+  bp->k_s = m->mat[0].k_shear;
+  bp->b_u = m->mat[0].b_u;
+  bp->b_v = m->mat[0].b_v;
   bp->cu = sw_calloc((size_t)m->nf, 3 * sizeof(double));
   bp->cv = sw_calloc((size_t)m->nf, 3 * sizeof(double));
   if (!bp->cu || !bp->cv || sw_term_alloc_stencils(t, m->nf, 3, m->dim))

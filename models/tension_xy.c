@@ -46,9 +46,10 @@ static double face_tension(const double *wu, const double *wv, double lu, double
 
 void sw_tension_xy(const sw_model *m, sw_data *d) {
   const int dim = m->dim;
-  double ku = m->opt.tx_k_u > 0 ? fmin(m->opt.tx_clip, m->opt.tx_k_u) : 0.0;
-  double kv = m->opt.tx_k_v > 0 ? fmin(m->opt.tx_clip, m->opt.tx_k_v) : 0.0;
   for (int f = 0; f < m->nf; f++) {
+    const sw_material *mt = &m->mat[m->face_mat[f]]; /* the panel's k_u, k_v (sw_model_finish) */
+    double ku = mt->tx_k_u > 0 ? fmin(m->opt.tx_clip, mt->tx_k_u) : 0.0; /* N/m */
+    double kv = mt->tx_k_v > 0 ? fmin(m->opt.tx_clip, mt->tx_k_v) : 0.0;
     double wu[3], wv[3];
     sw_face_F(m, f, d->x, wu, wv);
     double lu = norm(wu, dim), lv = norm(wv, dim), dot = 0.0;

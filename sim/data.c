@@ -24,6 +24,12 @@ sw_data *sw_data_new(const sw_model *m) {
   d->rlu = sw_calloc(nf, sizeof(double));
   d->rlv = sw_calloc(nf, sizeof(double));
   d->scratch = sw_calloc(nf, sizeof(double));
+  size_t nt = (size_t)m->ntendon + 1;
+  d->tendon_length = sw_calloc(nt, sizeof(double));
+  d->tendon_delta = sw_calloc(nt, sizeof(double));
+  d->tendon_tension = sw_calloc(nt, sizeof(double));
+  if (!d->tendon_length || !d->tendon_delta || !d->tendon_tension)
+    return sw_data_free(d), NULL;
   if (!d->x || !d->v || !d->grad || !d->hess || !d->term_energy || !d->txy || !d->stretch_u ||
       !d->stretch_v || !d->shear || !d->rlu || !d->rlv || !d->scratch)
     return sw_data_free(d), NULL;
@@ -51,6 +57,9 @@ void sw_data_free(sw_data *d) {
   sw_free(d->rlu);
   sw_free(d->rlv);
   sw_free(d->scratch);
+  sw_free(d->tendon_length);
+  sw_free(d->tendon_delta);
+  sw_free(d->tendon_tension);
   sw_free(d);
 }
 

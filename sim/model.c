@@ -27,7 +27,11 @@ sw_model *sw_model_new(void) {
   o->tx_clip = 5e4;
   o->tx_reference_uv = 0;
   o->tx_k_u = o->tx_k_v = -1.0;
-  m->mat.b_u = m->mat.b_v = 1.0;
+  m->nmat = 1;
+  m->mat = sw_calloc(1, sizeof *m->mat);
+  if (!m->mat) return sw_free(m), NULL;
+  m->mat[0].b_u = m->mat[0].b_v = 1.0;
+  m->mat[0].tx_k_u = m->mat[0].tx_k_v = -1.0;
   return m;
 }
 
@@ -44,6 +48,14 @@ void sw_model_free(sw_model *m) {
   sw_free(m->mass);
   sw_free(m->pinned);
   sw_free(m->dof);
+  sw_free(m->mat);
+  sw_free(m->face_mat);
+  for (int k = 0; k < m->ntendon; k++) {
+    sw_free(m->tendon[k].way);
+    sw_free(m->tendon[k].key_t);
+    sw_free(m->tendon[k].key_rest);
+  }
+  sw_free(m->tendon);
   sw_free(m);
 }
 
@@ -90,13 +102,27 @@ static int rest_shapes(sw_model *m, int need_area, char *err, size_t errsz) {
   return 0;
 }
 
-/* Lumped mass: each triangle gives a third of density * area to each corner (DESIGN.md). */
+/* Lumped mass: each triangle gives a third of density * area to each corner, each tendon
+ * segment half of its linear density * initial length to each end (DESIGN.md). */
 static void lumped_mass(sw_model *m) {
   m->total_mass = 0.0;
   for (int f = 0; f < m->nf; f++) {
-    double share = m->mat.density * m->area[f] / 3.0; /* kg */
+    double share = m->mat[m->face_mat[f]].density * m->area[f] / 3.0; /* kg */
     for (int i = 0; i < 3; i++) m->mass[m->face[3 * f + i]] += share;
     m->total_mass += 3.0 * share;
+  }
+  const int d = m->dim;
+  for (int k = 0; k < m->ntendon; k++) {
+    const sw_tendon *td = &m->tendon[k];
+    for (int s = 0; s + 1 < td->nway; s++) {
+      const double *a = m->x0 + (size_t)td->way[s] * d, *b = m->x0 + (size_t)td->way[s + 1] * d;
+      double l = 0.0;
+      for (int c = 0; c < d; c++) l += (a[c] - b[c]) * (a[c] - b[c]);
+      double share = 0.5 * td->density * sqrt(l); /* kg */
+      m->mass[td->way[s]] += share;
+      m->mass[td->way[s + 1]] += share;
+      m->total_mass += 2.0 * share;
+    }
   }
 }
 
@@ -104,7 +130,8 @@ static int dof_map(sw_model *m, char *err, size_t errsz) {
   int n = 0;
   for (int i = 0; i < m->nv; i++) {
     if (!m->pinned[i] && !(m->mass[i] > 0.0)) {
-      sw_errf(err, errsz, "vertex %d is free but has no mass (it is in no face with area)", i);
+      sw_errf(err, errsz, "vertex %d is free but has no mass (in no face with area and density, "
+              "on no tendon with density); pin it or give it mass", i);
       return -1;
     }
     for (int a = 0; a < m->dim; a++) m->dof[i * m->dim + a] = m->pinned[i] ? -1 : n++;
@@ -113,18 +140,93 @@ static int dof_map(sw_model *m, char *err, size_t errsz) {
   return 0;
 }
 
+/* The terms a scene can hold, in the order they are built: each builder is called only when
+ * the model uses it (DESIGN.md: model no more than a scene needs). */
+typedef int (*term_builder)(sw_term *t, const sw_model *m, char *err, size_t errsz);
+
+static int uses_membrane(const sw_model *m, int model) {
+  for (int k = 0; k < m->nmat; k++)
+    if (m->mat[k].membrane == model) return 1;
+  return 0;
+}
+
+static int uses_bending(const sw_model *m, int model) {
+  for (int k = 0; k < m->nmat; k++)
+    if (m->mat[k].bending == model) return 1;
+  return 0;
+}
+
+static int add_term(sw_model *m, term_builder build, char *err, size_t errsz) {
+  if (build(&m->term[m->nterm], m, err, errsz)) return sw_term_free(&m->term[m->nterm]), -1;
+  m->nterm++;
+  return 0;
+}
+
+#define SW_MAX_TERMS 16
+
 static int build_terms(sw_model *m, char *err, size_t errsz) {
-  m->term = sw_calloc(4, sizeof *m->term);
+  static const struct { int model; term_builder build; } membranes[] = {
+      {SW_MEMBRANE_BW98, sw_bw98_build},
+  };
+  static const struct { int model; term_builder build; } bendings[] = {
+      {SW_BENDING_NONE, NULL},
+  };
+  m->term = sw_calloc(SW_MAX_TERMS, sizeof *m->term);
   if (!m->term) return sw_errf(err, errsz, "out of memory"), -1;
-  if (m->mat.membrane == SW_MEMBRANE_BW98) {
-    if (sw_bw98_build(&m->term[m->nterm], m, err, errsz))
-      return sw_term_free(&m->term[m->nterm]), -1;
-    m->nterm++;
+  for (size_t k = 0; k < sizeof membranes / sizeof *membranes; k++)
+    if (uses_membrane(m, membranes[k].model) && add_term(m, membranes[k].build, err, errsz))
+      return -1;
+  for (size_t k = 0; k < sizeof bendings / sizeof *bendings; k++)
+    if (bendings[k].build && uses_bending(m, bendings[k].model) &&
+        add_term(m, bendings[k].build, err, errsz))
+      return -1;
+  if (m->has_gravity && add_term(m, sw_gravity_build, err, errsz)) return -1;
+  return 0;
+}
+
+/* Rotate the (u,v) layout of every face whose panel has a bias angle, so that the warp axis
+ * (cos b, sin b) in (u,v) becomes the u axis every membrane and tension XY read. */
+static void apply_bias(sw_model *m) {
+  for (int f = 0; f < m->nf; f++) {
+    double b = m->mat[m->face_mat[f]].bias; /* rad */
+    if (b == 0.0) continue;
+    double c = cos(b), s = sin(b);
+    for (int i = 0; i < 3; i++) {
+      double *uv = m->uv + 6 * f + 2 * i, u = uv[0], v = uv[1];
+      uv[0] = c * u + s * v;
+      uv[1] = -s * u + c * v;
+    }
   }
-  if (m->has_gravity) {
-    if (sw_gravity_build(&m->term[m->nterm], m, err, errsz))
-      return sw_term_free(&m->term[m->nterm]), -1;
-    m->nterm++;
+}
+
+/* The stiffness tension XY uses on each panel: the scene's tension_xy k_u/k_v if given, else
+ * the active membrane's warp and weft stiffness (docs/models.md has the mapping). */
+static void tension_stiffness(sw_model *m) {
+  for (int k = 0; k < m->nmat; k++) {
+    sw_material *mt = &m->mat[k];
+    double ku = 0.0, kv = 0.0; /* N/m */
+    switch (mt->membrane) {
+    case SW_MEMBRANE_BW98: ku = mt->k_u, kv = mt->k_v; break;
+    case SW_MEMBRANE_STVK: ku = mt->e_u, kv = mt->e_v; break;
+    case SW_MEMBRANE_COROTATED: ku = kv = mt->k_corot; break;
+    case SW_MEMBRANE_SPRINGS: ku = kv = mt->ks_stretch; break;
+    default: break;
+    }
+    if (mt->tx_k_u < 0) mt->tx_k_u = m->opt.tx_k_u >= 0 ? m->opt.tx_k_u : ku;
+    if (mt->tx_k_v < 0) mt->tx_k_v = m->opt.tx_k_v >= 0 ? m->opt.tx_k_v : kv;
+  }
+}
+
+static int check_tendons(const sw_model *m, char *err, size_t errsz) {
+  for (int k = 0; k < m->ntendon; k++) {
+    const sw_tendon *td = &m->tendon[k];
+    if (td->nway < 2 || !td->way || td->nkey < 1 || !td->key_t || !td->key_rest)
+      return sw_errf(err, errsz, "tendon %s: fewer than 2 waypoints or no rest length",
+                     td->name), -1;
+    for (int i = 0; i < td->nway; i++)
+      if (td->way[i] < 0 || td->way[i] >= m->nv)
+        return sw_errf(err, errsz, "tendon %s: waypoint %d outside the mesh (0..%d)", td->name,
+                       td->way[i], m->nv - 1), -1;
   }
   return 0;
 }
@@ -134,7 +236,14 @@ int sw_model_finish(sw_model *m, char *err, size_t errsz) {
   if (m->nv <= 0) return sw_errf(err, errsz, "the model has no vertices"), -1;
   if (!m->x0 || !m->v0 || !m->pinned || (m->nf > 0 && (!m->face || !m->uv)))
     return sw_errf(err, errsz, "model arrays missing"), -1;
-  if (check_faces(m, err, errsz)) return -1;
+  if (check_faces(m, err, errsz) || check_tendons(m, err, errsz)) return -1;
+  if (!m->face_mat && !(m->face_mat = sw_calloc((size_t)m->nf + 1, sizeof(int))))
+    return sw_errf(err, errsz, "out of memory"), -1;
+  for (int f = 0; f < m->nf; f++)
+    if (m->face_mat[f] < 0 || m->face_mat[f] >= m->nmat)
+      return sw_errf(err, errsz, "face %d: material %d outside 0..%d", f, m->face_mat[f],
+                     m->nmat - 1), -1;
+  apply_bias(m);
   size_t nd = (size_t)m->nv * (size_t)m->dim;
   m->dminv = sw_calloc((size_t)m->nf, 4 * sizeof(double));
   m->area = sw_calloc((size_t)m->nf, sizeof(double));
@@ -142,14 +251,14 @@ int sw_model_finish(sw_model *m, char *err, size_t errsz) {
   m->dof = sw_calloc(nd, sizeof(int));
   if (!m->dminv || !m->area || !m->mass || !m->dof)
     return sw_errf(err, errsz, "out of memory"), -1;
-  int need_area = m->mat.membrane != SW_MEMBRANE_NONE || m->mat.density > 0.0;
+  int need_area = 0;
+  for (int k = 0; k < m->nmat; k++)
+    need_area |= m->mat[k].membrane != SW_MEMBRANE_NONE || m->mat[k].bending != SW_BENDING_NONE ||
+                 m->mat[k].density > 0.0;
   if (rest_shapes(m, need_area, err, errsz)) return -1;
   lumped_mass(m);
   if (dof_map(m, err, errsz)) return -1;
-  if (m->mat.membrane == SW_MEMBRANE_BW98) {
-    if (m->opt.tx_k_u < 0) m->opt.tx_k_u = m->mat.k_u;
-    if (m->opt.tx_k_v < 0) m->opt.tx_k_v = m->mat.k_v;
-  }
+  tension_stiffness(m);
   return build_terms(m, err, errsz);
 }
 

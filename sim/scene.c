@@ -695,7 +695,7 @@ static int check_uv(const ctx *c, const ynode *at, const mesh_in *mi, const char
 
 static int load_material(const ctx *c, const ynode *y, const mesh_in *mi) {
   const ynode *v[2];
-  sw_material *mat = &c->m->mat;
+  sw_material *mat = &c->m->mat[0];
   if (get_map(c, y, "material", mat_keys, 2, v)) return -1;
   if (need_key(c, y, v[0], "material", "density", "density: a number > 0 in kg/m^2")) return -1;
   if (get_num(c, v[0], "material density", 0, 1, "kg/m^2", &mat->density)) return -1;
@@ -951,10 +951,6 @@ static int load_tension_xy(const ctx *c, const ynode *y) {
   sw_model *m = c->m;
   sw_options *o = &m->opt;
   const ynode *v[4];
-  if (m->mat.membrane == SW_MEMBRANE_BW98) {  /* defaults: the membrane's */
-    o->tx_k_u = m->mat.k_u;
-    o->tx_k_v = m->mat.k_v;
-  }
   if (!y) return 0;
   if (get_map(c, y, "tension_xy", txy_keys, 4, v)) return -1;
   if (v[0] && get_num(c, v[0], "tension_xy clip", 0, 1, "N/m", &o->tx_clip)) return -1;

@@ -91,14 +91,56 @@ struct sw_term {
 
 /* ----------------------------------------------------------------- model */
 
-enum { SW_MEMBRANE_NONE = 0, SW_MEMBRANE_BW98 = 1 };
+/* Membrane models (models/bw98.c, stvk.c, corotated.c, springs.c) and bending models
+ * (models/dihedral.c, quadratic_bending.c).  DESIGN.md "Energy terms". */
+enum { SW_MEMBRANE_NONE = 0, SW_MEMBRANE_BW98, SW_MEMBRANE_STVK, SW_MEMBRANE_COROTATED,
+       SW_MEMBRANE_SPRINGS };
+enum { SW_BENDING_NONE = 0, SW_BENDING_DIHEDRAL, SW_BENDING_QUADRATIC };
+enum { SW_BEND_REST_INITIAL = 0, SW_BEND_REST_FLAT = 1 };
 
+/* The material of a panel.  m->mat[0] is the scene's `material`; m->mat[k > 0] is a panel of
+ * `panels:` (an OBJ usemtl/g group), a copy of mat[0] with the keys the panel overrides. */
 typedef struct sw_material {
+  char group[SW_NAMESZ];       /* the OBJ group it applies to ("" for mat[0]) */
   double density;              /* kg/m^2 of rest (u,v) area */
   int membrane;                /* SW_MEMBRANE_* */
   double k_u, k_v, k_shear;    /* bw98 warp, weft and shear stiffness, N/m */
   double b_u, b_v;             /* bw98 rest stretch of warp and weft (1 = no pre-stretch) */
+  double e_u, e_v;             /* stvk warp and weft Young's moduli (thickness folded in), N/m */
+  double nu_uv;                /* stvk Poisson ratio: weft contraction under warp stress, 1
+                                  (nu_vu = nu_uv e_v / e_u; needs nu_uv nu_vu < 1) */
+  double g_uv;                 /* stvk in-plane shear modulus, N/m */
+  double k_corot;              /* corotated: k/2 |U - I|^2 per unit area, N/m */
+  double ks_stretch, ks_shear, ks_bend; /* springs: stiffness of each kind of spring, N/m */
+  int bending;                 /* SW_BENDING_* */
+  double k_bend;               /* bending stiffness, N m (= J) */
+  int bend_rest;               /* SW_BEND_REST_*: dihedral rest angle from x0 or flat */
+  double bias;                 /* rad: the warp axis is the u axis rotated by bias */
+  double tx_k_u, tx_k_v;       /* stiffness tension XY uses on this panel, N/m (set by
+                                  sw_model_finish from the membrane unless the scene sets it) */
 } sw_material;
+
+/* Tendons (models/tendon.c, seed 003; DESIGN.md "Tendons"). */
+enum { SW_LAW_SPRING = 0, SW_LAW_CABLE = 1 };
+
+typedef struct sw_tendon {
+  char name[SW_NAMESZ];
+  int law;                     /* SW_LAW_* */
+  double stiffness;            /* K, N: tension = K (length - rest) */
+  int nway;                    /* waypoints, >= 2 */
+  int *way;                    /* (nway) distinct vertex indices, in order along the tendon */
+  int nkey;                    /* rest-length keyframes, >= 1 (1: constant) */
+  double *key_t;               /* (nkey) s, increasing */
+  double *key_rest;            /* (nkey) rest length, m (relative ones resolved at load) */
+  double density;              /* kg/m: linear density, lumped onto the waypoints */
+  double damping;              /* N s/m: force -c (dl/dt) grad l along the tendon */
+} sw_tendon;
+
+/* The rest length of a tendon at time t: piecewise linear in its keyframes, constant
+ * outside them (m). */
+SW_API double sw_tendon_rest(const sw_tendon *td, double t);
+/* The current length sum |x_{w_k} - x_{w_k+1}| of a tendon at x (nv x dim), m. */
+SW_API double sw_tendon_length(const sw_tendon *td, const double *x, int dim);
 
 /* Newton's system matrix: the PSD-projected Hessian (always positive definite with a mass
  * term; linear convergence where the cloth is compressed), the exact one (quadratic
@@ -146,7 +188,13 @@ struct sw_model {
   int ndof;                    /* free DOFs */
   double gravity[3];           /* m/s^2 */
   int has_gravity;
-  sw_material mat;
+  int nmat;                    /* materials, >= 1 */
+  sw_material *mat;            /* (nmat) mat[0]: the scene's material; others: panels */
+  int *face_mat;               /* (nf) material of each face */
+  double damp_mass;            /* Rayleigh mass-proportional damping alpha, 1/s */
+  double damp_stiffness;       /* Rayleigh stiffness-proportional damping beta, s */
+  int ntendon;
+  sw_tendon *tendon;           /* (ntendon) */
   int nterm;
   sw_term *term;               /* (nterm) energy terms, only those the scene names */
   sw_options opt;
@@ -154,7 +202,8 @@ struct sw_model {
 
 /* Allocate an empty model with default options. */
 SW_API sw_model *sw_model_new(void);
-/* After a loader filled dim, nv, nf, x0, v0, face, uv, pinned, gravity, mat and opt: compute
+/* After a loader filled dim, nv, nf, x0, v0, face, uv, pinned, gravity, mat (face_mat: NULL
+ * for all faces on mat[0]), tendons and opt: rotate each panel's layout by its bias, compute
  * rest shapes, lumped masses, the DOF map and build the terms.  Nonzero on error. */
 SW_API int sw_model_finish(sw_model *m, char *err, size_t errsz);
 SW_API void sw_model_free(sw_model *m);
@@ -180,6 +229,9 @@ struct sw_data {
   double *shear;               /* (nf) shear angle between wu and wv, rad (0 = orthogonal) */
   double *rlu, *rlv;           /* (nf) reference stretch of tension XY */
   double *scratch;             /* (nf) for percentiles */
+  double *tendon_length;       /* (ntendon) m, at the last diagnostics */
+  double *tendon_delta;        /* (ntendon) length - rest, m */
+  double *tendon_tension;      /* (ntendon) E'(delta), N */
   /* counters (cumulative over the run) */
   long nstep, nnewton, nfactor, nassemble, nforce, nretry, nlinesearch;
   long nerrfail;               /* error-test failures of adaptive methods */

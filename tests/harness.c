@@ -33,12 +33,12 @@ sw_model *th_grid_model(int dim, int nx, int ny, double sx, double sy, double rh
       m->uv[6 * f + 2 * c + 1] = mesh.uv[2 * mesh.fuv[3 * f + c] + 1];
     }
   sw_mesh_free(&mesh);
-  m->mat.density = rho;
+  m->mat[0].density = rho;
   if (kuv > 0) {
-    m->mat.membrane = SW_MEMBRANE_BW98;
-    m->mat.k_u = kuv;
-    m->mat.k_v = 0.7 * kuv; /* warp and weft differ */
-    m->mat.k_shear = kshear;
+    m->mat[0].membrane = SW_MEMBRANE_BW98;
+    m->mat[0].k_u = kuv;
+    m->mat[0].k_v = 0.7 * kuv; /* warp and weft differ */
+    m->mat[0].k_shear = kshear;
   }
   if (g) {
     m->has_gravity = 1;

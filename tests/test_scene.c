@@ -99,13 +99,13 @@ static void test_good_scene(void **state) {
   assert_float_equal(m->v0[3 * 44 + 0], 1.0, 0.0);
   assert_float_equal(m->v0[3 * 44 + 2], 0.0, 0.0);
   assert_float_equal(m->v0[3 * 7 + 2], 1.0, 0.0);
-  assert_int_equal(m->mat.membrane, SW_MEMBRANE_BW98);
-  assert_float_equal(m->mat.density, 0.2, 1e-15);
-  assert_float_equal(m->mat.k_u, 1000, 0.0);
-  assert_float_equal(m->mat.k_v, 2000, 0.0);
-  assert_float_equal(m->mat.k_shear, 50, 0.0);
-  assert_float_equal(m->mat.b_u, 1.0, 0.0);
-  assert_float_equal(m->mat.b_v, 1.1, 1e-15);
+  assert_int_equal(m->mat[0].membrane, SW_MEMBRANE_BW98);
+  assert_float_equal(m->mat[0].density, 0.2, 1e-15);
+  assert_float_equal(m->mat[0].k_u, 1000, 0.0);
+  assert_float_equal(m->mat[0].k_v, 2000, 0.0);
+  assert_float_equal(m->mat[0].k_shear, 50, 0.0);
+  assert_float_equal(m->mat[0].b_u, 1.0, 0.0);
+  assert_float_equal(m->mat[0].b_v, 1.1, 1e-15);
   assert_float_equal(m->total_mass, 0.2 * 2.0, 1e-12); /* kg/m^2 * m^2 */
   assert_string_equal(m->opt.method, "backward-euler");
   assert_float_equal(m->opt.dt, 0.005, 0.0);
@@ -118,8 +118,8 @@ static void test_good_scene(void **state) {
   assert_float_equal(m->opt.frames_every, 0.1, 0.0);
   assert_float_equal(m->opt.tx_clip, 1e4, 0.0);
   assert_int_equal(m->opt.tx_reference_uv, 1);
-  assert_float_equal(m->opt.tx_k_u, 1000, 0.0); /* the membrane's */
-  assert_float_equal(m->opt.tx_k_v, 300, 0.0);
+  assert_float_equal(m->mat[0].tx_k_u, 1000, 0.0); /* the membrane's */
+  assert_float_equal(m->mat[0].tx_k_v, 300, 0.0);
   sw_model_free(m);
 }
 
@@ -135,7 +135,7 @@ static void test_defaults(void **state) {
   assert_string_equal(m->opt.out_dir, "out/minimal_scene");
   assert_int_equal(m->dim, 3);
   assert_int_equal(m->has_gravity, 0);
-  assert_int_equal(m->mat.membrane, SW_MEMBRANE_NONE);
+  assert_int_equal(m->mat[0].membrane, SW_MEMBRANE_NONE);
   assert_int_equal(count_pinned(m), 0);
   assert_string_equal(m->opt.method, "backward-euler");
   assert_float_equal(m->opt.dt, 0.01, 0.0);

@@ -28,11 +28,11 @@ static sw_model *seed_triangle(double ku, double kv, int reference_uv) {
     m->x0[3 * i + 1] = uv[2 * i + 1];
   }
   memcpy(m->uv, uv, sizeof uv);
-  m->mat.density = 0.1;
-  m->mat.membrane = SW_MEMBRANE_BW98;
-  m->mat.k_u = ku;
-  m->mat.k_v = kv;
-  m->mat.k_shear = 10;
+  m->mat[0].density = 0.1;
+  m->mat[0].membrane = SW_MEMBRANE_BW98;
+  m->mat[0].k_u = ku;
+  m->mat[0].k_v = kv;
+  m->mat[0].k_shear = 10;
   m->opt.tx_reference_uv = reference_uv;
   char err[SW_ERRSZ];
   assert_int_equal(sw_model_finish(m, err, sizeof err), 0);

@@ -159,7 +159,7 @@ static void check_rigid(probe *p, unsigned long *rs) {
   assert_true(fabs(e2 - e) <= 1e-9 * fmax(fabs(e), 1e-12));
   rigid(p, p->m->x0, y, rs);
   term_energy(p, y, g, NULL, 0);
-  assert_true(max_abs(g, n) < 1e-9 * fmax(p->m->mat.k_u, 1.0));
+  assert_true(max_abs(g, n) < 1e-9 * fmax(p->m->mat[0].k_u, 1.0));
   free(g), free(y);
 }
 
