@@ -16,6 +16,7 @@ void sw_mesh_free(sw_mesh *mesh) {
   sw_free(mesh->f);
   sw_free(mesh->fuv);
   sw_free(mesh->fgroup);
+  sw_free(mesh->fpoly);
   sw_free(mesh->group);
   memset(mesh, 0, sizeof *mesh);
 }
@@ -86,6 +87,7 @@ static void grid_faces(sw_mesh *mesh, int nx, int ny) {
       }
       memcpy(mesh->f + 3 * t, tri, sizeof tri);
       memcpy(mesh->fuv + 3 * t, tri, sizeof tri);
+      mesh->fpoly[t] = mesh->fpoly[t + 1] = t / 2; /* the quad */
       t += 2;
     }
 }
@@ -103,8 +105,9 @@ int sw_mesh_grid(sw_mesh *mesh, const double size[2], int nx, int ny, const char
   mesh->f = sw_calloc(3 * nf, sizeof *mesh->f);
   mesh->fuv = sw_calloc(3 * nf, sizeof *mesh->fuv);
   mesh->fgroup = sw_calloc(nf, sizeof *mesh->fgroup);
+  mesh->fpoly = sw_calloc(nf, sizeof *mesh->fpoly);
   mesh->group = sw_calloc(1, sizeof *mesh->group);
-  if (!mesh->x || !mesh->uv || !mesh->f || !mesh->fuv || !mesh->fgroup || !mesh->group) {
+  if (!mesh->x || !mesh->uv || !mesh->f || !mesh->fuv || !mesh->fgroup || !mesh->fpoly || !mesh->group) {
     sw_mesh_free(mesh);
     sw_errf(err, errsz, "grid: out of memory for %d x %d vertices", nx, ny);
     return SW_FATAL;

@@ -50,6 +50,7 @@ void sw_model_free(sw_model *m) {
   sw_free(m->dof);
   sw_free(m->mat);
   sw_free(m->face_mat);
+  sw_free(m->face_poly);
   for (int k = 0; k < m->ntendon; k++) {
     sw_free(m->tendon[k].way);
     sw_free(m->tendon[k].key_t);

@@ -44,7 +44,8 @@ typedef struct obj_state {
   double *uv;               /* (nuv x 2) texture coordinates */
   size_t nv, nuv, nvn, capx, capuv;
   int *f, *fuv, *fgroup;    /* (nf x 3), (nf x 3) or NULL, (nf) */
-  size_t nf, capf, capfuv, capfg;
+  int *fpoly;               /* (nf) the f line (0-based serial) each triangle comes from */
+  size_t nf, capf, capfuv, capfg, capfp;
   char (*group)[SW_NAMESZ];
   size_t ngroup, capg;
   int *gslot;               /* (nslot) hash table of group names: group index + 1, 0 = empty */
@@ -305,10 +306,12 @@ static int append_fan(obj_state *st, size_t nc) {
   if (f) st->f = f;
   int *g = f ? reserve(st->fgroup, &st->capfg, n, sizeof *g) : NULL;
   if (g) st->fgroup = g;
+  int *fp = g ? reserve(st->fpoly, &st->capfp, n, sizeof *fp) : NULL;
+  if (fp) st->fpoly = fp;
   int *fuv = st->fuv;
   if (g && st->has_uv) fuv = reserve(st->fuv, &st->capfuv, 3 * n, sizeof *fuv);
   if (fuv) st->fuv = fuv;
-  if (!f || !g || (st->has_uv && !fuv)) return fail_oom(st);
+  if (!f || !g || !fp || (st->has_uv && !fuv)) return fail_oom(st);
   for (size_t k = 1; k + 1 < nc; k++, st->nf++) {
     size_t c[3] = {0, k, k + 1};
     for (size_t i = 0; i < 3; i++) {
@@ -316,6 +319,7 @@ static int append_fan(obj_state *st, size_t nc) {
       if (st->has_uv) st->fuv[3 * st->nf + i] = st->poly[c[i]].uv;
     }
     st->fgroup[st->nf] = st->cur_group;
+    st->fpoly[st->nf] = (int)st->nface - 1;
   }
   return 0;
 }
@@ -464,6 +468,7 @@ static void state_free(obj_state *st) {
   sw_free(st->f);
   sw_free(st->fuv);
   sw_free(st->fgroup);
+  sw_free(st->fpoly);
   sw_free(st->group);
   sw_free(st->poly);
   sw_free(st->seen);
@@ -477,6 +482,7 @@ static void state_to_mesh(obj_state *st, sw_mesh *mesh) {
   mesh->x = st->x;
   mesh->f = st->f;
   mesh->fgroup = st->fgroup;
+  mesh->fpoly = st->fpoly;
   mesh->ngroup = (int)st->ngroup;
   mesh->group = st->group;
   if (st->has_uv == 1) {

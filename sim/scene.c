@@ -727,6 +727,10 @@ static int fill_geometry(const ctx *c, const mesh_in *mi, double uv_scale) {
       m->x0[i * dim + a] = x;
     }
   if (me->nf) memcpy(m->face, me->f, (size_t)me->nf * 3 * sizeof *m->face);
+  if (me->nf && me->fpoly) {
+    if (!(m->face_poly = sw_calloc((size_t)me->nf, sizeof *m->face_poly))) return oom(c, mi->at);
+    memcpy(m->face_poly, me->fpoly, (size_t)me->nf * sizeof *m->face_poly);
+  }
   int has_uv = me->nuv > 0 && me->fuv;
   for (long k = 0; has_uv && k < 3L * me->nf; k++) {
     int t = me->fuv[k];

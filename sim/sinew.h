@@ -45,6 +45,8 @@ typedef struct sw_mesh {
   int *f;                      /* (nf x 3) position index of each corner, 0-based */
   int *fuv;                    /* (nf x 3) uv index of each corner, or NULL when nuv == 0 */
   int *fgroup;                 /* (nf) index into group[] (usemtl or g name; 0 = default) */
+  int *fpoly;                  /* (nf) source polygon of each triangle (grid quad or OBJ f
+                                  line), 0-based: two triangles of one quad share it */
   int ngroup;                  /* number of groups, >= 1 */
   char (*group)[SW_NAMESZ];    /* (ngroup) group names; group[0] is "default" */
 } sw_mesh;
@@ -191,6 +193,8 @@ struct sw_model {
   int nmat;                    /* materials, >= 1 */
   sw_material *mat;            /* (nmat) mat[0]: the scene's material; others: panels */
   int *face_mat;               /* (nf) material of each face */
+  int *face_poly;              /* (nf) source polygon of each face (quads: two faces share
+                                  one; springs put shear springs on quad diagonals), or NULL */
   double damp_mass;            /* Rayleigh mass-proportional damping alpha, 1/s */
   double damp_stiffness;       /* Rayleigh stiffness-proportional damping beta, s */
   int ntendon;

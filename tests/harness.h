@@ -14,4 +14,12 @@ sw_model *th_grid_model(int dim, int nx, int ny, double sx, double sy, double rh
 /* The dense (nv*dim)^2 Hessian of term k from its blocks (all DOFs, pinned included). */
 void th_dense_hessian(const sw_model *m, int k, const double *blocks, double *H);
 
+/* The conformance harness (tests/conformance.c, cmocka asserts): term `name` of m at 12 random
+ * states around x0 (stretched, compressed to 0.3 and to 0.05 of x0), size the model's length
+ * scale (m): gradient and Hessian against central differences, symmetry, and with the flags
+ * the PSD projection, rigid-motion invariance, zero force at rest. */
+enum { TH_INTERNAL = 1, TH_REST_FREE = 2, TH_NO_PROJECTION = 4 };
+void th_conformance(const sw_model *m, const char *name, int flags, double size,
+                    unsigned long seed);
+
 #endif

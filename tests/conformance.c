@@ -1,0 +1,197 @@
+/* conformance.c — the conformance harness every energy term passes (STYLE.md: one harness,
+ * a small driver per term): gradient and Hessian against central finite differences at random
+ * deformed and near-degenerate states, symmetry, invariance under rigid motion (zero net force
+ * and torque, unchanged energy) for internal terms, and a positive semi-definite projection. */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "harness.h"
+
+extern void dsyev_(const char *jobz, const char *uplo, const int *n, double *a, const int *lda,
+                   double *w, double *work, const int *lwork, int *info);
+
+typedef struct probe {
+  const sw_model *m;
+  sw_data *d;
+  int k;      /* term under test */
+  double *x;  /* (n) state */
+  int n;
+  int rest_free; /* the term exerts no force at x0 (moved rigidly) */
+} probe;
+
+static double term_energy(probe *p, const double *x, double *grad, double *hess, int project) {
+  const sw_term *t = &p->m->term[p->k];
+  sw_eval ev = {.t = 0.0, .x = x, .grad = grad, .hess = hess, .project = project};
+  double e = 0.0;
+  if (grad) memset(grad, 0, sizeof(double) * (size_t)p->n);
+  if (hess) memset(hess, 0, sizeof(double) * (size_t)t->hptr[t->nstencil]);
+  assert_int_equal(t->ops->eval(t, p->m, &ev, &e), SW_OK);
+  return e;
+}
+
+static double max_abs(const double *v, long n) {
+  double s = 0.0;
+  for (long i = 0; i < n; i++) s = fmax(s, fabs(v[i]));
+  return s;
+}
+
+/* grad vs central differences of E; step h relative to the state's size. */
+static void check_gradient(probe *p, double h) {
+  int n = p->n;
+  size_t nz = (unsigned)n;
+  double *g = calloc(nz, sizeof *g), *fd = calloc(nz, sizeof *fd);
+  double *xp = malloc(sizeof(double) * nz);
+  term_energy(p, p->x, g, NULL, 0);
+  for (int i = 0; i < n; i++) {
+    memcpy(xp, p->x, sizeof(double) * (size_t)n);
+    xp[i] += h;
+    double ep = term_energy(p, xp, NULL, NULL, 0);
+    xp[i] -= 2 * h;
+    double em = term_energy(p, xp, NULL, NULL, 0);
+    fd[i] = (ep - em) / (2 * h) - g[i];
+  }
+  double scale = fmax(max_abs(g, n), 1e-12);
+  if (max_abs(fd, n) / scale >= 1e-6) print_error("gradient rel err %g\n", max_abs(fd, n) / scale);
+  assert_true(max_abs(fd, n) / scale < 1e-6);
+  free(g), free(fd), free(xp);
+}
+
+/* Hessian vs central differences of the gradient, and symmetry. */
+static void check_hessian(probe *p, double h) {
+  const sw_term *t = &p->m->term[p->k];
+  int n = p->n;
+  double *blk = calloc((size_t)t->hptr[t->nstencil] + 1, sizeof *blk);
+  double *H = calloc((size_t)n * n, sizeof *H), *gp = calloc((size_t)n, sizeof *gp);
+  double *gm = calloc((size_t)n, sizeof *gm), *xp = malloc(sizeof(double) * (size_t)n);
+  term_energy(p, p->x, NULL, blk, 0);
+  th_dense_hessian(p->m, p->k, blk, H);
+  double scale = fmax(max_abs(H, (long)n * n), 1e-12), err = 0.0, asym = 0.0;
+  for (int j = 0; j < n; j++) {
+    memcpy(xp, p->x, sizeof(double) * (size_t)n);
+    xp[j] += h;
+    term_energy(p, xp, gp, NULL, 0);
+    xp[j] -= 2 * h;
+    term_energy(p, xp, gm, NULL, 0);
+    for (int i = 0; i < n; i++) {
+      err = fmax(err, fabs((gp[i] - gm[i]) / (2 * h) - H[(long)i * n + j]));
+      asym = fmax(asym, fabs(H[(long)i * n + j] - H[(long)j * n + i]));
+    }
+  }
+  if (err / scale >= 1e-6) print_error("Hessian rel err %g\n", err / scale);
+  assert_true(err / scale < 1e-6);
+  assert_true(asym / scale < 1e-12);
+  free(blk), free(H), free(gp), free(gm), free(xp);
+}
+
+/* The projected Hessian: symmetric positive semi-definite (LAPACK eigenvalues). */
+static void check_projection(probe *p) {
+  const sw_term *t = &p->m->term[p->k];
+  int n = p->n, lwork = 8 * n, info = 0;
+  double *blk = calloc((size_t)t->hptr[t->nstencil] + 1, sizeof *blk);
+  double *H = calloc((size_t)n * n, sizeof *H), *w = calloc((size_t)n, sizeof *w);
+  double *work = calloc((size_t)lwork, sizeof *work);
+  term_energy(p, p->x, NULL, blk, 1);
+  th_dense_hessian(p->m, p->k, blk, H);
+  double scale = fmax(max_abs(H, (long)n * n), 1e-12);
+  dsyev_("N", "L", &n, H, &n, w, work, &lwork, &info);
+  assert_int_equal(info, 0);
+  if (w[0] < -1e-10 * scale) print_error("projected min eigenvalue %g (scale %g)\n", w[0], scale);
+  assert_true(w[0] >= -1e-10 * scale);
+  free(blk), free(H), free(w), free(work);
+}
+
+/* Rotation about a random axis (3D) or in the plane (2D) and a translation. */
+static void rigid(const probe *p, const double *x, double *y, unsigned long *rs) {
+  const int d = p->m->dim;
+  double R[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}, tr[3] = {th_rand(rs), th_rand(rs), th_rand(rs)};
+  double th = 3.0 * th_rand(rs), c = cos(th), s = sin(th);
+  if (d == 2) {
+    double R2[9] = {c, -s, 0, s, c, 0, 0, 0, 1};
+    memcpy(R, R2, sizeof R);
+  } else {
+    double a[3] = {th_rand(rs), th_rand(rs), th_rand(rs) + 1.5};
+    double l = sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+    for (int i = 0; i < 3; i++) a[i] /= l;
+    double K[9] = {0, -a[2], a[1], a[2], 0, -a[0], -a[1], a[0], 0};
+    for (int i = 0; i < 3; i++)
+      for (int j = 0; j < 3; j++) {
+        double kk = 0.0;
+        for (int q = 0; q < 3; q++) kk += K[i * 3 + q] * K[q * 3 + j];
+        R[i * 3 + j] = (i == j) + s * K[i * 3 + j] + (1 - c) * kk;
+      }
+  }
+  for (int v = 0; v < p->n / d; v++)
+    for (int i = 0; i < d; i++) {
+      y[v * d + i] = tr[i];
+      for (int j = 0; j < d; j++) y[v * d + i] += R[i * 3 + j] * x[v * d + j];
+    }
+}
+
+/* Internal forces: zero net force and torque, energy unchanged by a rigid motion, and zero
+ * force at the rest state moved rigidly. */
+static void check_rigid(probe *p, unsigned long *rs) {
+  const int d = p->m->dim, n = p->n;
+  double *g = calloc((size_t)n, sizeof *g), *y = calloc((size_t)n, sizeof *y);
+  double e = term_energy(p, p->x, g, NULL, 0);
+  double net[3] = {0}, tq[3] = {0}, scale = fmax(max_abs(g, n), 1e-12);
+  for (int v = 0; v < n / d; v++) {
+    double xv[3] = {0}, gv[3] = {0};
+    for (int a = 0; a < d; a++) {
+      xv[a] = p->x[v * d + a];
+      gv[a] = g[v * d + a];
+      net[a] += gv[a];
+    }
+    tq[0] += xv[1] * gv[2] - xv[2] * gv[1];
+    tq[1] += xv[2] * gv[0] - xv[0] * gv[2];
+    tq[2] += xv[0] * gv[1] - xv[1] * gv[0];
+  }
+  for (int a = 0; a < 3; a++) {
+    assert_true(fabs(net[a]) < 1e-9 * scale * n);
+    assert_true(fabs(tq[a]) < 1e-9 * scale * n);
+  }
+  rigid(p, p->x, y, rs);
+  double e2 = term_energy(p, y, NULL, NULL, 0);
+  assert_true(fabs(e2 - e) <= 1e-9 * fmax(fabs(e), 1e-12));
+  if (p->rest_free) {
+    rigid(p, p->m->x0, y, rs);
+    term_energy(p, y, g, NULL, 0);
+    if (max_abs(g, n) >= 1e-9 * scale) print_error("force at rest %g\n", max_abs(g, n));
+    assert_true(max_abs(g, n) < 1e-9 * scale);
+  }
+  free(g), free(y);
+}
+
+
+
+/* A deformed state: x0 * scale + amp * random (scale 0.3: strongly compressed). */
+static void deform(probe *p, double amp, double scale, unsigned long *rs) {
+  for (int i = 0; i < p->n; i++) p->x[i] = p->m->x0[i] * scale + amp * th_rand(rs);
+}
+
+void th_conformance(const sw_model *m, const char *name, int flags, double size,
+                    unsigned long seed) {
+  probe p = {.m = m, .n = m->nv * m->dim, .k = -1, .rest_free = !!(flags & TH_REST_FREE)};
+  for (int k = 0; k < m->nterm; k++)
+    if (!strcmp(m->term[k].name, name)) p.k = k;
+  if (p.k < 0) print_error("no term named %s\n", name);
+  assert_true(p.k >= 0);
+  p.x = calloc((size_t)p.n, sizeof(double));
+  unsigned long rs = seed;
+  /* amplitude of the random displacement (relative to size) and scale of x0 */
+  const double states[][2] = {{0.1, 1.0}, {0.17, 1.3}, {0.07, 0.3}, {0.007, 0.05}};
+  for (size_t s = 0; s < sizeof states / sizeof states[0]; s++)
+    for (int rep = 0; rep < 3; rep++) {
+      deform(&p, states[s][0] * size, states[s][1], &rs);
+      check_gradient(&p, 1e-6 * size);
+      check_hessian(&p, 1e-6 * size);
+      if (!(flags & TH_NO_PROJECTION)) check_projection(&p);
+      if (flags & TH_INTERNAL) check_rigid(&p, &rs);
+    }
+  free(p.x);
+}
