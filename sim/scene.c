@@ -7,7 +7,7 @@
  * model is filled.  Every error is "file:line:column: what was found; what was expected".
  * Units are SI: m, s, kg, N. */
 #include "scene.h"
-#include "scene_yaml.h"
+#include "scene_material.h"
 
 #include "util.h"
 
@@ -103,70 +103,48 @@ static int load_obj(const ctx *c, const ynode *y, mesh_in *mi) {
   return 0;
 }
 
-static const char *const mesh_keys[] = {"grid", "obj", "uv_scale"};
-
-/* Load the mesh; *uv_scale multiplies the OBJ's (u,v) to metres. */
-static int load_mesh(const ctx *c, const ynode *y, mesh_in *mi, double *uv_scale) {
-  const ynode *v[3];
-  if (sy_map(c, y, "mesh", mesh_keys, 3, v)) return -1;
-  if (!v[0] == !v[1])
-    return sy_fail(c, y, "mesh has %s; expected exactly one of grid or obj",
-                v[0] ? "both grid and obj" : "neither grid nor obj");
-  *uv_scale = 1.0;
-  if (v[2] && v[0])
-    return sy_fail(c, v[2], "mesh uv_scale is given with a grid; expected uv_scale only with obj "
-                "(a grid's (u,v) layout is already in m)");
-  if (v[2] && sy_num(c, v[2], "mesh uv_scale", 0, 1, "m per OBJ (u,v) unit", uv_scale))
-    return -1;
-  mi->at = v[0] ? v[0] : v[1];
-  return v[0] ? load_grid(c, v[0], mi) : load_obj(c, v[1], mi);
-}
-
-/* ================================================================ the material */
-
-static const char *const mat_keys[] = {"density", "membrane"};
-static const char *const memb_keys[] = {"model", "k_u", "k_v", "k_shear", "b_u", "b_v"};
-static const char *const memb_models[] = {"bw98"};
-
-static int load_membrane(const ctx *c, const ynode *y, sw_material *mat) {
-  const ynode *v[6];
-  int model = 0;
-  const char *w = "material membrane";
-  if (sy_map(c, y, w, memb_keys, 6, v)) return -1;
-  for (int i = 1; i <= 3; i++)
-    if (sy_need(c, y, v[i], w, memb_keys[i], "a stiffness >= 0 in N/m")) return -1;
-  if (v[0] && sy_choice(c, v[0], "material membrane model", memb_models, 1, &model)) return -1;
-  mat->membrane = SW_MEMBRANE_BW98;
-  if (sy_num(c, v[1], "material membrane k_u", 0, 0, "N/m", &mat->k_u) ||
-      sy_num(c, v[2], "material membrane k_v", 0, 0, "N/m", &mat->k_v) ||
-      sy_num(c, v[3], "material membrane k_shear", 0, 0, "N/m", &mat->k_shear))
-    return -1;
-  mat->b_u = mat->b_v = 1.0;
-  if (v[4] && sy_num(c, v[4], "material membrane b_u", 0, 1, NULL, &mat->b_u)) return -1;
-  if (v[5] && sy_num(c, v[5], "material membrane b_v", 0, 1, NULL, &mat->b_v)) return -1;
+/* points: [[x, y(, z)], ...]: vertices without faces (a cable or a tendon net). */
+static int load_points(const ctx *c, const ynode *y, mesh_in *mi) {
+  char lab[64];
+  const int d = c->m->dim;
+  if (sy_seq(c, y, "mesh points", "a sequence of points [x, y(, z)] in m")) return -1;
+  if (y->n == 0) return sy_fail(c, y, "mesh points is empty; expected at least one point");
+  if (y->n > SW_SCENE_MAX_VERTICES)
+    return sy_fail(c, y, "mesh points has %d points; expected at most %ld", y->n,
+                   (long)SW_SCENE_MAX_VERTICES);
+  sw_mesh *me = &mi->mesh;
+  me->ngroup = 1;
+  me->group = sw_calloc(1, sizeof *me->group);
+  me->x = sw_calloc(3 * (size_t)y->n, sizeof *me->x);
+  if (!me->group || !me->x) return sy_oom(c, y);
+  snprintf(me->group[0], sizeof me->group[0], "default");
+  me->nv = y->n;
+  for (int i = 0; i < y->n; i++) {
+    snprintf(lab, sizeof lab, "mesh points[%d]", i);
+    if (sy_vec(c, y->kid[i], lab, d, -HUGE_VAL, 0, "m", me->x + 3 * i)) return -1;
+  }
   return 0;
 }
 
-/* The (u,v) rest layout is needed for masses and the membrane. */
-static int check_uv(const ctx *c, const ynode *at, const mesh_in *mi, const char *what) {
-  const sw_mesh *me = &mi->mesh;
-  int ok = me->nuv > 0 && me->fuv;
-  for (long k = 0; ok && k < 3L * me->nf; k++) ok = me->fuv[k] >= 0 && me->fuv[k] < me->nuv;
-  if (ok || me->nf == 0) return 0;
-  return sy_fail(c, at, "%s needs the rest (u,v) layout, but mesh obj '%s' has no texture "
-              "coordinates (vt) on every face; expected an OBJ whose faces all have vt", what,
-              mi->obj);
-}
+static const char *const mesh_keys[] = {"grid", "obj", "uv_scale", "points"};
 
-static int load_material(const ctx *c, const ynode *y, const mesh_in *mi) {
-  const ynode *v[2];
-  sw_material *mat = &c->m->mat[0];
-  if (sy_map(c, y, "material", mat_keys, 2, v)) return -1;
-  if (sy_need(c, y, v[0], "material", "density", "density: a number > 0 in kg/m^2")) return -1;
-  if (sy_num(c, v[0], "material density", 0, 1, "kg/m^2", &mat->density)) return -1;
-  if (v[1] && (load_membrane(c, v[1], mat) || check_uv(c, v[1], mi, "material membrane")))
+/* Load the mesh; *uv_scale multiplies the OBJ's (u,v) to metres. */
+static int load_mesh(const ctx *c, const ynode *y, mesh_in *mi, double *uv_scale) {
+  const ynode *v[4];
+  if (sy_map(c, y, "mesh", mesh_keys, 4, v)) return -1;
+  int given = !!v[0] + !!v[1] + !!v[3];
+  if (given != 1)
+    return sy_fail(c, y, "mesh has %s; expected exactly one of grid, obj or points",
+                   given ? "more than one of grid, obj and points" : "none of grid, obj, points");
+  *uv_scale = 1.0;
+  if (v[2] && !v[1])
+    return sy_fail(c, v[2], "mesh uv_scale is given without obj; expected uv_scale only with "
+                   "obj (a grid's (u,v) layout is already in m)");
+  if (v[2] && sy_num(c, v[2], "mesh uv_scale", 0, 1, "m per OBJ (u,v) unit", uv_scale))
     return -1;
-  return check_uv(c, v[0], mi, "material density");
+  mi->at = v[0] ? v[0] : v[1] ? v[1] : v[3];
+  if (v[3]) snprintf(mi->obj, sizeof mi->obj, "points");
+  return v[0] ? load_grid(c, v[0], mi) : v[1] ? load_obj(c, v[1], mi) : load_points(c, v[3], mi);
 }
 
 /* ================================================================ filling the model */
@@ -199,17 +177,19 @@ static int fill_geometry(const ctx *c, const mesh_in *mi, double uv_scale) {
   int has_uv = me->nuv > 0 && me->fuv;
   for (long k = 0; has_uv && k < 3L * me->nf; k++) {
     int t = me->fuv[k];
-    if (t < 0 || t >= me->nuv) continue; /* check_uv refused this where (u,v) matter */
+    if (t < 0 || t >= me->nuv) continue; /* refused where (u,v) matter (scene_material.c) */
     m->uv[2 * k] = uv_scale * me->uv[2 * t];         /* m */
     m->uv[2 * k + 1] = uv_scale * me->uv[2 * t + 1]; /* m */
   }
   return 0;
 }
 
-static const char *const top_keys[] = {"name",   "dimension",        "mesh",       "material",
-                                       "gravity", "pins",            "initial_velocity",
-                                       "integrator", "duration",     "output",     "tension_xy"};
-enum { K_NAME, K_DIM, K_MESH, K_MAT, K_GRAV, K_PINS, K_IV, K_INT, K_DUR, K_OUT, K_TXY, K_N };
+static const char *const top_keys[] = {"name",     "dimension", "mesh",     "material",
+                                       "gravity",  "pins",      "initial_velocity",
+                                       "integrator", "duration", "output",  "tension_xy",
+                                       "panels",   "damping",   "tendons"};
+enum { K_NAME, K_DIM, K_MESH, K_MAT, K_GRAV, K_PINS, K_IV, K_INT, K_DUR, K_OUT, K_TXY, K_PANELS,
+       K_DAMP, K_TENDONS, K_N };
 
 static int load_name_dim(const ctx *c, const ynode **v) {
   sw_model *m = c->m;
@@ -233,13 +213,17 @@ static int load_geometry(ctx *c, const ynode **v) {
   memset(&mi, 0, sizeof mi);
   snprintf(mi.obj, sizeof mi.obj, "grid");
   int rc = sy_need(c, c->root, v[K_MESH], "the scene", "mesh",
-                    "mesh: {grid: {...}} or mesh: {obj: file.obj}");
+                   "mesh: {grid: {...}}, {obj: file.obj} or {points: [...]}");
   if (!rc) rc = load_mesh(c, v[K_MESH], &mi, &uv_scale);
   if (!rc && mi.mesh.nf > 0 && !v[K_MAT])
     rc = sy_fail(c, c->root, "the scene has no 'material' key but the mesh has %d triangles; "
-              "expected material: {density: ...}", mi.mesh.nf);
-  if (!rc && v[K_MAT]) rc = load_material(c, v[K_MAT], &mi);
+                 "expected material: {density: ...}", mi.mesh.nf);
+  if (!rc && v[K_PANELS] && !v[K_MAT])
+    rc = sy_fail(c, v[K_PANELS], "panels are given but the scene has no 'material' key; "
+                 "expected material: {...} that the panels start from");
+  if (!rc && v[K_MAT]) rc = sc_load_material(c, v[K_MAT], &mi.mesh, mi.obj);
   if (!rc) rc = fill_geometry(c, &mi, uv_scale);
+  if (!rc && v[K_PANELS]) rc = sc_load_panels(c, v[K_PANELS], &mi.mesh, mi.obj, uv_scale);
   sw_mesh_free(&mi.mesh);
   if (!rc && !(c->sel = sw_calloc((size_t)c->m->nv, 1))) rc = sy_oom(c, c->root);
   return rc;
@@ -446,6 +430,8 @@ static int load_scene(ctx *c) {
   if (load_name_dim(c, v) || load_geometry(c, v) || load_gravity(c, v[K_GRAV])) return -1;
   if (v[K_PINS] && load_pins(c, v[K_PINS])) return -1;
   if (v[K_IV] && load_velocities(c, v[K_IV])) return -1;
+  if (v[K_DAMP] && sc_load_damping(c, v[K_DAMP])) return -1;
+  if (v[K_TENDONS] && sc_load_tendons(c, v[K_TENDONS])) return -1;
   return load_options(c, v);
 }
 

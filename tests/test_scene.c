@@ -321,7 +321,7 @@ static const bad_case bad[] = {
     {"no_mesh.yaml", "name: x\n" MAT, 1, 1, "'mesh'"},
     {"no_material.yaml", GRID "duration: 1\n", 1, 1, "'material'"},
     {"both.yaml", "mesh: {grid: {size: [1, 1], vertices: [3, 3]}, obj: a.obj}\n" MAT, 1, 7,
-     "exactly one of grid or obj"},
+     "exactly one of grid, obj or points"},
     {"uv_scale.yaml", "mesh: {grid: {size: [1, 1], vertices: [3, 3]}, uv_scale: 2}\n" MAT, 1, 58,
      "uv_scale"},
     {"missing_obj.yaml", "mesh:\n  obj: meshes/nothere.obj\n" MAT, 2, 8, "No such file"},

@@ -1,0 +1,265 @@
+/* scene_material.c — a scene's `material`, `panels` and `damping` (DESIGN.md "Scene files",
+ * docs/scenes.md).  The material is mat[0]; each panel (an OBJ usemtl/g group) is a copy of it
+ * with the keys the panel gives.  A membrane or bending block replaces the whole block. */
+#include "scene_material.h"
+
+#include <math.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "util.h"
+
+/* Message labels nest (tendon s1 rest_length keyframes[2]); one cut short is still clear. */
+#pragma GCC diagnostic ignored "-Wformat-truncation"
+
+/* One numeric parameter of a membrane model: its key, where it goes, its range. */
+typedef struct param {
+  const char *key;
+  size_t off;        /* offsetof(sw_material, field) */
+  double lo;         /* smallest value (strict: excluded) */
+  int strict;
+  const char *unit;
+  int required;
+  double dflt;       /* value when absent and not required */
+} param;
+
+#define P(k, f, lo, st, u, req, d) {k, offsetof(sw_material, f), lo, st, u, req, d}
+static const param bw98_p[] = {P("k_u", k_u, 0, 0, "N/m", 1, 0), P("k_v", k_v, 0, 0, "N/m", 1, 0),
+                               P("k_shear", k_shear, 0, 0, "N/m", 1, 0),
+                               P("b_u", b_u, 0, 1, NULL, 0, 1), P("b_v", b_v, 0, 1, NULL, 0, 1)};
+static const param stvk_p[] = {P("e_u", e_u, 0, 1, "N/m", 1, 0), P("e_v", e_v, 0, 1, "N/m", 1, 0),
+                               P("shear_modulus", g_uv, 0, 1, "N/m", 1, 0),
+                               P("poisson", nu_uv, -HUGE_VAL, 0, NULL, 0, 0)};
+static const param corot_p[] = {P("k", k_corot, 0, 0, "N/m", 1, 0)};
+static const param springs_p[] = {P("stretch", ks_stretch, 0, 0, "N/m", 1, 0),
+                                  P("shear", ks_shear, 0, 0, "N/m", 0, 0),
+                                  P("bend", ks_bend, 0, 0, "N/m", 0, 0)};
+#undef P
+
+typedef struct memb_model {
+  const char *name;
+  int type;          /* SW_MEMBRANE_* */
+  const param *p;
+  int np;
+} memb_model;
+
+static const memb_model memb_models[] = {
+    {"bw98", SW_MEMBRANE_BW98, bw98_p, 5},
+    {"stvk", SW_MEMBRANE_STVK, stvk_p, 4},
+    {"corotated", SW_MEMBRANE_COROTATED, corot_p, 1},
+    {"springs", SW_MEMBRANE_SPRINGS, springs_p, 3},
+};
+enum { N_MEMB = 4 };
+
+/* Every key any membrane takes ("model" first): a key of another model is then named as such. */
+static const char *const memb_keys[] = {"model", "k_u",   "k_v",           "k_shear",
+                                        "b_u",   "b_v",   "e_u",           "e_v",
+                                        "poisson", "shear_modulus", "k", "stretch",
+                                        "shear", "bend"};
+enum { N_MEMB_KEYS = 14 };
+
+static const param *find_param(const memb_model *mm, const char *key) {
+  for (int i = 0; i < mm->np; i++)
+    if (!strcmp(mm->p[i].key, key)) return &mm->p[i];
+  return NULL;
+}
+
+/* Only the keys of the chosen model; then each parameter in its range. */
+static int membrane_params(const ctx *c, const ynode *y, const memb_model *mm,
+                           const ynode *const *v, const char *w, sw_material *mat) {
+  char lab[160], keys[160];
+  const char *names[8];
+  for (int i = 0; i < mm->np; i++) names[i] = mm->p[i].key;
+  sy_join(names, mm->np, keys, sizeof keys);
+  for (int k = 1; k < N_MEMB_KEYS; k++)
+    if (v[k] && !find_param(mm, memb_keys[k]))
+      return sy_fail(c, v[k], "%s has '%s', which model %s does not take; expected keys among: "
+                     "model, %s", w, memb_keys[k], mm->name, keys);
+  for (int i = 0; i < mm->np; i++) {
+    const param *p = &mm->p[i];
+    const ynode *val = NULL;
+    for (int k = 1; k < N_MEMB_KEYS; k++)
+      if (!strcmp(memb_keys[k], p->key)) val = v[k];
+    double *dst = (double *)((char *)mat + p->off);
+    snprintf(lab, sizeof lab, "%s %s", w, p->key);
+    if (!val && p->required)
+      return sy_fail(c, y, "%s (model %s) has no '%s' key; expected a number %s %g%s%s%s", w,
+                     mm->name, p->key, p->strict ? ">" : ">=", p->lo, p->unit ? " (" : "",
+                     p->unit ? p->unit : "", p->unit ? ")" : "");
+    *dst = p->dflt;
+    if (val && sy_num(c, val, lab, p->lo, p->strict, p->unit, dst)) return -1;
+  }
+  return 0;
+}
+
+/* stvk: Q (plane-stress orthotropic) is positive definite iff nu_uv^2 e_v / e_u < 1. */
+static int check_stvk(const ctx *c, const ynode *y, const ynode *pois, const char *w,
+                      const sw_material *mat) {
+  double q = mat->nu_uv * mat->nu_uv * mat->e_v / mat->e_u;
+  if (q < 1.0) return 0;
+  return sy_fail(c, pois ? pois : y, "%s poisson %g makes the stvk law non-positive "
+                 "(poisson^2 e_v/e_u = %g >= 1); expected |poisson| < sqrt(e_u/e_v) = %g", w,
+                 mat->nu_uv, q, sqrt(mat->e_u / mat->e_v));
+}
+
+static int load_membrane(const ctx *c, const ynode *y, const char *what, sw_material *mat) {
+  const ynode *v[N_MEMB_KEYS];
+  char w[128], names[96];
+  snprintf(w, sizeof w, "%s membrane", what);
+  if (sy_map(c, y, w, memb_keys, N_MEMB_KEYS, v)) return -1;
+  int model = 0; /* bw98 when no model is given (the first scenes had none) */
+  const char *list[N_MEMB];
+  for (int i = 0; i < N_MEMB; i++) list[i] = memb_models[i].name;
+  snprintf(names, sizeof names, "%s model", w);
+  if (v[0] && sy_choice(c, v[0], names, list, N_MEMB, &model)) return -1;
+  const memb_model *mm = &memb_models[model];
+  mat->membrane = mm->type;
+  if (membrane_params(c, y, mm, v, w, mat)) return -1;
+  return mm->type == SW_MEMBRANE_STVK ? check_stvk(c, y, v[8], w, mat) : 0;
+}
+
+static const char *const bend_keys[] = {"model", "stiffness", "rest"};
+static const char *const bend_models[] = {"dihedral", "quadratic"};
+static const char *const bend_rests[] = {"initial", "flat"}; /* SW_BEND_REST_* order */
+
+static int load_bending(const ctx *c, const ynode *y, const char *what, sw_material *mat) {
+  const ynode *v[3];
+  char w[128], lab[160];
+  int model = 0;
+  snprintf(w, sizeof w, "%s bending", what);
+  if (sy_map(c, y, w, bend_keys, 3, v) ||
+      sy_need(c, y, v[0], w, "model", "model: dihedral or quadratic") ||
+      sy_need(c, y, v[1], w, "stiffness", "stiffness: a number >= 0 (N m)"))
+    return -1;
+  snprintf(lab, sizeof lab, "%s model", w);
+  if (sy_choice(c, v[0], lab, bend_models, 2, &model)) return -1;
+  mat->bending = model == 0 ? SW_BENDING_DIHEDRAL : SW_BENDING_QUADRATIC;
+  if (model == 0 && c->m->dim == 2)
+    return sy_fail(c, v[0], "%s model dihedral needs a 3D scene (a planar mesh cannot fold); "
+                   "expected dimension: 3, or model quadratic", w);
+  snprintf(lab, sizeof lab, "%s stiffness", w);
+  if (sy_num(c, v[1], lab, 0, 0, "N m", &mat->k_bend)) return -1;
+  mat->bend_rest = model == 0 ? SW_BEND_REST_INITIAL : SW_BEND_REST_FLAT;
+  if (!v[2]) return 0;
+  if (model == 1)
+    return sy_fail(c, v[2], "%s rest is given for model quadratic, whose rest state is always "
+                   "the flat (u,v) layout; expected rest only with model dihedral", w);
+  snprintf(lab, sizeof lab, "%s rest", w);
+  return sy_choice(c, v[2], lab, bend_rests, 2, &mat->bend_rest);
+}
+
+/* The (u,v) rest layout is needed for masses, membranes and bending. */
+static int check_uv(const ctx *c, const ynode *at, const sw_mesh *me, const char *obj,
+                    const char *what) {
+  int ok = me->nuv > 0 && me->fuv;
+  for (long k = 0; ok && k < 3L * me->nf; k++) ok = me->fuv[k] >= 0 && me->fuv[k] < me->nuv;
+  if (ok || me->nf == 0) return 0;
+  return sy_fail(c, at, "%s needs the rest (u,v) layout, but mesh obj '%s' has no texture "
+                 "coordinates (vt) on every face; expected an OBJ whose faces all have vt", what,
+                 obj);
+}
+
+static const char *const mat_keys[] = {"density", "membrane", "bending", "bias", "uv_scale"};
+enum { MK_DENSITY, MK_MEMB, MK_BEND, MK_BIAS, MK_UVSCALE, MK_N };
+
+/* The keys of a material or panel map into mat.  A panel (panel = 1) may give any subset and
+ * a uv_scale; the material must give the density. */
+static int load_keys(const ctx *c, const ynode *y, const char *w, int panel, const sw_mesh *me,
+                     const char *obj, sw_material *mat, double *uv_scale) {
+  const ynode *v[MK_N] = {0};
+  char lab[160];
+  if (sy_map(c, y, w, mat_keys, panel ? MK_N : MK_UVSCALE, v)) return -1;
+  if (!panel && sy_need(c, y, v[MK_DENSITY], w, "density", "density: a number > 0 in kg/m^2"))
+    return -1;
+  snprintf(lab, sizeof lab, "%s density", w);
+  if (v[MK_DENSITY] && sy_num(c, v[MK_DENSITY], lab, 0, 1, "kg/m^2", &mat->density)) return -1;
+  if (v[MK_MEMB] && load_membrane(c, v[MK_MEMB], w, mat)) return -1;
+  if (v[MK_BEND] && load_bending(c, v[MK_BEND], w, mat)) return -1;
+  snprintf(lab, sizeof lab, "%s bias", w);
+  const double rad = 0.017453292519943295; /* pi / 180 */
+  double deg = mat->bias / rad;
+  if (v[MK_BIAS] && sy_num(c, v[MK_BIAS], lab, -HUGE_VAL, 0, "degrees", &deg)) return -1;
+  mat->bias = deg * rad;
+  snprintf(lab, sizeof lab, "%s uv_scale", w);
+  if (v[MK_UVSCALE] && sy_num(c, v[MK_UVSCALE], lab, 0, 1, "m per OBJ (u,v) unit", uv_scale))
+    return -1;
+  static const int need_uv[] = {MK_MEMB, MK_BEND, MK_DENSITY, MK_UVSCALE};
+  for (int q = 0; q < 4; q++) {
+    int k = need_uv[q];
+    snprintf(lab, sizeof lab, "%s %s", w, mat_keys[k]);
+    if (v[k] && check_uv(c, v[k], me, obj, lab)) return -1;
+  }
+  return 0;
+}
+
+int sc_load_material(const ctx *c, const ynode *y, const sw_mesh *me, const char *obj) {
+  double unused = 1.0;
+  return load_keys(c, y, "material", 0, me, obj, &c->m->mat[0], &unused);
+}
+
+static int find_group(const sw_mesh *me, const char *name) {
+  for (int g = 0; g < me->ngroup; g++)
+    if (!strcmp(me->group[g], name)) return g;
+  return -1;
+}
+
+/* One panel: mat[k] = mat[0] + the panel's keys; its faces get material k and, with a
+ * uv_scale, their (u,v) rescaled from the mesh's uv_scale (mesh_scale) to the panel's. */
+static int load_panel(const ctx *c, const ynode *key, const ynode *val, const sw_mesh *me,
+                      const char *obj, double mesh_scale, int k) {
+  sw_model *m = c->m;
+  char w[SW_NAMESZ + 16], d[96], groups[512];
+  const char *name;
+  if (sy_str(c, key, "panels key", SW_NAMESZ, &name)) return -1;
+  int g = find_group(me, name);
+  if (g < 0) {
+    const char *list[16];
+    int n = me->ngroup < 16 ? me->ngroup : 16;
+    for (int i = 0; i < n; i++) list[i] = me->group[i];
+    return sy_fail(c, key, "panels names '%s', which is no group of mesh %s; expected one of: "
+                   "%s", sy_clip(key, d, sizeof d), obj, sy_join(list, n, groups, sizeof groups));
+  }
+  for (int j = 1; j < k; j++)
+    if (!strcmp(m->mat[j].group, name))
+      return sy_fail(c, key, "panels names '%s' twice; expected each panel once", name);
+  m->mat[k] = m->mat[0];
+  snprintf(m->mat[k].group, sizeof m->mat[k].group, "%s", name);
+  snprintf(w, sizeof w, "panel %s", name);
+  double scale = mesh_scale;
+  if (load_keys(c, val, w, 1, me, obj, &m->mat[k], &scale)) return -1;
+  for (int f = 0; f < m->nf; f++) {
+    if (me->fgroup[f] != g) continue;
+    m->face_mat[f] = k;
+    for (int q = 0; q < 6; q++) m->uv[6 * f + q] *= scale / mesh_scale;
+  }
+  return 0;
+}
+
+int sc_load_panels(const ctx *c, const ynode *y, const sw_mesh *me, const char *obj,
+                   double mesh_scale) {
+  sw_model *m = c->m;
+  if (y->kind != Y_MAP)
+    return sy_type_error(c, y, "panels", "a mapping from OBJ group names to materials");
+  int np = y->n / 2;
+  sw_material *mat = sw_realloc(m->mat, (size_t)np + 1, sizeof *mat);
+  if (!mat) return sy_oom(c, y);
+  m->mat = mat;
+  if (!m->face_mat && !(m->face_mat = sw_calloc((size_t)m->nf + 1, sizeof *m->face_mat)))
+    return sy_oom(c, y);
+  for (int p = 0; p < np; p++) {
+    if (load_panel(c, y->kid[2 * p], y->kid[2 * p + 1], me, obj, mesh_scale, p + 1)) return -1;
+    m->nmat = p + 2;
+  }
+  return 0;
+}
+
+static const char *const damp_keys[] = {"mass", "stiffness"};
+
+int sc_load_damping(const ctx *c, const ynode *y) {
+  const ynode *v[2];
+  if (sy_map(c, y, "damping", damp_keys, 2, v)) return -1;
+  if (v[0] && sy_num(c, v[0], "damping mass", 0, 0, "1/s", &c->m->damp_mass)) return -1;
+  if (v[1] && sy_num(c, v[1], "damping stiffness", 0, 0, "s", &c->m->damp_stiffness)) return -1;
+  return 0;
+}

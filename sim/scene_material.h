@@ -1,0 +1,19 @@
+/* scene_material.h — the material, panel and damping keys of a scene (scene_material.c) and
+ * its tendons (scene_tendon.c): internal to the scene loader. */
+#ifndef SW_SCENE_MATERIAL_H
+#define SW_SCENE_MATERIAL_H
+
+#include "scene_yaml.h"
+
+/* `material` into mat[0]; me and obj (the mesh and its name) for the (u,v) check. */
+int sc_load_material(const ctx *c, const ynode *y, const sw_mesh *me, const char *obj);
+/* `panels` after the geometry is filled: mat[1..], face_mat, per-panel uv_scale (relative to
+ * the mesh's mesh_scale). */
+int sc_load_panels(const ctx *c, const ynode *y, const sw_mesh *me, const char *obj,
+                   double mesh_scale);
+/* `damping: {mass: alpha, stiffness: beta}` (Rayleigh). */
+int sc_load_damping(const ctx *c, const ynode *y);
+/* `tendons` after the geometry is filled (x0 gives relative rest lengths). */
+int sc_load_tendons(const ctx *c, const ynode *y);
+
+#endif
