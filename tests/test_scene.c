@@ -195,6 +195,84 @@ static void test_obj(void **state) {
   sw_model_free(m);
 }
 
+/* Two panels sewn along x = 1 (shared positions 2 and 5, separate vt): per-panel density,
+ * uv_scale and bias; the material of every face; the seam stays one vertex. */
+static void test_panels(void **state) {
+  (void)state;
+  char err[SW_ERRSZ], path[1100];
+  snprintf(path, sizeof path, "%s/meshes", tmpdir);
+  mkdir(path, 0700);
+  write_file("meshes/two.obj",
+             "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\nv 2 1 0\n"
+             "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvt 0 0\nvt 0.5 0\nvt 0.5 0.5\nvt 0 0.5\n"
+             "usemtl front\nf 1/1 2/2 3/3 4/4\nusemtl back\nf 2/5 5/6 6/7 3/8\n",
+             path, sizeof path);
+  sw_model *m = load_text("panels.yaml",
+                          "mesh: {obj: meshes/two.obj}\n"
+                          "material: {density: 0.1, membrane: {k_u: 10, k_v: 20, k_shear: 1}}\n"
+                          "panels:\n"
+                          "  back: {density: 0.3, uv_scale: 2, bias: 90,\n"
+                          "         membrane: {model: corotated, k: 7}}\n",
+                          err);
+  if (!m) fail_msg("%s", err);
+  assert_int_equal(m->nv, 6);
+  assert_int_equal(m->nmat, 2);
+  assert_string_equal(m->mat[1].group, "back");
+  for (int f = 0; f < m->nf; f++) assert_int_equal(m->face_mat[f], f < 2 ? 0 : 1);
+  /* front: 1 m^2 at 0.1; back: 1 m^2 after uv_scale 2 at 0.3 */
+  assert_float_equal(m->total_mass, 0.1 + 0.3, 1e-12);
+  assert_float_equal(m->mat[1].bias, 2.0 * atan(1.0), 1e-15);
+  /* bias 90 degrees: the back panel's warp is its v axis: rotated u = v, v = -u */
+  assert_float_equal(m->uv[6 * 2 + 2], 0.0, 1e-12); /* corner (0.5, 0) * 2 -> (0, -1) */
+  assert_float_equal(m->uv[6 * 2 + 3], -1.0, 1e-12);
+  assert_float_equal(m->mat[0].tx_k_u, 10, 0);      /* tension XY: each panel's membrane */
+  assert_float_equal(m->mat[1].tx_k_v, 7, 0);
+  assert_int_equal(m->mat[1].membrane, SW_MEMBRANE_COROTATED);
+  assert_int_equal(m->mat[0].membrane, SW_MEMBRANE_BW98);
+  sw_model_free(m);
+}
+
+/* Tendons: listed and selected waypoints, laws, relative keyframes, linear density on a
+ * points mesh (no faces: the masses come from the tendons). */
+static void test_tendons(void **state) {
+  (void)state;
+  char err[SW_ERRSZ];
+  sw_model *m = load_text("cable.yaml",
+                          "dimension: 2\n"
+                          "mesh: {points: [[0, 0], [3, 0], [1, 0], [2, 0]]}\n"
+                          "pins: [{select: {vertices: [0, 1]}}]\n"
+                          "tendons:\n"
+                          "  - name: line\n"
+                          "    waypoints: {box: [[-1, -1], [4, 1]]}\n"
+                          "    stiffness: 100\n"
+                          "    density: 0.5\n"
+                          "    rest_length: {keyframes: [[0, 1], [2, 0.5]], relative: true}\n"
+                          "  - {name: short, waypoints: [2, 3], law: spring, stiffness: 5,\n"
+                          "     rest_length: 2, damping: 0.1}\n"
+                          "  - {waypoints: [3, 1], stiffness: 1, rest_length: {relative: 0.5}}\n",
+                          err);
+  if (!m) fail_msg("%s", err);
+  assert_int_equal(m->ntendon, 3);
+  const sw_tendon *a = &m->tendon[0], *b = &m->tendon[1], *c = &m->tendon[2];
+  assert_int_equal(a->nway, 4); /* ordered along x: 0, 2, 3, 1 */
+  int order[4] = {0, 2, 3, 1};
+  for (int i = 0; i < 4; i++) assert_int_equal(a->way[i], order[i]);
+  assert_int_equal(a->law, SW_LAW_CABLE);
+  assert_int_equal(b->law, SW_LAW_SPRING);
+  assert_string_equal(c->name, "tendon2");
+  assert_float_equal(sw_tendon_rest(a, 0.0), 3.0, 1e-15);
+  assert_float_equal(sw_tendon_rest(a, 1.0), 2.25, 1e-15);
+  assert_float_equal(sw_tendon_rest(a, 5.0), 1.5, 1e-15);
+  assert_float_equal(sw_tendon_rest(b, 1.0), 2.0, 0);
+  assert_float_equal(sw_tendon_rest(c, 0.0), 0.5, 1e-15);
+  assert_float_equal(b->damping, 0.1, 0);
+  /* 3 m of cable at 0.5 kg/m: vertices 2 and 3 each get 0.5 kg */
+  assert_float_equal(m->total_mass, 1.5, 1e-12);
+  assert_float_equal(m->mass[2], 0.5, 1e-12);
+  assert_int_equal(m->ndof, 4);
+  sw_model_free(m);
+}
+
 static void test_repo_scene(void **state) {
   (void)state;
   char err[SW_ERRSZ], path[4096];
@@ -355,6 +433,46 @@ static const bad_case bad[] = {
     {"two_docs.yaml", GRID MAT "---\nname: y\n", 4, 1, "second YAML document"},
     {"deep.yaml", GRID MAT "x: [[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[["
                            "]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]\n", 3, 35, "nested"},
+    /* materials, panels, damping (sim/scene_material.c) */
+    {"stvk_neg.yaml", GRID "material:\n  density: 0.1\n"
+     "  membrane: {model: stvk, e_u: -1, e_v: 1, shear_modulus: 1}\n", 4, 32, "e_u"},
+    {"stvk_poisson.yaml", GRID "material:\n  density: 0.1\n"
+     "  membrane: {model: stvk, e_u: 100, e_v: 400, shear_modulus: 10, poisson: 0.6}\n", 4, 75,
+     "non-positive"},
+    {"stvk_key.yaml", GRID "material:\n  density: 0.1\n"
+     "  membrane: {model: stvk, e_u: 1, e_v: 1, shear_modulus: 1, k_u: 3}\n", 4, 66,
+     "does not take"},
+    {"corot_missing.yaml", GRID "material:\n  density: 0.1\n  membrane: {model: corotated}\n", 4,
+     13, "'k'"},
+    {"bias_nan.yaml", GRID "material: {density: 0.1, bias: .nan}\n", 2, 32, "bias"},
+    {"bias_text.yaml", GRID "material: {density: 0.1, bias: warp}\n", 2, 32, "bias"},
+    {"bend_2d.yaml", "dimension: 2\n" GRID "material:\n  density: 0.1\n"
+     "  bending: {model: dihedral, stiffness: 1e-3}\n", 5, 20, "3D"},
+    {"bend_rest.yaml", GRID "material:\n  density: 0.1\n"
+     "  bending: {model: quadratic, stiffness: 1e-3, rest: initial}\n", 4, 54, "dihedral"},
+    {"bend_neg.yaml", GRID "material:\n  density: 0.1\n"
+     "  bending: {model: quadratic, stiffness: -1}\n", 4, 42, "stiffness"},
+    {"panel_group.yaml", GRID MAT "panels: {front: {density: 0.2}}\n", 3, 10, "default"},
+    {"damping_neg.yaml", GRID MAT "damping: {mass: -1}\n", 3, 17, "damping mass"},
+    /* tendons (sim/scene_tendon.c) */
+    {"tendon_repeat.yaml", GRID MAT "tendons:\n  - {waypoints: [0, 1, 0], stiffness: 10}\n", 4,
+     24, "repeats vertex 0"},
+    {"tendon_index.yaml", GRID MAT "tendons:\n  - {waypoints: [0, 9], stiffness: 10}\n", 4, 21,
+     "[0, 8]"},
+    {"tendon_one.yaml", GRID MAT "tendons:\n  - {waypoints: [4], stiffness: 10}\n", 4, 17,
+     "at least two"},
+    {"tendon_k.yaml", GRID MAT "tendons:\n  - {waypoints: [0, 1], stiffness: -5}\n", 4, 36,
+     "stiffness"},
+    {"tendon_keys.yaml", GRID MAT "tendons:\n  - waypoints: [0, 1]\n    stiffness: 5\n"
+     "    rest_length: {keyframes: [[0, 1], [1, 0.5], [0.5, 0.7]]}\n", 6, 49, "increasing"},
+    {"tendon_law.yaml", GRID MAT "tendons:\n  - {waypoints: [0, 1], stiffness: 5, law: rope}\n",
+     4, 44, "cable"},
+    {"tendon_name.yaml", GRID MAT "tendons:\n  - {name: a, waypoints: [0, 1], stiffness: 5}\n"
+     "  - {name: a, waypoints: [1, 2], stiffness: 5}\n", 5, 12, "distinct names"},
+    {"tendon_sel.yaml", GRID MAT "tendons:\n"
+     "  - {waypoints: {box: [[-1, -1, -1], [0.1, 0.1, 1]]}, stiffness: 5}\n", 4, 17,
+     "at least two"},
+    {"points_dim.yaml", "mesh: {points: [[0, 0, 0], [1, 0]]}\n", 1, 28, "components"},
 };
 
 static void write_meshes(void) {
@@ -422,6 +540,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(test_repo_scene),   cmocka_unit_test(test_memory),
       cmocka_unit_test(test_bad_scenes),   cmocka_unit_test(test_unreadable),
       cmocka_unit_test(test_regress),      cmocka_unit_test(test_alloc_failures),
+      cmocka_unit_test(test_panels),       cmocka_unit_test(test_tendons),
   };
   int rc = cmocka_run_group_tests(tests, NULL, NULL);
   cleanup();
