@@ -273,6 +273,7 @@ static void log_header(sw_output *o, int k, const sw_model *m) {
     }
     line_str(o, &len, ",potential,total,dt,steps,newton_iterations,factorizations,"
                       "force_evaluations,error_test_failures,linesearch_backtracks,step_wall_s");
+    if (sw_damped(m)) line_str(o, &len, ",damping_power,dissipated");
   }
   line_end(o, len);
 }
@@ -442,6 +443,10 @@ static int step_energy(sw_output *o, const sw_model *m, const sw_data *d, char *
   const long now[6] = {d->nstep, d->nnewton, d->nfactor, d->nforce, d->nerrfail, d->nlinesearch};
   for (int k = 0; k < 6; k++) line_long(o, &len, now[k] - o->prev[k]);
   line_num(o, &len, d->time_step - o->prev_time_step);
+  if (sw_damped(m)) {
+    line_num(o, &len, d->damp_power); /* W */
+    line_num(o, &len, d->dissipated); /* J */
+  }
   line_end(o, len);
   if (put_line(o, LOG_ENERGY, err, errsz)) return -1;
   for (int k = 0; k < 6; k++) o->prev[k] = now[k];

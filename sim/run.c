@@ -21,7 +21,22 @@ typedef struct run_ctx {
   double next_frame;   /* s */
   double wall0, last_progress;
   int progress;
+  double t_logged;     /* s: time of the previous log line (damping's trapezoid) */
+  int logged;          /* a line was logged already */
 } run_ctx;
+
+/* The power damping dissipates at the current state (d->grad as scratch for D v) and its
+ * integral by the trapezoid rule between log lines. */
+static int damping_power(run_ctx *r) {
+  const sw_model *m = r->m;
+  sw_data *d = r->d;
+  double p;
+  int rc = sw_damping_force(m, d, d->x, d->t, d->v, d->grad, &p);
+  if (rc) return rc;
+  if (r->logged) d->dissipated += 0.5 * (d->damp_power + p) * (d->t - r->t_logged); /* J */
+  d->damp_power = p; /* W */
+  return SW_OK;
+}
 
 /* Prefix err (an output failure) with the time it happened at; returns SW_FATAL. */
 static int output_failed(const sw_data *d, char *err, size_t errsz) {
@@ -38,13 +53,16 @@ static int record(run_ctx *r, int force_frame, char *err, size_t errsz) {
   const sw_model *m = r->m;
   sw_data *d = r->d;
   double u;
-  int rc = sw_eval_terms(m, d, d->x, d->t, 0, 0, 0, &u);
+  int rc = sw_damped(m) ? damping_power(r) : SW_OK;
+  if (!rc) rc = sw_eval_terms(m, d, d->x, d->t, 0, 0, 0, &u);
   if (rc) /* e.g. a step accepted a state whose energy is not finite */
     return sw_errf(err, errsz, "t = %.9g s: %s: cannot evaluate the state to log it: %s", d->t,
                    m->opt.method, d->err),
            SW_FATAL;
   sw_tension_xy(m, d);
   if (sw_output_step(r->out, m, d, err, errsz)) return output_failed(d, err, errsz);
+  r->t_logged = d->t;
+  r->logged = 1;
   double fe = m->opt.frames_every;
   int due = fe > 0.0 && d->t >= r->next_frame - 1e-9 * fmax(fe, 1.0);
   if (due || force_frame) {

@@ -236,6 +236,8 @@ struct sw_data {
   double *tendon_length;       /* (ntendon) m, at the last diagnostics */
   double *tendon_delta;        /* (ntendon) length - rest, m */
   double *tendon_tension;      /* (ntendon) E'(delta), N */
+  double damp_power;           /* W: v.D v dissipated by damping at the last diagnostics */
+  double dissipated;           /* J: its integral over the run so far (trapezoid on the logs) */
   /* counters (cumulative over the run) */
   long nstep, nnewton, nfactor, nassemble, nforce, nretry, nlinesearch;
   long nerrfail;               /* error-test failures of adaptive methods */
@@ -254,6 +256,8 @@ SW_API void sw_data_free(sw_data *d);
 SW_API int sw_eval_terms(const sw_model *m, sw_data *d, const double *x, double t, int want_grad,
                          int want_hess, int project, double *energy);
 SW_API double sw_kinetic(const sw_model *m, const double *v);
+/* Nonzero when the model has Rayleigh damping (damping: {mass, stiffness}). */
+SW_API int sw_damped(const sw_model *m);
 /* Tension XY of seed 000 and the strain diagnostics of every face at d->x. */
 SW_API void sw_tension_xy(const sw_model *m, sw_data *d);
 

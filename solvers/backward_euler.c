@@ -65,8 +65,12 @@ static int be_step(void *p, const sw_model *m, sw_data *d, double h) {
       .line_search = !s->one_step,
       .must_converge = !s->one_step,
       .hessian = m->opt.hessian,
+      .cd = 1.0 / h, /* damping: v_{n+1} = (x - x_n) / h */
+      .xd = d->x,
   };
-  int rc = sw_newton_solve(&s->nw, m, d, s->xnew, s->xhat, &o);
+  int rc = sw_newton_damping(&s->nw, m, d, s->xhat, d->t + h);
+  if (rc) return rc;
+  rc = sw_newton_solve(&s->nw, m, d, s->xnew, s->xhat, &o);
   if (rc) return rc;
   for (int i = 0; i < nd; i++) {
     d->v[i] = m->dof[i] < 0 ? 0.0 : (s->xnew[i] - d->x[i]) / h;

@@ -69,7 +69,7 @@ static int bdf2_step(void *p, const sw_model *m, sw_data *d, double h) {
   /* Same step as the last one, from where it ended (the run loop resets d->t to the interval
    * end, so times match to round-off only). */
   int bdf = s->have_prev && fabs(h - s->hprev) <= 1e-9 * h && fabs(d->t - s->tcur) <= 1e-9 * h;
-  double a, c = 0.0; /* c: v_{n+1} = c (x_{n+1} - xb) */
+  double a, c = 1.0 / h; /* c: v_{n+1} = c (x_{n+1} - xb), xb in vnew (BE start: xb = x_n) */
   if (bdf) {
     a = 9.0 / (4.0 * h * h);
     c = 3.0 / (2.0 * h);
@@ -80,7 +80,10 @@ static int bdf2_step(void *p, const sw_model *m, sw_data *d, double h) {
     }
   } else {
     a = 1.0 / (h * h);
-    for (int i = 0; i < nd; i++) s->xhat[i] = d->x[i] + h * d->v[i];
+    for (int i = 0; i < nd; i++) {
+      s->xhat[i] = d->x[i] + h * d->v[i];
+      s->vnew[i] = d->x[i];
+    }
   }
   for (int i = 0; i < nd; i++) s->xnew[i] = m->dof[i] < 0 ? d->x[i] : s->xhat[i];
   sw_newton_opts o = {
@@ -91,13 +94,17 @@ static int bdf2_step(void *p, const sw_model *m, sw_data *d, double h) {
       .line_search = 1,
       .must_converge = 1,
       .hessian = m->opt.hessian,
+      .cd = c, /* damping: D v_{n+1} = c D (x - xb) */
+      .xd = s->vnew,
   };
-  int rc = sw_newton_solve(&s->nw, m, d, s->xnew, s->xhat, &o);
+  /* D at xhat, a predictor of x_{n+1} to O(h^2): that keeps order 2 */
+  int rc = sw_newton_damping(&s->nw, m, d, s->xhat, d->t + h);
+  if (rc) return rc;
+  rc = sw_newton_solve(&s->nw, m, d, s->xnew, s->xhat, &o);
   if (rc) return rc;
   for (int i = 0; i < nd; i++) {
     if (m->dof[i] < 0) s->vnew[i] = 0.0;
-    else if (bdf) s->vnew[i] = c * (s->xnew[i] - s->vnew[i]);
-    else s->vnew[i] = (s->xnew[i] - d->x[i]) / h;
+    else s->vnew[i] = c * (s->xnew[i] - s->vnew[i]);
   }
   rc = sw_energy_check(m, d, s->xnew, s->vnew, d->t + h);
   if (rc) return rc;

@@ -1,6 +1,6 @@
 /* cvode.c — SUNDIALS CVODE ("cvode"): variable-order, variable-step BDF with Newton on the first
  * order system y = [x; v] over the free DOFs,
- *   y' = [v; M^-1 f(x, t)],   f = -dU/dx  (no damping yet: D = 0).
+ *   y' = [v; M^-1 f(x, v, t)],   f = -dU/dx - D(x) v  (D: Rayleigh damping, damping.c).
  * Tolerances: scalar rtol and atol (m->opt), the same atol for positions (m) and velocities
  * (m/s).  Largest order m->opt.max_order, largest step m->opt.max_step when > 0.
  *
@@ -55,7 +55,7 @@ static int cv_rhs(sw_real t, N_Vector y, N_Vector ydot, void *user_data) {
   if (rc) return sw_sun_rc(rc);
   for (int c = 0; c < n; c++) {
     yd[c] = yv[n + c];
-    yd[n + c] /= s->sys.mdiag[c]; /* D: - D v before the division */
+    yd[n + c] /= s->sys.mdiag[c]; /* f includes - D v */
   }
   return 0;
 }
@@ -73,7 +73,7 @@ static int cv_linsys(sw_real t, N_Vector y, N_Vector fy, SUNMatrix A, sw_bool jo
     *jcur = SUNTRUE;
   }
   s->sys.cm = 1.0;
-  s->sys.cd = gamma; /* D: its coefficient */
+  s->sys.cd = gamma;
   s->sys.ch = gamma * gamma;
   s->sys.coef_next = gamma;
   return 0;

@@ -45,7 +45,7 @@ static int ida_res(sw_real t, N_Vector y, N_Vector yp, N_Vector res, void *user_
   if (rc) return sw_sun_rc(rc);
   for (int c = 0; c < n; c++) {
     r[c] = ypv[c] - yv[n + c];
-    r[n + c] = s->sys.mdiag[c] * ypv[n + c] - r[n + c]; /* D: + D v */
+    r[n + c] = s->sys.mdiag[c] * ypv[n + c] - r[n + c]; /* f includes - D v */
   }
   return 0;
 }
@@ -58,7 +58,7 @@ static int ida_jac(sw_real t, sw_real cj, N_Vector y, N_Vector yp, N_Vector r, S
   int rc = sw_sunls_hessian(&s->sys, N_VGetArrayPointer(y), t);
   if (rc) return sw_sun_rc(rc);
   s->sys.cm = cj * cj;
-  s->sys.cd = cj; /* D: its coefficient */
+  s->sys.cd = cj;
   s->sys.ch = 1.0;
   s->sys.coef_next = cj;
   return 0;
@@ -68,7 +68,8 @@ static int ida_jac(sw_real t, sw_real cj, N_Vector y, N_Vector yp, N_Vector r, S
 int sw_ida_reduce(sw_sunls *sys, const double *b, double *x) {
   const int n = sys->n;
   const double cj = sys->coef, *r1 = b, *r2 = b + n;
-  for (int c = 0; c < n; c++) sys->w1[c] = r2[c] + cj * sys->mdiag[c] * r1[c]; /* D: + D r1 */
+  for (int c = 0; c < n; c++) sys->w1[c] = r2[c] + cj * sys->mdiag[c] * r1[c];
+  sw_sunls_dmul_add(sys, r1, sys->w1);
   int rc = sw_chol_solve(&sys->chol, sys->w1, sys->w1, sys->d->err, sizeof sys->d->err);
   if (rc) return rc;
   for (int c = 0; c < n; c++) {

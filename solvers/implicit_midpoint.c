@@ -68,8 +68,13 @@ static int mid_step(void *p, const sw_model *m, sw_data *d, double h) {
       .line_search = 1,
       .must_converge = 1,
       .hessian = m->opt.hessian,
+      .cd = 2.0 / h, /* damping: v_mid = (x_{n+1} - x_n)/h = 2 (y - x_n)/h */
+      .xd = d->x,
   };
-  int rc = sw_newton_solve(&s->nw, m, d, s->y, s->xhat, &o);
+  /* D at xhat = x_n + h/2 v_n, a predictor of the midpoint to O(h^2): that keeps order 2 */
+  int rc = sw_newton_damping(&s->nw, m, d, s->xhat, d->t + 0.5 * h);
+  if (rc) return rc;
+  rc = sw_newton_solve(&s->nw, m, d, s->y, s->xhat, &o);
   if (rc) return rc;
   for (int i = 0; i < nd; i++) {
     if (m->dof[i] < 0) {

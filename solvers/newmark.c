@@ -50,6 +50,10 @@ static int eval_acc(nm_state *s, const sw_model *m, sw_data *d) {
       int k = i * m->dim + al;
       s->acc[k] = m->dof[k] < 0 ? 0.0 : -d->grad[k] / m->mass[i];
     }
+  if (sw_damped(m)) { /* a_n = M^-1 (f - D v_n); vnew as scratch for D v_n */
+    if ((rc = sw_damping_force(m, d, d->x, d->t, d->v, s->vnew, NULL))) return rc;
+    for (int k = 0; k < m->nv * m->dim; k++) s->acc[k] -= s->vnew[k] / m->mass[k / m->dim];
+  }
   s->tacc = d->t;
   return SW_OK;
 }
@@ -97,8 +101,17 @@ static int nm_step(void *p, const sw_model *m, sw_data *d, double h) {
       .line_search = 1,
       .must_converge = 1,
       .hessian = m->opt.hessian,
+      /* damping: v_{n+1} = v_n + h/2 (a_n + a_{n+1}) = (2/h) (x - xd) with
+       * xd = xhat - h/2 (v_n + h/2 a_n); a_{n+1} = M^-1 (f - D v_{n+1}) keeps its formula */
+      .cd = 2.0 / h,
+      .xd = s->anew,
   };
-  int rc = sw_newton_solve(&s->nw, m, d, s->xnew, s->xhat, &o);
+  for (int i = 0; i < nd; i++)
+    s->anew[i] = s->xhat[i] - 0.5 * h * (d->v[i] + 0.5 * h * s->acc[i]);
+  /* D at xhat, a predictor of x_{n+1} to O(h^2): that keeps order 2 */
+  int rc = sw_newton_damping(&s->nw, m, d, s->xhat, d->t + h);
+  if (rc) return rc;
+  rc = sw_newton_solve(&s->nw, m, d, s->xnew, s->xhat, &o);
   if (rc) return rc;
   for (int i = 0; i < nd; i++) {
     if (m->dof[i] < 0) {

@@ -19,7 +19,13 @@ int sw_newton_init(sw_newton *nw, const sw_model *m, char *err, size_t errsz) {
   nw->g = sw_calloc((size_t)nw->n, sizeof(double));
   nw->dx = sw_calloc((size_t)nw->n, sizeof(double));
   nw->xtry = sw_calloc((size_t)m->nv * (size_t)m->dim, sizeof(double));
-  if (!nw->g || !nw->dx || !nw->xtry) {
+  int damped = sw_damped(m);
+  if (damped) {
+    nw->dval = sw_calloc((size_t)nw->pat.nnz + 1, sizeof(double));
+    nw->r = sw_calloc((size_t)nw->n + 1, sizeof(double));
+    nw->dr = sw_calloc((size_t)nw->n + 1, sizeof(double));
+  }
+  if (!nw->g || !nw->dx || !nw->xtry || (damped && (!nw->dval || !nw->r || !nw->dr))) {
     sw_errf(err, errsz, "out of memory for Newton's workspaces (%d DOFs)", nw->n);
     return SW_FATAL;
   }
@@ -32,7 +38,39 @@ void sw_newton_free(sw_newton *nw) {
   sw_free(nw->g);
   sw_free(nw->dx);
   sw_free(nw->xtry);
+  sw_free(nw->dval);
+  sw_free(nw->r);
+  sw_free(nw->dr);
   memset(nw, 0, sizeof *nw);
+}
+
+int sw_newton_damping(sw_newton *nw, const sw_model *m, sw_data *d, const double *x, double t) {
+  if (!nw->dval) return SW_OK;
+  double u, beta = m->damp_stiffness, t0 = sw_now();
+  int rc = beta > 0.0 ? sw_eval_terms(m, d, x, t, 0, 1, 1, &u) : SW_OK;
+  if (rc) return rc;
+  if (beta > 0.0) {
+    sw_pattern_fill(&nw->pat, m, d, m->damp_mass, beta, nw->dval);
+  } else { /* alpha M alone: no Hessian needed */
+    memset(nw->dval, 0, (size_t)nw->pat.nnz * sizeof(double));
+    for (int i = 0; i < m->nv * m->dim; i++)
+      if (m->dof[i] >= 0) nw->dval[nw->pat.diag[m->dof[i]]] = m->damp_mass * m->mass[i / m->dim];
+  }
+  d->time_assemble += sw_now() - t0;
+  return SW_OK;
+}
+
+/* cd/2 r.D r with r = x - xd on the free DOFs; its gradient cd D r into nw->dr. */
+static double damping_phi(sw_newton *nw, const sw_model *m, const double *x) {
+  for (int i = 0; i < m->nv * m->dim; i++)
+    if (m->dof[i] >= 0) nw->r[m->dof[i]] = x[i] - nw->xd[i];
+  sw_pattern_symv(&nw->pat, nw->dval, nw->r, nw->dr);
+  double e = 0.0;
+  for (int c = 0; c < nw->n; c++) {
+    nw->dr[c] *= nw->cd;
+    e += 0.5 * nw->r[c] * nw->dr[c];
+  }
+  return e;
 }
 
 int sw_newton_phi(sw_newton *nw, const sw_model *m, sw_data *d, const double *x,
@@ -52,6 +90,11 @@ int sw_newton_phi(sw_newton *nw, const sw_model *m, sw_data *d, const double *x,
       if (want_grad) nw->g[c] = a * m->mass[i] * r + d->grad[i * dim + al];
     }
   *phi = inertia + u;
+  if (nw->cd > 0.0 && nw->dval) {
+    *phi += damping_phi(nw, m, x);
+    if (want_grad)
+      for (int c = 0; c < nw->n; c++) nw->g[c] += nw->dr[c];
+  }
   if (!isfinite(*phi)) {
     sw_errf(d->err, sizeof d->err, "the energy is not finite (NaN or Inf) at t = %g s", t);
     return SW_RECOVER;
@@ -62,7 +105,10 @@ int sw_newton_phi(sw_newton *nw, const sw_model *m, sw_data *d, const double *x,
 /* Fill S = a M + H (H from the last evaluation) and factorise it. */
 static int fill_factor(sw_newton *nw, const sw_model *m, sw_data *d, double a) {
   double t0 = sw_now();
-  sw_pattern_fill(&nw->pat, m, d, a, sw_chol_values(&nw->chol));
+  double *val = sw_chol_values(&nw->chol);
+  sw_pattern_fill(&nw->pat, m, d, a, 1.0, val);
+  if (nw->cd > 0.0 && nw->dval)
+    for (long q = 0; q < nw->pat.nnz; q++) val[q] += nw->cd * nw->dval[q];
   double t1 = sw_now();
   d->time_assemble += t1 - t0;
   int rc = sw_chol_factor(&nw->chol, d->err, sizeof d->err);
@@ -134,6 +180,8 @@ int sw_newton_solve(sw_newton *nw, const sw_model *m, sw_data *d, double *x, con
                     const sw_newton_opts *o) {
   d->last_newton = 0;
   if (nw->n == 0) return SW_OK;
+  nw->cd = o->xd ? o->cd : 0.0;
+  nw->xd = o->xd;
   for (int it = 0; it < o->max_iter; it++) {
     double phi;
     int rc = linearise(nw, m, d, x, xhat, o, &phi);

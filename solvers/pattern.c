@@ -148,7 +148,7 @@ void sw_pattern_free(sw_pattern *p, int nterm) {
 }
 
 void sw_pattern_fill(const sw_pattern *p, const sw_model *m, const sw_data *d, double mass_coef,
-                     double *values) {
+                     double hess_coef, double *values) {
   memset(values, 0, (size_t)p->nnz * sizeof(double));
   for (int k = 0; k < m->nterm; k++) {
     const int *mp = p->map[k];
@@ -157,10 +157,22 @@ void sw_pattern_fill(const sw_pattern *p, const sw_model *m, const sw_data *d, d
     for (long q = 0; q < len; q++)
       if (mp[q] >= 0) values[mp[q]] += h[q];
   }
+  if (hess_coef != 1.0)
+    for (long q = 0; q < p->nnz; q++) values[q] *= hess_coef;
   for (int i = 0; i < m->nv; i++)
     for (int a = 0; a < m->dim; a++) {
       int c = m->dof[i * m->dim + a];
       if (c >= 0) values[p->diag[c]] += mass_coef * m->mass[i];
+    }
+}
+
+void sw_pattern_symv(const sw_pattern *p, const double *values, const double *x, double *y) {
+  memset(y, 0, (size_t)p->n * sizeof(double));
+  for (int c = 0; c < p->n; c++)
+    for (long k = p->colptr[c]; k < p->colptr[c + 1]; k++) {
+      long r = p->rowind[k];
+      y[r] += values[k] * x[c];
+      if (r != c) y[c] += values[k] * x[r];
     }
 }
 

@@ -21,9 +21,19 @@ typedef struct sw_pattern {
 
 int sw_pattern_build(sw_pattern *p, const sw_model *m, char *err, size_t errsz);
 void sw_pattern_free(sw_pattern *p, int nterm);
-/* values = mass_coef * M + (sum of the terms' blocks in d->hess), on the pattern. */
+/* values = mass_coef * M + hess_coef * (sum of the terms' blocks in d->hess), on the pattern. */
 void sw_pattern_fill(const sw_pattern *p, const sw_model *m, const sw_data *d, double mass_coef,
-                     double *values);
+                     double hess_coef, double *values);
+/* y = A x for the symmetric A whose upper triangle is values on the pattern (n each). */
+void sw_pattern_symv(const sw_pattern *p, const double *values, const double *x, double *y);
+
+/* ---------------------------------------------------------------- damping.c */
+/* Rayleigh damping D = alpha M + beta K(x), K the PSD-projected Hessian of the terms
+ * (DESIGN.md "Integrators": S = c^2 M + c D + H); sw_damped (sinew.h) says if there is any. */
+/* out (nv x dim) = D(x) v, with the Hessian evaluated at (x, t) into d->hess; *power = v.D v (W,
+ * >= 0).  Pinned components of out are 0. */
+int sw_damping_force(const sw_model *m, sw_data *d, const double *x, double t, const double *v,
+                     double *out, double *power);
 
 /* ---------------------------------------------------------------- cholmod.c */
 typedef struct sw_chol {
@@ -43,8 +53,11 @@ int sw_chol_solve(sw_chol *ch, const double *rhs, double *sol, char *err, size_t
 void sw_chol_free(sw_chol *ch);
 
 /* ----------------------------------------------------------------- newton.c */
-/* Minimise Phi(x) = a/2 (x - xhat)^T M (x - xhat) + U(x, t) over the free DOFs (pinned
- * components of x stay as given).  a = 1/h^2 for backward Euler (the incremental potential). */
+/* Minimise Phi(x) = a/2 (x - xhat)^T M (x - xhat) + U(x, t) + cd/2 (x - xd)^T D (x - xd) over
+ * the free DOFs (pinned components of x stay as given).  a = 1/h^2 for backward Euler (the
+ * incremental potential); with damping, the stage velocity is v = cd (x - xd) (BE: cd = 1/h,
+ * xd = x_n) and D is frozen for the step (sw_newton_damping), so Phi stays a potential whose
+ * gradient is the residual a M (x - xhat) + grad U + D v and whose Hessian is a M + H + cd D. */
 typedef struct sw_newton {
   sw_pattern pat;
   sw_chol chol;
@@ -52,6 +65,10 @@ typedef struct sw_newton {
   double *g, *dx;        /* (n) gradient and step on the free DOFs */
   double *xtry;          /* (nv x dim) line-search trial */
   int nterm;
+  double *dval;          /* (pat.nnz) D on the pattern, or NULL when the model has no damping */
+  double *r, *dr;        /* (n) x - xd and D (x - xd) */
+  double cd;             /* the current solve's damping coefficient, 1/s (0: none) */
+  const double *xd;      /* (nv x dim) its anchor */
 } sw_newton;
 
 typedef struct sw_newton_opts {
@@ -62,9 +79,14 @@ typedef struct sw_newton_opts {
   int line_search;       /* backtracking on Phi; 0: take full steps */
   int must_converge;     /* 0: stop after max_iter without failing (one-step variants) */
   int hessian;           /* SW_HESSIAN_* */
+  double cd;             /* damping: v = cd (x - xd) at the stage, 1/s (0: no damping term) */
+  const double *xd;      /* (nv x dim) */
 } sw_newton_opts;
 
 int sw_newton_init(sw_newton *nw, const sw_model *m, char *err, size_t errsz);
+/* D = alpha M + beta K(x) on the pattern for the coming step, K the projected Hessian at (x, t)
+ * (a predictor of the stage state); a no-op without damping. */
+int sw_newton_damping(sw_newton *nw, const sw_model *m, sw_data *d, const double *x, double t);
 void sw_newton_free(sw_newton *nw);
 /* x: initial guess in, minimiser out.  SW_OK, SW_RECOVER (d->err says why), or SW_FATAL. */
 int sw_newton_solve(sw_newton *nw, const sw_model *m, sw_data *d, double *x, const double *xhat,

@@ -23,7 +23,7 @@ static double norm1(const double *v, int n) {
 /* Sum of the diagonal of H over that of M on the free DOFs: the scale of mu (1/s^2). */
 static double stiffness_ratio(sw_newton *nw, const sw_model *m, sw_data *d) {
   double *val = sw_chol_values(&nw->chol), h = 0.0, mm = 0.0;
-  sw_pattern_fill(&nw->pat, m, d, 0.0, val);
+  sw_pattern_fill(&nw->pat, m, d, 0.0, 1.0, val);
   for (int c = 0; c < nw->n; c++) h += val[nw->pat.diag[c]];
   for (int i = 0; i < m->nv * m->dim; i++)
     if (m->dof[i] >= 0) mm += m->mass[i / m->dim];
@@ -40,7 +40,7 @@ static void pin_reactions(const sw_model *m, const sw_data *d, double reaction[3
 /* One damped Newton iteration; *full is set when the whole step was taken. */
 static int static_iteration(sw_newton *nw, const sw_model *m, sw_data *d, double *x, double mu,
                             double phi, int *full) {
-  sw_pattern_fill(&nw->pat, m, d, mu, sw_chol_values(&nw->chol));
+  sw_pattern_fill(&nw->pat, m, d, mu, 1.0, sw_chol_values(&nw->chol));
   d->nfactor++;
   int rc = sw_chol_factor(&nw->chol, d->err, sizeof d->err);
   if (rc) return rc;

@@ -38,18 +38,27 @@ static void set_free(const sw_sunls *sys, const double *xf, double *x) {
     if (m->dof[i] >= 0) x[i] = xf[m->dof[i]];
 }
 
-int sw_sunls_force(sw_sunls *sys, const double *xf, double t, double *f) {
+/* D(x) v at the state y into sys->dvfull (the Hessian is evaluated there). */
+static int damping_force(sw_sunls *sys, const double *y, double t) {
+  const sw_model *m = sys->m;
+  for (int i = 0; i < m->nv * m->dim; i++)
+    sys->vfull[i] = m->dof[i] < 0 ? 0.0 : y[sys->n + m->dof[i]];
+  return sw_damping_force(m, sys->d, sys->xfull, t, sys->vfull, sys->dvfull, NULL);
+}
+
+int sw_sunls_force(sw_sunls *sys, const double *y, double t, double *f) {
   const sw_model *m = sys->m;
   sw_data *d = sys->d;
   double t0 = sw_now(), u;
-  set_free(sys, xf, sys->xfull);
-  int rc = sw_eval_terms(m, d, sys->xfull, t, 1, 0, 0, &u);
+  set_free(sys, y, sys->xfull);
+  int rc = sys->dvfull ? damping_force(sys, y, t) : SW_OK;
+  if (!rc) rc = sw_eval_terms(m, d, sys->xfull, t, 1, 0, 0, &u);
   d->time_assemble += sw_now() - t0;
   if (rc) return rc;
   for (int i = 0; i < m->nv * m->dim; i++) {
     int c = m->dof[i];
     if (c < 0) continue;
-    f[c] = -d->grad[i];
+    f[c] = -d->grad[i] - (sys->dvfull ? sys->dvfull[i] : 0.0);
     if (!isfinite(f[c])) {
       sw_errf(d->err, sizeof d->err, "the force is not finite (NaN or Inf) at t = %g s", t);
       return SW_RECOVER;
@@ -67,7 +76,7 @@ static int eval_hessian(sw_sunls *sys, int project) {
   double t0 = sw_now(), u;
   int rc = sw_eval_terms(m, d, sys->xlin, sys->tlin, 0, 1, project, &u);
   if (rc == SW_OK) {
-    sw_pattern_fill(&sys->pat, m, d, 0.0, sys->hval);
+    sw_pattern_fill(&sys->pat, m, d, 0.0, 1.0, sys->hval);
     for (long k = 0; k < sys->pat.nnz; k++)
       if (!isfinite(sys->hval[k])) {
         sw_errf(d->err, sizeof d->err, "the Hessian is not finite (NaN or Inf) at t = %g s",
@@ -99,14 +108,25 @@ void sw_sunls_hmul(const sw_sunls *sys, const double *x, double *y) {
     }
 }
 
-/* S = cm M + cd D + ch H on the pattern (D = 0 for now), factorised. */
+void sw_sunls_dmul_add(const sw_sunls *sys, const double *r, double *y) {
+  const sw_model *m = sys->m;
+  if (!sw_damped(m)) return;
+  if (m->damp_stiffness > 0.0) {
+    sw_sunls_hmul(sys, r, sys->w2);
+    for (int c = 0; c < sys->n; c++) y[c] += m->damp_stiffness * sys->w2[c];
+  }
+  for (int c = 0; c < sys->n; c++) y[c] += m->damp_mass * sys->mdiag[c] * r[c];
+}
+
+/* S = cm M + cd D + ch H on the pattern, D = alpha M + beta H, factorised. */
 static int fill_factor(sw_sunls *sys) {
   sw_data *d = sys->d;
+  const sw_model *m = sys->m;
   double t0 = sw_now();
   double *val = sw_chol_values(&sys->chol);
-  for (long k = 0; k < sys->pat.nnz; k++) val[k] = sys->ch * sys->hval[k];
-  for (int c = 0; c < sys->n; c++) val[sys->pat.diag[c]] += sys->cm * sys->mdiag[c];
-  /* D: + sys->cd * D, once a damping term fills D on the pattern. */
+  double chh = sys->ch + sys->cd * m->damp_stiffness, cmm = sys->cm + sys->cd * m->damp_mass;
+  for (long k = 0; k < sys->pat.nnz; k++) val[k] = chh * sys->hval[k];
+  for (int c = 0; c < sys->n; c++) val[sys->pat.diag[c]] += cmm * sys->mdiag[c];
   double t1 = sw_now();
   d->time_assemble += t1 - t0;
   int rc = sw_chol_factor(&sys->chol, d->err, sizeof d->err);
@@ -198,6 +218,11 @@ int sw_sunls_init(sw_sunls *sys, const sw_model *m, sw_data *d, sw_sunls_reduce_
   sys->xlin = sw_calloc(nd, sizeof(double));
   sys->w1 = sw_calloc(n, sizeof(double));
   sys->w2 = sw_calloc(n, sizeof(double));
+  if (sw_damped(m)) {
+    sys->vfull = sw_calloc(nd, sizeof(double));
+    sys->dvfull = sw_calloc(nd, sizeof(double));
+    if (!sys->vfull || !sys->dvfull) sys->w2 = (sw_free(sys->w2), NULL);
+  }
   if (!sys->mdiag || !sys->hval || !sys->xfull || !sys->xlin || !sys->w1 || !sys->w2)
     return sw_errf(err, errsz, "out of memory"), SW_FATAL;
   memcpy(sys->xfull, d->x, nd * sizeof(double));
@@ -233,6 +258,8 @@ void sw_sunls_free(sw_sunls *sys) {
   sw_free(sys->mdiag);
   sw_free(sys->hval);
   sw_free(sys->xfull);
+  sw_free(sys->vfull);
+  sw_free(sys->dvfull);
   sw_free(sys->xlin);
   sw_free(sys->w1);
   sw_free(sys->w2);

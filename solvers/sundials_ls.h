@@ -3,7 +3,9 @@
  * that solves SUNDIALS' 2n x 2n Newton systems through the n x n Schur complement
  *   S = cm M + cd D + ch H    (CVODE: cm = 1, ch = gamma^2;  IDA: cm = cj^2, ch = 1)
  * factorised by CHOLMOD (DESIGN.md "Integrators").  D is the damping matrix: there is none yet
- * (cd is carried but D = 0); where it would enter is marked "D:" in the sources.
+ * D = alpha M + beta K is Rayleigh damping (damping.c): the forces use D at the current
+ * state; the Newton matrices use alpha M + beta H with the H they hold (an approximate
+ * Jacobian, as for every term's dD/dx, which is left out).
  *
  * The pairing that works with SUNDIALS 6.4.1: a linear solver of type SUNLINEARSOLVER_DIRECT
  * (gettype, setup, solve, free) with a "token" SUNMatrix (getid SUNMATRIX_CUSTOM, a no-op zero,
@@ -37,6 +39,7 @@ struct sw_sunls {
   double *mdiag;               /* (n) lumped mass of each free DOF, kg */
   double *hval;                /* (pat.nnz) the Hessian H on the pattern (upper CSC), N/m */
   double *xfull;               /* (nv x dim) positions for evaluations (pinned ones fixed) */
+  double *vfull, *dvfull;      /* (nv x dim) velocity and D v for damped forces, or NULL */
   double *xlin;                /* (nv x dim) positions at which hval was evaluated */
   double tlin;                 /* time at which hval was evaluated, s */
   int h_projected;             /* hval holds the projected Hessian */
@@ -59,10 +62,13 @@ void sw_sunls_free(sw_sunls *sys);
 /* y (2n) <- the free components of x and v (nv x dim each); and back (pinned: v = 0). */
 void sw_sunls_gather(const sw_sunls *sys, const double *x, const double *v, double *y);
 void sw_sunls_scatter(const sw_sunls *sys, const double *y, double *x, double *v);
-/* f (n) = -dU/dx at the free positions xf (n), time t, pinned ones from sys->xfull.
+/* f (n) = -dU/dx - D(x) v at y = [x; v] (2n, free DOFs), time t, pinned positions from
+ * sys->xfull (D: Rayleigh damping at the current state, damping.c; none: f = -dU/dx).
  * One force evaluation (d->nforce counts it).  SW_OK, SW_RECOVER (not finite, or a term
  * failed recoverably; d->err says why) or SW_FATAL. */
-int sw_sunls_force(sw_sunls *sys, const double *xf, double t, double *f);
+int sw_sunls_force(sw_sunls *sys, const double *y, double t, double *f);
+/* y (n) += D r (n) with the Jacobian's D = alpha M + beta H (H: hval). */
+void sw_sunls_dmul_add(const sw_sunls *sys, const double *r, double *y);
 /* Evaluate H at the free positions xf, time t, as m->opt.hessian asks (exact for auto) into
  * sys->hval.  SW_OK, SW_RECOVER or SW_FATAL. */
 int sw_sunls_hessian(sw_sunls *sys, const double *xf, double t);

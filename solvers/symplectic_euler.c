@@ -45,7 +45,10 @@ static int se_step(void *p, const sw_model *m, sw_data *d, double h) {
   se_state *s = p;
   const int dim = m->dim;
   double u;
-  int rc = sw_eval_terms(m, d, d->x, d->t, 1, 0, 0, &u);
+  /* damping force D(x_n) v_n into xnew (scratch until x_{n+1} is written) */
+  int rc = sw_damped(m) ? sw_damping_force(m, d, d->x, d->t, d->v, s->xnew, NULL) : SW_OK;
+  if (!rc && !sw_damped(m)) memset(s->xnew, 0, (size_t)m->nv * (size_t)dim * sizeof(double));
+  if (!rc) rc = sw_eval_terms(m, d, d->x, d->t, 1, 0, 0, &u);
   if (rc) return rc;
   for (int i = 0; i < m->nv; i++)
     for (int al = 0; al < dim; al++) {
@@ -54,7 +57,7 @@ static int se_step(void *p, const sw_model *m, sw_data *d, double h) {
         s->vnew[k] = 0.0;
         s->xnew[k] = d->x[k];
       } else {
-        s->vnew[k] = d->v[k] - h * d->grad[k] / m->mass[i];
+        s->vnew[k] = d->v[k] - h * (d->grad[k] + s->xnew[k]) / m->mass[i];
         s->xnew[k] = d->x[k] + h * s->vnew[k];
       }
     }

@@ -30,7 +30,7 @@ static void fill_matches_dense(int dim) {
   double e, a = 1e4;
   assert_int_equal(sw_eval_terms(m, d, d->x, 0.0, 0, 1, 1, &e), 0);
   double *val = calloc((size_t)p.nnz, sizeof *val);
-  sw_pattern_fill(&p, m, d, a, val);
+  sw_pattern_fill(&p, m, d, a, 1.0, val);
   int n = m->nv * dim, k = 0;
   double *H = calloc((size_t)n * n, sizeof *H);
   for (; k < m->nterm && strcmp(m->term[k].name, "bw98"); k++) {}

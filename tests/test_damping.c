@@ -1,0 +1,183 @@
+/* test_damping.c — Rayleigh damping D = alpha M + beta K (solvers/damping.c) in every method:
+ *   - free fall with mass damping against the analytic answer x(t) = x0 + g/a t - g/a^2
+ *     (1 - e^{-a t}): each fixed-step method converges at its order, CVODE and IDA to rtol;
+ *   - a small hanging cloth with mass and stiffness damping: every method converges to the
+ *     same solution as CVODE at a tight tolerance (which uses D at the current state, the ODE
+ *     itself), at its order, so the per-step frozen D of the Newton methods is consistent;
+ *   - the damping force dissipates (v.D v >= 0) and energy + dissipated work is conserved by
+ *     the implicit midpoint rule to its order. */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "harness.h"
+#include "solver.h"
+
+/* Integrate to T with n equal steps (adaptive methods: one interval per step); x, v out.
+ * With work != NULL: the work damping did, by the trapezoid rule on v.D v at the steps (J). */
+static void integrate(const sw_integrator_ops *ops, const sw_model *m, double T, int n, double *x,
+                      double *v, double *work) {
+  sw_data *d = sw_data_new(m);
+  assert_non_null(d);
+  char err[SW_ERRSZ];
+  void *s = NULL;
+  int rc = ops->init(&s, m, d, err, sizeof err);
+  if (rc) print_error("%s: init: %s\n", ops->name, err);
+  assert_int_equal(rc, 0);
+  size_t nd = (size_t)m->nv * (size_t)m->dim;
+  double *scratch = calloc(nd, sizeof(double)), p0 = 0.0, p1;
+  if (work) {
+    *work = 0.0;
+    assert_int_equal(sw_damping_force(m, d, d->x, d->t, d->v, scratch, &p0), 0);
+  }
+  for (int k = 1; k <= n; k++) {
+    double end = k == n ? T : T * k / n;
+    rc = ops->step(s, m, d, end - d->t);
+    if (rc) print_error("%s: step %d: %s\n", ops->name, k, d->err);
+    assert_int_equal(rc, 0);
+    d->t = end;
+    if (!work) continue;
+    assert_int_equal(sw_damping_force(m, d, d->x, d->t, d->v, scratch, &p1), 0);
+    assert_true(p1 >= 0.0);
+    *work += 0.5 * (p0 + p1) * (T / n);
+    p0 = p1;
+  }
+  memcpy(x, d->x, nd * sizeof(double));
+  memcpy(v, d->v, nd * sizeof(double));
+  free(scratch);
+  ops->free(s);
+  sw_data_free(d);
+}
+
+static double max_diff(const double *a, const double *b, int n) {
+  double s = 0.0;
+  for (int i = 0; i < n; i++) s = fmax(s, fabs(a[i] - b[i]));
+  return s;
+}
+
+static double slope(const double *h, const double *e, int n) {
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  for (int i = 0; i < n; i++) {
+    double lx = log(h[i]), ly = log(e[i]);
+    sx += lx, sy += ly, sxx += lx * lx, sxy += lx * ly;
+  }
+  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
+}
+
+typedef struct method_order {
+  const sw_integrator_ops *ops;
+  double order;
+} method_order;
+
+static const method_order fixed[] = {
+    {&sw_backward_euler_ops, 1.0}, {&sw_bdf2_ops, 2.0}, {&sw_implicit_midpoint_ops, 2.0},
+    {&sw_newmark_ops, 2.0},        {&sw_symplectic_euler_ops, 1.0},
+};
+enum { NFIXED = 5 };
+
+/* Fitted order of ops against the reference xref over n = n0, 2 n0, 4 n0 steps. */
+static double fitted_order(const sw_integrator_ops *ops, const sw_model *m, double T, int n0,
+                           const double *xref) {
+  int nd = m->nv * m->dim;
+  double *x = calloc((size_t)nd, sizeof(double)), *v = calloc((size_t)nd, sizeof(double));
+  double h[3], e[3];
+  for (int k = 0; k < 3; k++) {
+    int n = n0 << k;
+    integrate(ops, m, T, n, x, v, NULL);
+    h[k] = T / n;
+    e[k] = max_diff(x, xref, nd);
+  }
+  free(x), free(v);
+  double p = slope(h, e, 3);
+  print_message("%-18s errors %.3g %.3g %.3g, order %.2f\n", ops->name, e[0], e[1], e[2], p);
+  return p;
+}
+
+static void free_fall_mass_damping(void **st) {
+  (void)st;
+  const double g[3] = {0.0, 0.0, -9.81}, a = 2.0, T = 1.0; /* m/s^2, 1/s, s */
+  sw_model *m = th_grid_model(3, 3, 3, 0.2, 0.2, 0.1, 0.0, 0.0, g, 0);
+  assert_non_null(m);
+  m->damp_mass = a;
+  int nd = m->nv * 3;
+  double *xref = calloc((size_t)nd, sizeof(double));
+  double dz = g[2] / a * T - g[2] / (a * a) * (1.0 - exp(-a * T)); /* m */
+  for (int i = 0; i < nd; i++) xref[i] = m->x0[i] + (i % 3 == 2 ? dz : 0.0);
+  for (int k = 0; k < NFIXED; k++)
+    assert_true(fabs(fitted_order(fixed[k].ops, m, T, 20, xref) - fixed[k].order) < 0.15);
+  /* adaptive methods: error bounded by the tolerance's scale */
+  double *x = calloc((size_t)nd, sizeof(double)), *v = calloc((size_t)nd, sizeof(double));
+  m->opt.rtol = 1e-9;
+  m->opt.atol = 1e-11;
+  const sw_integrator_ops *ad[2] = {&sw_cvode_ops, &sw_ida_ops};
+  for (int k = 0; k < 2; k++) {
+    integrate(ad[k], m, T, 4, x, v, NULL);
+    double e = max_diff(x, xref, nd);
+    print_message("%-18s error %.3g\n", ad[k]->name, e);
+    assert_true(e < 1e-6);
+  }
+  free(x), free(v), free(xref);
+  sw_model_free(m);
+}
+
+/* A swinging cloth strip with alpha and beta: every method converges to CVODE's answer. */
+static void cloth_stiffness_damping(void **st) {
+  (void)st;
+  const double g[3] = {0.0, -9.81, -3.0}, T = 0.2; /* s */
+  sw_model *m = th_grid_model(3, 4, 3, 0.3, 0.2, 0.2, 60.0, 5.0, g, 1);
+  assert_non_null(m);
+  m->damp_mass = 0.5;      /* 1/s */
+  m->damp_stiffness = 0.01; /* s */
+  int nd = m->nv * 3;
+  double *xref = calloc((size_t)nd, sizeof(double)), *v = calloc((size_t)nd, sizeof(double));
+  m->opt.rtol = 1e-11;
+  m->opt.atol = 1e-13;
+  integrate(&sw_cvode_ops, m, T, 4, xref, v, NULL);
+  for (int k = 0; k < NFIXED - 1; k++) /* symplectic Euler: unstable at these steps */
+    assert_true(fabs(fitted_order(fixed[k].ops, m, T, 40, xref) - fixed[k].order) < 0.25);
+  free(xref), free(v);
+  sw_model_free(m);
+}
+
+/* Midpoint: K + U + the dissipated work stays at its initial value to O(h^2). */
+static void energy_balance(void **st) {
+  (void)st;
+  const double g[3] = {0.0, -9.81, -3.0}, T = 0.2;
+  sw_model *m = th_grid_model(3, 4, 3, 0.3, 0.2, 0.2, 60.0, 5.0, g, 1);
+  assert_non_null(m);
+  m->damp_mass = 1.0;
+  m->damp_stiffness = 0.02;
+  int nd = m->nv * 3;
+  double *x = calloc((size_t)nd, sizeof(double)), *v = calloc((size_t)nd, sizeof(double));
+  sw_data *d = sw_data_new(m);
+  double u0, u1, work[2], gap[2];
+  assert_int_equal(sw_eval_terms(m, d, m->x0, 0.0, 0, 0, 0, &u0), 0);
+  for (int k = 0; k < 2; k++) {
+    integrate(&sw_implicit_midpoint_ops, m, T, 100 << k, x, v, &work[k]);
+    assert_int_equal(sw_eval_terms(m, d, x, T, 0, 0, 0, &u1), 0);
+    gap[k] = fabs(sw_kinetic(m, v) + u1 + work[k] - u0);
+    print_message("midpoint n=%d: dissipated %.6g J, balance gap %.3g J\n", 100 << k, work[k],
+                  gap[k]);
+    assert_true(work[k] > 0.0);
+  }
+  assert_true(gap[1] < 0.35 * gap[0]); /* second order: 1/4 */
+  assert_true(gap[1] < 1e-3 * work[1]);
+  sw_data_free(d);
+  free(x), free(v);
+  sw_model_free(m);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(free_fall_mass_damping),
+      cmocka_unit_test(cloth_stiffness_damping),
+      cmocka_unit_test(energy_balance),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
