@@ -120,8 +120,8 @@ static int cmd_run(int argc, char **argv) {
   if (rc) fprintf(stderr, "sinew: run failed: %s\n", err);
   struct stat st;
   if (stat(m->opt.out_dir, &st) == 0 && S_ISDIR(st.st_mode))
-    fprintf(stderr, "sinew: results in %s/ (summary.json, tension.csv, energy.csv, frames.pvd)\n",
-            m->opt.out_dir);
+    fprintf(stderr, "sinew: results in %s/ (summary.json, tension.csv, energy.csv, %sframes.pvd)\n",
+            m->opt.out_dir, m->ntendon ? "tendons.csv, " : "");
   sw_model_free(m);
   return rc ? 1 : 0;
 }

@@ -31,8 +31,9 @@
 #define PATHMAX (SW_PATHSZ + 64) /* out_dir plus a file name inside it */
 #define NUMSZ 32                 /* room for one %.17g number and its separator */
 
-enum { LOG_TENSION, LOG_ENERGY, NLOG };
-static const char *const log_name[NLOG] = {"tension.csv", "energy.csv"};
+/* tendons.csv is only written by a scene with tendons (its fd stays -1 otherwise) */
+enum { LOG_TENSION, LOG_ENERGY, LOG_TENDONS, NLOG };
+static const char *const log_name[NLOG] = {"tension.csv", "energy.csv", "tendons.csv"};
 
 struct sw_output {
   char dir[SW_PATHSZ];         /* the run folder, without trailing '/' */
@@ -40,6 +41,7 @@ struct sw_output {
   off_t size[NLOG];            /* bytes of the whole lines written to each log */
   int werr[NLOG];              /* errno of a failed write to each log (0: none) */
   int final[NLOG];             /* 1 once renamed to NAME.csv */
+  int opened[NLOG];            /* 1 if this run writes the log */
   char *line;                  /* (linesz) one log line (or header), formatted before writing */
   size_t linesz;
   long prev[6];                /* cumulative counters at the previous log line (see counters) */
@@ -265,6 +267,8 @@ static void log_header(sw_output *o, int k, const sw_model *m) {
   size_t len = 0;
   if (k == LOG_TENSION) {
     line_str(o, &len, "time,txy_max,txy_mean,txy_p95,stretch_u_max,stretch_v_max,shear_max");
+  } else if (k == LOG_TENDONS) {
+    line_str(o, &len, "time,tendon,length,delta,tension");
   } else {
     line_str(o, &len, "time,kinetic");
     for (int i = 0; i < m->nterm; i++) {
@@ -316,6 +320,7 @@ static int open_log(sw_output *o, int k, const sw_model *m, char *err, size_t er
     return -1;
   }
   o->size[k] = 0;
+  o->opened[k] = 1;
   log_header(o, k, m);
   if (put_line(o, k, err, errsz) == 0) return 0;
   cut_log(o, k, 0);
@@ -454,15 +459,39 @@ static int step_energy(sw_output *o, const sw_model *m, const sw_data *d, char *
   return 0;
 }
 
+/* One line per tendon (time, name, m, m, N), written in one piece. */
+static int step_tendons(sw_output *o, const sw_model *m, const sw_data *d, char *err,
+                        size_t errsz) {
+  if (m->ntendon == 0) return 0;
+  size_t len = 0;
+  for (int k = 0; k < m->ntendon; k++) {
+    line_num(o, &len, d->t);
+    o->line[len++] = ',';
+    o->line[len] = '\0';
+    line_csv_name(o, &len, m->tendon[k].name);
+    line_num(o, &len, d->tendon_length[k]);
+    line_num(o, &len, d->tendon_delta[k]);
+    line_num(o, &len, d->tendon_tension[k]);
+    o->line[len++] = '\n';
+  }
+  o->line[len] = '\0';
+  return put_line(o, LOG_TENDONS, err, errsz);
+}
+
 int sw_output_step(sw_output *o, const sw_model *m, const sw_data *d, char *err, size_t errsz) {
-  if (!o || o->log[LOG_TENSION] < 0 || o->log[LOG_ENERGY] < 0) {
+  if (!o || o->log[LOG_TENSION] < 0 || o->log[LOG_ENERGY] < 0 ||
+      (m->ntendon > 0 && o->log[LOG_TENDONS] < 0)) {
     sw_errf(err, errsz, "output: the logs are not open");
     return -1;
   }
-  const off_t before[NLOG] = {o->size[LOG_TENSION], o->size[LOG_ENERGY]};
-  if (step_tension(o, m, d, err, errsz) == 0 && step_energy(o, m, d, err, errsz) == 0) return 0;
+  off_t before[NLOG];
+  for (int k = 0; k < NLOG; k++) before[k] = o->size[k];
+  if (step_tension(o, m, d, err, errsz) == 0 && step_energy(o, m, d, err, errsz) == 0 &&
+      step_tendons(o, m, d, err, errsz) == 0)
+    return 0;
   /* Failed part-way: every log ends at the previous step again, with whole lines only. */
-  for (int k = 0; k < NLOG; k++) cut_log(o, k, before[k]);
+  for (int k = 0; k < NLOG; k++)
+    if (o->log[k] >= 0) cut_log(o, k, before[k]);
   return -1;
 }
 
@@ -480,32 +509,45 @@ static void vtu_points(writer *w, const sw_model *m, const double *x) {
   w_puts(w, "        </DataArray>\n      </Points>\n");
 }
 
+/* The faces as triangles, then each tendon as a polyline through its waypoints. */
 static void vtu_cells(writer *w, const sw_model *m) {
   w_puts(w, "      <Cells>\n"
             "        <DataArray type=\"Int32\" Name=\"connectivity\" format=\"ascii\">\n");
   for (int f = 0; f < m->nf; f++)
     w_printf(w, "%d %d %d\n", m->face[3 * f], m->face[3 * f + 1], m->face[3 * f + 2]);
+  for (int k = 0; k < m->ntendon; k++)
+    for (int i = 0; i < m->tendon[k].nway; i++)
+      w_printf(w, "%d%s", m->tendon[k].way[i], i + 1 < m->tendon[k].nway ? " " : "\n");
   w_puts(w, "        </DataArray>\n"
             "        <DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n");
-  for (int f = 0; f < m->nf; f++) w_printf(w, "%ld\n", 3L * (f + 1));
+  long off = 0;
+  for (int f = 0; f < m->nf; f++) w_printf(w, "%ld\n", off += 3);
+  for (int k = 0; k < m->ntendon; k++) w_printf(w, "%ld\n", off += m->tendon[k].nway);
   w_puts(w, "        </DataArray>\n"
             "        <DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n");
-  for (int f = 0; f < m->nf; f++) w_puts(w, "5\n"); /* VTK_TRIANGLE */
+  for (int f = 0; f < m->nf; f++) w_puts(w, "5\n");          /* VTK_TRIANGLE */
+  for (int k = 0; k < m->ntendon; k++) w_puts(w, "4\n");     /* VTK_POLY_LINE */
   w_puts(w, "        </DataArray>\n      </Cells>\n");
 }
 
-static void vtu_scalars(writer *w, const char *name, const double *a, int n) {
+/* A cell array: a[0..n-1] on the faces (or 0 when a is NULL), then t[0..nt-1] on the tendon
+ * polylines (or 0 when t is NULL). */
+static void vtu_scalars(writer *w, const char *name, const double *a, int n, const double *t,
+                        int nt) {
   w_printf(w, "        <DataArray type=\"Float64\" Name=\"%s\" format=\"ascii\">\n", name);
-  for (int i = 0; i < n; i++) w_num(w, a[i], "\n");
+  for (int i = 0; i < n; i++) w_num(w, a ? a[i] : 0.0, "\n");
+  for (int i = 0; i < nt; i++) w_num(w, t ? t[i] : 0.0, "\n");
   w_puts(w, "        </DataArray>\n");
 }
 
 static void vtu_cell_data(writer *w, const sw_model *m, const sw_data *d) {
+  const int nf = m->nf, nt = m->ntendon;
   w_puts(w, "      <CellData Scalars=\"tension_xy\">\n");
-  vtu_scalars(w, "tension_xy", d->txy, m->nf);    /* N/m */
-  vtu_scalars(w, "stretch_u", d->stretch_u, m->nf);
-  vtu_scalars(w, "stretch_v", d->stretch_v, m->nf);
-  vtu_scalars(w, "shear", d->shear, m->nf);       /* rad */
+  vtu_scalars(w, "tension_xy", d->txy, nf, NULL, nt);    /* N/m */
+  vtu_scalars(w, "stretch_u", d->stretch_u, nf, NULL, nt);
+  vtu_scalars(w, "stretch_v", d->stretch_v, nf, NULL, nt);
+  vtu_scalars(w, "shear", d->shear, nf, NULL, nt);       /* rad */
+  if (nt) vtu_scalars(w, "tendon_tension", NULL, nf, d->tendon_tension, nt); /* N */
   w_puts(w, "      </CellData>\n");
 }
 
@@ -529,7 +571,8 @@ static void vtu_body(writer *w, const sw_model *m, const sw_data *d) {
   w_puts(w, "<?xml version=\"1.0\"?>\n"
             "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
             "  <UnstructuredGrid>\n");
-  w_printf(w, "    <Piece NumberOfPoints=\"%d\" NumberOfCells=\"%d\">\n", m->nv, m->nf);
+  w_printf(w, "    <Piece NumberOfPoints=\"%d\" NumberOfCells=\"%d\">\n", m->nv,
+           m->nf + m->ntendon);
   vtu_point_data(w, m, d);
   vtu_cell_data(w, m, d);
   vtu_points(w, m, d->x);
@@ -684,7 +727,8 @@ static void summary_files(writer *w, const sw_output *o) {
   w_key(w, "files");
   w_puts(w, "[");
   for (int k = 0; k < NLOG; k++)
-    w_printf(w, "%s\"%s%s\"", k ? ", " : "", log_name[k], o->final[k] ? "" : ".part");
+    if (o->opened[k])
+      w_printf(w, "%s\"%s%s\"", k ? ", " : "", log_name[k], o->final[k] ? "" : ".part");
   if (o->nframe) w_puts(w, ", \"frames.pvd\"");
   for (int i = 0; i < o->nframe; i++) w_printf(w, ", \"frames/frame_%06d.vtu\"", i);
   w_puts(w, "]");
@@ -729,6 +773,8 @@ static void output_free(sw_output *o) {
 static int output_alloc(sw_output *o, const sw_model *m, char *err, size_t errsz) {
   /* the energy line or header is the longest: at most NUMSZ per field, or a term name */
   o->linesz = ((size_t)m->nterm + 16) * (NUMSZ + SW_NAMESZ);
+  size_t tendon_lines = (size_t)m->ntendon * (4 * NUMSZ + SW_NAMESZ + 4) + 64;
+  if (tendon_lines > o->linesz) o->linesz = tendon_lines;
   o->line = sw_calloc(o->linesz, 1);
   int cap = 2; /* first and last frame */
   if (m->opt.frames_every > 0 && m->opt.duration > 0) {
@@ -751,6 +797,7 @@ sw_output *sw_output_open(const sw_model *m, char *err, size_t errsz) {
   for (int k = 0; k < NLOG; k++) o->log[k] = -1;
   if (output_alloc(o, m, err, errsz) || prepare_folder(o, m, err, errsz) ||
       open_log(o, LOG_TENSION, m, err, errsz) || open_log(o, LOG_ENERGY, m, err, errsz) ||
+      (m->ntendon > 0 && open_log(o, LOG_TENDONS, m, err, errsz)) ||
       sw_output_summary(o, m, NULL, "running", "", 0.0, err, errsz)) {
     output_free(o);
     return NULL;

@@ -60,6 +60,7 @@ static int record(run_ctx *r, int force_frame, char *err, size_t errsz) {
                    m->opt.method, d->err),
            SW_FATAL;
   sw_tension_xy(m, d);
+  sw_tendon_state(m, d);
   if (sw_output_step(r->out, m, d, err, errsz)) return output_failed(d, err, errsz);
   r->t_logged = d->t;
   r->logged = 1;

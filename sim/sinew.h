@@ -143,6 +143,8 @@ typedef struct sw_tendon {
 SW_API double sw_tendon_rest(const sw_tendon *td, double t);
 /* The current length sum |x_{w_k} - x_{w_k+1}| of a tendon at x (nv x dim), m. */
 SW_API double sw_tendon_length(const sw_tendon *td, const double *x, int dim);
+/* Its tension E'(delta) for delta = length - rest, N (cable: 0 when slack). */
+SW_API double sw_tendon_tension(const sw_tendon *td, double delta);
 
 /* Newton's system matrix: the PSD-projected Hessian (always positive definite with a mass
  * term; linear convergence where the cloth is compressed), the exact one (quadratic
@@ -260,6 +262,8 @@ SW_API double sw_kinetic(const sw_model *m, const double *v);
 SW_API int sw_damped(const sw_model *m);
 /* Tension XY of seed 000 and the strain diagnostics of every face at d->x. */
 SW_API void sw_tension_xy(const sw_model *m, sw_data *d);
+/* Length, delta and tension of every tendon at d->x, d->t (d->tendon_*). */
+SW_API void sw_tendon_state(const sw_model *m, sw_data *d);
 
 /* ------------------------------------------------------------------- run */
 
