@@ -143,26 +143,136 @@ int sw_membrane_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, dou
   return isfinite(total) ? SW_OK : SW_RECOVER;
 }
 
-extern void dsyev_(const char *jobz, const char *uplo, const int *n, double *a, const int *lda,
-                   double *w, double *work, const int *lwork, int *info);
+/* A = V diag(w) V^T for a symmetric n x n matrix (n <= 6) by cyclic Jacobi rotations (Golub and
+ * Van Loan, "Matrix Computations", 4th ed., alg. 8.5.3): A is destroyed, row k of V is the
+ * eigenvector of w[k].  Converges quadratically; a fixed-size problem with no allocation and no
+ * BLAS threads (dsyev costs ~2.5 us on a 6 x 6 matrix, 10x that with OpenBLAS threads). */
+static void jacobi_eigen(double *A, int n, double *w, double *V) {
+  for (int i = 0; i < n * n; i++) V[i] = (i % (n + 1)) == 0;
+  for (int sweep = 0; sweep < 30; sweep++) {
+    double off = 0.0, diag = 0.0;
+    for (int p = 0; p < n; p++) {
+      diag += A[p * n + p] * A[p * n + p];
+      for (int q = p + 1; q < n; q++) off += A[p * n + q] * A[p * n + q];
+    }
+    if (!(off > 1e-30 * diag)) break; /* off-diagonal at rounding level (or NaN) */
+    for (int p = 0; p < n; p++)
+      for (int q = p + 1; q < n; q++) {
+        double apq = A[p * n + q];
+        if (apq == 0.0) continue;
+        double th = (A[q * n + q] - A[p * n + p]) / (2.0 * apq), at = fabs(th);
+        double t = (th >= 0.0 ? 1.0 : -1.0) / (at + (at < 1e150 ? sqrt(th * th + 1.0) : at));
+        double c = 1.0 / sqrt(t * t + 1.0), s = t * c;
+        for (int k = 0; k < n; k++) { /* A <- A J (columns p, q) */
+          double akp = A[k * n + p], akq = A[k * n + q];
+          A[k * n + p] = c * akp - s * akq;
+          A[k * n + q] = s * akp + c * akq;
+        }
+        for (int k = 0; k < n; k++) { /* A <- J^T A (rows p, q); V likewise */
+          double apk = A[p * n + k], aqk = A[q * n + k];
+          A[p * n + k] = c * apk - s * aqk;
+          A[q * n + k] = s * apk + c * aqk;
+          double vpk = V[p * n + k], vqk = V[q * n + k];
+          V[p * n + k] = c * vpk - s * vqk;
+          V[q * n + k] = s * vpk + c * vqk;
+        }
+      }
+  }
+  for (int k = 0; k < n; k++) w[k] = A[k * n + k];
+}
 
 int sw_psd_project(double *A, int n) {
   /* The nearest PSD matrix in the Frobenius norm keeps the eigenvectors and clamps the
-   * eigenvalues at 0 (Higham 1988).  LAPACK is column-major; A is symmetric, so row i of the
-   * returned array is eigenvector i.  Fixed-size workspace: no allocation (n <= 6). */
-  double V[36], w[6], work[256];
-  int lwork = 256, info = 0;
+   * eigenvalues at 0 (Higham 1988, "Computing a nearest symmetric positive semidefinite
+   * matrix").  Fixed-size workspace: no allocation. */
+  double B[36], V[36], w[6], wmin = 0.0;
   if (n < 1 || n > 6) return -1;
-  memcpy(V, A, sizeof(double) * (size_t)(n * n));
-  dsyev_("V", "U", &n, V, &n, w, work, &lwork, &info);
-  if (info != 0) return -1;
-  if (w[0] >= 0.0) return 0; /* already PSD: A unchanged */
+  memcpy(B, A, sizeof(double) * (size_t)(n * n));
+  jacobi_eigen(B, n, w, V);
+  for (int k = 0; k < n; k++) {
+    if (!isfinite(w[k])) return -1;
+    wmin = fmin(wmin, w[k]);
+  }
+  if (wmin >= 0.0) return 0; /* already PSD: A unchanged */
   for (int i = 0; i < n; i++)
-    for (int j = 0; j < n; j++) {
+    for (int j = i; j < n; j++) {
       double s = 0.0;
       for (int k = 0; k < n; k++)
         if (w[k] > 0.0) s += w[k] * V[k * n + i] * V[k * n + j];
-      A[i * n + j] = s;
+      A[i * n + j] = A[j * n + i] = s;
     }
+  return 0;
+}
+
+/* An orthonormal frame E = [e1 e2 n] (3 x 3, E[a*3 + k] = component a of column k) whose first
+ * two columns span wu and wv (any such frame when they are parallel or zero). */
+static void plane_frame(const double *wu, const double *wv, double *E) {
+  double e1[3], e2[3], lu = sqrt(wu[0] * wu[0] + wu[1] * wu[1] + wu[2] * wu[2]);
+  const double *w = lu > 0.0 ? wu : wv;
+  double lw = sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+  for (int a = 0; a < 3; a++) e1[a] = lw > 0.0 ? w[a] / lw : (a == 0);
+  /* e2: wv without its e1 part, else the axis least aligned with e1, orthogonalised */
+  double p = wv[0] * e1[0] + wv[1] * e1[1] + wv[2] * e1[2], l2 = 0.0;
+  for (int a = 0; a < 3; a++) {
+    e2[a] = wv[a] - p * e1[a];
+    l2 += e2[a] * e2[a];
+  }
+  if (!(l2 > 1e-24 * (wv[0] * wv[0] + wv[1] * wv[1] + wv[2] * wv[2]))) {
+    int ax = fabs(e1[0]) <= fabs(e1[1]) ? (fabs(e1[0]) <= fabs(e1[2]) ? 0 : 2)
+                                        : (fabs(e1[1]) <= fabs(e1[2]) ? 1 : 2);
+    l2 = 0.0;
+    for (int a = 0; a < 3; a++) {
+      e2[a] = (a == ax) - e1[ax] * e1[a];
+      l2 += e2[a] * e2[a];
+    }
+  }
+  for (int a = 0; a < 3; a++) e2[a] /= sqrt(l2);
+  for (int a = 0; a < 3; a++) {
+    E[a * 3] = e1[a];
+    E[a * 3 + 1] = e2[a];
+  }
+  E[2] = e1[1] * e2[2] - e1[2] * e2[1];
+  E[5] = e1[2] * e2[0] - e1[0] * e2[2];
+  E[8] = e1[0] * e2[1] - e1[1] * e2[0];
+}
+
+/* P <- blockdiag(E, E)^T P blockdiag(E, E) (fwd) or blockdiag(E, E) P blockdiag(E, E)^T. */
+static void frame_congruence(double *P, const double *E, int fwd) {
+  double Q[36];
+  for (int X = 0; X < 2; X++)
+    for (int Y = 0; Y < 2; Y++)
+      for (int k = 0; k < 3; k++)
+        for (int l = 0; l < 3; l++) {
+          double s = 0.0;
+          for (int a = 0; a < 3; a++)
+            for (int b = 0; b < 3; b++)
+              s += (fwd ? E[a * 3 + k] * E[b * 3 + l] : E[k * 3 + a] * E[l * 3 + b]) *
+                   P[(3 * X + a) * 6 + 3 * Y + b];
+          Q[(3 * X + k) * 6 + 3 * Y + l] = s;
+        }
+  memcpy(P, Q, sizeof Q);
+}
+
+int sw_membrane_project(double *P, const double *wu, const double *wv, int d) {
+  /* A density of C = F^T F only is unchanged by the reflection through the plane of wu, wv,
+   * so P commutes with it: in a frame [e1 e2 n] of that plane P is block diagonal, the 4 x 4
+   * in-plane block (rows e1, e2 of wu and wv) and the 2 x 2 block on [a n; b n], and the
+   * nearest PSD matrix of P is made of those of the blocks. */
+  if (d == 2) return sw_psd_project(P, 4);
+  double E[9], A[16], B[4];
+  const int in[4] = {0, 1, 3, 4}, out[2] = {2, 5};
+  plane_frame(wu, wv, E);
+  frame_congruence(P, E, 1);
+  for (int i = 0; i < 4; i++)
+    for (int j = 0; j < 4; j++) A[i * 4 + j] = P[in[i] * 6 + in[j]];
+  for (int i = 0; i < 2; i++)
+    for (int j = 0; j < 2; j++) B[i * 2 + j] = P[out[i] * 6 + out[j]];
+  if (sw_psd_project(A, 4) || sw_psd_project(B, 2)) return -1;
+  memset(P, 0, 36 * sizeof(double));
+  for (int i = 0; i < 4; i++)
+    for (int j = 0; j < 4; j++) P[in[i] * 6 + in[j]] = A[i * 4 + j];
+  for (int i = 0; i < 2; i++)
+    for (int j = 0; j < 2; j++) P[out[i] * 6 + out[j]] = B[i * 2 + j];
+  frame_congruence(P, E, 0);
   return 0;
 }

@@ -35,8 +35,12 @@ sw_membrane *sw_membrane_new(sw_term *t, const sw_model *m, const sw_term_ops *o
 int sw_membrane_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, double *energy);
 void sw_membrane_free(void *param);
 /* Replace the symmetric n x n matrix A (row-major, n <= 6) by its nearest positive
- * semi-definite matrix (LAPACK dsyev; unchanged when already PSD).  0, or -1 if LAPACK fails. */
+ * semi-definite matrix (Jacobi eigen-decomposition; unchanged when already PSD).  0, or -1 when
+ * n is out of range or A is not finite. */
 int sw_psd_project(double *A, int n);
+/* The nearest PSD matrix of the P (2d x 2d) of a density that depends on F only through C =
+ * F^T F (stvk, corotated), from those of its in-plane and out-of-plane blocks.  0 or -1. */
+int sw_membrane_project(double *P, const double *wu, const double *wv, int d);
 
 /* models/bw98.c: Baraff-Witkin stretch and shear (seed 002, DESIGN.md). */
 int sw_bw98_build(sw_term *t, const sw_model *m, char *err, size_t errsz);

@@ -12,6 +12,10 @@
 #include <cmocka.h>
 
 #include "harness.h"
+#include "terms.h"
+
+extern void dsyev_(const char *jobz, const char *uplo, const int *n, double *a, const int *lda,
+                   double *w, double *work, const int *lwork, int *info);
 
 enum { NX = 4, NY = 3 };
 static const double SX = 0.3, SY = 0.2;                           /* grid size, m */
@@ -295,6 +299,61 @@ static void stvk_strip_stiffness(void **st) {
   sw_model_free(m);
 }
 
+/* ------------------------------------------------------------------ PSD projection */
+
+/* The nearest PSD matrix by LAPACK: V max(w, 0) V^T. */
+static void lapack_psd(double *A, int n) {
+  double w[6], work[256];
+  int lwork = 256, info = 0;
+  double V[36], R[36] = {0};
+  memcpy(V, A, sizeof(double) * (size_t)(n * n));
+  dsyev_("V", "U", &n, V, &n, w, work, &lwork, &info);
+  assert_int_equal(info, 0);
+  for (int k = 0; k < n; k++)
+    for (int i = 0; i < n; i++)
+      for (int j = 0; j < n; j++) R[i * n + j] += fmax(w[k], 0.0) * V[k * n + i] * V[k * n + j];
+  memcpy(A, R, sizeof(double) * (size_t)(n * n));
+}
+
+/* sw_psd_project (Jacobi) and sw_membrane_project (in-plane and normal blocks) against LAPACK,
+ * on random P = J M J^T + S (x) I, the form of the Hessian of any density of C (stvk.c). */
+static void psd_projection(void **st) {
+  (void)st;
+  unsigned long rs = 4242;
+  for (int rep = 0; rep < 200; rep++) {
+    int d = 2 + rep % 2, n = 2 * d;
+    double wu[3] = {0}, wv[3] = {0}, M[9], S[3], P[36], A[36], B[36];
+    for (int a = 0; a < d; a++) wu[a] = th_rand(&rs), wv[a] = th_rand(&rs);
+    if (rep % 10 == 9) memcpy(wv, wu, sizeof wu); /* degenerate: parallel columns */
+    for (int i = 0; i < 3; i++) {
+      S[i] = th_rand(&rs);
+      for (int j = 0; j <= i; j++) M[i * 3 + j] = M[j * 3 + i] = th_rand(&rs);
+    }
+    double J[6][3] = {{0}}; /* rows: [wu; wv] components; columns: e11, e22, 2 e12 */
+    for (int a = 0; a < d; a++) {
+      J[a][0] = wu[a], J[a][2] = wv[a];
+      J[d + a][1] = wv[a], J[d + a][2] = wu[a];
+    }
+    for (int i = 0; i < n; i++)
+      for (int j = 0; j < n; j++) {
+        double v = 0.0;
+        for (int p = 0; p < 3; p++)
+          for (int q = 0; q < 3; q++) v += J[i][p] * M[p * 3 + q] * J[j][q];
+        int bi = i / d, bj = j / d; /* S (x) I */
+        if (i % d == j % d) v += bi == bj ? S[bi] : S[2];
+        P[i * n + j] = v;
+      }
+    memcpy(A, P, sizeof P), memcpy(B, P, sizeof P);
+    assert_int_equal(sw_psd_project(A, n), 0);
+    assert_int_equal(sw_membrane_project(B, wu, wv, d), 0);
+    lapack_psd(P, n);
+    for (int i = 0; i < n * n; i++) {
+      assert_true(fabs(A[i] - P[i]) < 1e-12);
+      assert_true(fabs(B[i] - P[i]) < 1e-12);
+    }
+  }
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(stvk_conformance_3d),   cmocka_unit_test(stvk_conformance_2d),
@@ -302,7 +361,7 @@ int main(void) {
       cmocka_unit_test(stvk_patch),            cmocka_unit_test(corot_patch),
       cmocka_unit_test(corot_equal_stretches), cmocka_unit_test(stvk_bad_poisson),
       cmocka_unit_test(bad_moduli),            cmocka_unit_test(panels),
-      cmocka_unit_test(stvk_strip_stiffness),
+      cmocka_unit_test(stvk_strip_stiffness),  cmocka_unit_test(psd_projection),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
