@@ -18,8 +18,10 @@
  * = |c|/sigma1 is a cone in c) nor at F = 0.  When j <= 1e-12 t we take c^ = 0, i.e. dj = 0 (the
  * smallest subgradient) and drop the unbounded 1/j curvature: psi, gradient and P are then
  * those of the energy restricted to j = 0.  At F = 0: gradient 0 and P = k I.
- * Projection: P is PSD when sigma2 >= 1 (its eigenvalues are k, k (1 - 2/tau) and, in 3D,
- * k (1 - 1/sigma_i)), kept as is; otherwise its nearest PSD matrix (sw_membrane_project). */
+ * Projection: P's eigenvalues are k (three times), k (1 - 2/tau) (the in-plane twist) and, in
+ * 3D, k (1 - 1/sigma1), k (1 - 1/sigma2) (out of plane: the 2 x 2 block k (I - U^-1)).  So P is
+ * PSD and kept when tau >= 2 in 2D or sigma2 >= 1 in 3D; otherwise it is replaced by its
+ * nearest PSD matrix (sw_membrane_project). */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -93,7 +95,8 @@ static double corot_density(const void *law, const double *wu, const double *wv,
     for (int a = 0; a < ld; a++)
       for (int b = 0; b < ld; b++)
         P[a * ld + b] = d == 3 ? P6[a * 6 + b] : P6[at[a] * 6 + at[b]];
-    if (project && s2 < 1.0 && sw_membrane_project(P, wu, wv, d)) return NAN;
+    int psd = d == 2 ? tau >= 2.0 : s2 >= 1.0;
+    if (project && !psd && sw_membrane_project(P, wu, wv, d)) return NAN;
   }
   return 0.5 * k * ((s1 - 1.0) * (s1 - 1.0) + (s2 - 1.0) * (s2 - 1.0));
 }
