@@ -1,12 +1,12 @@
 /* bw98.c — Baraff–Witkin stretch and shear membrane (seed 002; DESIGN.md "Energy terms").
  *
- * Per face, with F = Ds Dm^-1 = [wu wv] (warp and weft directions after deformation):
+ * Per face whose material uses bw98, with that material's constants and F = Ds Dm^-1 = [wu wv]
+ * (warp and weft directions after deformation):
  *   E = a [ k_u/2 (|wu| - b_u)^2 + k_v/2 (|wv| - b_v)^2 + k_s/2 (wu.wv)^2 ],
- * a the rest (u,v) area (m^2), k in N/m.  wu = sum_i cu_i x_i and wv = sum_i cv_i x_i are linear
- * in the corners, so with psi(wu, wv) the density, dE/dx_i = a (cu_i dpsi/dwu + cv_i dpsi/dwv)
- * and the Hessian block (i,j) = a (cu_i cu_j Puu + cu_i cv_j Puv + cv_i cu_j Pvu + cv_i cv_j Pvv)
- * where P = d2psi/d(wu,wv)^2 is a 2d x 2d matrix.  That map is a congruence, so a positive
- * semi-definite P gives a PSD block: the projection is done on P, one condition at a time
+ * a the rest (u,v) area (m^2), k in N/m.  The frame shared by the membranes (models/term.c)
+ * turns the density psi(wu, wv), its gradient and P = d2psi/d(wu,wv)^2 (2d x 2d) into forces
+ * and face blocks by a congruence, so a positive semi-definite P gives a PSD block: the
+ * projection is done on P, one condition at a time
  * (each replaced by its nearest PSD matrix, in closed form), and the sum of PSD parts is PSD. */
 #include <math.h>
 #include <stdio.h>
@@ -15,19 +15,10 @@
 #include "terms.h"
 #include "util.h"
 
-typedef struct bw98_param {
+typedef struct bw98_law {
   double k_u, k_v, k_s;   /* N/m */
   double b_u, b_v;        /* rest stretch, 1 */
-  double *cu, *cv;        /* (nf x 3) corner coefficients of wu and wv, 1/m */
-} bw98_param;
-
-static void bw98_free(void *p) {
-  bw98_param *bp = p;
-  if (!bp) return;
-  sw_free(bp->cu);
-  sw_free(bp->cv);
-  sw_free(bp);
-}
+} bw98_law;
 
 /* k/2 (|w| - b)^2: energy, gradient g (d) and Hessian H (d x d, leading dimension ld). */
 static double stretch(const double *w, int d, double k, double b, int project, double *g,
@@ -77,7 +68,7 @@ static void add_outer(double *P, int ld, int d, double c, const double *u1, cons
  * [[2|p|^2 + s, 2|p||q|], [2|p||q|, 2|q|^2 - s]]; on the rest of J's +1 space it is s, on the
  * rest of its -1 space -s.  Each eigenvalue is clamped at zero. */
 static void shear_projected(const double *wu, const double *wv, int d, double k, double *P, int ld) {
-  double p[3], q[3], ph[3], qh[3];
+  double p[3] = {0}, q[3] = {0}, ph[3], qh[3];
   for (int a = 0; a < d; a++) {
     p[a] = 0.5 * (wu[a] + wv[a]);
     q[a] = 0.5 * (wv[a] - wu[a]);
@@ -139,8 +130,9 @@ static void shear_exact(const double *wu, const double *wv, int d, double k, dou
 }
 
 /* psi and its derivatives for one face: gu, gv (d) and P (2d x 2d) when asked. */
-static double density(const bw98_param *bp, const double *wu, const double *wv, int d,
-                      int project, double *gu, double *gv, double *P) {
+static double density(const void *law, const double *wu, const double *wv, int d, int project,
+                      double *gu, double *gv, double *P) {
+  const bw98_law *bp = law;
   const int ld = 2 * d;
   double Hu[9], Hv[9], s = 0.0;
   double e = stretch(wu, d, bp->k_u, bp->b_u, project, gu, P ? Hu : NULL, d);
@@ -164,91 +156,17 @@ static double density(const bw98_param *bp, const double *wu, const double *wv, 
   return e;
 }
 
-/* Hessian block of a face from P: (3d x 3d), row-major, vertex-major. */
-static void face_block(const double *cu, const double *cv, double area, const double *P, int d,
-                       double *blk) {
-  const int ld = 2 * d, n = 3 * d;
-  for (int i = 0; i < 3; i++)
-    for (int j = 0; j < 3; j++) {
-      double uu = area * cu[i] * cu[j], uv = area * cu[i] * cv[j];
-      double vu = area * cv[i] * cu[j], vv = area * cv[i] * cv[j];
-      for (int a = 0; a < d; a++)
-        for (int b = 0; b < d; b++)
-          blk[(i * d + a) * n + j * d + b] +=
-              uu * P[a * ld + b] + uv * P[a * ld + d + b] + vu * P[(d + a) * ld + b] +
-              vv * P[(d + a) * ld + d + b];
-    }
-}
-
-static int bw98_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, double *energy) {
-  const bw98_param *bp = t->param;
-  const int d = m->dim;
-  double total = 0.0;
-  for (int f = 0; f < m->nf; f++) {
-    const int *c = m->face + 3 * f;
-    const double *cu = bp->cu + 3 * f, *cv = bp->cv + 3 * f;
-    double wu[3] = {0}, wv[3] = {0}, gu[3], gv[3], P[36];
-    for (int i = 0; i < 3; i++)
-      for (int a = 0; a < d; a++) {
-        wu[a] += cu[i] * ev->x[c[i] * d + a];
-        wv[a] += cv[i] * ev->x[c[i] * d + a];
-      }
-    double area = m->area[f];
-    total += area * density(bp, wu, wv, d, ev->project, gu, gv, ev->hess ? P : NULL);
-    if (ev->grad)
-      for (int i = 0; i < 3; i++)
-        for (int a = 0; a < d; a++)
-          ev->grad[c[i] * d + a] += area * (cu[i] * gu[a] + cv[i] * gv[a]);
-    if (ev->hess) face_block(cu, cv, area, P, d, ev->hess + t->hptr[f]);
-  }
-  *energy = total;
-  return isfinite(total) ? SW_OK : SW_RECOVER;
-}
-
-static const sw_term_ops bw98_ops = {.kind = "bw98", .eval = bw98_eval, .free_param = bw98_free};
-
-void sw_face_coeffs(const sw_model *m, int f, double cu[3], double cv[3]) {
-  /* wu = (x1-x0) Dinv00 + (x2-x0) Dinv10, wv = (x1-x0) Dinv01 + (x2-x0) Dinv11 (seed 000). */
-  const double *di = m->dminv + 4 * f;
-  cu[0] = -(di[0] + di[2]);
-  cu[1] = di[0];
-  cu[2] = di[2];
-  cv[0] = -(di[1] + di[3]);
-  cv[1] = di[1];
-  cv[2] = di[3];
-}
-
-void sw_face_F(const sw_model *m, int f, const double *x, double *wu, double *wv) {
-  double cu[3], cv[3];
-  sw_face_coeffs(m, f, cu, cv);
-  const int d = m->dim, *c = m->face + 3 * f;
-  for (int a = 0; a < d; a++) {
-    wu[a] = wv[a] = 0.0;
-    for (int i = 0; i < 3; i++) {
-      wu[a] += cu[i] * x[c[i] * d + a];
-      wv[a] += cv[i] * x[c[i] * d + a];
-    }
-  }
-}
+static const sw_term_ops bw98_ops = {
+    .kind = "bw98", .eval = sw_membrane_eval, .free_param = sw_membrane_free};
 
 int sw_bw98_build(sw_term *t, const sw_model *m, char *err, size_t errsz) {
-  bw98_param *bp = sw_calloc(1, sizeof *bp);
-  t->ops = &bw98_ops;
-  t->param = bp;
-  snprintf(t->name, sizeof t->name, "%s", "bw98");
-  if (!bp) return sw_errf(err, errsz, "out of memory"), -1;
-  bp->k_u = m->mat[0].k_u;
-  bp->k_v = m->mat[0].k_v;
-  bp->k_s = m->mat[0].k_shear;
-  bp->b_u = m->mat[0].b_u;
-  bp->b_v = m->mat[0].b_v;
-  bp->cu = sw_calloc((size_t)m->nf, 3 * sizeof(double));
-  bp->cv = sw_calloc((size_t)m->nf, 3 * sizeof(double));
-  if (!bp->cu || !bp->cv || sw_term_alloc_stencils(t, m->nf, 3, m->dim))
-    return sw_errf(err, errsz, "out of memory"), -1;
-  for (int f = 0; f < m->nf; f++) {
-    sw_face_coeffs(m, f, bp->cu + 3 * f, bp->cv + 3 * f);
-    for (int i = 0; i < 3; i++) t->sidx[3 * f + i] = m->face[3 * f + i];
+  sw_membrane *mb =
+      sw_membrane_new(t, m, &bw98_ops, SW_MEMBRANE_BW98, sizeof(bw98_law), density, err, errsz);
+  if (!mb) return -1;
+  bw98_law *law = mb->law;
+  for (int k = 0; k < m->nmat; k++) {
+    const sw_material *mt = &m->mat[k];
+    law[k] = (bw98_law){mt->k_u, mt->k_v, mt->k_shear, mt->b_u, mt->b_v};
   }
   return 0;
 }

@@ -1,4 +1,10 @@
-/* term.c — what every energy term shares: stencil storage. */
+/* term.c — what every energy term shares: stencil storage, and the frame of the membranes
+ * (bw98, stvk, corotated): per-face corner coefficients, the evaluation loop, the congruence
+ * from P = d2psi/d(wu,wv)^2 to the face block and the PSD projection of P. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
 #include "terms.h"
 #include "util.h"
 
@@ -24,4 +30,249 @@ void sw_term_free(sw_term *t) {
   t->sptr = t->sidx = NULL;
   t->hptr = NULL;
   t->param = NULL;
+}
+
+void sw_face_coeffs(const sw_model *m, int f, double cu[3], double cv[3]) {
+  /* wu = (x1-x0) Dinv00 + (x2-x0) Dinv10, wv = (x1-x0) Dinv01 + (x2-x0) Dinv11 (seed 000). */
+  const double *di = m->dminv + 4 * f;
+  cu[0] = -(di[0] + di[2]);
+  cu[1] = di[0];
+  cu[2] = di[2];
+  cv[0] = -(di[1] + di[3]);
+  cv[1] = di[1];
+  cv[2] = di[3];
+}
+
+void sw_face_F(const sw_model *m, int f, const double *x, double *wu, double *wv) {
+  double cu[3], cv[3];
+  sw_face_coeffs(m, f, cu, cv);
+  const int d = m->dim, *c = m->face + 3 * f;
+  for (int a = 0; a < d; a++) {
+    wu[a] = wv[a] = 0.0;
+    for (int i = 0; i < 3; i++) {
+      wu[a] += cu[i] * x[c[i] * d + a];
+      wv[a] += cv[i] * x[c[i] * d + a];
+    }
+  }
+}
+
+/* ------------------------------------------------------------- membranes */
+
+/* Every membrane energy is a^f psi(wu, wv) per face with wu = sum_i cu_i x_i, wv = sum_i cv_i
+ * x_i (DESIGN.md "Energy terms", seeds 000/001).  By the chain rule dE/dx_i = a (cu_i gu + cv_i
+ * gv) with gu, gv = dpsi/dwu, dpsi/dwv, and the Hessian block (i, j) is the congruence
+ *   a (cu_i cu_j Puu + cu_i cv_j Puv + cv_i cu_j Pvu + cv_i cv_j Pvv),  P = d2psi/d(wu,wv)^2,
+ * so a positive semi-definite P gives a PSD block: every membrane projects P, not the block. */
+
+sw_membrane *sw_membrane_new(sw_term *t, const sw_model *m, const sw_term_ops *ops, int model,
+                             size_t lawsz, sw_membrane_density density, char *err, size_t errsz) {
+  sw_membrane *mb = sw_calloc(1, sizeof *mb);
+  t->ops = ops;
+  t->param = mb;
+  snprintf(t->name, sizeof t->name, "%s", ops->kind);
+  if (!mb) return sw_errf(err, errsz, "out of memory"), NULL;
+  int n = 0;
+  for (int f = 0; f < m->nf; f++) n += m->mat[m->face_mat[f]].membrane == model;
+  mb->density = density;
+  mb->lawsz = lawsz;
+  mb->face = sw_calloc((size_t)n, sizeof(int));
+  mb->cu = sw_calloc((size_t)n, 3 * sizeof(double));
+  mb->cv = sw_calloc((size_t)n, 3 * sizeof(double));
+  mb->law = sw_calloc((size_t)m->nmat, lawsz);
+  if (!mb->face || !mb->cu || !mb->cv || !mb->law || sw_term_alloc_stencils(t, n, 3, m->dim))
+    return sw_errf(err, errsz, "out of memory"), NULL;
+  for (int f = 0, s = 0; f < m->nf; f++) {
+    if (m->mat[m->face_mat[f]].membrane != model) continue;
+    mb->face[s] = f;
+    sw_face_coeffs(m, f, mb->cu + 3 * s, mb->cv + 3 * s);
+    for (int i = 0; i < 3; i++) t->sidx[3 * s + i] = m->face[3 * f + i];
+    s++;
+  }
+  return mb;
+}
+
+void sw_membrane_free(void *param) {
+  sw_membrane *mb = param;
+  if (!mb) return;
+  sw_free(mb->face);
+  sw_free(mb->cu);
+  sw_free(mb->cv);
+  sw_free(mb->law);
+  sw_free(mb);
+}
+
+/* Hessian block of one face from P (2d x 2d): (3d x 3d), row-major, vertex-major. */
+static void membrane_block(const double *cu, const double *cv, double area, const double *P,
+                           int d, double *blk) {
+  const int ld = 2 * d, n = 3 * d;
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++) {
+      double uu = area * cu[i] * cu[j], uv = area * cu[i] * cv[j];
+      double vu = area * cv[i] * cu[j], vv = area * cv[i] * cv[j];
+      for (int a = 0; a < d; a++)
+        for (int b = 0; b < d; b++)
+          blk[(i * d + a) * n + j * d + b] +=
+              uu * P[a * ld + b] + uv * P[a * ld + d + b] + vu * P[(d + a) * ld + b] +
+              vv * P[(d + a) * ld + d + b];
+    }
+}
+
+int sw_membrane_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, double *energy) {
+  const sw_membrane *mb = t->param;
+  const int d = m->dim;
+  double total = 0.0; /* J */
+  for (int s = 0; s < t->nstencil; s++) {
+    const int f = mb->face[s], *c = m->face + 3 * f;
+    const double *cu = mb->cu + 3 * s, *cv = mb->cv + 3 * s;
+    const void *law = (const char *)mb->law + mb->lawsz * (size_t)m->face_mat[f];
+    double wu[3] = {0}, wv[3] = {0}, gu[3], gv[3], P[36];
+    for (int i = 0; i < 3; i++)
+      for (int a = 0; a < d; a++) {
+        wu[a] += cu[i] * ev->x[c[i] * d + a];
+        wv[a] += cv[i] * ev->x[c[i] * d + a];
+      }
+    double area = m->area[f]; /* m^2 */
+    total += area * mb->density(law, wu, wv, d, ev->project, gu, gv, ev->hess ? P : NULL);
+    if (ev->grad)
+      for (int i = 0; i < 3; i++)
+        for (int a = 0; a < d; a++)
+          ev->grad[c[i] * d + a] += area * (cu[i] * gu[a] + cv[i] * gv[a]);
+    if (ev->hess) membrane_block(cu, cv, area, P, d, ev->hess + t->hptr[s]);
+  }
+  *energy = total;
+  return isfinite(total) ? SW_OK : SW_RECOVER;
+}
+
+/* A = V diag(w) V^T for a symmetric n x n matrix (n <= 6) by cyclic Jacobi rotations (Golub and
+ * Van Loan, "Matrix Computations", 4th ed., alg. 8.5.3): A is destroyed, row k of V is the
+ * eigenvector of w[k].  Converges quadratically; a fixed-size problem with no allocation and no
+ * BLAS threads (dsyev costs ~2.5 us on a 6 x 6 matrix, 10x that with OpenBLAS threads). */
+static void jacobi_eigen(double *A, int n, double *w, double *V) {
+  for (int i = 0; i < n * n; i++) V[i] = (i % (n + 1)) == 0;
+  for (int sweep = 0; sweep < 30; sweep++) {
+    double off = 0.0, diag = 0.0;
+    for (int p = 0; p < n; p++) {
+      diag += A[p * n + p] * A[p * n + p];
+      for (int q = p + 1; q < n; q++) off += A[p * n + q] * A[p * n + q];
+    }
+    if (!(off > 1e-30 * diag)) break; /* off-diagonal at rounding level (or NaN) */
+    for (int p = 0; p < n; p++)
+      for (int q = p + 1; q < n; q++) {
+        double apq = A[p * n + q];
+        if (apq == 0.0) continue;
+        double th = (A[q * n + q] - A[p * n + p]) / (2.0 * apq), at = fabs(th);
+        double t = (th >= 0.0 ? 1.0 : -1.0) / (at + (at < 1e150 ? sqrt(th * th + 1.0) : at));
+        double c = 1.0 / sqrt(t * t + 1.0), s = t * c;
+        for (int k = 0; k < n; k++) { /* A <- A J (columns p, q) */
+          double akp = A[k * n + p], akq = A[k * n + q];
+          A[k * n + p] = c * akp - s * akq;
+          A[k * n + q] = s * akp + c * akq;
+        }
+        for (int k = 0; k < n; k++) { /* A <- J^T A (rows p, q); V likewise */
+          double apk = A[p * n + k], aqk = A[q * n + k];
+          A[p * n + k] = c * apk - s * aqk;
+          A[q * n + k] = s * apk + c * aqk;
+          double vpk = V[p * n + k], vqk = V[q * n + k];
+          V[p * n + k] = c * vpk - s * vqk;
+          V[q * n + k] = s * vpk + c * vqk;
+        }
+      }
+  }
+  for (int k = 0; k < n; k++) w[k] = A[k * n + k];
+}
+
+int sw_psd_project(double *A, int n) {
+  /* The nearest PSD matrix in the Frobenius norm keeps the eigenvectors and clamps the
+   * eigenvalues at 0 (Higham 1988, "Computing a nearest symmetric positive semidefinite
+   * matrix").  Fixed-size workspace: no allocation. */
+  double B[36], V[36], w[6], wmin = 0.0;
+  if (n < 1 || n > 6) return -1;
+  memcpy(B, A, sizeof(double) * (size_t)(n * n));
+  jacobi_eigen(B, n, w, V);
+  for (int k = 0; k < n; k++) {
+    if (!isfinite(w[k])) return -1;
+    wmin = fmin(wmin, w[k]);
+  }
+  if (wmin >= 0.0) return 0; /* already PSD: A unchanged */
+  for (int i = 0; i < n; i++)
+    for (int j = i; j < n; j++) {
+      double s = 0.0;
+      for (int k = 0; k < n; k++)
+        if (w[k] > 0.0) s += w[k] * V[k * n + i] * V[k * n + j];
+      A[i * n + j] = A[j * n + i] = s;
+    }
+  return 0;
+}
+
+/* An orthonormal frame E = [e1 e2 n] (3 x 3, E[a*3 + k] = component a of column k) whose first
+ * two columns span wu and wv (any such frame when they are parallel or zero). */
+static void plane_frame(const double *wu, const double *wv, double *E) {
+  double e1[3], e2[3], lu = sqrt(wu[0] * wu[0] + wu[1] * wu[1] + wu[2] * wu[2]);
+  const double *w = lu > 0.0 ? wu : wv;
+  double lw = sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+  for (int a = 0; a < 3; a++) e1[a] = lw > 0.0 ? w[a] / lw : (a == 0);
+  /* e2: wv without its e1 part, else the axis least aligned with e1, orthogonalised */
+  double p = wv[0] * e1[0] + wv[1] * e1[1] + wv[2] * e1[2], l2 = 0.0;
+  for (int a = 0; a < 3; a++) {
+    e2[a] = wv[a] - p * e1[a];
+    l2 += e2[a] * e2[a];
+  }
+  if (!(l2 > 1e-24 * (wv[0] * wv[0] + wv[1] * wv[1] + wv[2] * wv[2]))) {
+    int ax = fabs(e1[0]) <= fabs(e1[1]) ? (fabs(e1[0]) <= fabs(e1[2]) ? 0 : 2)
+                                        : (fabs(e1[1]) <= fabs(e1[2]) ? 1 : 2);
+    l2 = 0.0;
+    for (int a = 0; a < 3; a++) {
+      e2[a] = (a == ax) - e1[ax] * e1[a];
+      l2 += e2[a] * e2[a];
+    }
+  }
+  for (int a = 0; a < 3; a++) e2[a] /= sqrt(l2);
+  for (int a = 0; a < 3; a++) {
+    E[a * 3] = e1[a];
+    E[a * 3 + 1] = e2[a];
+  }
+  E[2] = e1[1] * e2[2] - e1[2] * e2[1];
+  E[5] = e1[2] * e2[0] - e1[0] * e2[2];
+  E[8] = e1[0] * e2[1] - e1[1] * e2[0];
+}
+
+/* P <- blockdiag(E, E)^T P blockdiag(E, E) (fwd) or blockdiag(E, E) P blockdiag(E, E)^T. */
+static void frame_congruence(double *P, const double *E, int fwd) {
+  double Q[36];
+  for (int X = 0; X < 2; X++)
+    for (int Y = 0; Y < 2; Y++)
+      for (int k = 0; k < 3; k++)
+        for (int l = 0; l < 3; l++) {
+          double s = 0.0;
+          for (int a = 0; a < 3; a++)
+            for (int b = 0; b < 3; b++)
+              s += (fwd ? E[a * 3 + k] * E[b * 3 + l] : E[k * 3 + a] * E[l * 3 + b]) *
+                   P[(3 * X + a) * 6 + 3 * Y + b];
+          Q[(3 * X + k) * 6 + 3 * Y + l] = s;
+        }
+  memcpy(P, Q, sizeof Q);
+}
+
+int sw_membrane_project(double *P, const double *wu, const double *wv, int d) {
+  /* A density of C = F^T F only is unchanged by the reflection through the plane of wu, wv,
+   * so P commutes with it: in a frame [e1 e2 n] of that plane P is block diagonal, the 4 x 4
+   * in-plane block (rows e1, e2 of wu and wv) and the 2 x 2 block on [a n; b n], and the
+   * nearest PSD matrix of P is made of those of the blocks. */
+  if (d == 2) return sw_psd_project(P, 4);
+  double E[9], A[16], B[4];
+  const int in[4] = {0, 1, 3, 4}, out[2] = {2, 5};
+  plane_frame(wu, wv, E);
+  frame_congruence(P, E, 1);
+  for (int i = 0; i < 4; i++)
+    for (int j = 0; j < 4; j++) A[i * 4 + j] = P[in[i] * 6 + in[j]];
+  for (int i = 0; i < 2; i++)
+    for (int j = 0; j < 2; j++) B[i * 2 + j] = P[out[i] * 6 + out[j]];
+  if (sw_psd_project(A, 4) || sw_psd_project(B, 2)) return -1;
+  memset(P, 0, 36 * sizeof(double));
+  for (int i = 0; i < 4; i++)
+    for (int j = 0; j < 4; j++) P[in[i] * 6 + in[j]] = A[i * 4 + j];
+  for (int i = 0; i < 2; i++)
+    for (int j = 0; j < 2; j++) P[out[i] * 6 + out[j]] = B[i * 2 + j];
+  frame_congruence(P, E, 0);
+  return 0;
 }

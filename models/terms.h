@@ -12,8 +12,42 @@
 int sw_term_alloc_stencils(sw_term *t, int nstencil, int per, int dim);
 void sw_term_free(sw_term *t);
 
-/* models/bw98.c: Baraff-Witkin stretch and shear on every face (seed 002, DESIGN.md). */
+/* Membranes (models/term.c): a term with one 3-vertex stencil per face whose material uses the
+ * model, energy sum_f a_f psi(wu, wv).  `density` returns psi (J/m^2 = N/m) of the material
+ * constants `law` and fills gu = dpsi/dwu, gv = dpsi/dwv (d each, N/m) and, when P is not NULL,
+ * P = d2psi/d(wu,wv)^2 (2d x 2d row-major, N/m), made PSD when `project`; NaN on failure. */
+typedef double (*sw_membrane_density)(const void *law, const double *wu, const double *wv,
+                                      int d, int project, double *gu, double *gv, double *P);
+typedef struct sw_membrane {
+  sw_membrane_density density;
+  int *face;                   /* (nstencil) the face of each stencil */
+  double *cu, *cv;             /* (nstencil x 3) corner coefficients of wu and wv, 1/m */
+  void *law;                   /* (nmat) constants of each material, lawsz bytes each; the
+                                  builder fills those of the materials that use the model */
+  size_t lawsz;
+} sw_membrane;
+
+/* Make t the membrane ops->kind on the faces whose material has membrane == model: stencils,
+ * coefficients, zeroed laws.  t->param is the result (free it with sw_term_free); NULL and err
+ * when out of memory. */
+sw_membrane *sw_membrane_new(sw_term *t, const sw_model *m, const sw_term_ops *ops, int model,
+                             size_t lawsz, sw_membrane_density density, char *err, size_t errsz);
+int sw_membrane_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, double *energy);
+void sw_membrane_free(void *param);
+/* Replace the symmetric n x n matrix A (row-major, n <= 6) by its nearest positive
+ * semi-definite matrix (Jacobi eigen-decomposition; unchanged when already PSD).  0, or -1 when
+ * n is out of range or A is not finite. */
+int sw_psd_project(double *A, int n);
+/* The nearest PSD matrix of the P (2d x 2d) of a density that depends on F only through C =
+ * F^T F (stvk, corotated), from those of its in-plane and out-of-plane blocks.  0 or -1. */
+int sw_membrane_project(double *P, const double *wu, const double *wv, int d);
+
+/* models/bw98.c: Baraff-Witkin stretch and shear (seed 002, DESIGN.md). */
 int sw_bw98_build(sw_term *t, const sw_model *m, char *err, size_t errsz);
+/* models/stvk.c: orthotropic Saint Venant-Kirchhoff on the Green strain (seed 001). */
+int sw_stvk_build(sw_term *t, const sw_model *m, char *err, size_t errsz);
+/* models/corotated.c: k/2 |U - I|^2, U = sqrt(F^T F) (seed 001). */
+int sw_corotated_build(sw_term *t, const sw_model *m, char *err, size_t errsz);
 /* models/gravity.c: E = -sum_i m_i g.x_i (no Hessian, no stencils). */
 int sw_gravity_build(sw_term *t, const sw_model *m, char *err, size_t errsz);
 

@@ -168,6 +168,8 @@ static int add_term(sw_model *m, term_builder build, char *err, size_t errsz) {
 static int build_terms(sw_model *m, char *err, size_t errsz) {
   static const struct { int model; term_builder build; } membranes[] = {
       {SW_MEMBRANE_BW98, sw_bw98_build},
+      {SW_MEMBRANE_STVK, sw_stvk_build},
+      {SW_MEMBRANE_COROTATED, sw_corotated_build},
   };
   static const struct { int model; term_builder build; } bendings[] = {
       {SW_BENDING_NONE, NULL},

@@ -9,8 +9,7 @@ double th_rand(unsigned long *s) {
   return (double)(*s >> 11) / (double)(1UL << 52) - 1.0;
 }
 
-sw_model *th_grid_model(int dim, int nx, int ny, double sx, double sy, double rho, double kuv,
-                        double kshear, const double *g, int pin_top) {
+sw_model *th_grid_mesh(int dim, int nx, int ny, double sx, double sy) {
   sw_mesh mesh;
   char err[SW_ERRSZ];
   double size[2] = {sx, sy};
@@ -33,6 +32,14 @@ sw_model *th_grid_model(int dim, int nx, int ny, double sx, double sy, double rh
       m->uv[6 * f + 2 * c + 1] = mesh.uv[2 * mesh.fuv[3 * f + c] + 1];
     }
   sw_mesh_free(&mesh);
+  return m;
+}
+
+sw_model *th_grid_model(int dim, int nx, int ny, double sx, double sy, double rho, double kuv,
+                        double kshear, const double *g, int pin_top) {
+  char err[SW_ERRSZ];
+  sw_model *m = th_grid_mesh(dim, nx, ny, sx, sy);
+  if (!m) return NULL;
   m->mat[0].density = rho;
   if (kuv > 0) {
     m->mat[0].membrane = SW_MEMBRANE_BW98;

@@ -6,6 +6,9 @@
 
 /* A deterministic uniform random number in [-1, 1). */
 double th_rand(unsigned long *state);
+/* The mesh of th_grid_model in a model not yet finished (no material, nothing pinned): set
+ * m->mat[0] and call sw_model_finish.  Vertex (i, j) = j*nx + i sits at its (u,v). */
+sw_model *th_grid_mesh(int dim, int nx, int ny, double sx, double sy);
 /* A model on an nx x ny grid of size sx x sy (m) in the plane xy, in dimension dim: bw98 with
  * k_u = kuv, k_v = 0.7 kuv, k_shear (N/m) when kuv > 0; gravity g (m/s^2, dim components) when
  * g is not NULL; density rho (kg/m^2); the top row (y = sy) pinned when pin_top. */
@@ -21,5 +24,7 @@ void th_dense_hessian(const sw_model *m, int k, const double *blocks, double *H)
 enum { TH_INTERNAL = 1, TH_REST_FREE = 2, TH_NO_PROJECTION = 4 };
 void th_conformance(const sw_model *m, const char *name, int flags, double size,
                     unsigned long seed);
+/* Gradient and Hessian of term `name` against central differences (step 1e-6 size) at x. */
+void th_check_derivatives(const sw_model *m, const char *name, const double *x, double size);
 
 #endif
