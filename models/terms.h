@@ -17,6 +17,42 @@ int sw_bw98_build(sw_term *t, const sw_model *m, char *err, size_t errsz);
 /* models/gravity.c: E = -sum_i m_i g.x_i (no Hessian, no stencils). */
 int sw_gravity_build(sw_term *t, const sw_model *m, char *err, size_t errsz);
 
+/* models/springs.c: mass-spring network, E = sum k/2 (|x_i - x_j| - L)^2 over stretch springs
+ * (edges), shear springs (both diagonals of each quad) and bend springs (far vertices across
+ * interior edges), docs/models.md "springs". */
+int sw_springs_build(sw_term *t, const sw_model *m, char *err, size_t errsz);
+enum { SW_SPRING_STRETCH = 0, SW_SPRING_SHEAR = 1, SW_SPRING_BEND = 2 };
+/* How many springs of each kind (SW_SPRING_*) a springs term holds. */
+void sw_springs_counts(const sw_term *t, int count[3]);
+/* models/dihedral.c: discrete-shells bending (Grinspun et al. 2003), 3D only. */
+int sw_dihedral_build(sw_term *t, const sw_model *m, char *err, size_t errsz);
+/* models/quadratic_bending.c: isometric bending (Bergou et al. 2006), constant Hessian. */
+int sw_quadratic_bending_build(sw_term *t, const sw_model *m, char *err, size_t errsz);
+
+/* models/topology.c: the edges of the mesh, for the edge-based terms (built at set-up). */
+typedef struct sw_topology {
+  int ne;          /* unique edges */
+  int *ev;         /* (ne x 2) the vertex pair of each edge, ev[0] < ev[1] */
+  int *ef;         /* (ne x 2) the faces on each side; ef[1] = -1 on a boundary edge (and on a
+                      non-manifold one: only its lowest-numbered face is kept) */
+  int *efar;       /* (ne x 2) each face's vertex opposite the edge, -1 where ef is -1 */
+  int nonmanifold; /* edges with more than two faces */
+} sw_topology;
+int sw_topology_build(sw_topology *tp, const sw_model *m, char *err, size_t errsz);
+void sw_topology_free(sw_topology *tp);
+/* Distance between vertices va and vb in face f's own (u,v) layout, m. */
+double sw_face_uv_distance(const sw_model *m, int f, int va, int vb);
+/* Rest distance of the far vertices of interior edge e: the two faces unfolded flat about the
+ * edge, each in its own (u,v) layout (so it is defined across a seam), m. */
+double sw_edge_far_distance(const sw_model *m, const sw_topology *tp, int e);
+/* Whether interior edge e bends with `model` (SW_BENDING_*), its stiffness k_b (N m) and
+ * whether its rest angle is flat.  The rule: the edge's model is its faces' one when they
+ * agree, the other face's when one face has none, dihedral when they name different models;
+ * k_b is the mean of the two faces' k_bend (a face without bending counts 0); the rest is
+ * flat only when every bending face of the edge asks for a flat rest. */
+int sw_bend_edge(const sw_model *m, const sw_topology *tp, int e, int model, double *kb,
+                 int *rest_flat);
+
 /* models/tension_xy.c: the reference stretch rlu, rlv of every face (seed 000). */
 void sw_tension_xy_reference(const sw_model *m, sw_data *d);
 

@@ -168,9 +168,11 @@ static int add_term(sw_model *m, term_builder build, char *err, size_t errsz) {
 static int build_terms(sw_model *m, char *err, size_t errsz) {
   static const struct { int model; term_builder build; } membranes[] = {
       {SW_MEMBRANE_BW98, sw_bw98_build},
+      {SW_MEMBRANE_SPRINGS, sw_springs_build},
   };
   static const struct { int model; term_builder build; } bendings[] = {
-      {SW_BENDING_NONE, NULL},
+      {SW_BENDING_DIHEDRAL, sw_dihedral_build},
+      {SW_BENDING_QUADRATIC, sw_quadratic_bending_build},
   };
   m->term = sw_calloc(SW_MAX_TERMS, sizeof *m->term);
   if (!m->term) return sw_errf(err, errsz, "out of memory"), -1;
