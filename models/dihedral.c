@@ -219,7 +219,7 @@ static double edge_eval(const sw_term *t, int s, const sw_eval *ev) {
     theta_hessian(&h, Ht);
     for (int r = 0; r < 12; r++)
       for (int c = 0; c < 12; c++) Ht[r * 12 + c] = 2.0 * w * (g[r] * g[c] + dth * Ht[r * 12 + c]);
-    if (ev->project) project_psd(Ht);
+    if (ev->project && dth != 0.0) project_psd(Ht); /* dth = 0: 2w g g^T, PSD */
     double *blk = ev->hess + t->hptr[s];
     for (int k = 0; k < 144; k++) blk[k] += Ht[k];
   }
