@@ -238,29 +238,6 @@ static int dihedral_eval(const sw_term *t, const sw_model *m, const sw_eval *ev,
 static const sw_term_ops dihedral_ops = {
     .kind = "dihedral", .eval = dihedral_eval, .free_param = dihedral_free};
 
-/* Count (dp->w == NULL) or fill the hinges. */
-static int make_hinges(sw_term *t, dihedral_param *dp, const sw_model *m, const sw_topology *tp) {
-  int n = 0;
-  for (int e = 0; e < tp->ne; e++) {
-    double kb;
-    int flat;
-    if (!sw_bend_edge(m, tp, e, SW_BENDING_DIHEDRAL, &kb, &flat)) continue;
-    if (dp->w) {
-      const int *f = tp->ef + 2 * e, v[4] = {tp->ev[2 * e], tp->ev[2 * e + 1], tp->efar[2 * e],
-                                             tp->efar[2 * e + 1]};
-      double L = 0.5 * (sw_face_uv_distance(m, f[0], v[0], v[1]) +
-                        sw_face_uv_distance(m, f[1], v[0], v[1])); /* m */
-      memcpy(t->sidx + 4 * n, v, sizeof v);
-      dp->w[n] = kb * L * L / (2.0 * (m->area[f[0]] + m->area[f[1]]));
-      hinge h;
-      gather(t, n, m->x0, &h);
-      dp->rest[n] = flat ? 0.0 : h.theta;
-    }
-    n++;
-  }
-  return n;
-}
-
 int sw_dihedral_build(sw_term *t, const sw_model *m, char *err, size_t errsz) {
   dihedral_param *dp = sw_calloc(1, sizeof *dp);
   t->ops = &dihedral_ops;
@@ -270,16 +247,20 @@ int sw_dihedral_build(sw_term *t, const sw_model *m, char *err, size_t errsz) {
   if (m->dim != 3)
     return sw_errf(err, errsz, "dihedral bending needs dimension 3: a %dD scene has no "
                    "out-of-plane bending (use bending model quadratic, or none)", m->dim), -1;
-  sw_topology tp;
-  if (sw_topology_build(&tp, m, err, errsz)) return -1;
-  int rc = 0;
-  dp->n = make_hinges(t, dp, m, &tp);
+  sw_bend *be = sw_bend_edges(m, SW_BENDING_DIHEDRAL, &dp->n, err, errsz);
+  if (!be) return -1;
   dp->w = sw_calloc((size_t)dp->n, sizeof(double));
   dp->rest = sw_calloc((size_t)dp->n, sizeof(double));
-  if (!dp->w || !dp->rest || sw_term_alloc_stencils(t, dp->n, 4, 3))
-    rc = -1, sw_errf(err, errsz, "out of memory for %d bending edges", dp->n);
-  else
-    make_hinges(t, dp, m, &tp);
-  sw_topology_free(&tp);
-  return rc;
+  int rc = !dp->w || !dp->rest || sw_term_alloc_stencils(t, dp->n, 4, 3);
+  if (rc) sw_errf(err, errsz, "out of memory for %d bending edges", dp->n);
+  for (int s = 0; !rc && s < dp->n; s++) {
+    memcpy(t->sidx + 4 * s, be[s].v, sizeof be[s].v);
+    dp->w[s] = be[s].kb * be[s].len * be[s].len /
+               (2.0 * (m->area[be[s].f[0]] + m->area[be[s].f[1]])); /* J/rad^2 */
+    hinge h;
+    gather(t, s, m->x0, &h);
+    dp->rest[s] = be[s].rest_flat ? 0.0 : h.theta;
+  }
+  sw_free(be);
+  return rc ? -1 : 0;
 }

@@ -79,29 +79,15 @@ static int quadratic_eval(const sw_term *t, const sw_model *m, const sw_eval *ev
 static const sw_term_ops quadratic_ops = {
     .kind = "quadratic", .eval = quadratic_eval, .free_param = quadratic_free};
 
-/* Count (qp->K == NULL) or fill the edges. */
-static int make_edges(sw_term *t, quadratic_param *qp, const sw_model *m, const sw_topology *tp) {
-  int n = 0;
-  for (int e = 0; e < tp->ne; e++) {
-    double kb;
-    int flat;
-    if (!sw_bend_edge(m, tp, e, SW_BENDING_QUADRATIC, &kb, &flat)) continue;
-    if (qp->K) {
-      const int *f = tp->ef + 2 * e, v[4] = {tp->ev[2 * e], tp->ev[2 * e + 1], tp->efar[2 * e],
-                                             tp->efar[2 * e + 1]};
-      double c01 = rest_cot(m, f[0], v[0], v[1], v[2]), c03 = rest_cot(m, f[0], v[1], v[0], v[2]);
-      double c02 = rest_cot(m, f[1], v[0], v[1], v[3]), c04 = rest_cot(m, f[1], v[1], v[0], v[3]);
-      double *K = qp->K + 4 * n;
-      K[0] = c03 + c04;
-      K[1] = c01 + c02;
-      K[2] = -c01 - c03;
-      K[3] = -c02 - c04;
-      qp->w[n] = kb / (m->area[f[0]] + m->area[f[1]]);
-      memcpy(t->sidx + 4 * n, v, sizeof v);
-    }
-    n++;
-  }
-  return n;
+/* Bergou's K_e from the rest angles of the two faces (own (u,v) layouts). */
+static void cot_weights(const sw_model *m, const sw_bend *b, double *K) {
+  const int *v = b->v, *f = b->f;
+  double c01 = rest_cot(m, f[0], v[0], v[1], v[2]), c03 = rest_cot(m, f[0], v[1], v[0], v[2]);
+  double c02 = rest_cot(m, f[1], v[0], v[1], v[3]), c04 = rest_cot(m, f[1], v[1], v[0], v[3]);
+  K[0] = c03 + c04;
+  K[1] = c01 + c02;
+  K[2] = -c01 - c03;
+  K[3] = -c02 - c04;
 }
 
 int sw_quadratic_bending_build(sw_term *t, const sw_model *m, char *err, size_t errsz) {
@@ -110,16 +96,17 @@ int sw_quadratic_bending_build(sw_term *t, const sw_model *m, char *err, size_t 
   t->param = qp;
   snprintf(t->name, sizeof t->name, "%s", "quadratic");
   if (!qp) return sw_errf(err, errsz, "out of memory"), -1;
-  sw_topology tp;
-  if (sw_topology_build(&tp, m, err, errsz)) return -1;
-  int rc = 0;
-  qp->n = make_edges(t, qp, m, &tp);
+  sw_bend *be = sw_bend_edges(m, SW_BENDING_QUADRATIC, &qp->n, err, errsz);
+  if (!be) return -1;
   qp->K = sw_calloc((size_t)qp->n, 4 * sizeof(double));
   qp->w = sw_calloc((size_t)qp->n, sizeof(double));
-  if (!qp->K || !qp->w || sw_term_alloc_stencils(t, qp->n, 4, m->dim))
-    rc = -1, sw_errf(err, errsz, "out of memory for %d bending edges", qp->n);
-  else
-    make_edges(t, qp, m, &tp);
-  sw_topology_free(&tp);
-  return rc;
+  int rc = !qp->K || !qp->w || sw_term_alloc_stencils(t, qp->n, 4, m->dim);
+  if (rc) sw_errf(err, errsz, "out of memory for %d bending edges", qp->n);
+  for (int s = 0; !rc && s < qp->n; s++) {
+    memcpy(t->sidx + 4 * s, be[s].v, sizeof be[s].v);
+    cot_weights(m, &be[s], qp->K + 4 * s);
+    qp->w[s] = be[s].kb / (m->area[be[s].f[0]] + m->area[be[s].f[1]]); /* N/m */
+  }
+  sw_free(be);
+  return rc ? -1 : 0;
 }

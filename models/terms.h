@@ -45,13 +45,20 @@ double sw_face_uv_distance(const sw_model *m, int f, int va, int vb);
 /* Rest distance of the far vertices of interior edge e: the two faces unfolded flat about the
  * edge, each in its own (u,v) layout (so it is defined across a seam), m. */
 double sw_edge_far_distance(const sw_model *m, const sw_topology *tp, int e);
-/* Whether interior edge e bends with `model` (SW_BENDING_*), its stiffness k_b (N m) and
- * whether its rest angle is flat.  The rule: the edge's model is its faces' one when they
+/* One interior edge of a bending term: x0 = v[0], x1 = v[1] on the edge, x2 = v[2] the far
+ * vertex of face f[0], x3 = v[3] that of face f[1]. */
+typedef struct sw_bend {
+  int v[4], f[2];
+  double len;      /* rest edge length: mean of its length in the two faces' (u,v), m */
+  double kb;       /* bending stiffness, N m */
+  int rest_flat;   /* 1: rest angle 0; 0: the angle in x0 */
+} sw_bend;
+/* The interior edges that bend with `model` (SW_BENDING_*), in a new array of *n (sw_free it;
+ * NULL with err when out of memory).  The rule: an edge's model is its faces' one when they
  * agree, the other face's when one face has none, dihedral when they name different models;
- * k_b is the mean of the two faces' k_bend (a face without bending counts 0); the rest is
- * flat only when every bending face of the edge asks for a flat rest. */
-int sw_bend_edge(const sw_model *m, const sw_topology *tp, int e, int model, double *kb,
-                 int *rest_flat);
+ * k_b is the mean of the two faces' k_bend (a face without bending counts 0); the rest is flat
+ * only when every bending face of the edge asks for a flat rest. */
+sw_bend *sw_bend_edges(const sw_model *m, int model, int *n, char *err, size_t errsz);
 
 /* models/tension_xy.c: the reference stretch rlu, rlv of every face (seed 000). */
 void sw_tension_xy_reference(const sw_model *m, sw_data *d);

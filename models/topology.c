@@ -106,8 +106,9 @@ double sw_edge_far_distance(const sw_model *m, const sw_topology *tp, int e) {
   return hypot(s1 - s0, h0 + h1);
 }
 
-int sw_bend_edge(const sw_model *m, const sw_topology *tp, int e, int model, double *kb,
-                 int *rest_flat) {
+/* Whether interior edge e bends with `model`; its k_b and rest rule (terms.h, sw_bend_edges). */
+static int bend_edge(const sw_model *m, const sw_topology *tp, int e, int model, double *kb,
+                     int *rest_flat) {
   int f[2] = {tp->ef[2 * e], tp->ef[2 * e + 1]};
   if (f[1] < 0) return 0;
   const sw_material *ma = &m->mat[m->face_mat[f[0]]], *mb = &m->mat[m->face_mat[f[1]]];
@@ -122,4 +123,30 @@ int sw_bend_edge(const sw_model *m, const sw_topology *tp, int e, int model, dou
   *rest_flat = (ma->bending == SW_BENDING_NONE || ma->bend_rest == SW_BEND_REST_FLAT) &&
                (mb->bending == SW_BENDING_NONE || mb->bend_rest == SW_BEND_REST_FLAT);
   return 1;
+}
+
+/* Count (out == NULL) or fill the bending edges of `model`. */
+static int list_bend_edges(const sw_model *m, const sw_topology *tp, int model, sw_bend *out) {
+  int n = 0;
+  for (int e = 0; e < tp->ne; e++) {
+    sw_bend b = {.v = {tp->ev[2 * e], tp->ev[2 * e + 1], tp->efar[2 * e], tp->efar[2 * e + 1]},
+                 .f = {tp->ef[2 * e], tp->ef[2 * e + 1]}};
+    if (!bend_edge(m, tp, e, model, &b.kb, &b.rest_flat)) continue;
+    b.len = 0.5 * (sw_face_uv_distance(m, b.f[0], b.v[0], b.v[1]) +
+                   sw_face_uv_distance(m, b.f[1], b.v[0], b.v[1]));
+    if (out) out[n] = b;
+    n++;
+  }
+  return n;
+}
+
+sw_bend *sw_bend_edges(const sw_model *m, int model, int *n, char *err, size_t errsz) {
+  sw_topology tp;
+  if (sw_topology_build(&tp, m, err, errsz)) return NULL;
+  *n = list_bend_edges(m, &tp, model, NULL);
+  sw_bend *b = sw_calloc((size_t)*n, sizeof *b);
+  if (b) list_bend_edges(m, &tp, model, b);
+  else sw_errf(err, errsz, "out of memory for %d bending edges", *n);
+  sw_topology_free(&tp);
+  return b;
 }
