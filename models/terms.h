@@ -51,6 +51,49 @@ int sw_corotated_build(sw_term *t, const sw_model *m, char *err, size_t errsz);
 /* models/gravity.c: E = -sum_i m_i g.x_i (no Hessian, no stencils). */
 int sw_gravity_build(sw_term *t, const sw_model *m, char *err, size_t errsz);
 
+/* models/springs.c: mass-spring network, E = sum k/2 (|x_i - x_j| - L)^2 over stretch springs
+ * (edges), shear springs (both diagonals of each quad) and bend springs (far vertices across
+ * interior edges), docs/models.md "springs". */
+int sw_springs_build(sw_term *t, const sw_model *m, char *err, size_t errsz);
+enum { SW_SPRING_STRETCH = 0, SW_SPRING_SHEAR = 1, SW_SPRING_BEND = 2 };
+/* How many springs of each kind (SW_SPRING_*) a springs term holds. */
+void sw_springs_counts(const sw_term *t, int count[3]);
+/* models/dihedral.c: discrete-shells bending (Grinspun et al. 2003), 3D only. */
+int sw_dihedral_build(sw_term *t, const sw_model *m, char *err, size_t errsz);
+/* models/quadratic_bending.c: isometric bending (Bergou et al. 2006), constant Hessian. */
+int sw_quadratic_bending_build(sw_term *t, const sw_model *m, char *err, size_t errsz);
+
+/* models/topology.c: the edges of the mesh, for the edge-based terms (built at set-up). */
+typedef struct sw_topology {
+  int ne;          /* unique edges */
+  int *ev;         /* (ne x 2) the vertex pair of each edge, ev[0] < ev[1] */
+  int *ef;         /* (ne x 2) the faces on each side; ef[1] = -1 on a boundary edge (and on a
+                      non-manifold one: only its lowest-numbered face is kept) */
+  int *efar;       /* (ne x 2) each face's vertex opposite the edge, -1 where ef is -1 */
+  int nonmanifold; /* edges with more than two faces */
+} sw_topology;
+int sw_topology_build(sw_topology *tp, const sw_model *m, char *err, size_t errsz);
+void sw_topology_free(sw_topology *tp);
+/* Distance between vertices va and vb in face f's own (u,v) layout, m. */
+double sw_face_uv_distance(const sw_model *m, int f, int va, int vb);
+/* Rest distance of the far vertices of interior edge e: the two faces unfolded flat about the
+ * edge, each in its own (u,v) layout (so it is defined across a seam), m. */
+double sw_edge_far_distance(const sw_model *m, const sw_topology *tp, int e);
+/* One interior edge of a bending term: x0 = v[0], x1 = v[1] on the edge, x2 = v[2] the far
+ * vertex of face f[0], x3 = v[3] that of face f[1]. */
+typedef struct sw_bend {
+  int v[4], f[2];
+  double len;      /* rest edge length: mean of its length in the two faces' (u,v), m */
+  double kb;       /* bending stiffness, N m */
+  int rest_flat;   /* 1: rest angle 0; 0: the angle in x0 */
+} sw_bend;
+/* The interior edges that bend with `model` (SW_BENDING_*), in a new array of *n (sw_free it;
+ * NULL with err when out of memory).  The rule: an edge's model is its faces' one when they
+ * agree, the other face's when one face has none, dihedral when they name different models;
+ * k_b is the mean of the two faces' k_bend (a face without bending counts 0); the rest is flat
+ * only when every bending face of the edge asks for a flat rest. */
+sw_bend *sw_bend_edges(const sw_model *m, int model, int *n, char *err, size_t errsz);
+
 /* models/tension_xy.c: the reference stretch rlu, rlv of every face (seed 000). */
 void sw_tension_xy_reference(const sw_model *m, sw_data *d);
 

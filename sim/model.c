@@ -170,9 +170,11 @@ static int build_terms(sw_model *m, char *err, size_t errsz) {
       {SW_MEMBRANE_BW98, sw_bw98_build},
       {SW_MEMBRANE_STVK, sw_stvk_build},
       {SW_MEMBRANE_COROTATED, sw_corotated_build},
+      {SW_MEMBRANE_SPRINGS, sw_springs_build},
   };
   static const struct { int model; term_builder build; } bendings[] = {
-      {SW_BENDING_NONE, NULL},
+      {SW_BENDING_DIHEDRAL, sw_dihedral_build},
+      {SW_BENDING_QUADRATIC, sw_quadratic_bending_build},
   };
   m->term = sw_calloc(SW_MAX_TERMS, sizeof *m->term);
   if (!m->term) return sw_errf(err, errsz, "out of memory"), -1;

@@ -174,7 +174,7 @@ static void deform(probe *p, double amp, double scale, unsigned long *rs) {
   for (int i = 0; i < p->n; i++) p->x[i] = p->m->x0[i] * scale + amp * th_rand(rs);
 }
 
-static probe probe_of(const sw_model *m, const char *name, int flags) {
+static probe make_probe(const sw_model *m, const char *name, int flags) {
   probe p = {.m = m, .n = m->nv * m->dim, .k = -1, .rest_free = !!(flags & TH_REST_FREE)};
   for (int k = 0; k < m->nterm; k++)
     if (!strcmp(m->term[k].name, name)) p.k = k;
@@ -184,17 +184,19 @@ static probe probe_of(const sw_model *m, const char *name, int flags) {
   return p;
 }
 
-void th_check_derivatives(const sw_model *m, const char *name, const double *x, double size) {
-  probe p = probe_of(m, name, 0);
+void th_conformance_at(const sw_model *m, const char *name, int flags, double size,
+                       const double *x) {
+  probe p = make_probe(m, name, flags);
   memcpy(p.x, x, sizeof(double) * (size_t)p.n);
   check_gradient(&p, 1e-6 * size);
   check_hessian(&p, 1e-6 * size);
+  if (!(flags & TH_NO_PROJECTION)) check_projection(&p);
   free(p.x);
 }
 
 void th_conformance(const sw_model *m, const char *name, int flags, double size,
                     unsigned long seed) {
-  probe p = probe_of(m, name, flags);
+  probe p = make_probe(m, name, flags);
   unsigned long rs = seed;
   /* amplitude of the random displacement (relative to size) and scale of x0 */
   const double states[][2] = {{0.1, 1.0}, {0.17, 1.3}, {0.07, 0.3}, {0.007, 0.05}};

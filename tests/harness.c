@@ -9,7 +9,7 @@ double th_rand(unsigned long *s) {
   return (double)(*s >> 11) / (double)(1UL << 52) - 1.0;
 }
 
-sw_model *th_grid_mesh(int dim, int nx, int ny, double sx, double sy) {
+sw_model *th_grid_unfinished(int dim, int nx, int ny, double sx, double sy) {
   sw_mesh mesh;
   char err[SW_ERRSZ];
   double size[2] = {sx, sy};
@@ -31,14 +31,32 @@ sw_model *th_grid_mesh(int dim, int nx, int ny, double sx, double sy) {
       m->uv[6 * f + 2 * c] = mesh.uv[2 * mesh.fuv[3 * f + c]];
       m->uv[6 * f + 2 * c + 1] = mesh.uv[2 * mesh.fuv[3 * f + c] + 1];
     }
+  m->face_poly = calloc((size_t)m->nf, sizeof(int));
+  memcpy(m->face_poly, mesh.fpoly, (size_t)m->nf * sizeof(int));
   sw_mesh_free(&mesh);
   return m;
 }
 
+sw_model *th_finish(sw_model *m) {
+  char err[SW_ERRSZ];
+  if (sw_model_finish(m, err, sizeof err)) {
+    sw_model_free(m);
+    return NULL;
+  }
+  return m;
+}
+
+sw_model *th_grid_model_mat(int dim, int nx, int ny, double sx, double sy,
+                            const sw_material *mat) {
+  sw_model *m = th_grid_unfinished(dim, nx, ny, sx, sy);
+  if (!m) return NULL;
+  m->mat[0] = *mat;
+  return th_finish(m);
+}
+
 sw_model *th_grid_model(int dim, int nx, int ny, double sx, double sy, double rho, double kuv,
                         double kshear, const double *g, int pin_top) {
-  char err[SW_ERRSZ];
-  sw_model *m = th_grid_mesh(dim, nx, ny, sx, sy);
+  sw_model *m = th_grid_unfinished(dim, nx, ny, sx, sy);
   if (!m) return NULL;
   m->mat[0].density = rho;
   if (kuv > 0) {
@@ -53,11 +71,7 @@ sw_model *th_grid_model(int dim, int nx, int ny, double sx, double sy, double rh
   }
   if (pin_top)
     for (int i = 0; i < nx; i++) m->pinned[(ny - 1) * nx + i] = 1;
-  if (sw_model_finish(m, err, sizeof err)) {
-    sw_model_free(m);
-    return NULL;
-  }
-  return m;
+  return th_finish(m);
 }
 
 void th_dense_hessian(const sw_model *m, int k, const double *blocks, double *H) {

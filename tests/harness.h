@@ -14,6 +14,15 @@ sw_model *th_grid_mesh(int dim, int nx, int ny, double sx, double sy);
  * g is not NULL; density rho (kg/m^2); the top row (y = sy) pinned when pin_top. */
 sw_model *th_grid_model(int dim, int nx, int ny, double sx, double sy, double rho, double kuv,
                         double kshear, const double *g, int pin_top);
+/* The grid of th_grid_model (vertex (i, j) = j*nx + i, two triangles per cell sharing a
+ * face_poly) as an unfinished model with the default material: set what a test needs (mat[0],
+ * x0, uv), then th_finish (sw_model_finish; frees the model and returns NULL on error). */
+sw_model *th_grid_unfinished(int dim, int nx, int ny, double sx, double sy);
+sw_model *th_finish(sw_model *m);
+/* The same grid (with its source quads in face_poly) whose material mat[0] is *mat (set
+ * every field: density, membrane, springs, bending), finished. */
+sw_model *th_grid_model_mat(int dim, int nx, int ny, double sx, double sy,
+                            const sw_material *mat);
 /* The dense (nv*dim)^2 Hessian of term k from its blocks (all DOFs, pinned included). */
 void th_dense_hessian(const sw_model *m, int k, const double *blocks, double *H);
 
@@ -24,7 +33,9 @@ void th_dense_hessian(const sw_model *m, int k, const double *blocks, double *H)
 enum { TH_INTERNAL = 1, TH_REST_FREE = 2, TH_NO_PROJECTION = 4 };
 void th_conformance(const sw_model *m, const char *name, int flags, double size,
                     unsigned long seed);
-/* Gradient and Hessian of term `name` against central differences (step 1e-6 size) at x. */
-void th_check_derivatives(const sw_model *m, const char *name, const double *x, double size);
+/* The same checks (gradient, Hessian, symmetry; projection unless TH_NO_PROJECTION) at one
+ * given state x (nv x dim). */
+void th_conformance_at(const sw_model *m, const char *name, int flags, double size,
+                       const double *x);
 
 #endif
