@@ -9,8 +9,9 @@
  * (K = 500 N/m, rest length its initial length: it resists the cloth stretching along it).  For each storage (dense:
  * tendon_dense_max = nway; lowrank: tendon_dense_max = 1) prints one CSV line:
  *
- *   mode, N, dofs, nway, nnz (upper triangle of S), nnz_L (CHOLMOD's lnz), analyze_s,
- *   factor_s (median of 7 refactorisations, Woodbury set-up included), solve_s (median of 7),
+ *   mode, N, dofs, nway, nnz (upper triangle of S), nnz_L (CHOLMOD's lnz), flops (of one
+ *   numeric factorisation, CHOLMOD's fl), analyze_s, factor_s (median of 15
+ *   refactorisations, Woodbury set-up included), solve_s (median of 15),
  *   steps, newton, step_s (mean backward-Euler step of dt = 0.01 s), checksum (sum of x)
  *
  * The checksum shows both storages take the same trajectory. */
@@ -22,7 +23,7 @@
 #include "solver.h"
 #include "util.h"
 
-static const char *header = "mode,N,dofs,nway,nnz,nnz_L,analyze_s,factor_s,solve_s,steps,"
+static const char *header = "mode,N,dofs,nway,nnz,nnz_L,flops,analyze_s,factor_s,solve_s,steps,"
                             "newton,step_s,checksum";
 
 static sw_model *cloth_with_tendon(int n, int nway, int dense_max) {
@@ -51,17 +52,19 @@ static int cmp_double(const void *a, const void *b) {
   return (x > y) - (x < y);
 }
 
-static double median7(double *t) {
-  qsort(t, 7, sizeof *t, cmp_double);
-  return t[3];
+#define REPS 15
+
+static double median(double *t) {
+  qsort(t, REPS, sizeof *t, cmp_double);
+  return t[REPS / 2];
 }
 
-/* Factor and solve times of S = M/h^2 + H at x0 (median of 7 each). */
+/* Factor and solve times of S = M/h^2 + H at x0 (median of REPS each). */
 static void time_linear(const sw_model *m, sw_data *d, sw_newton *nw, double *tf, double *ts) {
-  double u, f[7], s[7];
+  double u, f[REPS], s[REPS];
   sw_eval_terms(m, d, m->x0, 0.0, 1, 1, 1, &u);
   for (int k = 0; k < nw->n; k++) nw->g[k] = 1.0;
-  for (int r = 0; r < 7; r++) {
+  for (int r = 0; r < REPS; r++) {
     double t0 = sw_now();
     sw_pattern_fill(&nw->pat, m, d, 1e4, sw_chol_values(&nw->chol));
     sw_pattern_fill_lowrank(&nw->pat, d, sw_chol_lowrank(&nw->chol, 1.0));
@@ -71,8 +74,8 @@ static void time_linear(const sw_model *m, sw_data *d, sw_newton *nw, double *tf
     f[r] = t1 - t0;
     s[r] = sw_now() - t1;
   }
-  *tf = median7(f);
-  *ts = median7(s);
+  *tf = median(f);
+  *ts = median(s);
 }
 
 static void run(const char *mode, int n, int nway, int steps) {
@@ -84,7 +87,7 @@ static void run(const char *mode, int n, int nway, int steps) {
   if (sw_newton_init(&nw, m, err, sizeof err)) fprintf(stderr, "%s\n", err), exit(1);
   double ta = sw_now() - t0, tf, ts;
   time_linear(m, d, &nw, &tf, &ts);
-  double lnz = nw.chol.c.lnz;
+  double lnz = nw.chol.c.lnz, fl = nw.chol.c.fl;
   long nnz = nw.pat.nnz;
   sw_newton_free(&nw);
   const sw_integrator_ops *ops = sw_integrator_find("backward-euler");
@@ -95,8 +98,8 @@ static void run(const char *mode, int n, int nway, int steps) {
     if (ops->step(st, m, d, 0.01)) fprintf(stderr, "step %d: %s\n", k, d->err), exit(1);
   double tstep = (sw_now() - ts0) / steps, sum = 0.0;
   for (int i = 0; i < m->nv * 3; i++) sum += d->x[i];
-  printf("%s,%d,%d,%d,%ld,%.0f,%.4g,%.4g,%.4g,%d,%ld,%.4g,%.15g\n", mode, n, m->ndof, nway, nnz,
-         lnz, ta, tf, ts, steps, d->nnewton, tstep, sum);
+  printf("%s,%d,%d,%d,%ld,%.0f,%.4g,%.4g,%.4g,%.4g,%d,%ld,%.4g,%.15g\n", mode, n, m->ndof, nway,
+         nnz, lnz, fl, ta, tf, ts, steps, d->nnewton, tstep, sum);
   ops->free(st);
   sw_data_free(d);
   sw_model_free(m);

@@ -5,7 +5,7 @@
 set -e
 out=docs/bench/tendon_fill.csv
 ./build/bench/bench_tendon --header > "$out.tmp"
-for w in 2 4 8 16 24 32 64 128 200; do
+for w in 2 8 16 32 48 64 128 200 400; do
   ./build/bench/bench_tendon 60 "$w" 3 >> "$out.tmp"
 done
 mv "$out.tmp" "$out"
