@@ -6,8 +6,9 @@
  * An N x N hanging cloth (1 m square, 3D, density 0.1 kg/m^2, bw98 k_u = k_v = 5000 N/m
  * (test grid: k_v = 0.7 k_u), k_shear = 100 N/m, gravity (0, 0, -9.81), top edge pinned) and
  * one spring tendon of nway waypoints zig-zagging along the rows from the middle row down
- * (K = 500 N/m, rest length its initial length: it resists the cloth stretching along it).  For each storage (dense:
- * tendon_dense_max = nway; lowrank: tendon_dense_max = 1) prints one CSV line:
+ * (K = 500 N/m, rest length its initial length: it resists the cloth stretching along it).
+ * For each storage (dense: tendon_dense_max = nway; lowrank: tendon_dense_max = 1) prints one
+ * CSV line:
  *
  *   mode, N, dofs, nway, nnz (upper triangle of S), nnz_L (CHOLMOD's lnz), flops (of one
  *   numeric factorisation, CHOLMOD's fl), analyze_s, factor_s (median of 15
@@ -108,7 +109,8 @@ static void run(const char *mode, int n, int nway, int steps) {
 int main(int argc, char **argv) {
   int a = 1;
   if (a < argc && !strcmp(argv[a], "--header")) printf("%s\n", header), a++;
-  if (argc - a < 2) return a > 1 ? 0 : (fprintf(stderr, "usage: bench_tendon [--header] N nway [steps]\n"), 2);
+  if (argc - a < 2) /* --header alone: only the header */
+    return a > 1 ? 0 : (fprintf(stderr, "usage: bench_tendon [--header] N nway [steps]\n"), 2);
   int n = atoi(argv[a]), nway = atoi(argv[a + 1]), steps = argc - a > 2 ? atoi(argv[a + 2]) : 3;
   if (n < 2 || nway < 2 || nway > n * (n / 2 + 1) || steps < 1)
     return fprintf(stderr, "bench_tendon: N >= 2, 2 <= nway <= N (N/2 + 1), steps >= 1\n"), 2;
