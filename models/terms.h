@@ -48,6 +48,11 @@ int sw_bw98_build(sw_term *t, const sw_model *m, char *err, size_t errsz);
 int sw_stvk_build(sw_term *t, const sw_model *m, char *err, size_t errsz);
 /* models/corotated.c: k/2 |U - I|^2, U = sqrt(F^T F) (seed 001). */
 int sw_corotated_build(sw_term *t, const sw_model *m, char *err, size_t errsz);
+/* models/tendon.c: every tendon of the model in one term "tendons" (seed 003, DESIGN.md
+ * "Tendons", docs/tendons.md): tendons of at most m->opt.tendon_dense_max waypoints as one
+ * dense stencil each; longer ones as one 2-vertex stencil per segment (E' d2Delta) and one
+ * low-rank vector sqrt(E'') grad(Delta). */
+int sw_tendon_build(sw_term *t, const sw_model *m, char *err, size_t errsz);
 /* models/gravity.c: E = -sum_i m_i g.x_i (no Hessian, no stencils). */
 int sw_gravity_build(sw_term *t, const sw_model *m, char *err, size_t errsz);
 

@@ -102,11 +102,12 @@ int sw_newton_phi(sw_newton *nw, const sw_model *m, sw_data *d, const double *x,
   return SW_OK;
 }
 
-/* Fill S = a M + H (H from the last evaluation) and factorise it. */
+/* Fill S = a M + H (H from the last evaluation: blocks and low-rank vectors) and factorise it. */
 static int fill_factor(sw_newton *nw, const sw_model *m, sw_data *d, double a) {
   double t0 = sw_now();
   double *val = sw_chol_values(&nw->chol);
   sw_pattern_fill(&nw->pat, m, d, a, 1.0, val);
+  sw_pattern_fill_lowrank(&nw->pat, d, sw_chol_lowrank(&nw->chol, 1.0));
   if (nw->cd > 0.0 && nw->dval)
     for (long q = 0; q < nw->pat.nnz; q++) val[q] += nw->cd * nw->dval[q];
   double t1 = sw_now();

@@ -69,7 +69,13 @@ int sw_sunls_force(sw_sunls *sys, const double *y, double t, double *f) {
 
 /* ------------------------------------------------------------------- Hessian */
 
-/* hval <- the Hessian at sys->xlin, sys->tlin; projected or exact. */
+static int all_finite(const double *v, long n) {
+  for (long k = 0; k < n; k++)
+    if (!isfinite(v[k])) return 0;
+  return 1;
+}
+
+/* hval and hlr <- the Hessian at sys->xlin, sys->tlin; projected or exact. */
 static int eval_hessian(sw_sunls *sys, int project) {
   const sw_model *m = sys->m;
   sw_data *d = sys->d;
@@ -77,13 +83,13 @@ static int eval_hessian(sw_sunls *sys, int project) {
   int rc = sw_eval_terms(m, d, sys->xlin, sys->tlin, 0, 1, project, &u);
   if (rc == SW_OK) {
     sw_pattern_fill(&sys->pat, m, d, 0.0, 1.0, sys->hval);
-    for (long k = 0; k < sys->pat.nnz; k++)
-      if (!isfinite(sys->hval[k])) {
-        sw_errf(d->err, sizeof d->err, "the Hessian is not finite (NaN or Inf) at t = %g s",
-                sys->tlin);
-        rc = SW_RECOVER;
-        break;
-      }
+    sw_pattern_fill_lowrank(&sys->pat, d, sys->hlr);
+    if (!all_finite(sys->hval, sys->pat.nnz) ||
+        !all_finite(sys->hlr, sys->pat.lrptr[sys->pat.nlr])) {
+      sw_errf(d->err, sizeof d->err, "the Hessian is not finite (NaN or Inf) at t = %g s",
+              sys->tlin);
+      rc = SW_RECOVER;
+    }
   }
   sys->h_projected = project;
   d->time_assemble += sw_now() - t0;
@@ -106,6 +112,11 @@ void sw_sunls_hmul(const sw_sunls *sys, const double *x, double *y) {
       y[r] += h * x[c];
       if (r != c) y[c] += h * x[r];
     }
+  for (int v = 0; v < p->nlr; v++) { /* + v_r (v_r . x) */
+    double s = 0.0;
+    for (long q = p->lrptr[v]; q < p->lrptr[v + 1]; q++) s += sys->hlr[q] * x[p->lrrow[q]];
+    for (long q = p->lrptr[v]; q < p->lrptr[v + 1]; q++) y[p->lrrow[q]] += sys->hlr[q] * s;
+  }
 }
 
 void sw_sunls_dmul_add(const sw_sunls *sys, const double *r, double *y) {
@@ -126,6 +137,9 @@ static int fill_factor(sw_sunls *sys) {
   double *val = sw_chol_values(&sys->chol);
   double chh = sys->ch + sys->cd * m->damp_stiffness, cmm = sys->cm + sys->cd * m->damp_mass;
   for (long k = 0; k < sys->pat.nnz; k++) val[k] = chh * sys->hval[k];
+  if (sys->pat.nlr) /* the low-rank part of H, scaled like hval */
+    memcpy(sw_chol_lowrank(&sys->chol, chh), sys->hlr,
+           (size_t)sys->pat.lrptr[sys->pat.nlr] * sizeof(double));
   for (int c = 0; c < sys->n; c++) val[sys->pat.diag[c]] += cmm * sys->mdiag[c];
   double t1 = sw_now();
   d->time_assemble += t1 - t0;
@@ -214,6 +228,7 @@ int sw_sunls_init(sw_sunls *sys, const sw_model *m, sw_data *d, sw_sunls_reduce_
   size_t n = (size_t)sys->n, nd = (size_t)m->nv * (size_t)m->dim;
   sys->mdiag = sw_calloc(n, sizeof(double));
   sys->hval = sw_calloc((size_t)sys->pat.nnz, sizeof(double));
+  sys->hlr = sw_calloc((size_t)sys->pat.lrptr[sys->pat.nlr] + 1, sizeof(double));
   sys->xfull = sw_calloc(nd, sizeof(double));
   sys->xlin = sw_calloc(nd, sizeof(double));
   sys->w1 = sw_calloc(n, sizeof(double));
@@ -223,7 +238,7 @@ int sw_sunls_init(sw_sunls *sys, const sw_model *m, sw_data *d, sw_sunls_reduce_
     sys->dvfull = sw_calloc(nd, sizeof(double));
     if (!sys->vfull || !sys->dvfull) sys->w2 = (sw_free(sys->w2), NULL);
   }
-  if (!sys->mdiag || !sys->hval || !sys->xfull || !sys->xlin || !sys->w1 || !sys->w2)
+  if (!sys->mdiag || !sys->hval || !sys->hlr || !sys->xfull || !sys->xlin || !sys->w1 || !sys->w2)
     return sw_errf(err, errsz, "out of memory"), SW_FATAL;
   memcpy(sys->xfull, d->x, nd * sizeof(double));
   memcpy(sys->xlin, d->x, nd * sizeof(double));
@@ -257,6 +272,7 @@ void sw_sunls_free(sw_sunls *sys) {
   sw_pattern_free(&sys->pat, sys->m ? sys->m->nterm : 0);
   sw_free(sys->mdiag);
   sw_free(sys->hval);
+  sw_free(sys->hlr);
   sw_free(sys->xfull);
   sw_free(sys->vfull);
   sw_free(sys->dvfull);
