@@ -66,7 +66,7 @@ double sw_tendon_length(const sw_tendon *td, const double *x, int dim) {
 }
 
 /* grad Delta at waypoint a (seed 003): s^_a - s^_{a-1}, the end points keeping one term. */
-static void grad_delta(const sw_tendon *td, const double *x, int d, int a, double *g) {
+void sw_tendon_grad(const sw_tendon *td, const double *x, int d, int a, double *g) {
   double sh[3];
   for (int c = 0; c < d; c++) g[c] = 0.0;
   if (a + 1 < td->nway) {
@@ -119,9 +119,9 @@ static void dense_block(const sw_tendon *td, const double *x, int d, double e2, 
   const int n = td->nway, ld = n * d;
   for (int i = 0; i < n; i++) {
     double gi[3], gj[3];
-    grad_delta(td, x, d, i, gi);
+    sw_tendon_grad(td, x, d, i, gi);
     for (int j = 0; j < n; j++) {
-      grad_delta(td, x, d, j, gj);
+      sw_tendon_grad(td, x, d, j, gj);
       for (int a = 0; a < d; a++)
         for (int b = 0; b < d; b++) blk[(i * d + a) * ld + j * d + b] += e2 * gi[a] * gj[b];
     }
@@ -138,7 +138,7 @@ static void banded_lowrank(const sw_term *t, const sw_tendon *td, const double *
       add_segment_band(td, x, d, k, cb, hess + t->hptr[s0 + k], 2 * d, 0, 1);
   double r = sqrt(e2);
   for (int a = 0; a < td->nway; a++) {
-    grad_delta(td, x, d, a, u + a * d);
+    sw_tendon_grad(td, x, d, a, u + a * d);
     for (int c = 0; c < d; c++) u[a * d + c] *= r;
   }
 }
@@ -158,7 +158,7 @@ static double eval_one(const sw_term *t, const sw_model *m, const sw_eval *ev, i
   if (ev->grad)
     for (int a = 0; a < td->nway; a++) {
       double g[3];
-      grad_delta(td, ev->x, d, a, g);
+      sw_tendon_grad(td, ev->x, d, a, g);
       for (int c = 0; c < d; c++) ev->grad[(size_t)td->way[a] * d + c] += e1 * g[c];
     }
   if (ev->hess) {

@@ -53,6 +53,8 @@ int sw_corotated_build(sw_term *t, const sw_model *m, char *err, size_t errsz);
  * dense stencil each; longer ones as one 2-vertex stencil per segment (E' d2Delta) and one
  * low-rank vector sqrt(E'') grad(Delta). */
 int sw_tendon_build(sw_term *t, const sw_model *m, char *err, size_t errsz);
+/* grad l (= grad Delta) of a tendon at its waypoint a (0..nway-1), d components (seed 003). */
+void sw_tendon_grad(const sw_tendon *td, const double *x, int d, int a, double *g);
 /* models/gravity.c: E = -sum_i m_i g.x_i (no Hessian, no stencils). */
 int sw_gravity_build(sw_term *t, const sw_model *m, char *err, size_t errsz);
 

@@ -56,6 +56,7 @@ int sw_newton_damping(sw_newton *nw, const sw_model *m, sw_data *d, const double
     for (int i = 0; i < m->nv * m->dim; i++)
       if (m->dof[i] >= 0) nw->dval[nw->pat.diag[m->dof[i]]] = m->damp_mass * m->mass[i / m->dim];
   }
+  sw_damping_tendons_fill(&nw->pat, m, x, nw->dval);
   d->time_assemble += sw_now() - t0;
   return SW_OK;
 }

@@ -199,6 +199,8 @@ void sw_pattern_fill(const sw_pattern *p, const sw_model *m, const sw_data *d, d
     }
 }
 
+long sw_pattern_slot(const sw_pattern *p, int r, int c) { return find_slot(p, r, c); }
+
 void sw_pattern_symv(const sw_pattern *p, const double *values, const double *x, double *y) {
   memset(y, 0, (size_t)p->n * sizeof(double));
   for (int c = 0; c < p->n; c++)

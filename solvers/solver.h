@@ -30,12 +30,18 @@ void sw_pattern_free(sw_pattern *p, int nterm);
 /* values = mass_coef * M + hess_coef * (sum of the terms' blocks in d->hess), on the pattern. */
 void sw_pattern_fill(const sw_pattern *p, const sw_model *m, const sw_data *d, double mass_coef,
                      double hess_coef, double *values);
+/* The slot of entry (r, c), r <= c, of the upper triangle, or -1 if not in the pattern. */
+long sw_pattern_slot(const sw_pattern *p, int r, int c);
 /* y = A x for the symmetric A whose upper triangle is values on the pattern (n each). */
 void sw_pattern_symv(const sw_pattern *p, const double *values, const double *x, double *y);
 
 /* ---------------------------------------------------------------- damping.c */
 /* Rayleigh damping D = alpha M + beta K(x), K the PSD-projected Hessian of the terms
  * (DESIGN.md "Integrators": S = c^2 M + c D + H); sw_damped (sinew.h) says if there is any. */
+/* values += sum_t c_t grad l_t grad l_t^T at x on the pattern (tendons of at most
+ * tendon_dense_max waypoints: their dense stencil holds every slot). */
+void sw_damping_tendons_fill(const sw_pattern *p, const sw_model *m, const double *x,
+                             double *values);
 /* out (nv x dim) = D(x) v, with the Hessian evaluated at (x, t) into d->hess; *power = v.D v (W,
  * >= 0).  Pinned components of out are 0. */
 int sw_damping_force(const sw_model *m, sw_data *d, const double *x, double t, const double *v,

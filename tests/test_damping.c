@@ -5,7 +5,8 @@
  *     same solution as CVODE at a tight tolerance (which uses D at the current state, the ODE
  *     itself), at its order, so the per-step frozen D of the Newton methods is consistent;
  *   - the damping force dissipates (v.D v >= 0) and energy + dissipated work is conserved by
- *     the implicit midpoint rule to its order. */
+ *     the implicit midpoint rule to its order;
+ *   - a mass on a tendon with mass, stiffness and tendon damping: the damped oscillator. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -17,6 +18,7 @@
 #include <cmocka.h>
 
 #include "harness.h"
+#include "scene.h"
 #include "solver.h"
 
 /* Integrate to T with n equal steps (adaptive methods: one interval per step); x, v out.
@@ -173,11 +175,43 @@ static void energy_balance(void **st) {
   sw_model_free(m);
 }
 
+/* A mass on a two-waypoint spring tendon (one end pinned), all three kinds of damping along
+ * it: m x'' + (alpha m + beta K + c) x' + K (x - L) = 0, the damped oscillator.  Every method
+ * converges to the analytic answer at its order. */
+static void tendon_oscillator(void **st) {
+  (void)st;
+  const char *scene = "dimension: 2\n"
+                      "mesh: {points: [[0, 0], [1.2, 0]]}\n"
+                      "pins: [{select: {vertices: [0]}}]\n"
+                      "damping: {mass: 1.0, stiffness: 0.005}\n"
+                      "tendons: [{waypoints: [0, 1], law: spring, stiffness: 100,\n"
+                      "           rest_length: 1.0, density: 1.0, damping: 0.5}]\n";
+  char err[SW_ERRSZ];
+  sw_model *m = sw_scene_parse("oscillator.yaml", scene, strlen(scene), err, sizeof err);
+  if (!m) print_error("%s\n", err);
+  assert_non_null(m);
+  const double mass = 0.6, K = 100.0, L = 1.0, A = 0.2, T = 0.5; /* kg, N/m, m, m, s */
+  double b = 1.0 * mass + 0.005 * K + 0.5, gam = b / (2 * mass);   /* N s/m, 1/s */
+  double wd = sqrt(K / mass - gam * gam);                            /* rad/s */
+  double xT = L + A * exp(-gam * T) * (cos(wd * T) + gam / wd * sin(wd * T));
+  double xref[4] = {0.0, 0.0, xT, 0.0};
+  for (int k = 0; k < NFIXED - 1; k++)
+    assert_true(fitted_order(fixed[k].ops, m, T, 100, xref) > fixed[k].order - 0.15);
+  double x[4], v[4];
+  m->opt.rtol = 1e-10;
+  m->opt.atol = 1e-12;
+  integrate(&sw_cvode_ops, m, T, 5, x, v, NULL);
+  print_message("cvode error %.3g\n", max_diff(x, xref, 4));
+  assert_true(max_diff(x, xref, 4) < 1e-7);
+  sw_model_free(m);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(free_fall_mass_damping),
       cmocka_unit_test(cloth_stiffness_damping),
       cmocka_unit_test(energy_balance),
+      cmocka_unit_test(tendon_oscillator),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
