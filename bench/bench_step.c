@@ -1,7 +1,12 @@
 /* bench_step.c — per-step wall time of an implicit integrator on the hanging cloth, N x N grid.
  *
- *   bench_step [--header] [--verbose] [--hessian=auto|exact|projected] N [steps] [method]
+ *   bench_step [--header] [--verbose] [--hessian=auto|exact|projected] [--model=M]
+ *              [--bending=dihedral|quadratic] N [steps] [method]
  *
+ * --model picks the membrane with matched small-strain stiffness (docs/models.md): bw98
+ * (default; k_u = k_v = 5000, k_shear = 100), stvk (e_u = e_v = 5000, shear_modulus 100,
+ * poisson 0), corotated (k 5000), springs (stretch 5000, shear 100 per spring); --bending adds
+ * that bending model with stiffness 1e-4 N m.
  * Builds scenes/hanging_cloth.yaml in code with N x N vertices instead of 40 x 40 (1 m square
  * in the xy plane, 3D, density 0.1 kg/m^2, bw98 k_u = k_v = 5000, k_shear = 100 N/m, gravity
  * (0, 0, -9.81), the two corners of the edge y = 1 pinned; default options: Hessian "auto",
@@ -38,19 +43,30 @@ static const char *header =
     "N,dofs,nnz,steps,newton_iterations,factorizations,step_s,assembly_s,factor_s,solve_s,"
     "rest_s,nonfactor_share,peak_rss_mib,assembly_per_iter_s,factor_per_iter_s";
 
+/* The membrane of each --model, with matched small-strain stiffness (N/m). */
+static const char *const models[][2] = {
+    {"bw98", "{model: bw98, k_u: 5000, k_v: 5000, k_shear: 100}"},
+    {"stvk", "{model: stvk, e_u: 5000, e_v: 5000, shear_modulus: 100}"},
+    {"corotated", "{model: corotated, k: 5000}"},
+    {"springs", "{model: springs, stretch: 5000, shear: 100}"},
+};
+
 /* scenes/hanging_cloth.yaml with n x n vertices, through the scene loader itself. */
-static sw_model *hanging_cloth(int n, char *err, size_t errsz) {
-  char yaml[1024];
+static sw_model *hanging_cloth(int n, const char *membrane, const char *bending, char *err,
+                               size_t errsz) {
+  char yaml[2048], bend[128] = "";
+  if (bending) snprintf(bend, sizeof bend, "  bending: {model: %s, stiffness: 1e-4}\n", bending);
   snprintf(yaml, sizeof yaml,
            "name: hanging cloth %d x %d\n"
            "mesh: {grid: {size: [1.0, 1.0], vertices: [%d, %d], plane: xy}}\n"
            "material:\n"
            "  density: 0.1\n"
-           "  membrane: {model: bw98, k_u: 5000, k_v: 5000, k_shear: 100}\n"
+           "  membrane: %s\n"
+           "%s"
            "gravity: [0, 0, -9.81]\n"
            "pins: [{select: {vertices: [%d, %d]}}]   # the corners (0, 1) and (1, 1)\n"
            "integrator: {method: backward-euler, dt: 0.01}\n",
-           n, n, n, n, (n - 1) * n, n * n - 1);
+           n, n, n, n, membrane, bend, (n - 1) * n, n * n - 1);
   return sw_scene_parse("bench_step.yaml", yaml, strlen(yaml), err, errsz);
 }
 
@@ -106,14 +122,16 @@ static double peak_rss_mib(void) {
 
 static int usage(void) {
   fprintf(stderr, "usage: bench_step [--header] [--verbose] [--hessian=auto|exact|projected]\n"
-                  "                  N [steps] [method]\n"
+                  "                  [--model=bw98|stvk|corotated|springs]\n"
+                  "                  [--bending=dihedral|quadratic] N [steps] [method]\n"
                   "  N >= 2 vertices per side, steps >= 1 (default 20), method (default "
                   "backward-euler)\n");
   return 2;
 }
 
 int main(int argc, char **argv) {
-  int want_header = 0, verbose = 0, npos = 0, hessian = SW_HESSIAN_AUTO;
+  int want_header = 0, verbose = 0, npos = 0, hessian = SW_HESSIAN_AUTO, model = 0;
+  const char *bending = NULL;
   const char *pos[3] = {NULL, NULL, NULL};
   for (int i = 1; i < argc; i++) {
     if (!strcmp(argv[i], "--header")) want_header = 1;
@@ -121,6 +139,11 @@ int main(int argc, char **argv) {
     else if (!strcmp(argv[i], "--hessian=auto")) hessian = SW_HESSIAN_AUTO;
     else if (!strcmp(argv[i], "--hessian=exact")) hessian = SW_HESSIAN_EXACT;
     else if (!strcmp(argv[i], "--hessian=projected")) hessian = SW_HESSIAN_PROJECTED;
+    else if (!strncmp(argv[i], "--model=", 8)) {
+      for (model = 0; model < 4 && strcmp(argv[i] + 8, models[model][0]); model++) continue;
+      if (model == 4) return usage();
+    } else if (!strcmp(argv[i], "--bending=dihedral")) bending = "dihedral";
+    else if (!strcmp(argv[i], "--bending=quadratic")) bending = "quadratic";
     else if (argv[i][0] == '-' && argv[i][1] != '\0') return usage();
     else if (npos < 3) pos[npos++] = argv[i];
     else return usage();
@@ -145,7 +168,7 @@ int main(int argc, char **argv) {
   sw_set_threads(0);
 
   char err[SW_ERRSZ];
-  sw_model *m = hanging_cloth((int)n, err, sizeof err);
+  sw_model *m = hanging_cloth((int)n, models[model][1], bending, err, sizeof err);
   if (!m) {
     fprintf(stderr, "bench_step: %s\n", err);
     return 1;
