@@ -286,6 +286,12 @@ void sw_model_print(const sw_model *m, void *file) {
   fprintf(fp, "vertices    %d (%d pinned)\n", m->nv, npin);
   fprintf(fp, "faces       %d\n", m->nf);
   fprintf(fp, "rest area   %.6g m^2\n", area);
+  for (int k = 0; m->nmat > 1 && k < m->nmat; k++) {
+    double a = 0.0; /* m^2 */
+    for (int f = 0; f < m->nf; f++) a += m->face_mat[f] == k ? m->area[f] : 0.0;
+    fprintf(fp, "  panel %-12s %.6g m^2\n", k ? m->mat[k].group : "(material)", a);
+  }
+  if (m->ntendon) fprintf(fp, "tendons     %d\n", m->ntendon);
   fprintf(fp, "mass        %.6g kg\n", m->total_mass);
   fprintf(fp, "free DOFs   %d\n", m->ndof);
   fprintf(fp, "terms      ");

@@ -273,6 +273,34 @@ static void test_tendons(void **state) {
   sw_model_free(m);
 }
 
+/* scenes/skirt.yaml: the two panels share their seam vertices (one position, a (u,v) per
+ * panel: nothing is split), each face has its panel's material, and the scene runs to its end. */
+static void test_skirt(void **state) {
+  (void)state;
+  char err[SW_ERRSZ], path[4096];
+  if (!srcdir) skip();
+  snprintf(path, sizeof path, "%s/scenes/skirt.yaml", srcdir);
+  sw_model *m = sw_scene_load(path, err, sizeof err);
+  if (!m) fail_msg("%s", err);
+  assert_int_equal(m->nv, 32 * 13); /* tools/make_skirt.py defaults: 2 x 16 columns, 13 rows */
+  assert_int_equal(m->nmat, 2);
+  int seams = 0;
+  for (int i = 0; i < m->nv; i++) {
+    if (fabs(m->x0[3 * i + 1]) > 1e-9) continue; /* the side seams lie in the plane y = 0 */
+    int in[2] = {0, 0};
+    for (int f = 0; f < m->nf; f++)
+      for (int c = 0; c < 3; c++)
+        if (m->face[3 * f + c] == i) in[m->face_mat[f]] = 1;
+    assert_true(in[0] && in[1]);
+    seams++;
+  }
+  assert_int_equal(seams, 2 * 13);
+  m->opt.duration = 0.1;
+  snprintf(m->opt.out_dir, sizeof m->opt.out_dir, "%s/skirt", tmpdir);
+  if (sw_run(m, 0, err, sizeof err)) fail_msg("%s", err);
+  sw_model_free(m);
+}
+
 static void test_repo_scene(void **state) {
   (void)state;
   char err[SW_ERRSZ], path[4096];
@@ -541,6 +569,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(test_bad_scenes),   cmocka_unit_test(test_unreadable),
       cmocka_unit_test(test_regress),      cmocka_unit_test(test_alloc_failures),
       cmocka_unit_test(test_panels),       cmocka_unit_test(test_tendons),
+      cmocka_unit_test(test_skirt),
   };
   int rc = cmocka_run_group_tests(tests, NULL, NULL);
   cleanup();
