@@ -21,7 +21,10 @@ void sw_term_free(sw_term *t) {
   sw_free(t->sptr);
   sw_free(t->sidx);
   sw_free(t->hptr);
-  t->sptr = t->sidx = NULL;
+  sw_free(t->lptr);
+  sw_free(t->lidx);
+  t->sptr = t->sidx = t->lptr = t->lidx = NULL;
+  t->nlowrank = 0;
   t->hptr = NULL;
   t->param = NULL;
 }

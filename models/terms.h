@@ -14,6 +14,11 @@ void sw_term_free(sw_term *t);
 
 /* models/bw98.c: Baraff-Witkin stretch and shear on every face (seed 002, DESIGN.md). */
 int sw_bw98_build(sw_term *t, const sw_model *m, char *err, size_t errsz);
+/* models/tendon.c: every tendon of the model in one term "tendons" (seed 003, DESIGN.md
+ * "Tendons", docs/tendons.md): tendons of at most m->opt.tendon_dense_max waypoints as one
+ * dense stencil each; longer ones as one 2-vertex stencil per segment (E' d2Delta) and one
+ * low-rank vector sqrt(E'') grad(Delta). */
+int sw_tendon_build(sw_term *t, const sw_model *m, char *err, size_t errsz);
 /* models/gravity.c: E = -sum_i m_i g.x_i (no Hessian, no stencils). */
 int sw_gravity_build(sw_term *t, const sw_model *m, char *err, size_t errsz);
 

@@ -10,8 +10,14 @@ sw_data *sw_data_new(const sw_model *m) {
   if (!d) return NULL;
   size_t nd = (size_t)m->nv * (size_t)m->dim, nf = (size_t)m->nf;
   d->hoff = sw_calloc((size_t)m->nterm + 1, sizeof(long));
-  if (!d->hoff) return sw_data_free(d), NULL;
-  for (int k = 0; k < m->nterm; k++) d->hoff[k + 1] = d->hoff[k] + m->term[k].hptr[m->term[k].nstencil];
+  d->loff = sw_calloc((size_t)m->nterm + 1, sizeof(long));
+  if (!d->hoff || !d->loff) return sw_data_free(d), NULL;
+  for (int k = 0; k < m->nterm; k++) {
+    const sw_term *t = &m->term[k];
+    d->hoff[k + 1] = d->hoff[k] + t->hptr[t->nstencil];
+    d->loff[k + 1] = d->loff[k] + (t->nlowrank ? (long)t->lptr[t->nlowrank] * m->dim : 0);
+  }
+  d->lowrank = sw_calloc((size_t)d->loff[m->nterm] + 1, sizeof(double));
   d->x = sw_calloc(nd, sizeof(double));
   d->v = sw_calloc(nd, sizeof(double));
   d->grad = sw_calloc(nd, sizeof(double));
@@ -30,7 +36,7 @@ sw_data *sw_data_new(const sw_model *m) {
   d->tendon_tension = sw_calloc(nt, sizeof(double));
   if (!d->tendon_length || !d->tendon_delta || !d->tendon_tension)
     return sw_data_free(d), NULL;
-  if (!d->x || !d->v || !d->grad || !d->hess || !d->term_energy || !d->txy || !d->stretch_u ||
+  if (!d->x || !d->v || !d->grad || !d->hess || !d->lowrank || !d->term_energy || !d->txy || !d->stretch_u ||
       !d->stretch_v || !d->shear || !d->rlu || !d->rlv || !d->scratch)
     return sw_data_free(d), NULL;
   memcpy(d->x, m->x0, nd * sizeof(double));
@@ -49,6 +55,8 @@ void sw_data_free(sw_data *d) {
   sw_free(d->grad);
   sw_free(d->hess);
   sw_free(d->hoff);
+  sw_free(d->lowrank);
+  sw_free(d->loff);
   sw_free(d->term_energy);
   sw_free(d->txy);
   sw_free(d->stretch_u);
@@ -67,11 +75,15 @@ int sw_eval_terms(const sw_model *m, sw_data *d, const double *x, double t, int 
                   int want_hess, int project, double *energy) {
   size_t nd = (size_t)m->nv * (size_t)m->dim;
   if (want_grad) memset(d->grad, 0, nd * sizeof(double));
-  if (want_hess) memset(d->hess, 0, (size_t)d->hoff[m->nterm] * sizeof(double));
+  if (want_hess) {
+    memset(d->hess, 0, (size_t)d->hoff[m->nterm] * sizeof(double));
+    memset(d->lowrank, 0, (size_t)d->loff[m->nterm] * sizeof(double));
+  }
   double total = 0.0;
   for (int k = 0; k < m->nterm; k++) {
     sw_eval ev = {.t = t, .x = x, .grad = want_grad ? d->grad : NULL,
-                  .hess = want_hess ? d->hess + d->hoff[k] : NULL, .project = project};
+                  .hess = want_hess ? d->hess + d->hoff[k] : NULL,
+                  .lowrank = want_hess ? d->lowrank + d->loff[k] : NULL, .project = project};
     double e = 0.0;
     int rc = m->term[k].ops->eval(&m->term[k], m, &ev, &e);
     if (rc) {

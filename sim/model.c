@@ -27,6 +27,7 @@ sw_model *sw_model_new(void) {
   o->tx_clip = 5e4;
   o->tx_reference_uv = 0;
   o->tx_k_u = o->tx_k_v = -1.0;
+  o->tendon_dense_max = SW_TENDON_DENSE_MAX;
   m->nmat = 1;
   m->mat = sw_calloc(1, sizeof *m->mat);
   if (!m->mat) return sw_free(m), NULL;
@@ -181,6 +182,7 @@ static int build_terms(sw_model *m, char *err, size_t errsz) {
     if (bendings[k].build && uses_bending(m, bendings[k].model) &&
         add_term(m, bendings[k].build, err, errsz))
       return -1;
+  if (m->ntendon > 0 && add_term(m, sw_tendon_build, err, errsz)) return -1;
   if (m->has_gravity && add_term(m, sw_gravity_build, err, errsz)) return -1;
   return 0;
 }

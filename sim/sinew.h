@@ -67,6 +67,9 @@ typedef struct sw_eval {
   const double *x;             /* (nv x dim) positions, m (pinned ones included) */
   double *grad;                /* (nv x dim) += dE/dx, N; or NULL */
   double *hess;                /* += d2E/dx2 per stencil block (see sw_term.hptr), N/m; or NULL */
+  double *lowrank;             /* the low-rank vectors u_r of the Hessian (see sw_term.lptr),
+                                  sqrt(N/m), written (not accumulated) whenever hess is asked
+                                  for; never NULL then for a term with nlowrank > 0 */
   int project;                 /* nonzero: each block is replaced by a positive semi-definite one */
 } sw_eval;
 
@@ -80,7 +83,13 @@ typedef struct sw_term_ops {
 
 /* One energy term: its operations, its Hessian stencils (declared once), its parameters.
  * Stencil s covers vertices sidx[sptr[s] .. sptr[s+1]-1]; its dense Hessian block of
- * (n*dim) x (n*dim) doubles (row-major, vertex-major then component) starts at hess + hptr[s]. */
+ * (n*dim) x (n*dim) doubles (row-major, vertex-major then component) starts at hess + hptr[s].
+ * A term may also declare low-rank vectors: its Hessian is then the sum of the blocks plus
+ * sum_r u_r u_r^T, where u_r covers vertices lidx[lptr[r] .. lptr[r+1]-1] and its n*dim values
+ * (vertex-major) start at lowrank + lptr[r]*dim.  They keep a coupling of many vertices (a
+ * long tendon's E'' grad(Delta) grad(Delta)^T) out of the sparse factor: the solvers add it
+ * by Woodbury on top of CHOLMOD (solvers/cholmod.c, docs/tendons.md).  nlowrank = 0 and NULL
+ * pointers for terms without them. */
 struct sw_term {
   const sw_term_ops *ops;
   char name[SW_NAMESZ];
@@ -88,6 +97,9 @@ struct sw_term {
   int *sptr;                   /* (nstencil + 1) */
   int *sidx;                   /* (sptr[nstencil]) vertex indices */
   long *hptr;                  /* (nstencil + 1) offsets of the blocks, in doubles */
+  int nlowrank;                /* low-rank vectors (fixed per model, possibly zero at some x) */
+  int *lptr;                   /* (nlowrank + 1) */
+  int *lidx;                   /* (lptr[nlowrank]) vertex indices */
   void *param;                 /* the term's own immutable data */
 };
 
@@ -128,7 +140,7 @@ enum { SW_LAW_SPRING = 0, SW_LAW_CABLE = 1 };
 typedef struct sw_tendon {
   char name[SW_NAMESZ];
   int law;                     /* SW_LAW_* */
-  double stiffness;            /* K, N: tension = K (length - rest) */
+  double stiffness;            /* K, N/m: tension = K (length - rest), E = K/2 (length - rest)^2 */
   int nway;                    /* waypoints, >= 2 */
   int *way;                    /* (nway) distinct vertex indices, in order along the tendon */
   int nkey;                    /* rest-length keyframes, >= 1 (1: constant) */
@@ -143,6 +155,9 @@ typedef struct sw_tendon {
 SW_API double sw_tendon_rest(const sw_tendon *td, double t);
 /* The current length sum |x_{w_k} - x_{w_k+1}| of a tendon at x (nv x dim), m. */
 SW_API double sw_tendon_length(const sw_tendon *td, const double *x, int dim);
+/* d->tendon_length, tendon_delta (length - rest at d->t) and tendon_tension (E'(delta), N;
+ * 0 for a slack cable) of every tendon at d->x. */
+SW_API void sw_tendon_diagnostics(const sw_model *m, sw_data *d);
 
 /* Newton's system matrix: the PSD-projected Hessian (always positive definite with a mass
  * term; linear convergence where the cloth is compressed), the exact one (quadratic
@@ -170,7 +185,14 @@ typedef struct sw_options {
   double tx_clip;              /* tension XY stiffness clip, N/m (seed 000: 5e4) */
   int tx_reference_uv;         /* 1: rlu = rlv = 1 (uv layout); 0: the initial configuration */
   double tx_k_u, tx_k_v;       /* stiffness used by tension XY, N/m (defaults: the membrane's) */
+  int tendon_dense_max;        /* tendons of at most this many waypoints put their whole
+                                  Hessian in one dense stencil; longer ones only the banded
+                                  part, the rank-one part as a low-rank vector (default
+                                  SW_TENDON_DENSE_MAX; docs/tendons.md has the measurement) */
 } sw_options;
+
+/* The default of sw_options.tendon_dense_max (docs/tendons.md). */
+#define SW_TENDON_DENSE_MAX 16
 
 struct sw_model {
   char name[128];              /* scene name */
@@ -226,6 +248,8 @@ struct sw_data {
   double *grad;                /* (nv x dim) gradient workspace */
   double *hess;                /* Hessian blocks of every term; term k starts at hoff[k] */
   long *hoff;                  /* (nterm + 1) */
+  double *lowrank;             /* low-rank Hessian vectors of every term; term k at loff[k] */
+  long *loff;                  /* (nterm + 1) */
   double *term_energy;         /* (nterm) J, at the last evaluation */
   /* diagnostics (after every accepted step) */
   double *txy;                 /* (nf) tension XY, N/m */

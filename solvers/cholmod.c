@@ -7,6 +7,29 @@
 #include "solver.h"
 #include "util.h"
 
+extern void dpotrf_(const char *uplo, const int *n, double *a, const int *lda, int *info);
+extern void dpotrs_(const char *uplo, const int *n, const int *nrhs, const double *a,
+                    const int *lda, double *b, const int *ldb, int *info);
+
+/* The Woodbury workspaces for the pattern's low-rank vectors (none when p->nlr = 0). */
+static int lowrank_init(sw_chol *ch, const sw_pattern *p) {
+  size_t n = (size_t)p->n, r = (size_t)p->nlr, nent = (size_t)p->lrptr[p->nlr];
+  ch->nlr = p->nlr;
+  ch->lrcoef = 1.0;
+  if (!r) return 0;
+  ch->lrptr = sw_calloc(r + 1, sizeof(long));
+  ch->lrrow = sw_calloc(nent + 1, sizeof(long));
+  ch->lrval = sw_calloc(nent + 1, sizeof(double));
+  ch->C = sw_calloc(r * r, sizeof(double));
+  ch->z = sw_calloc(r, sizeof(double));
+  ch->V = cholmod_l_zeros(n, r, CHOLMOD_REAL, &ch->c);
+  ch->W = cholmod_l_zeros(n, r, CHOLMOD_REAL, &ch->c);
+  if (!ch->lrptr || !ch->lrrow || !ch->lrval || !ch->C || !ch->z || !ch->V || !ch->W) return -1;
+  memcpy(ch->lrptr, p->lrptr, (r + 1) * sizeof(long));
+  memcpy(ch->lrrow, p->lrrow, nent * sizeof(long));
+  return 0;
+}
+
 int sw_chol_init(sw_chol *ch, const sw_pattern *p, char *err, size_t errsz) {
   memset(ch, 0, sizeof *ch);
   cholmod_l_start(&ch->c);
@@ -17,7 +40,7 @@ int sw_chol_init(sw_chol *ch, const sw_pattern *p, char *err, size_t errsz) {
   size_t n = (size_t)p->n;
   ch->A = cholmod_l_allocate_sparse(n, n, (size_t)p->nnz, 1, 1, 1, CHOLMOD_REAL, &ch->c);
   ch->b = cholmod_l_zeros(n, 1, CHOLMOD_REAL, &ch->c);
-  if (!ch->A || !ch->b) {
+  if (!ch->A || !ch->b || lowrank_init(ch, p)) {
     sw_errf(err, errsz, "CHOLMOD: out of memory allocating a %zu x %zu system", n, n);
     return SW_FATAL;
   }
@@ -37,6 +60,39 @@ int sw_chol_init(sw_chol *ch, const sw_pattern *p, char *err, size_t errsz) {
 
 double *sw_chol_values(sw_chol *ch) { return ch->A->x; }
 
+double *sw_chol_lowrank(sw_chol *ch, double coef) {
+  ch->lrcoef = coef;
+  return ch->lrval;
+}
+
+/* W = A^-1 V (one multi-column solve) and the Cholesky factor of C = I + coef V^T W. */
+static int lowrank_factor(sw_chol *ch, char *err, size_t errsz) {
+  const long n = (long)ch->A->nrow;
+  const int r = ch->nlr;
+  double *V = ch->V->x, *C = ch->C;
+  memset(V, 0, (size_t)(n * r) * sizeof(double));
+  for (int k = 0; k < r; k++)
+    for (long q = ch->lrptr[k]; q < ch->lrptr[k + 1]; q++) V[k * n + ch->lrrow[q]] += ch->lrval[q];
+  if (!cholmod_l_solve2(CHOLMOD_A, ch->L, ch->V, NULL, &ch->W, NULL, &ch->Y2, &ch->E2, &ch->c)) {
+    sw_errf(err, errsz, "CHOLMOD solve for the low-rank part failed (status %d)", ch->c.status);
+    return SW_FATAL;
+  }
+  const double *W = ch->W->x;
+  for (int k = 0; k < r; k++)
+    for (int j = 0; j <= k; j++) {
+      double s = 0.0;
+      for (long q = ch->lrptr[k]; q < ch->lrptr[k + 1]; q++) s += ch->lrval[q] * W[j * n + ch->lrrow[q]];
+      C[j * r + k] = (j == k) + ch->lrcoef * s; /* lower triangle, column-major */
+    }
+  int info = 0;
+  dpotrf_("L", &r, C, &r, &info);
+  if (info) {
+    sw_errf(err, errsz, "the low-rank capacitance matrix is not positive definite (%d)", info);
+    return SW_RECOVER;
+  }
+  return SW_OK;
+}
+
 int sw_chol_factor(sw_chol *ch, char *err, size_t errsz) {
   int ok = cholmod_l_factorize(ch->A, ch->L, &ch->c);
   if (ch->c.status == CHOLMOD_NOT_POSDEF || (ok && ch->L->minor < ch->L->n)) {
@@ -48,7 +104,25 @@ int sw_chol_factor(sw_chol *ch, char *err, size_t errsz) {
     sw_errf(err, errsz, "CHOLMOD factorize failed (status %d)", ch->c.status);
     return SW_FATAL;
   }
-  return SW_OK;
+  return ch->nlr ? lowrank_factor(ch, err, errsz) : SW_OK;
+}
+
+/* sol <- sol - coef W C^-1 V^T sol: from A^-1 b to S^-1 b (Woodbury). */
+static void lowrank_correct(sw_chol *ch, double *sol) {
+  const long n = (long)ch->A->nrow;
+  const int r = ch->nlr, one = 1;
+  for (int k = 0; k < r; k++) {
+    double s = 0.0;
+    for (long q = ch->lrptr[k]; q < ch->lrptr[k + 1]; q++) s += ch->lrval[q] * sol[ch->lrrow[q]];
+    ch->z[k] = s;
+  }
+  int info = 0;
+  dpotrs_("L", &r, &one, ch->C, &r, ch->z, &r, &info);
+  const double *W = ch->W->x;
+  for (int k = 0; k < r; k++) {
+    double c = ch->lrcoef * ch->z[k];
+    for (long i = 0; i < n; i++) sol[i] -= c * W[k * n + i];
+  }
 }
 
 int sw_chol_solve(sw_chol *ch, const double *rhs, double *sol, char *err, size_t errsz) {
@@ -59,6 +133,7 @@ int sw_chol_solve(sw_chol *ch, const double *rhs, double *sol, char *err, size_t
     return SW_FATAL;
   }
   memcpy(sol, ch->x->x, n * sizeof(double));
+  if (ch->nlr) lowrank_correct(ch, sol);
   return SW_OK;
 }
 
@@ -70,6 +145,15 @@ void sw_chol_free(sw_chol *ch) {
   cholmod_l_free_dense(&ch->x, &ch->c);
   cholmod_l_free_dense(&ch->Y, &ch->c);
   cholmod_l_free_dense(&ch->E, &ch->c);
+  cholmod_l_free_dense(&ch->V, &ch->c);
+  cholmod_l_free_dense(&ch->W, &ch->c);
+  cholmod_l_free_dense(&ch->Y2, &ch->c);
+  cholmod_l_free_dense(&ch->E2, &ch->c);
+  sw_free(ch->lrptr);
+  sw_free(ch->lrrow);
+  sw_free(ch->lrval);
+  sw_free(ch->C);
+  sw_free(ch->z);
   cholmod_l_finish(&ch->c);
   ch->started = 0;
 }

@@ -59,10 +59,11 @@ int sw_newton_phi(sw_newton *nw, const sw_model *m, sw_data *d, const double *x,
   return SW_OK;
 }
 
-/* Fill S = a M + H (H from the last evaluation) and factorise it. */
+/* Fill S = a M + H (H from the last evaluation: blocks and low-rank vectors) and factorise it. */
 static int fill_factor(sw_newton *nw, const sw_model *m, sw_data *d, double a) {
   double t0 = sw_now();
   sw_pattern_fill(&nw->pat, m, d, a, sw_chol_values(&nw->chol));
+  sw_pattern_fill_lowrank(&nw->pat, d, sw_chol_lowrank(&nw->chol, 1.0));
   double t1 = sw_now();
   d->time_assemble += t1 - t0;
   int rc = sw_chol_factor(&nw->chol, d->err, sizeof d->err);

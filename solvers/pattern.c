@@ -119,13 +119,43 @@ static int build_maps(sw_pattern *p, const sw_model *m) {
   return 0;
 }
 
+/* The low-rank vectors' entries on free DOFs (pinned components dropped). */
+static int build_lowrank(sw_pattern *p, const sw_model *m) {
+  const int d = m->dim;
+  long nent = 0, src0 = 0;
+  for (int k = 0; k < m->nterm; k++) {
+    p->nlr += m->term[k].nlowrank;
+    if (m->term[k].nlowrank) nent += (long)m->term[k].lptr[m->term[k].nlowrank] * d;
+  }
+  p->lrptr = sw_calloc((size_t)p->nlr + 1, sizeof(long));
+  p->lrrow = sw_calloc((size_t)nent + 1, sizeof(long));
+  p->lrsrc = sw_calloc((size_t)nent + 1, sizeof(long));
+  if (!p->lrptr || !p->lrrow || !p->lrsrc) return -1;
+  long q = 0;
+  int r = 0;
+  for (int k = 0; k < m->nterm; k++) {
+    const sw_term *t = &m->term[k];
+    for (int v = 0; v < t->nlowrank; v++, r++) {
+      for (int i = t->lptr[v] * d; i < t->lptr[v + 1] * d; i++) {
+        int c = m->dof[t->lidx[i / d] * d + i % d];
+        if (c < 0) continue;
+        p->lrrow[q] = c;
+        p->lrsrc[q++] = src0 + i;
+      }
+      p->lrptr[r + 1] = q;
+    }
+    if (t->nlowrank) src0 += (long)t->lptr[t->nlowrank] * d;
+  }
+  return 0;
+}
+
 int sw_pattern_build(sw_pattern *p, const sw_model *m, char *err, size_t errsz) {
   memset(p, 0, sizeof *p);
   p->n = m->ndof;
   long *vptr = NULL;
   int *adj = NULL;
   if (vertex_graph(m, &vptr, &adj) || build_csc(p, m, vptr, adj) || p->nnz > 2147483647L ||
-      build_maps(p, m)) {
+      build_maps(p, m) || build_lowrank(p, m)) {
     sw_free(vptr);
     sw_free(adj);
     sw_pattern_free(p, m->nterm);
@@ -144,6 +174,9 @@ void sw_pattern_free(sw_pattern *p, int nterm) {
   sw_free(p->colptr);
   sw_free(p->rowind);
   sw_free(p->diag);
+  sw_free(p->lrptr);
+  sw_free(p->lrrow);
+  sw_free(p->lrsrc);
   memset(p, 0, sizeof *p);
 }
 
@@ -162,6 +195,10 @@ void sw_pattern_fill(const sw_pattern *p, const sw_model *m, const sw_data *d, d
       int c = m->dof[i * m->dim + a];
       if (c >= 0) values[p->diag[c]] += mass_coef * m->mass[i];
     }
+}
+
+void sw_pattern_fill_lowrank(const sw_pattern *p, const sw_data *d, double *lrval) {
+  for (long q = 0; q < p->lrptr[p->nlr]; q++) lrval[q] = d->lowrank[p->lrsrc[q]];
 }
 
 long sw_system_nnz(const sw_model *m) {

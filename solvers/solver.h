@@ -17,6 +17,12 @@ typedef struct sw_pattern {
   long *rowind;          /* (nnz), sorted within each column */
   long *diag;            /* (n) slot of each diagonal entry */
   int **map;             /* (nterm) for term k: the slot of each Hessian block entry, or -1 */
+  /* The terms' low-rank vectors (sw_term.lptr) on the free DOFs: the system is
+   * S = (values on the pattern) + sum_r v_r v_r^T, v_r stored sparse (CSC, n x nlr). */
+  int nlr;               /* vectors of all terms */
+  long *lrptr;           /* (nlr + 1) vector r: entries lrptr[r] .. lrptr[r+1]-1 */
+  long *lrrow;           /* (lrptr[nlr]) free DOF of each entry */
+  long *lrsrc;           /* (lrptr[nlr]) index of each entry in d->lowrank */
 } sw_pattern;
 
 int sw_pattern_build(sw_pattern *p, const sw_model *m, char *err, size_t errsz);
@@ -24,21 +30,36 @@ void sw_pattern_free(sw_pattern *p, int nterm);
 /* values = mass_coef * M + (sum of the terms' blocks in d->hess), on the pattern. */
 void sw_pattern_fill(const sw_pattern *p, const sw_model *m, const sw_data *d, double mass_coef,
                      double *values);
+/* lrval (lrptr[nlr]) <- the entries of the low-rank vectors in d->lowrank, on the free DOFs. */
+void sw_pattern_fill_lowrank(const sw_pattern *p, const sw_data *d, double *lrval);
 
 /* ---------------------------------------------------------------- cholmod.c */
+/* The system is S = A + lrcoef V V^T: A sparse on the pattern (factorised by CHOLMOD), V the
+ * pattern's low-rank vectors (n x nlr, sparse).  With them, factor also computes W = A^-1 V
+ * (n x nlr dense, one multi-column solve) and the capacitance C = I + lrcoef V^T W (dpotrf),
+ * and solve applies Woodbury: S^-1 b = y - lrcoef W C^-1 V^T y, y = A^-1 b (docs/tendons.md). */
 typedef struct sw_chol {
   cholmod_common c;
   int started;
   cholmod_sparse *A;     /* symmetric, upper triangle stored (stype +1) */
   cholmod_factor *L;
   cholmod_dense *b, *x, *Y, *E; /* persistent solve workspaces */
+  int nlr;               /* low-rank vectors (0: S = A) */
+  long *lrptr, *lrrow;   /* copies of the pattern's */
+  double *lrval;         /* (lrptr[nlr]) V's entries, filled by the caller before factor */
+  double lrcoef;         /* their coefficient (1 unless the caller scales H) */
+  cholmod_dense *V, *W, *Y2, *E2; /* (n x nlr) V dense, A^-1 V, solve workspaces */
+  double *C;             /* (nlr x nlr) Cholesky factor of the capacitance */
+  double *z;             /* (nlr) */
 } sw_chol;
 
 int sw_chol_init(sw_chol *ch, const sw_pattern *p, char *err, size_t errsz);
 double *sw_chol_values(sw_chol *ch);
+/* V's entries (the pattern's lrptr/lrrow order) and the coefficient they enter S with. */
+double *sw_chol_lowrank(sw_chol *ch, double coef);
 /* Numeric factorisation of the current values: SW_OK, SW_RECOVER (not positive definite). */
 int sw_chol_factor(sw_chol *ch, char *err, size_t errsz);
-/* sol = A^-1 rhs (n doubles each; may alias). */
+/* sol = S^-1 rhs (n doubles each; may alias). */
 int sw_chol_solve(sw_chol *ch, const double *rhs, double *sol, char *err, size_t errsz);
 void sw_chol_free(sw_chol *ch);
 

@@ -20,7 +20,8 @@ static double norm1(const double *v, int n) {
   return s;
 }
 
-/* Sum of the diagonal of H over that of M on the free DOFs: the scale of mu (1/s^2). */
+/* Sum of the diagonal of H over that of M on the free DOFs: the scale of mu (1/s^2).  (The
+ * low-rank part of H is left out: a scale, not a value.) */
 static double stiffness_ratio(sw_newton *nw, const sw_model *m, sw_data *d) {
   double *val = sw_chol_values(&nw->chol), h = 0.0, mm = 0.0;
   sw_pattern_fill(&nw->pat, m, d, 0.0, val);
@@ -41,6 +42,7 @@ static void pin_reactions(const sw_model *m, const sw_data *d, double reaction[3
 static int static_iteration(sw_newton *nw, const sw_model *m, sw_data *d, double *x, double mu,
                             double phi, int *full) {
   sw_pattern_fill(&nw->pat, m, d, mu, sw_chol_values(&nw->chol));
+  sw_pattern_fill_lowrank(&nw->pat, d, sw_chol_lowrank(&nw->chol, 1.0));
   d->nfactor++;
   int rc = sw_chol_factor(&nw->chol, d->err, sizeof d->err);
   if (rc) return rc;

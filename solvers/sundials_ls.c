@@ -68,8 +68,9 @@ static int eval_hessian(sw_sunls *sys, int project) {
   int rc = sw_eval_terms(m, d, sys->xlin, sys->tlin, 0, 1, project, &u);
   if (rc == SW_OK) {
     sw_pattern_fill(&sys->pat, m, d, 0.0, sys->hval);
-    for (long k = 0; k < sys->pat.nnz; k++)
-      if (!isfinite(sys->hval[k])) {
+    sw_pattern_fill_lowrank(&sys->pat, d, sys->hlr);
+    for (long k = 0; k < sys->pat.nnz + sys->pat.lrptr[sys->pat.nlr]; k++)
+      if (!isfinite(k < sys->pat.nnz ? sys->hval[k] : sys->hlr[k - sys->pat.nnz])) {
         sw_errf(d->err, sizeof d->err, "the Hessian is not finite (NaN or Inf) at t = %g s",
                 sys->tlin);
         rc = SW_RECOVER;
@@ -97,6 +98,11 @@ void sw_sunls_hmul(const sw_sunls *sys, const double *x, double *y) {
       y[r] += h * x[c];
       if (r != c) y[c] += h * x[r];
     }
+  for (int v = 0; v < p->nlr; v++) { /* + v_r (v_r . x) */
+    double s = 0.0;
+    for (long q = p->lrptr[v]; q < p->lrptr[v + 1]; q++) s += sys->hlr[q] * x[p->lrrow[q]];
+    for (long q = p->lrptr[v]; q < p->lrptr[v + 1]; q++) y[p->lrrow[q]] += sys->hlr[q] * s;
+  }
 }
 
 /* S = cm M + cd D + ch H on the pattern (D = 0 for now), factorised. */
@@ -105,6 +111,8 @@ static int fill_factor(sw_sunls *sys) {
   double t0 = sw_now();
   double *val = sw_chol_values(&sys->chol);
   for (long k = 0; k < sys->pat.nnz; k++) val[k] = sys->ch * sys->hval[k];
+  memcpy(sw_chol_lowrank(&sys->chol, sys->ch), sys->hlr,
+         (size_t)sys->pat.lrptr[sys->pat.nlr] * sizeof(double));
   for (int c = 0; c < sys->n; c++) val[sys->pat.diag[c]] += sys->cm * sys->mdiag[c];
   /* D: + sys->cd * D, once a damping term fills D on the pattern. */
   double t1 = sw_now();
@@ -194,11 +202,12 @@ int sw_sunls_init(sw_sunls *sys, const sw_model *m, sw_data *d, sw_sunls_reduce_
   size_t n = (size_t)sys->n, nd = (size_t)m->nv * (size_t)m->dim;
   sys->mdiag = sw_calloc(n, sizeof(double));
   sys->hval = sw_calloc((size_t)sys->pat.nnz, sizeof(double));
+  sys->hlr = sw_calloc((size_t)sys->pat.lrptr[sys->pat.nlr] + 1, sizeof(double));
   sys->xfull = sw_calloc(nd, sizeof(double));
   sys->xlin = sw_calloc(nd, sizeof(double));
   sys->w1 = sw_calloc(n, sizeof(double));
   sys->w2 = sw_calloc(n, sizeof(double));
-  if (!sys->mdiag || !sys->hval || !sys->xfull || !sys->xlin || !sys->w1 || !sys->w2)
+  if (!sys->mdiag || !sys->hval || !sys->hlr || !sys->xfull || !sys->xlin || !sys->w1 || !sys->w2)
     return sw_errf(err, errsz, "out of memory"), SW_FATAL;
   memcpy(sys->xfull, d->x, nd * sizeof(double));
   memcpy(sys->xlin, d->x, nd * sizeof(double));
@@ -232,6 +241,7 @@ void sw_sunls_free(sw_sunls *sys) {
   sw_pattern_free(&sys->pat, sys->m ? sys->m->nterm : 0);
   sw_free(sys->mdiag);
   sw_free(sys->hval);
+  sw_free(sys->hlr);
   sw_free(sys->xfull);
   sw_free(sys->xlin);
   sw_free(sys->w1);

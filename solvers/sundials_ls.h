@@ -36,6 +36,8 @@ struct sw_sunls {
   sw_chol chol;
   double *mdiag;               /* (n) lumped mass of each free DOF, kg */
   double *hval;                /* (pat.nnz) the Hessian H on the pattern (upper CSC), N/m */
+  double *hlr;                 /* (pat.lrptr[pat.nlr]) and its low-rank vectors: H is hval +
+                                  sum_r v_r v_r^T (S gets them scaled by ch), sqrt(N/m) */
   double *xfull;               /* (nv x dim) positions for evaluations (pinned ones fixed) */
   double *xlin;                /* (nv x dim) positions at which hval was evaluated */
   double tlin;                 /* time at which hval was evaluated, s */
@@ -66,7 +68,7 @@ int sw_sunls_force(sw_sunls *sys, const double *xf, double t, double *f);
 /* Evaluate H at the free positions xf, time t, as m->opt.hessian asks (exact for auto) into
  * sys->hval.  SW_OK, SW_RECOVER or SW_FATAL. */
 int sw_sunls_hessian(sw_sunls *sys, const double *xf, double t);
-/* y (n) = H x (n), with the symmetric hval. */
+/* y (n) = H x (n), with the symmetric hval and the low-rank vectors hlr. */
 void sw_sunls_hmul(const sw_sunls *sys, const double *x, double *y);
 
 /* The two reductions (cvode.c, ida.c), declared here for the tests. */

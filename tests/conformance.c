@@ -23,14 +23,18 @@ typedef struct probe {
   double *x;  /* (n) state */
   int n;
   int rest_free; /* the term exerts no force at x0 (moved rigidly) */
+  double *lr; /* the term's low-rank vectors (sw_term.lptr) of the last Hessian */
 } probe;
 
 static double term_energy(probe *p, const double *x, double *grad, double *hess, int project) {
   const sw_term *t = &p->m->term[p->k];
-  sw_eval ev = {.t = 0.0, .x = x, .grad = grad, .hess = hess, .project = project};
+  sw_eval ev = {.t = 0.0, .x = x, .grad = grad, .hess = hess, .lowrank = hess ? p->lr : NULL,
+                .project = project};
   double e = 0.0;
   if (grad) memset(grad, 0, sizeof(double) * (size_t)p->n);
   if (hess) memset(hess, 0, sizeof(double) * (size_t)t->hptr[t->nstencil]);
+  if (hess && t->nlowrank)
+    memset(p->lr, 0, sizeof(double) * (size_t)t->lptr[t->nlowrank] * (size_t)p->m->dim);
   assert_int_equal(t->ops->eval(t, p->m, &ev, &e), SW_OK);
   return e;
 }
@@ -71,6 +75,7 @@ static void check_hessian(probe *p, double h) {
   double *gm = calloc((size_t)n, sizeof *gm), *xp = malloc(sizeof(double) * (size_t)n);
   term_energy(p, p->x, NULL, blk, 0);
   th_dense_hessian(p->m, p->k, blk, H);
+  th_dense_lowrank(p->m, p->k, p->lr, H);
   double scale = fmax(max_abs(H, (long)n * n), 1e-12), err = 0.0, asym = 0.0;
   for (int j = 0; j < n; j++) {
     memcpy(xp, p->x, sizeof(double) * (size_t)n);
@@ -98,6 +103,7 @@ static void check_projection(probe *p) {
   double *work = calloc((size_t)lwork, sizeof *work);
   term_energy(p, p->x, NULL, blk, 1);
   th_dense_hessian(p->m, p->k, blk, H);
+  th_dense_lowrank(p->m, p->k, p->lr, H);
   double scale = fmax(max_abs(H, (long)n * n), 1e-12);
   dsyev_("N", "L", &n, H, &n, w, work, &lwork, &info);
   assert_int_equal(info, 0);
@@ -181,7 +187,10 @@ void th_conformance(const sw_model *m, const char *name, int flags, double size,
     if (!strcmp(m->term[k].name, name)) p.k = k;
   if (p.k < 0) print_error("no term named %s\n", name);
   assert_true(p.k >= 0);
+  const sw_term *t = &m->term[p.k];
   p.x = calloc((size_t)p.n, sizeof(double));
+  p.lr = calloc((size_t)(t->nlowrank ? t->lptr[t->nlowrank] : 0) * (size_t)m->dim + 1,
+                sizeof(double));
   unsigned long rs = seed;
   /* amplitude of the random displacement (relative to size) and scale of x0 */
   const double states[][2] = {{0.1, 1.0}, {0.17, 1.3}, {0.07, 0.3}, {0.007, 0.05}};
@@ -194,4 +203,5 @@ void th_conformance(const sw_model *m, const char *name, int flags, double size,
       if (flags & TH_INTERNAL) check_rigid(&p, &rs);
     }
   free(p.x);
+  free(p.lr);
 }

@@ -1,6 +1,7 @@
 /* harness.c — see harness.h. */
 #include "harness.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -9,7 +10,7 @@ double th_rand(unsigned long *s) {
   return (double)(*s >> 11) / (double)(1UL << 52) - 1.0;
 }
 
-sw_model *th_grid_model(int dim, int nx, int ny, double sx, double sy, double rho, double kuv,
+sw_model *th_grid_start(int dim, int nx, int ny, double sx, double sy, double rho, double kuv,
                         double kshear, const double *g, int pin_top) {
   sw_mesh mesh;
   char err[SW_ERRSZ];
@@ -46,11 +47,36 @@ sw_model *th_grid_model(int dim, int nx, int ny, double sx, double sy, double rh
   }
   if (pin_top)
     for (int i = 0; i < nx; i++) m->pinned[(ny - 1) * nx + i] = 1;
-  if (sw_model_finish(m, err, sizeof err)) {
+  return m;
+}
+
+sw_model *th_grid_model(int dim, int nx, int ny, double sx, double sy, double rho, double kuv,
+                        double kshear, const double *g, int pin_top) {
+  char err[SW_ERRSZ];
+  sw_model *m = th_grid_start(dim, nx, ny, sx, sy, rho, kuv, kshear, g, pin_top);
+  if (m && sw_model_finish(m, err, sizeof err)) {
     sw_model_free(m);
     return NULL;
   }
   return m;
+}
+
+void th_add_tendon(sw_model *m, const int *way, int nway, int law, double K, double rest,
+                   double density) {
+  m->tendon = realloc(m->tendon, sizeof(sw_tendon) * (size_t)(m->ntendon + 1));
+  sw_tendon *td = &m->tendon[m->ntendon++];
+  memset(td, 0, sizeof *td);
+  snprintf(td->name, sizeof td->name, "t%d", m->ntendon - 1);
+  td->law = law;
+  td->stiffness = K;
+  td->nway = nway;
+  td->way = malloc(sizeof(int) * (size_t)nway);
+  memcpy(td->way, way, sizeof(int) * (size_t)nway);
+  td->nkey = 1;
+  td->key_t = calloc(1, sizeof(double));
+  td->key_rest = malloc(sizeof(double));
+  td->key_rest[0] = rest;
+  td->density = density;
 }
 
 void th_dense_hessian(const sw_model *m, int k, const double *blocks, double *H) {
@@ -64,5 +90,18 @@ void th_dense_hessian(const sw_model *m, int k, const double *blocks, double *H)
     for (int i = 0; i < w; i++)
       for (int j = 0; j < w; j++)
         H[(long)(v[i / d] * d + i % d) * n + v[j / d] * d + j % d] += b[i * w + j];
+  }
+}
+
+void th_dense_lowrank(const sw_model *m, int k, const double *vecs, double *H) {
+  const int d = m->dim, n = m->nv * d;
+  const sw_term *t = &m->term[k];
+  for (int r = 0; r < t->nlowrank; r++) {
+    int w = (t->lptr[r + 1] - t->lptr[r]) * d;
+    const int *v = t->lidx + t->lptr[r];
+    const double *u = vecs + (long)t->lptr[r] * d;
+    for (int i = 0; i < w; i++)
+      for (int j = 0; j < w; j++)
+        H[(long)(v[i / d] * d + i % d) * n + v[j / d] * d + j % d] += u[i] * u[j];
   }
 }

@@ -11,8 +11,17 @@ double th_rand(unsigned long *state);
  * g is not NULL; density rho (kg/m^2); the top row (y = sy) pinned when pin_top. */
 sw_model *th_grid_model(int dim, int nx, int ny, double sx, double sy, double rho, double kuv,
                         double kshear, const double *g, int pin_top);
+/* The same model before sw_model_finish (to add tendons or change options first). */
+sw_model *th_grid_start(int dim, int nx, int ny, double sx, double sy, double rho, double kuv,
+                        double kshear, const double *g, int pin_top);
+/* Append a tendon (law SW_LAW_*, K in N/m, constant rest length in m, density in kg/m) to a
+ * model not yet finished. */
+void th_add_tendon(sw_model *m, const int *way, int nway, int law, double K, double rest,
+                   double density);
 /* The dense (nv*dim)^2 Hessian of term k from its blocks (all DOFs, pinned included). */
 void th_dense_hessian(const sw_model *m, int k, const double *blocks, double *H);
+/* H += sum_r u_r u_r^T over term k's low-rank vectors (values as in d->lowrank + d->loff[k]). */
+void th_dense_lowrank(const sw_model *m, int k, const double *vecs, double *H);
 
 /* The conformance harness (tests/conformance.c, cmocka asserts): term `name` of m at 12 random
  * states around x0 (stretched, compressed to 0.3 and to 0.05 of x0), size the model's length
