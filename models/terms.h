@@ -22,6 +22,9 @@ int sw_tendon_build(sw_term *t, const sw_model *m, char *err, size_t errsz);
 /* models/gravity.c: E = -sum_i m_i g.x_i (no Hessian, no stencils). */
 int sw_gravity_build(sw_term *t, const sw_model *m, char *err, size_t errsz);
 
+/* models/point_load.c: E = -sum_i f_i . x_i with f = m->load (no Hessian, no stencils). */
+int sw_point_load_build(sw_term *t, const sw_model *m, char *err, size_t errsz);
+
 /* models/tension_xy.c: the reference stretch rlu, rlv of every face (seed 000). */
 void sw_tension_xy_reference(const sw_model *m, sw_data *d);
 
