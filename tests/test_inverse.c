@@ -17,6 +17,7 @@
 #include "harness.h"
 #include "inverse.h"
 #include "scene.h"
+#include "util.h"
 
 /* ------------------------------------------------------------------ NNLS */
 
@@ -298,6 +299,26 @@ static void zero_stiffness_and_zero_force(void **st) {
   sw_model_free(m);
 }
 
+/* Every allocation of the solve and the check failing in turn: an error, never a crash. */
+static void allocation_failures(void **st) {
+  (void)st;
+  sw_model *m = load(net2d);
+  sw_targets tg = {.n = 2, .dim = 2, .vertex = (int[]){4, 5}, .f = (double[]){-3, 4, 2, 5}};
+  sw_inverse inv;
+  char err[SW_ERRSZ];
+  int done = 0, k;
+  for (k = 1; k < 2000 && !done; k++) {
+    sw_alloc_fail_after(k);
+    int rc = sw_inverse_solve(m, m->x0, &tg, &inv, err, sizeof err);
+    if (!rc) rc = sw_inverse_check(m, m->x0, &tg, &inv, err, sizeof err), done = !rc;
+    sw_alloc_fail_after(0);
+    if (!done) assert_non_null(strstr(err, "out of memory"));
+    if (!rc || inv.tau) sw_inverse_free(&inv);
+  }
+  assert_true(done && k > 10);
+  sw_model_free(m);
+}
+
 /* ------------------------------------------------------------ files */
 
 static char tmpdir[256];
@@ -425,6 +446,7 @@ int main(void) {
       cmocka_unit_test(recover_3d),
       cmocka_unit_test(unreachable),
       cmocka_unit_test(zero_stiffness_and_zero_force),
+      cmocka_unit_test(allocation_failures),
       cmocka_unit_test(targets_csv),
       cmocka_unit_test(scene_rewrite),
       cmocka_unit_test(loads_term),
