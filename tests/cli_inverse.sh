@@ -43,6 +43,16 @@ grep -q 'targets unreachable' <<<"$out" || fail "unreachable message: $out"
 grep -q '^top .* 0 ' <<<"$out" || fail "unreachable: the least-squares tensions: $out"
 grep -q 'FAILED' <<<"$out" || fail "unreachable: the forward check fails: $out"
 
+# A tension the stiffness cannot give (rest length < 0): refused, exit 1, nothing written.
+sed '0,/stiffness: 1000/s//stiffness: 2/' "$scene" >"$tmp/soft.yaml"
+"$sinew" inverse "$tmp/soft.yaml" --targets "$tmp/targets.csv" --out "$tmp/soft_out.yaml" \
+  >/dev/null 2>"$tmp/err"
+rc=$?
+[ $rc -eq 1 ] || fail "negative rest length exit $rc"
+grep -q 'tendon bottom needs tension .* expected a stiffness of at least' "$tmp/err" ||
+  fail "negative rest length message: $(cat "$tmp/err")"
+[ -e "$tmp/soft_out.yaml" ] && fail "a negative rest length was written"
+
 # Bad targets: file:line:column, exit 2, nothing written.
 printf 'vertex,fx,fy\n4,0,0\n5,x,-3\n' >"$tmp/bad.csv"
 "$sinew" inverse "$scene" --targets "$tmp/bad.csv" --out "$tmp/bad.yaml" >/dev/null 2>"$tmp/err"
