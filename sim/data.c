@@ -36,8 +36,8 @@ sw_data *sw_data_new(const sw_model *m) {
   d->tendon_tension = sw_calloc(nt, sizeof(double));
   if (!d->tendon_length || !d->tendon_delta || !d->tendon_tension)
     return sw_data_free(d), NULL;
-  if (!d->x || !d->v || !d->grad || !d->hess || !d->lowrank || !d->term_energy || !d->txy || !d->stretch_u ||
-      !d->stretch_v || !d->shear || !d->rlu || !d->rlv || !d->scratch)
+  if (!d->x || !d->v || !d->grad || !d->hess || !d->lowrank || !d->term_energy || !d->txy ||
+      !d->stretch_u || !d->stretch_v || !d->shear || !d->rlu || !d->rlv || !d->scratch)
     return sw_data_free(d), NULL;
   memcpy(d->x, m->x0, nd * sizeof(double));
   memcpy(d->v, m->v0, nd * sizeof(double));

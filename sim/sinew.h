@@ -192,7 +192,7 @@ typedef struct sw_options {
 } sw_options;
 
 /* The default of sw_options.tendon_dense_max (docs/tendons.md). */
-#define SW_TENDON_DENSE_MAX 16
+#define SW_TENDON_DENSE_MAX 32
 
 struct sw_model {
   char name[128];              /* scene name */

@@ -81,7 +81,8 @@ static int lowrank_factor(sw_chol *ch, char *err, size_t errsz) {
   for (int k = 0; k < r; k++)
     for (int j = 0; j <= k; j++) {
       double s = 0.0;
-      for (long q = ch->lrptr[k]; q < ch->lrptr[k + 1]; q++) s += ch->lrval[q] * W[j * n + ch->lrrow[q]];
+      for (long q = ch->lrptr[k]; q < ch->lrptr[k + 1]; q++)
+        s += ch->lrval[q] * W[j * n + ch->lrrow[q]];
       C[j * r + k] = (j == k) + ch->lrcoef * s; /* lower triangle, column-major */
     }
   int info = 0;

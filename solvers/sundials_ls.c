@@ -60,7 +60,13 @@ int sw_sunls_force(sw_sunls *sys, const double *xf, double t, double *f) {
 
 /* ------------------------------------------------------------------- Hessian */
 
-/* hval <- the Hessian at sys->xlin, sys->tlin; projected or exact. */
+static int all_finite(const double *v, long n) {
+  for (long k = 0; k < n; k++)
+    if (!isfinite(v[k])) return 0;
+  return 1;
+}
+
+/* hval and hlr <- the Hessian at sys->xlin, sys->tlin; projected or exact. */
 static int eval_hessian(sw_sunls *sys, int project) {
   const sw_model *m = sys->m;
   sw_data *d = sys->d;
@@ -69,13 +75,12 @@ static int eval_hessian(sw_sunls *sys, int project) {
   if (rc == SW_OK) {
     sw_pattern_fill(&sys->pat, m, d, 0.0, sys->hval);
     sw_pattern_fill_lowrank(&sys->pat, d, sys->hlr);
-    for (long k = 0; k < sys->pat.nnz + sys->pat.lrptr[sys->pat.nlr]; k++)
-      if (!isfinite(k < sys->pat.nnz ? sys->hval[k] : sys->hlr[k - sys->pat.nnz])) {
-        sw_errf(d->err, sizeof d->err, "the Hessian is not finite (NaN or Inf) at t = %g s",
-                sys->tlin);
-        rc = SW_RECOVER;
-        break;
-      }
+    if (!all_finite(sys->hval, sys->pat.nnz) ||
+        !all_finite(sys->hlr, sys->pat.lrptr[sys->pat.nlr])) {
+      sw_errf(d->err, sizeof d->err, "the Hessian is not finite (NaN or Inf) at t = %g s",
+              sys->tlin);
+      rc = SW_RECOVER;
+    }
   }
   sys->h_projected = project;
   d->time_assemble += sw_now() - t0;
@@ -111,8 +116,9 @@ static int fill_factor(sw_sunls *sys) {
   double t0 = sw_now();
   double *val = sw_chol_values(&sys->chol);
   for (long k = 0; k < sys->pat.nnz; k++) val[k] = sys->ch * sys->hval[k];
-  memcpy(sw_chol_lowrank(&sys->chol, sys->ch), sys->hlr,
-         (size_t)sys->pat.lrptr[sys->pat.nlr] * sizeof(double));
+  if (sys->pat.nlr) /* the low-rank part of H, scaled by ch like hval */
+    memcpy(sw_chol_lowrank(&sys->chol, sys->ch), sys->hlr,
+           (size_t)sys->pat.lrptr[sys->pat.nlr] * sizeof(double));
   for (int c = 0; c < sys->n; c++) val[sys->pat.diag[c]] += sys->cm * sys->mdiag[c];
   /* D: + sys->cd * D, once a damping term fills D on the pattern. */
   double t1 = sw_now();
