@@ -100,6 +100,8 @@ typedef struct sw_bend {
  * k_b is the mean of the two faces' k_bend (a face without bending counts 0); the rest is flat
  * only when every bending face of the edge asks for a flat rest. */
 sw_bend *sw_bend_edges(const sw_model *m, int model, int *n, char *err, size_t errsz);
+/* models/point_load.c: E = -sum_i f_i . x_i with f = m->load (no Hessian, no stencils). */
+int sw_point_load_build(sw_term *t, const sw_model *m, char *err, size_t errsz);
 
 /* models/tension_xy.c: the reference stretch rlu, rlv of every face (seed 000). */
 void sw_tension_xy_reference(const sw_model *m, sw_data *d);

@@ -13,12 +13,18 @@ static void usage(FILE *fp) {
           "usage: sinew run SCENE [--out DIR] [--method M] [--dt DT] [--duration T]\n"
           "                 [--rtol R] [--atol A] [--threads N] [--quiet]\n"
           "       sinew check SCENE\n"
+          "       sinew inverse SCENE --targets FILE [--out SCENE_OUT]\n"
           "       sinew --help | --version\n"
           "\n"
           "  run     simulate SCENE (YAML) headless and write its logs and frames to the output\n"
           "          folder (the scene's output.dir, or DIR): tension.csv, energy.csv,\n"
           "          summary.json, frames/*.vtu and frames.pvd\n"
           "  check   validate SCENE and print the model it describes\n"
+          "  inverse tendon tensions (N) that exert the target forces of FILE (CSV:\n"
+          "          vertex,fx,fy[,fz]) at SCENE's initial positions, the rest lengths that\n"
+          "          give them, written into a copy of SCENE (default: <scene stem>_inverse.yaml\n"
+          "          beside FILE), and a forward static check; exit 0 when it passes, 1 when\n"
+          "          the targets are unreachable or the check fails, 2 on bad input\n"
           "\n"
           "  --out DIR       output folder (overrides output.dir)\n"
           "  --method M      integrator (overrides integrator.method); one of:\n");
@@ -136,6 +142,129 @@ static int cmd_check(int argc, char **argv) {
   return 0;
 }
 
+/* ------------------------------------------------------------------ inverse */
+
+typedef struct inv_cli {
+  const char *scene, *targets, *out;
+} inv_cli;
+
+static int parse_inverse_args(int argc, char **argv, inv_cli *c) {
+  for (int i = 2; i < argc; i++) {
+    const char *a = argv[i];
+    int has_val = i + 1 < argc;
+    if (!strcmp(a, "--targets") && has_val) c->targets = argv[++i];
+    else if (!strcmp(a, "--out") && has_val) c->out = argv[++i];
+    else if (a[0] == '-' && a[1])
+      return fprintf(stderr, "sinew: unknown option or missing value: %s (see sinew --help)\n",
+                     a), -1;
+    else if (!c->scene) c->scene = a;
+    else return fprintf(stderr, "sinew: more than one scene given: %s\n", a), -1;
+  }
+  if (!c->scene) return fprintf(stderr, "sinew: no scene file given (see sinew --help)\n"), -1;
+  if (!c->targets) return fprintf(stderr, "sinew: inverse needs --targets FILE\n"), -1;
+  if (c->out && (!*c->out || strlen(c->out) >= SW_PATHSZ))
+    return fprintf(stderr, "sinew: --out expects a file path of 1..%d bytes\n", SW_PATHSZ - 1),
+           -1;
+  return 0;
+}
+
+/* <folder of the targets>/<scene stem>_inverse.yaml */
+static int default_out(const inv_cli *c, char *out, size_t sz) {
+  const char *slash = strrchr(c->targets, '/'), *base = strrchr(c->scene, '/');
+  base = base ? base + 1 : c->scene;
+  const char *dot = strrchr(base, '.');
+  int stem = dot && dot != base ? (int)(dot - base) : (int)strlen(base);
+  int dir = slash ? (int)(slash - c->targets) + 1 : 0;
+  int n = snprintf(out, sz, "%.*s%.*s_inverse.yaml", dir, c->targets, stem, base);
+  return n < 0 || (size_t)n >= sz ? -1 : 0;
+}
+
+static const char *law_name(int law) { return law == SW_LAW_SPRING ? "spring" : "cable"; }
+
+static void print_tensions(const sw_model *m, const sw_inverse *inv) {
+  printf("%-16s %-6s %12s %12s %12s %12s\n", "tendon", "law", "K (N/m)", "length (m)",
+         "tension (N)", "rest (m)");
+  for (int t = 0; t < m->ntendon; t++) {
+    const sw_tendon *td = &m->tendon[t];
+    printf("%-16s %-6s %12.6g %12.6g %12.6g %12.6g\n", td->name, law_name(td->law),
+           td->stiffness, inv->length[t], inv->tau[t], inv->rest[t]);
+  }
+  printf("residual |A tau - f| = %.6g N of |f| = %.6g N (relative %.3g; tolerance %g), "
+         "%d NNLS iterations\n", inv->residual, inv->fnorm,
+         inv->fnorm > 0 ? inv->residual / inv->fnorm : 0.0, SW_INVERSE_RTOL, inv->iterations);
+}
+
+/* Tendons that cannot realise their tension: K = 0 (warned) and rest length < 0 (refused). */
+static int check_rest(const sw_model *m, const sw_inverse *inv) {
+  int bad = 0;
+  for (int t = 0; t < m->ntendon; t++) {
+    const sw_tendon *td = &m->tendon[t];
+    if (!(td->stiffness > 0.0))
+      fprintf(stderr, "sinew: warning: tendon %s has stiffness 0 and cannot pull: left out "
+              "(tension 0, rest length unchanged)\n", td->name);
+    else if (inv->rest[t] < 0.0)
+      bad = 1, fprintf(stderr, "sinew: tendon %s needs tension %g N > K l = %g N: its rest "
+                       "length would be %g m < 0; expected a stiffness of at least %g N/m\n",
+                       td->name, inv->tau[t], td->stiffness * inv->length[t], inv->rest[t],
+                       inv->tau[t] / inv->length[t]);
+  }
+  return bad;
+}
+
+static void print_check(const sw_inverse *inv) {
+  double lmax = 0.0;
+  for (int t = 0; t < inv->ntendon; t++) lmax = inv->length[t] > lmax ? inv->length[t] : lmax;
+  printf("forward check: static solve %s; max |x* - x| = %.3g m (tolerance %.3g m); force "
+         "error %.3g at x, %.3g at x* (tolerance %g): %s\n",
+         inv->check_rc == 0 ? "converged" : "did NOT converge", inv->check_dx,
+         SW_INVERSE_XTOL * (lmax > 0 ? lmax : 1.0), inv->check_ferr0, inv->check_ferr,
+         SW_INVERSE_RTOL, inv->check_pass ? "passed" : "FAILED");
+}
+
+/* Solve, report, write the scene and check; the exit status. */
+static int inverse_run(const inv_cli *c, const sw_model *m, const sw_targets *tg) {
+  char err[SW_ERRSZ], out[SW_PATHSZ];
+  sw_inverse inv;
+  if (sw_inverse_solve(m, m->x0, tg, &inv, err, sizeof err))
+    return fprintf(stderr, "sinew: %s\n", err), 1;
+  print_tensions(m, &inv);
+  int rc = check_rest(m, &inv) ? 1 : 0;
+  if (!rc && !inv.reachable)
+    printf("targets unreachable: the residual is above %g |f|; the tensions above are the "
+           "least-squares answer with tau >= 0\n", SW_INVERSE_RTOL);
+  if (!rc && c->out) snprintf(out, sizeof out, "%s", c->out);
+  if (!rc && !c->out && default_out(c, out, sizeof out))
+    rc = 2, fprintf(stderr, "sinew: the output path is too long; give --out\n");
+  if (!rc && sw_scene_write_rest(c->scene, out, m, inv.rest, err, sizeof err))
+    rc = 2, fprintf(stderr, "sinew: %s\n", err);
+  if (!rc) printf("wrote %s\n", out);
+  if (!rc && sw_inverse_check(m, m->x0, tg, &inv, err, sizeof err))
+    rc = 1, fprintf(stderr, "sinew: %s\n", err);
+  else if (!rc) print_check(&inv);
+  if (!rc && (!inv.reachable || !inv.check_pass)) rc = 1;
+  sw_inverse_free(&inv);
+  return rc;
+}
+
+static int cmd_inverse(int argc, char **argv) {
+  inv_cli c = {0};
+  if (parse_inverse_args(argc, argv, &c)) return 2;
+  char err[SW_ERRSZ];
+  sw_model *m = sw_scene_load(c.scene, err, sizeof err);
+  if (!m) return fprintf(stderr, "sinew: %s\n", err), 2;
+  sw_targets tg;
+  int rc = 0;
+  if (m->ntendon == 0) rc = 2, fprintf(stderr, "sinew: %s has no tendons\n", c.scene);
+  else if (sw_targets_read(c.targets, m, &tg, err, sizeof err))
+    rc = 2, fprintf(stderr, "sinew: %s\n", err);
+  else {
+    rc = inverse_run(&c, m, &tg);
+    sw_targets_free(&tg);
+  }
+  sw_model_free(m);
+  return rc;
+}
+
 int main(int argc, char **argv) {
   if (argc < 2) return usage(stderr), 2;
   const char *cmd = argv[1];
@@ -147,6 +276,7 @@ int main(int argc, char **argv) {
     return cmd_run(argc, argv);
   }
   if (!strcmp(cmd, "check")) return cmd_check(argc, argv);
+  if (!strcmp(cmd, "inverse")) return cmd_inverse(argc, argv);
   fprintf(stderr, "sinew: unknown command '%s' (see sinew --help)\n", cmd);
   return 2;
 }

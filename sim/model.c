@@ -58,6 +58,7 @@ void sw_model_free(sw_model *m) {
     sw_free(m->tendon[k].key_rest);
   }
   sw_free(m->tendon);
+  sw_free(m->load);
   sw_free(m);
 }
 
@@ -188,6 +189,7 @@ static int build_terms(sw_model *m, char *err, size_t errsz) {
       return -1;
   if (m->ntendon > 0 && add_term(m, sw_tendon_build, err, errsz)) return -1;
   if (m->has_gravity && add_term(m, sw_gravity_build, err, errsz)) return -1;
+  if (m->load && add_term(m, sw_point_load_build, err, errsz)) return -1;
   return 0;
 }
 

@@ -187,9 +187,9 @@ static int fill_geometry(const ctx *c, const mesh_in *mi, double uv_scale) {
 static const char *const top_keys[] = {"name",     "dimension", "mesh",     "material",
                                        "gravity",  "pins",      "initial_velocity",
                                        "integrator", "duration", "output",  "tension_xy",
-                                       "panels",   "damping",   "tendons"};
+                                       "panels",   "damping",   "tendons",  "loads"};
 enum { K_NAME, K_DIM, K_MESH, K_MAT, K_GRAV, K_PINS, K_IV, K_INT, K_DUR, K_OUT, K_TXY, K_PANELS,
-       K_DAMP, K_TENDONS, K_N };
+       K_DAMP, K_TENDONS, K_LOADS, K_N };
 
 static int load_name_dim(const ctx *c, const ynode **v) {
   sw_model *m = c->m;
@@ -332,6 +332,34 @@ static int load_velocities(const ctx *c, const ynode *y) {
   return 0;
 }
 
+static const char *const load_keys[] = {"select", "force"};
+
+/* loads: [{select: SEL, force: [fx, fy(, fz)]}]: force (N) on each selected vertex; the items
+ * add up (models/point_load.c). */
+static int load_loads(const ctx *c, const ynode *y) {
+  sw_model *m = c->m;
+  char w[64], lab[96];
+  const ynode *v[2];
+  double f[3];
+  if (sy_seq(c, y, "loads", "a sequence of {select: ..., force: [...]}")) return -1;
+  if (!(m->load = sw_calloc((size_t)m->nv * (size_t)m->dim, sizeof *m->load)))
+    return sy_oom(c, y);
+  for (int p = 0; p < y->n; p++) {
+    snprintf(w, sizeof w, "loads[%d]", p);
+    if (sy_map(c, y->kid[p], w, load_keys, 2, v) ||
+        sy_need(c, y->kid[p], v[0], w, "select", "select: {vertices: [...]} or {box: [...]}") ||
+        sy_need(c, y->kid[p], v[1], w, "force", "force: [fx, fy(, fz)] in N"))
+      return -1;
+    snprintf(lab, sizeof lab, "%s force", w);
+    if (sy_vec(c, v[1], lab, m->dim, -HUGE_VAL, 0, "N", f)) return -1;
+    snprintf(lab, sizeof lab, "%s select", w);
+    if (sy_select(c, v[0], lab)) return -1;
+    for (int i = 0; i < m->nv; i++)
+      for (int a = 0; c->sel[i] && a < m->dim; a++) m->load[i * m->dim + a] += f[a]; /* N */
+  }
+  return 0;
+}
+
 static int load_gravity(const ctx *c, const ynode *y) {
   sw_model *m = c->m;
   if (!y) return 0;
@@ -432,6 +460,7 @@ static int load_scene(ctx *c) {
   if (v[K_IV] && load_velocities(c, v[K_IV])) return -1;
   if (v[K_DAMP] && sc_load_damping(c, v[K_DAMP])) return -1;
   if (v[K_TENDONS] && sc_load_tendons(c, v[K_TENDONS])) return -1;
+  if (v[K_LOADS] && load_loads(c, v[K_LOADS])) return -1;
   return load_options(c, v);
 }
 

@@ -220,6 +220,8 @@ struct sw_model {
   double damp_stiffness;       /* Rayleigh stiffness-proportional damping beta, s */
   int ntendon;
   sw_tendon *tendon;           /* (ntendon) */
+  double *load;                /* (nv x dim) external point load on each vertex, N (scene key
+                                  `loads`, term "loads", models/point_load.c), or NULL */
   int nterm;
   sw_term *term;               /* (nterm) energy terms, only those the scene names */
   sw_options opt;
@@ -302,6 +304,61 @@ SW_API int sw_run(const sw_model *m, int progress, char *err, size_t errsz);
  * the pin reactions (3, N).  0 on success. */
 SW_API int sw_static_solve(const sw_model *m, sw_data *d, double reaction[3], char *err,
                            size_t errsz);
+
+/* --------------------------------------------------------------- inverse */
+
+/* The tendon inverse problem (solvers/inverse.c, seed 003 §2–3, docs/inverse.md): which
+ * tensions tau >= 0 make the tendons exert the target forces f on chosen vertices at a
+ * configuration x, and which rest lengths give those tensions. */
+typedef struct sw_targets {
+  int n;                       /* target vertices */
+  int dim;                     /* components of each force */
+  int *vertex;                 /* (n) distinct vertex indices */
+  double *f;                   /* (n x dim) target force on each, N */
+} sw_targets;
+
+/* Read a targets CSV: a header `vertex,fx,fy` (2D) or `vertex,fx,fy,fz` (3D), then one line
+ * per vertex.  Nonzero with "file:line:column: what was found; expected what" on error. */
+SW_API int sw_targets_read(const char *path, const sw_model *m, sw_targets *tg, char *err,
+                           size_t errsz);
+SW_API void sw_targets_free(sw_targets *tg);
+
+#define SW_INVERSE_RTOL 1e-6   /* reachable: |A tau - f| <= RTOL |f| (2-norms) */
+#define SW_INVERSE_XTOL 1e-6   /* forward check: max |x* - x| <= XTOL x the longest tendon */
+
+typedef struct sw_inverse {
+  int ntendon;
+  double *tau;                 /* (ntendon) tension, N */
+  double *length;              /* (ntendon) length l at x, m */
+  double *rest;                /* (ntendon) rest length alpha = l - tau / K, m (K = 0: as in
+                                  the scene at t = 0) */
+  double residual;             /* |A tau - f|, N */
+  double fnorm;                /* |f|, N */
+  int iterations;              /* NNLS outer iterations */
+  int reachable;               /* residual <= SW_INVERSE_RTOL fnorm */
+  /* forward check (sw_inverse_check) */
+  int check_rc;                /* the static solve's return code (0: converged) */
+  double check_dx;             /* max over vertices of |x* - x|, m */
+  double check_ferr0;          /* |f_tendons(x) - f| / |f| on the targets (|f| = 0: in N) */
+  double check_ferr;           /* |f_tendons(x*) - f| / |f| */
+  int check_pass;              /* converged, dx <= XTOL l_max and ferr <= RTOL */
+} sw_inverse;
+
+/* Tensions by non-negative least squares and the rest lengths, at x (nv x dim, m).  0, or
+ * nonzero with err (out of memory, NNLS failure). */
+SW_API int sw_inverse_solve(const sw_model *m, const double *x, const sw_targets *tg,
+                            sw_inverse *inv, char *err, size_t errsz);
+/* The forward check: the tendons alone with the rest lengths inv->rest (constant), every
+ * vertex but the targets pinned, the targets loaded by -f; a static solve from x.  Fills
+ * inv->check_*.  0 when the check could be run (passed or not); nonzero with err otherwise. */
+SW_API int sw_inverse_check(const sw_model *m, const double *x, const sw_targets *tg,
+                            sw_inverse *inv, char *err, size_t errsz);
+SW_API void sw_inverse_free(sw_inverse *inv);
+/* Write the scene file `scene` to `out` with each tendon's rest_length set to rest[k] (m),
+ * through libfyaml's document API, atomically (a temporary file renamed).  0 or nonzero with
+ * err. */
+SW_API int sw_scene_write_rest(const char *scene, const char *out, const sw_model *m,
+                               const double *rest, char *err, size_t errsz);
 
 #ifdef __cplusplus
 }

@@ -1,0 +1,166 @@
+/* targets.c — the target forces of the tendon inverse problem (docs/inverse.md): a CSV file
+ *   vertex,fx,fy[,fz]        header: the scene's dimension many force components
+ *   4,0,-2.5                 one line per target vertex: index in [0, nv), force in N
+ * Spaces around fields, CRLF line ends and blank lines are allowed.  Every error is
+ * "file:line:column: what was found; expected what" (1-based, the column of the field). */
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "sinew.h"
+#include "util.h"
+
+#define TG_MAXF 8     /* fields kept per line; more are counted */
+#define TG_FIELDSZ 64 /* bytes of a field quoted in a message */
+
+typedef struct csv_line {
+  const char *path;
+  long line;
+  int nf;                  /* fields on the line */
+  char *f[TG_MAXF];        /* trimmed, NUL-terminated (inside the line buffer) */
+  int col[TG_MAXF];        /* 1-based column of each field */
+  int end_col;             /* column just after the line's last character */
+} csv_line;
+
+static int fail(const csv_line *l, int col, char *err, size_t errsz, const char *fmt, ...)
+    __attribute__((format(printf, 5, 6)));
+static int fail(const csv_line *l, int col, char *err, size_t errsz, const char *fmt, ...) {
+  char msg[SW_ERRSZ];
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(msg, sizeof msg, fmt, ap);
+  va_end(ap);
+  sw_errf(err, errsz, "%s:%ld:%d: %s", l->path, l->line > 0 ? l->line : 1, col, msg);
+  return -1;
+}
+
+/* Split buf (modified) at commas; trim spaces and a trailing CR.  Returns 0 for a blank line. */
+static int split(char *buf, csv_line *l) {
+  size_t n = strlen(buf);
+  while (n && (buf[n - 1] == '\n' || buf[n - 1] == '\r')) buf[--n] = '\0';
+  l->end_col = (int)n + 1;
+  l->nf = 0;
+  char *p = buf;
+  int blank = 1;
+  for (size_t i = 0; i < n; i++) blank &= buf[i] == ' ' || buf[i] == '\t';
+  if (blank) return 0;
+  for (;;) {
+    char *comma = strchr(p, ',');
+    if (comma) *comma = '\0';
+    while (*p == ' ' || *p == '\t') p++;
+    char *e = p + strlen(p);
+    while (e > p && (e[-1] == ' ' || e[-1] == '\t')) *--e = '\0';
+    if (l->nf < TG_MAXF) l->f[l->nf] = p, l->col[l->nf] = (int)(p - buf) + 1;
+    l->nf++;
+    if (!comma) break;
+    p = comma + 1;
+  }
+  return 1;
+}
+
+static int check_header(const csv_line *l, int dim, char *err, size_t errsz) {
+  static const char *const names[] = {"vertex", "fx", "fy", "fz"};
+  const char *want = dim == 2 ? "vertex,fx,fy" : "vertex,fx,fy,fz";
+  for (int k = 0; k < l->nf && k < TG_MAXF; k++)
+    if (k > dim || strcmp(l->f[k], names[k]))
+      return fail(l, l->col[k], err, errsz, "header field %d is '%.*s'; expected the header %s "
+                  "(a %dD scene)", k + 1, TG_FIELDSZ, l->f[k], want, dim);
+  if (l->nf != dim + 1)
+    return fail(l, l->end_col, err, errsz, "the header has %d fields; expected %s (a %dD scene)",
+                l->nf, want, dim);
+  return 0;
+}
+
+static int parse_vertex(const csv_line *l, int nv, const unsigned char *seen, int *out,
+                        char *err, size_t errsz) {
+  char *end;
+  errno = 0;
+  long v = strtol(l->f[0], &end, 10);
+  if (!*l->f[0] || *end || errno || v < 0 || v >= nv)
+    return fail(l, l->col[0], err, errsz, "vertex is '%.*s'; expected an integer in 0..%d",
+                TG_FIELDSZ, l->f[0], nv - 1);
+  if (seen[v])
+    return fail(l, l->col[0], err, errsz, "vertex %ld is repeated; expected one line per "
+                "target vertex", v);
+  *out = (int)v;
+  return 0;
+}
+
+static int parse_line(const csv_line *l, const sw_model *m, unsigned char *seen,
+                      sw_targets *tg, char *err, size_t errsz) {
+  static const char *const comp[] = {"fx", "fy", "fz"};
+  if (l->nf != m->dim + 1)
+    return fail(l, l->nf > m->dim + 1 && l->nf <= TG_MAXF ? l->col[m->dim + 1] : l->end_col,
+                err, errsz, "the line has %d fields; expected %d (vertex and %d force "
+                "components in N)", l->nf, m->dim + 1, m->dim);
+  int v = -1;
+  if (parse_vertex(l, m->nv, seen, &v, err, errsz)) return -1;
+  double *f = tg->f + (size_t)tg->n * m->dim;
+  for (int a = 0; a < m->dim; a++) {
+    char *end;
+    errno = 0;
+    f[a] = strtod(l->f[a + 1], &end); /* N */
+    if (!*l->f[a + 1] || *end || errno || !isfinite(f[a]))
+      return fail(l, l->col[a + 1], err, errsz, "%s is '%.*s'; expected a finite number (N)",
+                  comp[a], TG_FIELDSZ, l->f[a + 1]);
+  }
+  seen[v] = 1;
+  tg->vertex[tg->n++] = v;
+  return 0;
+}
+
+/* The lines of an open file: header first, then targets. */
+static int read_lines(FILE *fp, csv_line *l, const sw_model *m, unsigned char *seen,
+                      sw_targets *tg, char *err, size_t errsz) {
+  char *buf = NULL;
+  size_t cap = 0;
+  int have_header = 0, rc = 0;
+  errno = 0;
+  while (!rc && getline(&buf, &cap, fp) >= 0) {
+    l->line++;
+    if (!split(buf, l)) continue;
+    if (!have_header) rc = check_header(l, m->dim, err, errsz), have_header = 1;
+    else if (tg->n >= m->nv) rc = fail(l, 1, err, errsz, "more target lines than the %d "
+                                       "vertices; expected one line per target vertex", m->nv);
+    else rc = parse_line(l, m, seen, tg, err, errsz);
+  }
+  if (!rc && ferror(fp))
+    rc = -1, sw_errf(err, errsz, "%s: cannot read the targets file: %s", l->path,
+                     strerror(errno ? errno : EIO));
+  free(buf);
+  if (!rc && tg->n == 0)
+    rc = fail(l, 1, err, errsz, "%s; expected the header vertex,fx,fy%s and at least one "
+              "target line", have_header ? "no target line" : "the file is empty",
+              m->dim == 3 ? ",fz" : "");
+  return rc;
+}
+
+void sw_targets_free(sw_targets *tg) {
+  if (!tg) return;
+  sw_free(tg->vertex);
+  sw_free(tg->f);
+  memset(tg, 0, sizeof *tg);
+}
+
+int sw_targets_read(const char *path, const sw_model *m, sw_targets *tg, char *err,
+                    size_t errsz) {
+  memset(tg, 0, sizeof *tg);
+  tg->dim = m->dim;
+  FILE *fp = fopen(path, "r");
+  if (!fp) return sw_errf(err, errsz, "%s: cannot open the targets file: %s", path,
+                          strerror(errno)), -1;
+  csv_line l = {.path = path};
+  unsigned char *seen = sw_calloc((size_t)m->nv, 1);
+  tg->vertex = sw_calloc((size_t)m->nv, sizeof(int));
+  tg->f = sw_calloc((size_t)m->nv * (size_t)m->dim, sizeof(double));
+  int rc = !seen || !tg->vertex || !tg->f
+               ? (sw_errf(err, errsz, "%s: out of memory", path), -1)
+               : read_lines(fp, &l, m, seen, tg, err, errsz);
+  fclose(fp);
+  sw_free(seen);
+  if (rc) sw_targets_free(tg);
+  return rc;
+}
