@@ -465,7 +465,7 @@ static int step_tendons(sw_output *o, const sw_model *m, const sw_data *d, char 
   if (m->ntendon == 0) return 0;
   size_t len = 0;
   for (int k = 0; k < m->ntendon; k++) {
-    line_num(o, &len, d->t);
+    len += (size_t)fmt_num(o->line + len, o->linesz - len, d->t); /* first field: no comma */
     o->line[len++] = ',';
     o->line[len] = '\0';
     line_csv_name(o, &len, m->tendon[k].name);

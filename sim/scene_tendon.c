@@ -1,6 +1,6 @@
 /* scene_tendon.c — a scene's `tendons` (DESIGN.md "Tendons", docs/scenes.md):
  *   - {name: s1, waypoints: [0, 41, 82] | {box: [[lo], [hi]], along: x} | {vertices: [...]},
- *      law: cable | spring, stiffness: K (N), rest_length: L (m) | {relative: r} |
+ *      law: cable | spring, stiffness: K (N/m), rest_length: L (m) | {relative: r} |
  *      {keyframes: [[t, L], ...], relative: false}, density: kg/m, damping: N s/m}
  * A selection's vertices are ordered along an axis (`along`, default: the axis on which they
  * spread most).  Rest length default: the initial length (relative 1). */
@@ -190,14 +190,14 @@ static int load_tendon(const ctx *c, const ynode *y, int k, sw_tendon *td) {
                      "expected distinct names", w, td->name, j);
   snprintf(w, sizeof w, "tendon %s", td->name);
   if (sy_need(c, y, v[TK_WAY], w, "waypoints", "waypoints: [i, j, ...] or a selection") ||
-      sy_need(c, y, v[TK_K], w, "stiffness", "stiffness: K >= 0 (N)") ||
+      sy_need(c, y, v[TK_K], w, "stiffness", "stiffness: K >= 0 (N/m)") ||
       load_waypoints(c, v[TK_WAY], w, td))
     return -1;
   td->law = SW_LAW_CABLE;
   snprintf(lab, sizeof lab, "%s law", w);
   if (v[TK_LAW] && sy_choice(c, v[TK_LAW], lab, laws, 2, &td->law)) return -1;
   snprintf(lab, sizeof lab, "%s stiffness", w);
-  if (sy_num(c, v[TK_K], lab, 0, 0, "N", &td->stiffness)) return -1;
+  if (sy_num(c, v[TK_K], lab, 0, 0, "N/m", &td->stiffness)) return -1;
   snprintf(lab, sizeof lab, "%s density", w);
   if (v[TK_DENSITY] && sy_num(c, v[TK_DENSITY], lab, 0, 0, "kg/m", &td->density)) return -1;
   snprintf(lab, sizeof lab, "%s damping", w);
