@@ -442,6 +442,44 @@ static void hanging_cable(void **st) {
   assert_true(fabs(sag_lr - sag_d) < 1e-9 * sag_d);
 }
 
+/* 2D: a membrane held along its bottom edge and pulled down by a contracted cable through its
+ * middle column settles (damped backward Euler) where the static solve puts it. */
+static void membrane_2d_static(void **st) {
+  (void)st;
+  const int n = 7;
+  sw_model *m = th_grid_start(2, n, n, 1.0, 1.0, 0.1, 500.0, 50.0, NULL, 0);
+  assert_non_null(m);
+  for (int i = 0; i < n; i++) m->pinned[i] = 1; /* the bottom row, y = 0 */
+  int way[7];
+  for (int j = 0; j < n; j++) way[j] = j * n + n / 2;
+  th_add_tendon(m, way, n, SW_LAW_CABLE, 2000.0, 0.85, 0.0); /* 85 % of its 1 m */
+  m->damp_mass = 30.0;                                         /* 1/s: settles in a few s */
+  m = th_finish(m);
+  assert_non_null(m);
+  char err[SW_ERRSZ];
+  double reaction[3];
+  sw_data *ds = sw_data_new(m), *dd = sw_data_new(m);
+  if (sw_static_solve(m, ds, reaction, err, sizeof err)) print_error("static: %s\n", err);
+  void *s = NULL;
+  assert_int_equal(sw_backward_euler_ops.init(&s, m, dd, err, sizeof err), 0);
+  for (int k = 0; k < 400; k++) assert_int_equal(sw_backward_euler_ops.step(s, m, dd, 0.025), 0);
+  sw_backward_euler_ops.free(s);
+  double diff = 0.0, moved = 0.0; /* m */
+  for (int i = 0; i < m->nv * 2; i++) {
+    diff = fmax(diff, fabs(dd->x[i] - ds->x[i]));
+    moved = fmax(moved, fabs(ds->x[i] - m->x0[i]));
+  }
+  sw_tendon_state(m, ds);
+  print_message("2D membrane: static moved %.4g m, cable tension %.4g N, dynamic - static %.3g m\n",
+                moved, ds->tendon_tension[0], diff);
+  assert_true(moved > 0.02);                 /* the cable did pull the membrane */
+  assert_true(ds->tendon_tension[0] > 0.0);
+  assert_true(diff < 1e-6);
+  assert_float_equal(reaction[1], 0.0, 1e-6 * ds->tendon_tension[0]); /* no external load */
+  sw_data_free(ds), sw_data_free(dd);
+  sw_model_free(m);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(conformance_spring),
@@ -455,6 +493,7 @@ int main(void) {
       cmocka_unit_test(lowrank_sundials_systems),
       cmocka_unit_test(lowrank_sundials_runs),
       cmocka_unit_test(hanging_cable),
+      cmocka_unit_test(membrane_2d_static),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
