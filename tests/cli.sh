@@ -68,5 +68,19 @@ grep -q '"retries": 3' "$tmp/fail/summary.json" || fail "summary counts 3 tries 
 ls "$tmp/fail"/*.part >/dev/null 2>&1 && fail ".part files left after a failed run"
 [ "$(ls "$tmp/fail/frames/"*.vtu | wc -l)" -eq 2 ] || fail "initial frame and last good state"
 
+# Every shipped scene loads.
+for f in scenes/*.yaml scenes/models/*.yaml; do
+  "$sinew" check "$f" >/dev/null 2>"$tmp/err" || fail "check $f: $(cat "$tmp/err")"
+done
+
+# A tendon scene: tendons.csv, one line per tendon per logged state, whole lines.
+"$sinew" run scenes/tendon_membrane_2d.yaml --out "$tmp/tm" --duration 0.05 --quiet 2>"$tmp/err" ||
+  fail "tendon run: $(cat "$tmp/err")"
+head -1 "$tmp/tm/tendons.csv" | grep -qx 'time,tendon,length,delta,tension' || fail "tendons header"
+[ "$(wc -l <"$tmp/tm/tendons.csv")" -eq $((1 + 6 * 3)) ] || fail "tendons.csv: 3 tendons x 6 states"
+grep -Evq '^[0-9.e-]+,(left|middle|right),[^,]+,[^,]+,[^,]+$' <(tail -n +2 "$tmp/tm/tendons.csv") &&
+  fail "tendons.csv lines: $(head -3 "$tmp/tm/tendons.csv")"
+grep -q '"tendons.csv"' "$tmp/tm/summary.json" || fail "summary lists tendons.csv"
+
 echo "$fails failure(s)"
 [ "$fails" -eq 0 ]
