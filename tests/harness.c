@@ -1,6 +1,7 @@
 /* harness.c — see harness.h. */
 #include "harness.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -124,4 +125,19 @@ void th_dense_lowrank(const sw_model *m, int k, const double *vecs, double *H) {
       for (int j = 0; j < w; j++)
         H[(long)(v[i / d] * d + i % d) * n + v[j / d] * d + j % d] += u[i] * u[j];
   }
+}
+
+double th_max_diff(const double *a, const double *b, int n) {
+  double s = 0.0;
+  for (int i = 0; i < n; i++) s = fmax(s, fabs(a[i] - b[i]));
+  return s;
+}
+
+double th_slope(const double *h, const double *e, int n) {
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  for (int i = 0; i < n; i++) {
+    double lx = log(h[i]), ly = log(e[i]);
+    sx += lx, sy += ly, sxx += lx * lx, sxy += lx * ly;
+  }
+  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
 }

@@ -30,6 +30,10 @@ sw_model *th_grid_start(int dim, int nx, int ny, double sx, double sy, double rh
  * model not yet finished. */
 void th_add_tendon(sw_model *m, const int *way, int nway, int law, double K, double rest,
                    double density);
+/* max_i |a_i - b_i| over n entries. */
+double th_max_diff(const double *a, const double *b, int n);
+/* Least-squares slope of log(e) against log(h) over n points: an observed convergence order. */
+double th_slope(const double *h, const double *e, int n);
 /* The dense (nv*dim)^2 Hessian of term k from its blocks (all DOFs, pinned included). */
 void th_dense_hessian(const sw_model *m, int k, const double *blocks, double *H);
 /* H += sum_r u_r u_r^T over term k's low-rank vectors (values as in d->lowrank + d->loff[k]). */

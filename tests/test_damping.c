@@ -57,21 +57,6 @@ static void integrate(const sw_integrator_ops *ops, const sw_model *m, double T,
   sw_data_free(d);
 }
 
-static double max_diff(const double *a, const double *b, int n) {
-  double s = 0.0;
-  for (int i = 0; i < n; i++) s = fmax(s, fabs(a[i] - b[i]));
-  return s;
-}
-
-static double slope(const double *h, const double *e, int n) {
-  double sx = 0, sy = 0, sxx = 0, sxy = 0;
-  for (int i = 0; i < n; i++) {
-    double lx = log(h[i]), ly = log(e[i]);
-    sx += lx, sy += ly, sxx += lx * lx, sxy += lx * ly;
-  }
-  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
-}
-
 typedef struct method_order {
   const sw_integrator_ops *ops;
   double order;
@@ -93,10 +78,10 @@ static double fitted_order(const sw_integrator_ops *ops, const sw_model *m, doub
     int n = n0 << k;
     integrate(ops, m, T, n, x, v, NULL);
     h[k] = T / n;
-    e[k] = max_diff(x, xref, nd);
+    e[k] = th_max_diff(x, xref, nd);
   }
   free(x), free(v);
-  double p = slope(h, e, 3);
+  double p = th_slope(h, e, 3);
   print_message("%-18s errors %.3g %.3g %.3g, order %.2f\n", ops->name, e[0], e[1], e[2], p);
   return p;
 }
@@ -120,7 +105,7 @@ static void free_fall_mass_damping(void **st) {
   const sw_integrator_ops *ad[2] = {&sw_cvode_ops, &sw_ida_ops};
   for (int k = 0; k < 2; k++) {
     integrate(ad[k], m, T, 4, x, v, NULL);
-    double e = max_diff(x, xref, nd);
+    double e = th_max_diff(x, xref, nd);
     print_message("%-18s error %.3g\n", ad[k]->name, e);
     assert_true(e < 1e-6);
   }
@@ -201,8 +186,8 @@ static void tendon_oscillator(void **st) {
   m->opt.rtol = 1e-10;
   m->opt.atol = 1e-12;
   integrate(&sw_cvode_ops, m, T, 5, x, v, NULL);
-  print_message("cvode error %.3g\n", max_diff(x, xref, 4));
-  assert_true(max_diff(x, xref, 4) < 1e-7);
+  print_message("cvode error %.3g\n", th_max_diff(x, xref, 4));
+  assert_true(th_max_diff(x, xref, 4) < 1e-7);
   sw_model_free(m);
 }
 

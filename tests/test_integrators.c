@@ -62,22 +62,6 @@ static void integrate(const sw_integrator_ops *ops, const sw_model *m, double T,
   integrate_split(ops, m, T, n, 0, x, v);
 }
 
-static double max_diff(const double *a, const double *b, int n) {
-  double s = 0.0;
-  for (int i = 0; i < n; i++) s = fmax(s, fabs(a[i] - b[i]));
-  return s;
-}
-
-/* Least-squares slope of log(e) against log(h). */
-static double slope(const double *h, const double *e, int n) {
-  double sx = 0, sy = 0, sxx = 0, sxy = 0;
-  for (int i = 0; i < n; i++) {
-    double lx = log(h[i]), ly = log(e[i]);
-    sx += lx, sy += ly, sxx += lx * lx, sxy += lx * ly;
-  }
-  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
-}
-
 /* ------------------------------------------------------------------ orders */
 
 /* A 4 x 4 soft cloth (k = 50 N/m, 0.3 m, 0.1 kg/m^2) pinned by its top row, falling under
@@ -114,7 +98,7 @@ static int order_setup(void **st) {
   integrate(&sw_implicit_midpoint_ops, r->m, ORD_T, 25600, x1, v1);
   integrate(&sw_implicit_midpoint_ops, r->m, ORD_T, 51200, r->x, r->v);
   print_message("reference: midpoint h vs h/2 differ by %.3g m, %.3g m/s\n",
-                max_diff(x1, r->x, (int)nd), max_diff(v1, r->v, (int)nd));
+                th_max_diff(x1, r->x, (int)nd), th_max_diff(v1, r->v, (int)nd));
   for (size_t i = 0; i < nd; i++) {
     r->x[i] = (4.0 * r->x[i] - x1[i]) / 3.0;
     r->v[i] = (4.0 * r->v[i] - v1[i]) / 3.0;
@@ -145,12 +129,12 @@ static void check_order_split(void **st, const sw_integrator_ops *ops, double ex
   double h[ORD_NDT], ex[ORD_NDT], ev[ORD_NDT];
   for (int k = 0; k < ORD_NDT; k++) {
     h[k] = integrate_split(ops, m, ORD_T, ord_n[k], split, x, v);
-    ex[k] = max_diff(x, r->x, nd);
-    ev[k] = max_diff(v, r->v, nd);
+    ex[k] = th_max_diff(x, r->x, nd);
+    ev[k] = th_max_diff(v, r->v, nd);
     print_message("%-18s dt %.4g s%s: error x %.4g m, v %.4g m/s\n", ops->name, h[k],
                   split ? " (steps changed)" : "", ex[k], ev[k]);
   }
-  double px = slope(h, ex, ORD_NDT), pv = slope(h, ev, ORD_NDT);
+  double px = th_slope(h, ex, ORD_NDT), pv = th_slope(h, ev, ORD_NDT);
   print_message("%-18s order: x %.3f, v %.3f (expected %g)\n", ops->name, px, pv, expect);
   assert_true(fabs(px - expect) <= 0.2);
   assert_true(v_min ? pv >= expect - 0.2 : fabs(pv - expect) <= 0.2);

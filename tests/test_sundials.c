@@ -72,12 +72,6 @@ static void run_free(run_out *o) {
   free(o->v);
 }
 
-static double max_diff(const double *a, const double *b, int n) {
-  double s = 0.0;
-  for (int i = 0; i < n; i++) s = fmax(s, fabs(a[i] - b[i]));
-  return s;
-}
-
 /* ------------------------------------------------------------- reductions */
 
 /* Solve each method's 2n system through the custom SUNLinearSolver and check the residual of
@@ -146,7 +140,7 @@ static void reduction_solves_full_system(void **st) {
     N_Vector c = N_VClone(b);
     memcpy(N_VGetArrayPointer(c), bv, 2 * (size_t)n * sizeof(double));
     assert_int_equal(SUNLinSolSolve(sys.LS, sys.A, c, c, 0.0), 0);
-    assert_true(max_diff(N_VGetArrayPointer(c), xv, 2 * n) == 0.0);
+    assert_true(th_max_diff(N_VGetArrayPointer(c), xv, 2 * n) == 0.0);
     N_VDestroy(c);
     free(Hdx);
     free(Hdx2);
@@ -211,7 +205,7 @@ static void error_falls_with_rtol(void **st) {
     double err[3];
     for (int j = 0; j < 3; j++) {
       run_out o = run(ops[k], m, rtol[j], rtol[j] * 1e-2, T, 10);
-      err[j] = max_diff(o.x, ref.x, nd);
+      err[j] = th_max_diff(o.x, ref.x, nd);
       print_message("%-5s rtol %.0e: error %.3e m  steps %5ld  newton %5ld  setups %4ld  "
                     "factorizations %4ld  forces %5ld  error-test failures %ld\n",
                     ops[k]->name, rtol[j], err[j], o.nstep, o.nnewton, o.nsetup, o.nfactor,
@@ -233,7 +227,7 @@ static void error_falls_with_rtol(void **st) {
   }
   /* CVODE and IDA at rtol 1e-8 (atol 1e-10) each sit within ~1e-7 m of the reference here; their
    * difference is bounded by the sum: require 1e-6 relative to the motion (drop). */
-  double dci = max_diff(x8[0], x8[1], nd);
+  double dci = th_max_diff(x8[0], x8[1], nd);
   print_message("CVODE vs IDA at rtol 1e-8: %.3e m (%.3e of the drop)\n", dci, dci / drop);
   assert_true(dci < 1e-6 * drop);
   free(x8[0]);
@@ -256,7 +250,7 @@ static void intervals_and_restart(void **st) {
     /* CVODE's and IDA's first step guess depends on the first output time, so the two runs
      * differ within the tolerance (the error at rtol 1e-6 is ~1e-7 m here); the integrator is
      * not restarted per interval (that would cost ~10 steps at order 1 each time). */
-    double dd = max_diff(one.x, many.x, nd);
+    double dd = th_max_diff(one.x, many.x, nd);
     print_message("%s: 1 vs 7 output intervals: %.3g m, steps %ld vs %ld\n", ops[k]->name, dd,
                   one.nstep, many.nstep);
     assert_true(dd < 1e-6);
@@ -276,7 +270,7 @@ static void intervals_and_restart(void **st) {
     assert_int_equal(ops[k]->init(&s2, m, d2, err, sizeof err), 0);
     assert_int_equal(ops[k]->step(s1, m, d1, 0.05), 0);
     assert_int_equal(ops[k]->step(s2, m, d2, 0.05), 0);
-    dd = max_diff(d1->x, d2->x, nd);
+    dd = th_max_diff(d1->x, d2->x, nd);
     print_message("%s: restarted vs fresh: %.3g m\n", ops[k]->name, dd);
     assert_true(dd < 1e-12);
     ops[k]->free(s1);
@@ -344,7 +338,7 @@ static void hessian_choices(void **st) {
       const sw_integrator_ops *ops = k ? &sw_ida_ops : &sw_cvode_ops;
       m->opt.hessian = mode[j];
       run_out o = run(ops, m, 1e-8, 1e-10, 0.2, 4);
-      double dd = x0 ? max_diff(o.x, x0, nd) : 0.0;
+      double dd = x0 ? th_max_diff(o.x, x0, nd) : 0.0;
       print_message("%-5s hessian %-9s: steps %ld newton %ld setups %ld factorizations %ld, "
                     "%.2g m from the first\n",
                     ops->name, name[j], o.nstep, o.nnewton, o.nsetup, o.nfactor, dd);
