@@ -232,7 +232,7 @@ static int check_tendons(const sw_model *m, char *err, size_t errsz) {
     if (td->nway < 2 || !td->way || td->nkey < 1 || !td->key_t || !td->key_rest)
       return sw_errf(err, errsz, "tendon %s: fewer than 2 waypoints or no rest length",
                      td->name), -1;
-    int dense_max = m->opt.tendon_dense_max > 0 ? m->opt.tendon_dense_max : SW_TENDON_DENSE_MAX;
+    int dense_max = m->opt.tendon_dense_max; /* the term's rule (models/tendon.c) */
     if (td->damping > 0.0 && td->nway > dense_max)
       return sw_errf(err, errsz, "tendon %s: damping on a tendon of %d waypoints is not supported "
                      "(at most tendon_dense_max = %d: longer tendons keep their rank-one part "

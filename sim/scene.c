@@ -371,7 +371,8 @@ static int load_gravity(const ctx *c, const ynode *y) {
 /* ================================================================ options */
 
 static const char *const int_keys[] = {"method", "dt", "max_halvings", "newton", "hessian",
-                                       "rtol", "atol", "max_order", "max_step", "energy_bound"};
+                                       "rtol", "atol", "max_order", "max_step", "energy_bound",
+                                       "tendon_dense_max"};
 /* in the order of SW_HESSIAN_PROJECTED, _EXACT, _AUTO */
 static const char *const hessian_modes[] = {"projected", "exact", "auto"};
 static const char *const newton_keys[] = {"max_iterations", "tol"};
@@ -389,8 +390,10 @@ static int load_method(const ctx *c, const ynode *y) {
 
 static int load_integrator(const ctx *c, const ynode *y) {
   sw_options *o = &c->m->opt;
-  const ynode *v[10], *nv[2];
-  if (sy_map(c, y, "integrator", int_keys, 10, v)) return -1;
+  const ynode *v[11], *nv[2];
+  if (sy_map(c, y, "integrator", int_keys, 11, v)) return -1;
+  if (v[10] && sy_int(c, v[10], "integrator tendon_dense_max", 0, INT_MAX, &o->tendon_dense_max))
+    return -1;
   if (v[5] && sy_num(c, v[5], "integrator rtol", 0, 1, NULL, &o->rtol)) return -1;
   if (v[6] && sy_num(c, v[6], "integrator atol", 0, 1, NULL, &o->atol)) return -1;
   if (v[7] && sy_int(c, v[7], "integrator max_order", 1, 5, &o->max_order)) return -1;

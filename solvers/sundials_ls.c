@@ -233,12 +233,13 @@ int sw_sunls_init(sw_sunls *sys, const sw_model *m, sw_data *d, sw_sunls_reduce_
   sys->xlin = sw_calloc(nd, sizeof(double));
   sys->w1 = sw_calloc(n, sizeof(double));
   sys->w2 = sw_calloc(n, sizeof(double));
-  if (sw_damped(m)) {
+  int damped = sw_damped(m);
+  if (damped) {
     sys->vfull = sw_calloc(nd, sizeof(double));
     sys->dvfull = sw_calloc(nd, sizeof(double));
-    if (!sys->vfull || !sys->dvfull) sys->w2 = (sw_free(sys->w2), NULL);
   }
-  if (!sys->mdiag || !sys->hval || !sys->hlr || !sys->xfull || !sys->xlin || !sys->w1 || !sys->w2)
+  if ((damped && (!sys->vfull || !sys->dvfull)) || !sys->mdiag || !sys->hval || !sys->hlr ||
+      !sys->xfull || !sys->xlin || !sys->w1 || !sys->w2)
     return sw_errf(err, errsz, "out of memory"), SW_FATAL;
   memcpy(sys->xfull, d->x, nd * sizeof(double));
   memcpy(sys->xlin, d->x, nd * sizeof(double));

@@ -249,7 +249,8 @@ static void test_tendons(void **state) {
                           "    rest_length: {keyframes: [[0, 1], [2, 0.5]], relative: true}\n"
                           "  - {name: short, waypoints: [2, 3], law: spring, stiffness: 5,\n"
                           "     rest_length: 2, damping: 0.1}\n"
-                          "  - {waypoints: [3, 1], stiffness: 1, rest_length: {relative: 0.5}}\n",
+                          "  - {waypoints: [3, 1], stiffness: 1, rest_length: {relative: 0.5}}\n"
+                          "integrator: {tendon_dense_max: 3}\n",
                           err);
   if (!m) fail_msg("%s", err);
   assert_int_equal(m->ntendon, 3);
@@ -270,6 +271,12 @@ static void test_tendons(void **state) {
   assert_float_equal(m->total_mass, 1.5, 1e-12);
   assert_float_equal(m->mass[2], 0.5, 1e-12);
   assert_int_equal(m->ndof, 4);
+  assert_int_equal(m->opt.tendon_dense_max, 3);
+  /* the 4-waypoint tendon is past it: banded stencils and one low-rank vector */
+  int k = 0;
+  while (k < m->nterm && strcmp(m->term[k].name, "tendons")) k++;
+  assert_true(k < m->nterm);
+  assert_int_equal(m->term[k].nlowrank, 1);
   sw_model_free(m);
 }
 
@@ -500,6 +507,8 @@ static const bad_case bad[] = {
     {"tendon_sel.yaml", GRID MAT "tendons:\n"
      "  - {waypoints: {box: [[-1, -1, -1], [0.1, 0.1, 1]]}, stiffness: 5}\n", 4, 17,
      "at least two"},
+    {"dense_max.yaml", GRID MAT "integrator: {tendon_dense_max: -1}\n", 3, 32,
+     "tendon_dense_max"},
     {"points_dim.yaml", "mesh: {points: [[0, 0, 0], [1, 0]]}\n", 1, 28, "components"},
 };
 
