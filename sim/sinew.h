@@ -293,6 +293,9 @@ SW_API void sw_tendon_state(const sw_model *m, sw_data *d);
 SW_API const char *const *sw_method_names(void);
 /* The one-line summary of a method (as `sinew run --help` shows it), or NULL if unknown. */
 SW_API const char *sw_method_summary(const char *name);
+/* 1 for a method that chooses its own steps to a tolerance (cvode, ida: rtol, atol; dt is then
+ * the output interval), 0 for a fixed-step method and static, -1 for an unknown name. */
+SW_API int sw_method_adaptive(const char *name);
 /* Thread settings of the linear algebra (sw_run calls it): OpenMP nesting in CHOLMOD off unless
  * OMP_MAX_ACTIVE_LEVELS or OMP_THREAD_LIMIT is set; OpenBLAS threads = blas_threads, or when 0,
  * $OPENBLAS_NUM_THREADS if set, else 1. */

@@ -133,6 +133,8 @@ int sw_newton_line_search(sw_newton *nw, const sw_model *m, sw_data *d, double *
 typedef struct sw_integrator_ops {
   const char *name;
   const char *summary;   /* one line for --help */
+  int adaptive;          /* 1: chooses its own internal steps to rtol/atol (dt is then the
+                            output interval); 0: fixed steps of dt */
   int (*init)(void **state, const sw_model *m, sw_data *d, char *err, size_t errsz);
   /* Advance d->t, d->x, d->v by dt.  On a nonzero return the state is unchanged and d->err
    * says why (positive: a smaller step may succeed). */
