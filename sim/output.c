@@ -23,6 +23,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -705,6 +706,14 @@ static void summary_model(writer *w, const sw_model *m) {
   w_json_num(w, "duration", m->opt.duration); /* s */
 }
 
+/* Peak resident set size of the process so far, MiB (ru_maxrss is in KiB on Linux); 0 if
+ * getrusage fails. */
+static double max_rss_mb(void) {
+  struct rusage ru;
+  if (getrusage(RUSAGE_SELF, &ru) != 0) return 0.0;
+  return (double)ru.ru_maxrss / 1024.0;
+}
+
 static void summary_counters(writer *w, const sw_data *d, double wall) {
   w_json_num(w, "time_reached", d->t);
   w_json_long(w, "steps", d->nstep);
@@ -719,7 +728,10 @@ static void summary_counters(writer *w, const sw_data *d, double wall) {
   w_json_num(w, "time_assemble_s", d->time_assemble);
   w_json_num(w, "time_factor_s", d->time_factor);
   w_json_num(w, "time_solve_s", d->time_solve);
+  w_json_num(w, "time_step_s", d->time_step);
+  w_json_long(w, "factor_nnz", d->factor_nnz);
   w_json_num(w, "wall_time_s", wall);
+  w_json_num(w, "max_rss_mb", max_rss_mb());
 }
 
 /* The files of the folder, relative to it, under their current names. */

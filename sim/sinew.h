@@ -272,6 +272,9 @@ struct sw_data {
   int last_newton;             /* Newton iterations of the last step */
   double last_dt;              /* size of the last accepted step, s */
   double time_assemble, time_factor, time_solve, time_step; /* s of wall time */
+  long factor_nnz;             /* nonzeros of the Cholesky factor L of the last factorisation
+                                  (CHOLMOD's count for its ordering; 0: no factor yet, or a
+                                  method without one) */
   char err[SW_ERRSZ];          /* why the last failing call failed */
 };
 

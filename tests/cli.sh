@@ -31,6 +31,12 @@ ls "$tmp/run"/*.part >/dev/null 2>&1 && fail ".part files left after a complete 
 ls "$tmp/run/frames/"*.vtu >/dev/null 2>&1 || fail "no frames"
 grep -q '<VTKFile type="Collection"' "$tmp/run/frames.pvd" || fail "frames.pvd"
 tail -1 "$tmp/run/tension.csv" | grep -q '^0.03' || fail "last line at t = 0.03"
+# summary.json: step wall time, peak memory and the factor's nonzeros, all > 0 for backward Euler
+for key in time_step_s max_rss_mb factor_nnz; do
+  grep -Eq "\"$key\": [0-9.e+-]+,?\$" "$tmp/run/summary.json" || fail "summary has no number $key"
+  v=$(sed -n "s/.*\"$key\": \([0-9.e+-]*\).*/\1/p" "$tmp/run/summary.json")
+  awk -v v="$v" 'BEGIN { exit !(v + 0 > 0) }' || fail "summary $key = '$v', expected > 0"
+done
 
 # Overrides are validated.
 "$sinew" run scenes/hanging_cloth.yaml --dt -1 --out "$tmp/x" >/dev/null 2>&1 && fail "--dt -1"

@@ -220,6 +220,7 @@ static void fake_step(fixture *fx, int s) {
   d->nfactor += s + 1;      /* per step: 2, 3, 4 */
   d->nlinesearch += 2 * s;  /* per step: 2, 4, 6 */
   d->time_step += 0.5 * s;  /* per step: 0.5, 1, 1.5 s */
+  d->factor_nnz = 100 * s;  /* the last factor's */
   d->term_energy[0] = 1.0 / 3.0 * s;
   for (int f = 0; f < fx->m.nf; f++) {
     d->txy[f] = f == 0 ? -1.5 * s : 4.25 * s; /* max 4.25 s, mean 1.375 s, p95 4.25 s */
@@ -289,6 +290,12 @@ static void check_summary_ok(const fixture *fx) {
   assert_non_null(strstr(s, "\"factorizations\": 9"));
   assert_non_null(strstr(s, "\"dt\": 0.01"));
   assert_non_null(strstr(s, "\"wall_time_s\": null")); /* non-finite wall time */
+  assert_non_null(strstr(s, "\"time_step_s\": 3,"));    /* 0.5 + 1 + 1.5 s */
+  assert_non_null(strstr(s, "\"factor_nnz\": 300,"));
+  const char *rss = strstr(s, "\"max_rss_mb\": ");
+  assert_non_null(rss);
+  double mb = strtod(rss + strlen("\"max_rss_mb\": "), NULL);
+  assert_true(mb > 0.5 && mb < 1e5); /* MiB: this test program, well above 0.5 MiB */
   assert_non_null(strstr(s, "\"tension.csv\", \"energy.csv\", \"frames.pvd\", "
                             "\"frames/frame_000000.vtu\", \"frames/frame_000001.vtu\"]"));
   assert_null(strstr(s, ".part"));
