@@ -12,6 +12,7 @@ static void usage(FILE *fp) {
   fprintf(fp,
           "usage: sinew run SCENE [--out DIR] [--method M] [--dt DT] [--duration T]\n"
           "                 [--rtol R] [--atol A] [--threads N] [--quiet]\n"
+          "                 [--frames-every S | --no-frames] [--positions-every S]\n"
           "       sinew check SCENE\n"
           "       sinew inverse SCENE --targets FILE [--out SCENE_OUT]\n"
           "       sinew --help | --version\n"
@@ -38,7 +39,15 @@ static void usage(FILE *fp) {
           "  --rtol R        relative tolerance of adaptive methods (overrides integrator.rtol)\n"
           "  --atol A        absolute tolerance of adaptive methods, m and m/s (integrator.atol)\n"
           "  --threads N     OpenBLAS threads for CHOLMOD (default: $OPENBLAS_NUM_THREADS, else 1)\n"
-          "  --quiet         no progress line\n");
+          "  --quiet         no progress line\n"
+          "  --frames-every S\n"
+          "                  s between VTU frames; 0: first and last only (overrides\n"
+          "                  output.frames_every)\n"
+          "  --no-frames     no VTU frames and no frames.pvd (a failed run still writes its last\n"
+          "                  good state as a frame)\n"
+          "  --positions-every S\n"
+          "                  s between records of positions.bin (every vertex position, binary;\n"
+          "                  docs/scenes.md); 0: no file (overrides output.positions_every)\n");
 }
 
 static int parse_positive(const char *opt, const char *s, int allow_zero, double *out) {
@@ -63,7 +72,8 @@ static int known_method(const char *name) {
 typedef struct cli {
   const char *scene, *out, *method;
   double dt, duration, rtol, atol;
-  int quiet, threads;
+  double frames_every, positions_every; /* s; < 0: not given */
+  int quiet, threads, no_frames;
 } cli;
 
 static int parse_run_args(int argc, char **argv, cli *c) {
@@ -71,6 +81,12 @@ static int parse_run_args(int argc, char **argv, cli *c) {
     const char *a = argv[i];
     int has_val = i + 1 < argc;
     if (!strcmp(a, "--quiet")) c->quiet = 1;
+    else if (!strcmp(a, "--no-frames")) c->no_frames = 1;
+    else if (!strcmp(a, "--frames-every") && has_val) {
+      if (parse_positive(a, argv[++i], 1, &c->frames_every)) return -1;
+    } else if (!strcmp(a, "--positions-every") && has_val) {
+      if (parse_positive(a, argv[++i], 1, &c->positions_every)) return -1;
+    }
     else if (!strcmp(a, "--out") && has_val) {
       c->out = argv[++i];
       if (!*c->out || strlen(c->out) >= SW_PATHSZ)
@@ -99,6 +115,8 @@ static int parse_run_args(int argc, char **argv, cli *c) {
     else return fprintf(stderr, "sinew: more than one scene given: %s\n", a), -1;
   }
   if (!c->scene) return fprintf(stderr, "sinew: no scene file given (see sinew --help)\n"), -1;
+  if (c->no_frames && c->frames_every >= 0)
+    return fprintf(stderr, "sinew: --no-frames and --frames-every exclude each other\n"), -1;
   if (c->method && !known_method(c->method)) {
     fprintf(stderr, "sinew: unknown method '%s' (see sinew --help)\n", c->method);
     return -1;
@@ -107,7 +125,7 @@ static int parse_run_args(int argc, char **argv, cli *c) {
 }
 
 static int cmd_run(int argc, char **argv) {
-  cli c = {.dt = -1, .duration = -1};
+  cli c = {.dt = -1, .duration = -1, .frames_every = -1, .positions_every = -1};
   if (parse_run_args(argc, argv, &c)) return 2;
   char err[SW_ERRSZ];
   sw_model *m = sw_scene_load(c.scene, err, sizeof err);
@@ -119,6 +137,9 @@ static int cmd_run(int argc, char **argv) {
   if (c.threads > 0) m->opt.blas_threads = c.threads;
   if (c.rtol > 0) m->opt.rtol = c.rtol;
   if (c.atol > 0) m->opt.atol = c.atol;
+  if (c.frames_every >= 0) m->opt.frames_every = c.frames_every;
+  if (c.no_frames) m->opt.frames_every = -1.0; /* none */
+  if (c.positions_every >= 0) m->opt.positions_every = c.positions_every;
   if (!c.quiet)
     fprintf(stderr, "sinew: %s: %d vertices, %d free DOFs, %s, dt = %g s, to t = %g s\n",
             m->name, m->nv, m->ndof, m->opt.method, m->opt.dt, m->opt.duration);
@@ -126,8 +147,10 @@ static int cmd_run(int argc, char **argv) {
   if (rc) fprintf(stderr, "sinew: run failed: %s\n", err);
   struct stat st;
   if (stat(m->opt.out_dir, &st) == 0 && S_ISDIR(st.st_mode))
-    fprintf(stderr, "sinew: results in %s/ (summary.json, tension.csv, energy.csv, %sframes.pvd)\n",
-            m->opt.out_dir, m->ntendon ? "tendons.csv, " : "");
+    fprintf(stderr, "sinew: results in %s/ (summary.json, tension.csv, energy.csv%s%s%s)\n",
+            m->opt.out_dir, m->ntendon ? ", tendons.csv" : "",
+            m->opt.positions_every > 0 ? ", positions.bin" : "",
+            m->opt.frames_every >= 0 ? ", frames.pvd" : "");
   sw_model_free(m);
   return rc ? 1 : 0;
 }

@@ -24,6 +24,7 @@ sw_model *sw_model_new(void) {
   o->max_step = 0.0;
   o->energy_bound = 0.0;
   o->frames_every = 0.0;
+  o->positions_every = 0.0;
   o->tx_clip = 5e4;
   o->tx_reference_uv = 0;
   o->tx_k_u = o->tx_k_v = -1.0;

@@ -180,7 +180,10 @@ typedef struct sw_options {
   double energy_bound;         /* J: a step whose total energy exceeds it fails (0: automatic,
                                   1e3 x the initial energy scale above the initial energy) */
   char out_dir[SW_PATHSZ];     /* output folder */
-  double frames_every;         /* s between VTU frames (0: first and last only) */
+  double frames_every;         /* s between VTU frames (0: first and last only; < 0: none at
+                                  all, no frames.pvd, except the last good state of a failed
+                                  run) */
+  double positions_every;      /* s between records of positions.bin (0: no positions.bin) */
   double tx_clip;              /* tension XY stiffness clip, N/m (seed 000: 5e4) */
   int tx_reference_uv;         /* 1: rlu = rlv = 1 (uv layout); 0: the initial configuration */
   double tx_k_u, tx_k_v;       /* stiffness used by tension XY, N/m (defaults: the membrane's) */

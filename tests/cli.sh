@@ -38,9 +38,60 @@ for key in time_step_s max_rss_mb factor_nnz; do
   awk -v v="$v" 'BEGIN { exit !(v + 0 > 0) }' || fail "summary $key = '$v', expected > 0"
 done
 
+# --frames-every: a frame every 0.01 s (t = 0, 0.01, 0.02, 0.03); --no-frames: neither frames nor
+# frames.pvd nor frames/, and summary.json lists none.
+"$sinew" run scenes/hanging_cloth.yaml --out "$tmp/fe" --duration 0.03 --frames-every 0.01 --quiet \
+  2>"$tmp/err" || fail "--frames-every run: $(cat "$tmp/err")"
+[ "$(ls "$tmp/fe/frames/"*.vtu | wc -l)" -eq 4 ] || fail "--frames-every 0.01: 4 frames"
+[ "$(grep -c '<DataSet ' "$tmp/fe/frames.pvd")" -eq 4 ] || fail "--frames-every 0.01: frames.pvd"
+"$sinew" run scenes/hanging_cloth.yaml --out "$tmp/fe" --duration 0.03 --no-frames --quiet \
+  2>"$tmp/err" || fail "--no-frames run: $(cat "$tmp/err")"
+[ -e "$tmp/fe/frames.pvd" ] && fail "--no-frames wrote frames.pvd"
+ls "$tmp/fe/frames/"*.vtu >/dev/null 2>&1 && fail "--no-frames left frames (of the earlier run)"
+grep -q 'frame' "$tmp/fe/summary.json" && fail "--no-frames: summary lists frames"
+[ "$(wc -l <"$tmp/fe/tension.csv")" -eq 5 ] || fail "--no-frames: the logs are complete"
+"$sinew" run scenes/hanging_cloth.yaml --out "$tmp/nf" --duration 0.03 --no-frames --quiet \
+  2>/dev/null || fail "--no-frames run in a new folder"
+[ -e "$tmp/nf/frames" ] && fail "--no-frames made frames/"
+
+# --positions-every 0.02 to 0.03 s: records at t = 0, 0.02 and 0.03 (the final time), each
+# 8 + 1600 x 3 x 8 bytes after a 16-byte header SWPOS001, nv = 1600, dim = 3.
+"$sinew" run scenes/hanging_cloth.yaml --out "$tmp/pos" --duration 0.03 --positions-every 0.02 \
+  --no-frames --quiet 2>"$tmp/err" || fail "--positions-every run: $(cat "$tmp/err")"
+[ "$(head -c 8 "$tmp/pos/positions.bin")" = SWPOS001 ] || fail "positions.bin magic"
+[ "$(od -An -t d4 -j 8 -N 8 "$tmp/pos/positions.bin" | tr -s ' ')" = " 1600 3" ] ||
+  fail "positions.bin nv, dim: $(od -An -t d4 -j 8 -N 8 "$tmp/pos/positions.bin")"
+[ "$(stat -c %s "$tmp/pos/positions.bin")" -eq $((16 + 3 * (8 + 1600 * 3 * 8))) ] ||
+  fail "positions.bin: 3 records, size $(stat -c %s "$tmp/pos/positions.bin")"
+grep -q '"positions.bin"' "$tmp/pos/summary.json" || fail "summary lists positions.bin"
+"$sinew" run scenes/hanging_cloth.yaml --out "$tmp/pos" --duration 0.01 --quiet 2>/dev/null ||
+  fail "run without positions"
+[ -e "$tmp/pos/positions.bin" ] && fail "positions.bin of an earlier run left behind"
+
+# A failed run with --no-frames still writes its last good state as the one frame.
+cat >"$tmp/f.yaml" <<'EOF'
+mesh: {grid: {size: [1, 1], vertices: [4, 4]}}
+material: {density: 0.1, membrane: {k_u: 100, k_v: 100, k_shear: 1}}
+gravity: [0, 0, -9.81]
+integrator: {newton: {max_iterations: 1, tol: 1e-12}, max_halvings: 1}
+EOF
+"$sinew" run "$tmp/f.yaml" --out "$tmp/nff" --no-frames --quiet 2>/dev/null &&
+  fail "failing run exited 0"
+[ "$(ls "$tmp/nff/frames/"*.vtu | wc -l)" -eq 1 ] || fail "--no-frames failed run: one frame"
+grep -q '"status": "failed"' "$tmp/nff/summary.json" || fail "--no-frames failed run: status"
+
 # Overrides are validated.
 "$sinew" run scenes/hanging_cloth.yaml --dt -1 --out "$tmp/x" >/dev/null 2>&1 && fail "--dt -1"
 "$sinew" run scenes/hanging_cloth.yaml --method nope --out "$tmp/x" >/dev/null 2>&1 && fail "--method nope"
+"$sinew" run scenes/hanging_cloth.yaml --frames-every -1 --out "$tmp/x" >/dev/null 2>&1 &&
+  fail "--frames-every -1"
+"$sinew" run scenes/hanging_cloth.yaml --positions-every abc --out "$tmp/x" 2>"$tmp/err" \
+  >/dev/null && fail "--positions-every abc"
+grep -q -- "--positions-every expects a non-negative number, got 'abc'" "$tmp/err" ||
+  fail "--positions-every message: $(cat "$tmp/err")"
+"$sinew" run scenes/hanging_cloth.yaml --no-frames --frames-every 1 --out "$tmp/x" 2>"$tmp/err" \
+  >/dev/null && fail "--no-frames with --frames-every"
+grep -q -- "--no-frames and --frames-every" "$tmp/err" || fail "--no-frames conflict message"
 [ -e "$tmp/x" ] && fail "a refused run wrote $tmp/x"
 
 # Bad scene: file:line:column, non-zero exit, nothing written.

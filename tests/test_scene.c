@@ -74,7 +74,7 @@ static const char good_scene[] =
     "integrator: {method: backward-euler, dt: 0.005, max_halvings: 4, hessian: projected,\n"
     "             newton: {max_iterations: 20, tol: 1e-8}}\n"
     "duration: 3\n"
-    "output: {dir: out/here, frames_every: 0.1}\n"
+    "output: {dir: out/here, frames_every: 0.1, positions_every: 0.25}\n"
     "tension_xy: {clip: 1e4, reference: uv, k_v: 300}\n";
 
 static void test_good_scene(void **state) {
@@ -116,6 +116,7 @@ static void test_good_scene(void **state) {
   assert_float_equal(m->opt.duration, 3.0, 0.0);
   assert_string_equal(m->opt.out_dir, "out/here");
   assert_float_equal(m->opt.frames_every, 0.1, 0.0);
+  assert_float_equal(m->opt.positions_every, 0.25, 0.0);
   assert_float_equal(m->opt.tx_clip, 1e4, 0.0);
   assert_int_equal(m->opt.tx_reference_uv, 1);
   assert_float_equal(m->mat[0].tx_k_u, 1000, 0.0); /* the membrane's */
@@ -146,6 +147,8 @@ static void test_defaults(void **state) {
   assert_float_equal(m->opt.tx_k_u, -1.0, 0.0);
   assert_float_equal(m->opt.tx_clip, 5e4, 0.0);
   assert_int_equal(m->opt.tx_reference_uv, 0);
+  assert_float_equal(m->opt.frames_every, 0.0, 0.0);
+  assert_float_equal(m->opt.positions_every, 0.0, 0.0); /* no positions.bin */
   sw_model_free(m);
 }
 
@@ -459,6 +462,8 @@ static const bad_case bad[] = {
     {"reference.yaml", GRID MAT "tension_xy: {reference: rest}\n", 3, 25, "initial, uv"},
     {"duration.yaml", GRID MAT "duration: -1\n", 3, 11, ">= 0"},
     {"frames.yaml", GRID MAT "output: {frames_every: [1]}\n", 3, 24, "a sequence"},
+    {"positions.yaml", GRID MAT "output: {positions_every: -0.1}\n", 3, 27,
+     "output positions_every is -0.1; expected a number >= 0 (s)"},
     {"name.yaml", "name: {a: 1}\n" GRID MAT, 1, 7, "a string"},
     {"empty.yaml", "", 1, 1, "empty"},
     {"scalar.yaml", "hello\n", 1, 1, "expected a mapping"},
