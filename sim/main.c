@@ -13,7 +13,8 @@ static void usage(FILE *fp) {
           "usage: sinew run SCENE [--out DIR] [--method M] [--dt DT] [--duration T]\n"
           "                 [--rtol R] [--atol A] [--threads N] [--quiet]\n"
           "                 [--frames-every S | --no-frames] [--positions-every S]\n"
-          "       sinew check SCENE\n"
+          "                 [--grid NXxNY] [--stiffness-scale S]\n"
+          "       sinew check SCENE [--grid NXxNY] [--stiffness-scale S]\n"
           "       sinew inverse SCENE --targets FILE [--out SCENE_OUT]\n"
           "       sinew --help | --version\n"
           "\n"
@@ -47,7 +48,12 @@ static void usage(FILE *fp) {
           "                  good state as a frame)\n"
           "  --positions-every S\n"
           "                  s between records of positions.bin (every vertex position, binary;\n"
-          "                  docs/scenes.md); 0: no file (overrides output.positions_every)\n");
+          "                  docs/scenes.md); 0: no file (overrides output.positions_every)\n"
+          "  --grid NXxNY    vertices of the scene's grid (replaces mesh.grid.vertices; e.g.\n"
+          "                  512x512); vertex indices in the scene stay indices\n"
+          "  --stiffness-scale S\n"
+          "                  multiply every elastic stiffness (membrane, bending, tendons,\n"
+          "                  tension XY's) by S > 0\n");
 }
 
 static int parse_positive(const char *opt, const char *s, int allow_zero, double *out) {
@@ -69,8 +75,39 @@ static int known_method(const char *name) {
   return 0;
 }
 
+/* --grid NXxNY: two integers >= 2. */
+static int parse_grid(const char *s, int grid[2]) {
+  char *end;
+  errno = 0;
+  long nx = strtol(s, &end, 10), ny = 0;
+  int ok = end != s && (*end == 'x' || *end == 'X');
+  if (ok) {
+    const char *p = end + 1;
+    ny = strtol(p, &end, 10);
+    ok = end != p && !*end && !errno && nx >= 2 && ny >= 2 && nx <= 1L << 30 && ny <= 1L << 30;
+  }
+  if (!ok)
+    return fprintf(stderr, "sinew: --grid expects NXxNY, two integers >= 2 (e.g. 512x512), got "
+                   "'%s'\n", s), -1;
+  grid[0] = (int)nx;
+  grid[1] = (int)ny;
+  return 0;
+}
+
+/* --grid and --stiffness-scale (run and check): 1 if argv[*i] was one (*i moved past its value),
+ * 0 if not, -1 on a bad value. */
+static int parse_override(int argc, char **argv, int *i, sw_scene_overrides *ov) {
+  const char *a = argv[*i];
+  if (*i + 1 >= argc) return 0;
+  if (!strcmp(a, "--grid")) return parse_grid(argv[++*i], ov->grid) ? -1 : 1;
+  if (!strcmp(a, "--stiffness-scale"))
+    return parse_positive(a, argv[++*i], 0, &ov->stiffness_scale) ? -1 : 1;
+  return 0;
+}
+
 typedef struct cli {
   const char *scene, *out, *method;
+  sw_scene_overrides ov;
   double dt, duration, rtol, atol;
   double frames_every, positions_every; /* s; < 0: not given */
   int quiet, threads, no_frames;
@@ -79,7 +116,9 @@ typedef struct cli {
 static int parse_run_args(int argc, char **argv, cli *c) {
   for (int i = 2; i < argc; i++) {
     const char *a = argv[i];
-    int has_val = i + 1 < argc;
+    int has_val = i + 1 < argc, ov = parse_override(argc, argv, &i, &c->ov);
+    if (ov < 0) return -1;
+    if (ov) continue;
     if (!strcmp(a, "--quiet")) c->quiet = 1;
     else if (!strcmp(a, "--no-frames")) c->no_frames = 1;
     else if (!strcmp(a, "--frames-every") && has_val) {
@@ -128,7 +167,7 @@ static int cmd_run(int argc, char **argv) {
   cli c = {.dt = -1, .duration = -1, .frames_every = -1, .positions_every = -1};
   if (parse_run_args(argc, argv, &c)) return 2;
   char err[SW_ERRSZ];
-  sw_model *m = sw_scene_load(c.scene, err, sizeof err);
+  sw_model *m = sw_scene_load_ex(c.scene, &c.ov, err, sizeof err);
   if (!m) return fprintf(stderr, "sinew: %s\n", err), 1;
   if (c.out) snprintf(m->opt.out_dir, sizeof m->opt.out_dir, "%s", c.out);
   if (c.method) snprintf(m->opt.method, sizeof m->opt.method, "%s", c.method);
@@ -156,9 +195,17 @@ static int cmd_run(int argc, char **argv) {
 }
 
 static int cmd_check(int argc, char **argv) {
-  if (argc != 3) return usage(stderr), 2;
+  sw_scene_overrides ov = {{0, 0}, 0.0};
+  if (argc < 3 || argv[2][0] == '-') return usage(stderr), 2;
+  for (int i = 3; i < argc; i++) {
+    int rc = parse_override(argc, argv, &i, &ov);
+    if (rc < 0) return 2;
+    if (rc == 0)
+      return fprintf(stderr, "sinew: unknown option or missing value: %s (see sinew --help)\n",
+                     argv[i]), 2;
+  }
   char err[SW_ERRSZ];
-  sw_model *m = sw_scene_load(argv[2], err, sizeof err);
+  sw_model *m = sw_scene_load_ex(argv[2], &ov, err, sizeof err);
   if (!m) return fprintf(stderr, "sinew: %s\n", err), 1;
   sw_model_print(m, stdout);
   sw_model_free(m);

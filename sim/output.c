@@ -766,6 +766,7 @@ static void summary_model(writer *w, const sw_model *m) {
   w_puts(w, "]");
   w_json_num(w, "dt", m->opt.dt);             /* s */
   w_json_num(w, "duration", m->opt.duration); /* s */
+  w_json_num(w, "stiffness_scale", m->stiffness_scale > 0 ? m->stiffness_scale : 1.0);
 }
 
 /* Peak resident set size of the process so far, MiB (ru_maxrss is in KiB on Linux); 0 if

@@ -228,6 +228,8 @@ struct sw_model {
   int nterm;
   sw_term *term;               /* (nterm) energy terms, only those the scene names */
   sw_options opt;
+  double stiffness_scale;      /* the factor every elastic stiffness of the scene was multiplied
+                                  by at load (sw_scene_overrides; 1: none, 0 read as 1) */
 };
 
 /* Allocate an empty model with default options. */
@@ -239,6 +241,24 @@ SW_API int sw_model_finish(sw_model *m, char *err, size_t errsz);
 SW_API void sw_model_free(sw_model *m);
 /* Load and validate a scene file (YAML).  NULL on error, with "file:line:column: message". */
 SW_API sw_model *sw_scene_load(const char *path, char *err, size_t errsz);
+
+/* What sw_scene_load_ex changes in a scene as it loads it (sinew run --grid, --stiffness-scale).
+ * grid replaces mesh.grid.vertices (the scene's mesh must be a grid; both >= 2, at most the
+ * scene key's total); vertex indices in selections and tendons stay indices (and may then be
+ * out of range: the usual error), boxes select on the new grid.  stiffness_scale multiplies
+ * every elastic stiffness before the terms are built: the membrane's (bw98 k_u, k_v, k_shear;
+ * stvk e_u, e_v, shear_modulus; corotated k; springs stretch, shear, bend), bending stiffness,
+ * every tendon's stiffness and the stiffness tension XY uses (derived or explicit); not
+ * density, damping, bias, rest values, the tension XY clip or loads. */
+typedef struct sw_scene_overrides {
+  int grid[2];                 /* vertices nx, ny; 0: the scene's */
+  double stiffness_scale;      /* > 0; 0 or 1: none */
+} sw_scene_overrides;
+
+/* sw_scene_load with overrides (ov NULL: none).  A bad override is an error naming the scene
+ * file (and the mesh node for a scene whose mesh is not a grid). */
+SW_API sw_model *sw_scene_load_ex(const char *path, const sw_scene_overrides *ov, char *err,
+                                  size_t errsz);
 /* Nonzeros of the upper triangle of the system matrix on the free DOFs (-1 on error). */
 SW_API long sw_system_nnz(const sw_model *m);
 /* Print what `sinew check` shows. */

@@ -80,6 +80,48 @@ EOF
 [ "$(ls "$tmp/nff/frames/"*.vtu | wc -l)" -eq 1 ] || fail "--no-frames failed run: one frame"
 grep -q '"status": "failed"' "$tmp/nff/summary.json" || fail "--no-frames failed run: status"
 
+# --grid replaces the grid's vertices (boxes select on the new grid); --stiffness-scale shows in
+# check and summary.json; a mesh that is not a grid and index pins out of range are refused.
+box='{select: {box: [[-0.01, 0.99, -1], [1.01, 1.01, 1]]}}'
+sed "s/{select: {vertices: \[1560, 1599\]}}/$box/" scenes/hanging_cloth.yaml >"$tmp/boxpins.yaml"
+grep -q 'box: ' "$tmp/boxpins.yaml" || fail "boxpins.yaml: the pins were not replaced"
+out=$("$sinew" check "$tmp/boxpins.yaml" --grid 7x5) || fail "check --grid 7x5"
+grep -q 'vertices    35 (7 pinned)' <<<"$out" || fail "check --grid 7x5: $out"
+grep -q 'faces       48' <<<"$out" || fail "check --grid 7x5: faces"
+grep -q '^stiffness' <<<"$out" && fail "check prints a stiffness scale of 1"
+out=$("$sinew" check "$tmp/boxpins.yaml" --stiffness-scale 2.5) || fail "check --stiffness-scale"
+grep -q '^stiffness   x 2.5 ' <<<"$out" || fail "check --stiffness-scale 2.5: $out"
+"$sinew" run "$tmp/boxpins.yaml" --grid 6x4 --stiffness-scale 2 --duration 0.02 --out "$tmp/g" \
+  --quiet 2>"$tmp/err" || fail "run --grid --stiffness-scale: $(cat "$tmp/err")"
+grep -q '"vertices": 24,' "$tmp/g/summary.json" || fail "run --grid 6x4: vertices in summary"
+grep -q '"stiffness_scale": 2,' "$tmp/g/summary.json" || fail "summary stiffness_scale"
+grep -q '"stiffness_scale": 1,' "$tmp/run/summary.json" || fail "summary stiffness_scale 1"
+"$sinew" check scenes/skirt.yaml --grid 7x5 >/dev/null 2>"$tmp/err" && fail "--grid on an OBJ"
+grep -q 'skirt.yaml:[0-9]*:[0-9]*: mesh is an OBJ file (obj), not mesh: {grid: ...}' "$tmp/err" ||
+  fail "--grid on an OBJ: $(cat "$tmp/err")"
+if "$sinew" run scenes/hanging_cloth.yaml --grid 7x5 --out "$tmp/x" 2>"$tmp/err" >/dev/null; then
+  fail "--grid with pins by index out of range"
+fi
+want='pins\[0\] select vertices\[0\] is 1560; expected an integer in \[0, 34\]'
+grep -q "hanging_cloth.yaml:[0-9]*:[0-9]*: $want" "$tmp/err" ||
+  fail "--grid index pins message: $(cat "$tmp/err")"
+for bad in 7 7x 1x5 7x5x 0x0 ax5 -3x5 7x99999999999; do
+  "$sinew" run scenes/hanging_cloth.yaml --grid "$bad" --out "$tmp/x" 2>"$tmp/err" >/dev/null &&
+    fail "--grid $bad accepted"
+  grep -q -- "--grid expects NXxNY" "$tmp/err" || fail "--grid $bad message: $(cat "$tmp/err")"
+done
+"$sinew" run "$tmp/boxpins.yaml" --grid 2000x2000 --out "$tmp/x" 2>"$tmp/err" >/dev/null &&
+  fail "--grid 2000x2000 accepted"
+grep -q 'boxpins.yaml: the grid override (--grid) is 2000 x 2000 vertices; expected at most' \
+  "$tmp/err" || fail "--grid 2000x2000 message: $(cat "$tmp/err")"
+for bad in 0 -1 nan x; do
+  "$sinew" run scenes/hanging_cloth.yaml --stiffness-scale "$bad" --out "$tmp/x" 2>"$tmp/err" \
+    >/dev/null && fail "--stiffness-scale $bad accepted"
+  grep -q -- "--stiffness-scale expects a positive number" "$tmp/err" ||
+    fail "--stiffness-scale $bad message: $(cat "$tmp/err")"
+done
+"$sinew" check scenes/hanging_cloth.yaml --quiet >/dev/null 2>&1 && fail "check --quiet accepted"
+
 # Overrides are validated.
 "$sinew" run scenes/hanging_cloth.yaml --dt -1 --out "$tmp/x" >/dev/null 2>&1 && fail "--dt -1"
 "$sinew" run scenes/hanging_cloth.yaml --method nope --out "$tmp/x" >/dev/null 2>&1 && fail "--method nope"
