@@ -11,9 +11,10 @@
  *   frames/frame_NNNNNN.vtu
  * Logs (and positions.bin) live as NAME.part until sw_output_close; every other file is written
  * to NAME.tmp and renamed, so a reader never sees a half-written file under a final name.  A log
- * line goes out in one write(2) of the whole line (no stdio buffer), so a killed run leaves
- * whole lines (and whole records of positions.bin); a step whose lines fail part-way (disk
- * full, file size limit) is cut back from every log, which then ends at the previous step.
+ * line (a record of positions.bin) goes out in one write(2) (no stdio buffer), so a killed run
+ * leaves whole lines (a record of many pages may still be cut by the kill: readers take whole
+ * records); a step whose lines fail part-way (disk full, file size limit) is cut back from
+ * every log, which then ends at the previous step.
  * With opt.frames_every < 0 no frame is written (frames/ is not even made) except the last good
  * state of a failed run.  Every write is checked; errors read "PATH: what failed:
  * strerror(errno)".  sw_output_record allocates nothing.

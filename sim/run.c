@@ -51,7 +51,7 @@ static int output_failed(const sw_data *d, char *err, size_t errsz) {
   return SW_FATAL;
 }
 
-/* A sample taken every `every` s (> 0) is due at t when t reached *next (up to round-off). */
+/* A sample taken every `every` s (> 0) is due at t when t reached next (up to round-off). */
 static int is_due(double every, double next, double t) {
   return every > 0.0 && t >= next - 1e-9 * fmax(every, 1.0);
 }
