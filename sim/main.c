@@ -12,7 +12,9 @@ static void usage(FILE *fp) {
   fprintf(fp,
           "usage: sinew run SCENE [--out DIR] [--method M] [--dt DT] [--duration T]\n"
           "                 [--rtol R] [--atol A] [--threads N] [--quiet]\n"
-          "       sinew check SCENE\n"
+          "                 [--frames-every S | --no-frames] [--positions-every S]\n"
+          "                 [--grid NXxNY] [--stiffness-scale S]\n"
+          "       sinew check SCENE [--grid NXxNY] [--stiffness-scale S]\n"
           "       sinew inverse SCENE --targets FILE [--out SCENE_OUT]\n"
           "       sinew --help | --version\n"
           "\n"
@@ -38,7 +40,20 @@ static void usage(FILE *fp) {
           "  --rtol R        relative tolerance of adaptive methods (overrides integrator.rtol)\n"
           "  --atol A        absolute tolerance of adaptive methods, m and m/s (integrator.atol)\n"
           "  --threads N     OpenBLAS threads for CHOLMOD (default: $OPENBLAS_NUM_THREADS, else 1)\n"
-          "  --quiet         no progress line\n");
+          "  --quiet         no progress line\n"
+          "  --frames-every S\n"
+          "                  s between VTU frames; 0: first and last only (overrides\n"
+          "                  output.frames_every)\n"
+          "  --no-frames     no VTU frames and no frames.pvd (a failed run still writes its last\n"
+          "                  good state as a frame)\n"
+          "  --positions-every S\n"
+          "                  s between records of positions.bin (every vertex position, binary;\n"
+          "                  docs/scenes.md); 0: no file (overrides output.positions_every)\n"
+          "  --grid NXxNY    vertices of the scene's grid (replaces mesh.grid.vertices; e.g.\n"
+          "                  512x512); vertex indices in the scene stay indices\n"
+          "  --stiffness-scale S\n"
+          "                  multiply every elastic stiffness (membrane, bending, tendons,\n"
+          "                  tension XY's) by S > 0\n");
 }
 
 static int parse_positive(const char *opt, const char *s, int allow_zero, double *out) {
@@ -60,17 +75,57 @@ static int known_method(const char *name) {
   return 0;
 }
 
+/* --grid NXxNY: two integers >= 2. */
+static int parse_grid(const char *s, int grid[2]) {
+  char *end;
+  errno = 0;
+  long nx = strtol(s, &end, 10), ny = 0;
+  int ok = end != s && (*end == 'x' || *end == 'X');
+  if (ok) {
+    const char *p = end + 1;
+    ny = strtol(p, &end, 10);
+    ok = end != p && !*end && !errno && nx >= 2 && ny >= 2 && nx <= 1L << 30 && ny <= 1L << 30;
+  }
+  if (!ok)
+    return fprintf(stderr, "sinew: --grid expects NXxNY, two integers >= 2 (e.g. 512x512), got "
+                   "'%s'\n", s), -1;
+  grid[0] = (int)nx;
+  grid[1] = (int)ny;
+  return 0;
+}
+
+/* --grid and --stiffness-scale (run and check): 1 if argv[*i] was one (*i moved past its value),
+ * 0 if not, -1 on a bad value. */
+static int parse_override(int argc, char **argv, int *i, sw_scene_overrides *ov) {
+  const char *a = argv[*i];
+  if (*i + 1 >= argc) return 0;
+  if (!strcmp(a, "--grid")) return parse_grid(argv[++*i], ov->grid) ? -1 : 1;
+  if (!strcmp(a, "--stiffness-scale"))
+    return parse_positive(a, argv[++*i], 0, &ov->stiffness_scale) ? -1 : 1;
+  return 0;
+}
+
 typedef struct cli {
   const char *scene, *out, *method;
+  sw_scene_overrides ov;
   double dt, duration, rtol, atol;
-  int quiet, threads;
+  double frames_every, positions_every; /* s; < 0: not given */
+  int quiet, threads, no_frames;
 } cli;
 
 static int parse_run_args(int argc, char **argv, cli *c) {
   for (int i = 2; i < argc; i++) {
     const char *a = argv[i];
-    int has_val = i + 1 < argc;
+    int has_val = i + 1 < argc, ov = parse_override(argc, argv, &i, &c->ov);
+    if (ov < 0) return -1;
+    if (ov) continue;
     if (!strcmp(a, "--quiet")) c->quiet = 1;
+    else if (!strcmp(a, "--no-frames")) c->no_frames = 1;
+    else if (!strcmp(a, "--frames-every") && has_val) {
+      if (parse_positive(a, argv[++i], 1, &c->frames_every)) return -1;
+    } else if (!strcmp(a, "--positions-every") && has_val) {
+      if (parse_positive(a, argv[++i], 1, &c->positions_every)) return -1;
+    }
     else if (!strcmp(a, "--out") && has_val) {
       c->out = argv[++i];
       if (!*c->out || strlen(c->out) >= SW_PATHSZ)
@@ -99,6 +154,8 @@ static int parse_run_args(int argc, char **argv, cli *c) {
     else return fprintf(stderr, "sinew: more than one scene given: %s\n", a), -1;
   }
   if (!c->scene) return fprintf(stderr, "sinew: no scene file given (see sinew --help)\n"), -1;
+  if (c->no_frames && c->frames_every >= 0)
+    return fprintf(stderr, "sinew: --no-frames and --frames-every exclude each other\n"), -1;
   if (c->method && !known_method(c->method)) {
     fprintf(stderr, "sinew: unknown method '%s' (see sinew --help)\n", c->method);
     return -1;
@@ -107,10 +164,10 @@ static int parse_run_args(int argc, char **argv, cli *c) {
 }
 
 static int cmd_run(int argc, char **argv) {
-  cli c = {.dt = -1, .duration = -1};
+  cli c = {.dt = -1, .duration = -1, .frames_every = -1, .positions_every = -1};
   if (parse_run_args(argc, argv, &c)) return 2;
   char err[SW_ERRSZ];
-  sw_model *m = sw_scene_load(c.scene, err, sizeof err);
+  sw_model *m = sw_scene_load_ex(c.scene, &c.ov, err, sizeof err);
   if (!m) return fprintf(stderr, "sinew: %s\n", err), 1;
   if (c.out) snprintf(m->opt.out_dir, sizeof m->opt.out_dir, "%s", c.out);
   if (c.method) snprintf(m->opt.method, sizeof m->opt.method, "%s", c.method);
@@ -119,6 +176,9 @@ static int cmd_run(int argc, char **argv) {
   if (c.threads > 0) m->opt.blas_threads = c.threads;
   if (c.rtol > 0) m->opt.rtol = c.rtol;
   if (c.atol > 0) m->opt.atol = c.atol;
+  if (c.frames_every >= 0) m->opt.frames_every = c.frames_every;
+  if (c.no_frames) m->opt.frames_every = -1.0; /* none */
+  if (c.positions_every >= 0) m->opt.positions_every = c.positions_every;
   if (!c.quiet)
     fprintf(stderr, "sinew: %s: %d vertices, %d free DOFs, %s, dt = %g s, to t = %g s\n",
             m->name, m->nv, m->ndof, m->opt.method, m->opt.dt, m->opt.duration);
@@ -126,16 +186,26 @@ static int cmd_run(int argc, char **argv) {
   if (rc) fprintf(stderr, "sinew: run failed: %s\n", err);
   struct stat st;
   if (stat(m->opt.out_dir, &st) == 0 && S_ISDIR(st.st_mode))
-    fprintf(stderr, "sinew: results in %s/ (summary.json, tension.csv, energy.csv, %sframes.pvd)\n",
-            m->opt.out_dir, m->ntendon ? "tendons.csv, " : "");
+    fprintf(stderr, "sinew: results in %s/ (summary.json, tension.csv, energy.csv%s%s%s)\n",
+            m->opt.out_dir, m->ntendon ? ", tendons.csv" : "",
+            m->opt.positions_every > 0 ? ", positions.bin" : "",
+            m->opt.frames_every >= 0 ? ", frames.pvd" : "");
   sw_model_free(m);
   return rc ? 1 : 0;
 }
 
 static int cmd_check(int argc, char **argv) {
-  if (argc != 3) return usage(stderr), 2;
+  sw_scene_overrides ov = {{0, 0}, 0.0};
+  if (argc < 3 || argv[2][0] == '-') return usage(stderr), 2;
+  for (int i = 3; i < argc; i++) {
+    int rc = parse_override(argc, argv, &i, &ov);
+    if (rc < 0) return 2;
+    if (rc == 0)
+      return fprintf(stderr, "sinew: unknown option or missing value: %s (see sinew --help)\n",
+                     argv[i]), 2;
+  }
   char err[SW_ERRSZ];
-  sw_model *m = sw_scene_load(argv[2], err, sizeof err);
+  sw_model *m = sw_scene_load_ex(argv[2], &ov, err, sizeof err);
   if (!m) return fprintf(stderr, "sinew: %s\n", err), 1;
   sw_model_print(m, stdout);
   sw_model_free(m);

@@ -24,10 +24,12 @@ sw_model *sw_model_new(void) {
   o->max_step = 0.0;
   o->energy_bound = 0.0;
   o->frames_every = 0.0;
+  o->positions_every = 0.0;
   o->tx_clip = 5e4;
   o->tx_reference_uv = 0;
   o->tx_k_u = o->tx_k_v = -1.0;
   o->tendon_dense_max = SW_TENDON_DENSE_MAX;
+  m->stiffness_scale = 1.0;
   m->nmat = 1;
   m->mat = sw_calloc(1, sizeof *m->mat);
   if (!m->mat) return sw_free(m), NULL;
@@ -296,6 +298,8 @@ void sw_model_print(const sw_model *m, void *file) {
   if (m->ntendon) fprintf(fp, "tendons     %d\n", m->ntendon);
   fprintf(fp, "mass        %.6g kg\n", m->total_mass);
   fprintf(fp, "free DOFs   %d\n", m->ndof);
+  if (m->stiffness_scale > 0 && m->stiffness_scale != 1.0)
+    fprintf(fp, "stiffness   x %g (every elastic stiffness of the scene)\n", m->stiffness_scale);
   fprintf(fp, "terms      ");
   for (int k = 0; k < m->nterm; k++) fprintf(fp, " %s", m->term[k].name);
   fprintf(fp, "%s\n", m->nterm ? "" : " (none)");

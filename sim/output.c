@@ -3,15 +3,21 @@
  * Folder layout (relative to m->opt.out_dir):
  *   tension.csv    time, max/mean/p95 of tension XY, max warp/weft stretch, max shear
  *   energy.csv     time, kinetic and per-term energies, step size and per-step solver counts
+ *   positions.bin  with opt.positions_every > 0: every vertex position at sampled times, binary
+ *                  (a 16-byte header "SWPOS001", int32 nv, int32 dim; then per record float64 t
+ *                  and nv x dim float64 positions; host byte order)
  *   summary.json   scene, method, counters, wall time, status
  *   frames.pvd     ParaView collection of the complete frames
  *   frames/frame_NNNNNN.vtu
- * Logs live as NAME.csv.part until sw_output_close; every other file is written to NAME.tmp and
- * renamed, so a reader never sees a half-written file under a final name.  A log line goes out
- * in one write(2) of the whole line (no stdio buffer), so a killed run leaves whole lines; a
- * step whose lines fail part-way (disk full, file size limit) is cut back from every log, which
- * then ends at the previous step.  Every write is checked; errors read
- * "PATH: what failed: strerror(errno)".  sw_output_step allocates nothing.
+ * Logs (and positions.bin) live as NAME.part until sw_output_close; every other file is written
+ * to NAME.tmp and renamed, so a reader never sees a half-written file under a final name.  A log
+ * line (a record of positions.bin) goes out in one write(2) (no stdio buffer), so a killed run
+ * leaves whole lines (a record of many pages may still be cut by the kill: readers take whole
+ * records); a step whose lines fail part-way (disk full, file size limit) is cut back from
+ * every log, which then ends at the previous step.
+ * With opt.frames_every < 0 no frame is written (frames/ is not even made) except the last good
+ * state of a failed run.  Every write is checked; errors read "PATH: what failed:
+ * strerror(errno)".  sw_output_record allocates nothing.
  */
 #include "output.h"
 
@@ -20,9 +26,11 @@
 #include <fcntl.h>
 #include <math.h>
 #include <stdarg.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -31,9 +39,13 @@
 #define PATHMAX (SW_PATHSZ + 64) /* out_dir plus a file name inside it */
 #define NUMSZ 32                 /* room for one %.17g number and its separator */
 
-/* tendons.csv is only written by a scene with tendons (its fd stays -1 otherwise) */
-enum { LOG_TENSION, LOG_ENERGY, LOG_TENDONS, NLOG };
-static const char *const log_name[NLOG] = {"tension.csv", "energy.csv", "tendons.csv"};
+/* tendons.csv is only written by a scene with tendons, positions.bin only with
+ * opt.positions_every > 0 (their fds stay -1 otherwise) */
+enum { LOG_TENSION, LOG_ENERGY, LOG_TENDONS, LOG_POSITIONS, NLOG };
+static const char *const log_name[NLOG] = {"tension.csv", "energy.csv", "tendons.csv",
+                                           "positions.bin"};
+#define POS_MAGIC "SWPOS001"  /* positions.bin: 8 bytes of magic, then int32 nv, int32 dim */
+#define POS_HEADER 16         /* bytes */
 
 struct sw_output {
   char dir[SW_PATHSZ];         /* the run folder, without trailing '/' */
@@ -44,6 +56,9 @@ struct sw_output {
   int opened[NLOG];            /* 1 if this run writes the log */
   char *line;                  /* (linesz) one log line (or header), formatted before writing */
   size_t linesz;
+  double *rec;                 /* (1 + nv x dim) one record of positions.bin: t (s), x (m) */
+  size_t recn;                 /* doubles in rec (0: no positions.bin) */
+  int frames_dir;              /* 1 once frames/ exists */
   long prev[6];                /* cumulative counters at the previous log line (see counters) */
   double prev_time_step;       /* cumulative step wall time at the previous log line, s */
   int nframe, frame_cap;
@@ -185,10 +200,12 @@ static int ends_with(const char *s, const char *tail) {
   return n >= k && strcmp(s + n - k, tail) == 0;
 }
 
-/* Remove the frames (NAME.vtu, and unfinished NAME.vtu.tmp) of an earlier run. */
+/* Remove the frames (NAME.vtu, and unfinished NAME.vtu.tmp) of an earlier run (none when
+ * there is no frames/ folder). */
 static int remove_stale_frames(sw_output *o, char *err, size_t errsz) {
   if (join(o->tmp, o->dir, "frames", err, errsz)) return -1;
   DIR *dp = opendir(o->tmp);
+  if (!dp && errno == ENOENT) return 0;
   if (!dp) {
     sw_errf(err, errsz, "%s: cannot list: %s", o->tmp, strerror(errno));
     return -1;
@@ -211,16 +228,25 @@ static int remove_stale_frames(sw_output *o, char *err, size_t errsz) {
   return rc;
 }
 
-/* Files of an earlier run in the same folder, so that results never mix.  tendons.csv is
- * included: it would otherwise survive next to a run without tendons. */
+/* Files of an earlier run in the same folder, so that results never mix.  tendons.csv and
+ * positions.bin are included: they would otherwise survive next to a run without them. */
 static int clean_folder(sw_output *o, char *err, size_t errsz) {
-  static const char *const stale[] = {"tension.csv",      "energy.csv", "tendons.csv",
-                                      "summary.json",     "frames.pvd", "summary.json.tmp",
-                                      "frames.pvd.tmp"};
+  static const char *const stale[] = {"tension.csv",      "energy.csv",    "tendons.csv",
+                                      "summary.json",     "frames.pvd",    "summary.json.tmp",
+                                      "frames.pvd.tmp",   "positions.bin", "positions.bin.part"};
   for (size_t i = 0; i < sizeof stale / sizeof stale[0]; i++)
     if (join(o->path, o->dir, stale[i], err, errsz) || remove_stale(o->path, err, errsz))
       return -1;
   return remove_stale_frames(o, err, errsz);
+}
+
+/* frames/ in the run folder (once). */
+static int make_frames_dir(sw_output *o, char *err, size_t errsz) {
+  if (o->frames_dir) return 0;
+  if (join(o->path, o->dir, "frames", err, errsz)) return -1;
+  if (make_dir(o->path, o->dir, err, errsz)) return -1;
+  o->frames_dir = 1;
+  return 0;
 }
 
 static int prepare_folder(sw_output *o, const sw_model *m, char *err, size_t errsz) {
@@ -233,8 +259,7 @@ static int prepare_folder(sw_output *o, const sw_model *m, char *err, size_t err
   while (n > 1 && o->dir[n - 1] == '/') n--;
   o->dir[n] = '\0';
   if (make_dirs(o->dir, o->tmp, err, errsz)) return -1;
-  if (join(o->path, o->dir, "frames", err, errsz)) return -1;
-  if (make_dir(o->path, o->dir, err, errsz)) return -1;
+  if (m->opt.frames_every >= 0.0 && make_frames_dir(o, err, errsz)) return -1;
   return clean_folder(o, err, errsz);
 }
 
@@ -282,12 +307,11 @@ static void log_header(sw_output *o, int k, const sw_model *m) {
   line_end(o, len);
 }
 
-/* Write o->line to log k in one piece (write(2) again only after a short write).  On failure
- * the log's error is remembered and o->size[k] still counts only the whole lines. */
-static int put_line(sw_output *o, int k, char *err, size_t errsz) {
+/* Write n bytes of s to log k in one piece (write(2) again only after a short write).  On
+ * failure the log's error is remembered and o->size[k] still counts only the whole lines. */
+static int put_bytes(sw_output *o, int k, const char *s, size_t n, char *err, size_t errsz) {
   int e = o->werr[k];
-  const char *s = o->line;
-  size_t n = strlen(s), done = 0;
+  size_t done = 0;
   while (!e && done < n) {
     ssize_t w = write(o->log[k], s + done, n - done);
     if (w > 0) done += (size_t)w;
@@ -301,6 +325,21 @@ static int put_line(sw_output *o, int k, char *err, size_t errsz) {
   o->werr[k] = e;
   sw_errf(err, errsz, "%s/%s.part: cannot write: %s", o->dir, log_name[k], strerror(e));
   return -1;
+}
+
+/* Write o->line to log k (put_bytes). */
+static int put_line(sw_output *o, int k, char *err, size_t errsz) {
+  return put_bytes(o, k, o->line, strlen(o->line), err, errsz);
+}
+
+/* The header of positions.bin: magic, int32 nv, int32 dim (host byte order). */
+static int put_positions_header(sw_output *o, const sw_model *m, char *err, size_t errsz) {
+  char h[POS_HEADER];
+  int32_t nv = m->nv, dim = m->dim;
+  memcpy(h, POS_MAGIC, 8);
+  memcpy(h + 8, &nv, 4);
+  memcpy(h + 12, &dim, 4);
+  return put_bytes(o, LOG_POSITIONS, h, sizeof h, err, errsz);
 }
 
 /* Cut log k back to its whole lines (o->size[k]) after a write that failed part-way. */
@@ -321,8 +360,12 @@ static int open_log(sw_output *o, int k, const sw_model *m, char *err, size_t er
   }
   o->size[k] = 0;
   o->opened[k] = 1;
-  log_header(o, k, m);
-  if (put_line(o, k, err, errsz) == 0) return 0;
+  if (k == LOG_POSITIONS) {
+    if (put_positions_header(o, m, err, errsz) == 0) return 0;
+  } else {
+    log_header(o, k, m);
+    if (put_line(o, k, err, errsz) == 0) return 0;
+  }
   cut_log(o, k, 0);
   return -1;
 }
@@ -478,21 +521,41 @@ static int step_tendons(sw_output *o, const sw_model *m, const sw_data *d, char 
   return put_line(o, LOG_TENDONS, err, errsz);
 }
 
-int sw_output_step(sw_output *o, const sw_model *m, const sw_data *d, char *err, size_t errsz) {
+/* One record of positions.bin: t and every vertex position, in one write. */
+static int step_positions(sw_output *o, const sw_model *m, const sw_data *d, char *err,
+                          size_t errsz) {
+  size_t nd = (size_t)m->nv * (size_t)m->dim;
+  if (o->recn != 1 + nd) { /* cannot happen: rec is sized at open for this model */
+    sw_errf(err, errsz, "output: positions.bin record of %zu values; expected %zu", o->recn,
+            1 + nd);
+    return -1;
+  }
+  o->rec[0] = d->t;                            /* s */
+  memcpy(o->rec + 1, d->x, nd * sizeof *d->x); /* m */
+  return put_bytes(o, LOG_POSITIONS, (const char *)o->rec, o->recn * sizeof *o->rec, err, errsz);
+}
+
+int sw_output_record(sw_output *o, const sw_model *m, const sw_data *d, int positions, char *err,
+                     size_t errsz) {
   if (!o || o->log[LOG_TENSION] < 0 || o->log[LOG_ENERGY] < 0 ||
-      (m->ntendon > 0 && o->log[LOG_TENDONS] < 0)) {
+      (m->ntendon > 0 && o->log[LOG_TENDONS] < 0) || (positions && o->log[LOG_POSITIONS] < 0)) {
     sw_errf(err, errsz, "output: the logs are not open");
     return -1;
   }
   off_t before[NLOG];
   for (int k = 0; k < NLOG; k++) before[k] = o->size[k];
   if (step_tension(o, m, d, err, errsz) == 0 && step_energy(o, m, d, err, errsz) == 0 &&
-      step_tendons(o, m, d, err, errsz) == 0)
+      step_tendons(o, m, d, err, errsz) == 0 &&
+      (!positions || step_positions(o, m, d, err, errsz) == 0))
     return 0;
   /* Failed part-way: every log ends at the previous step again, with whole lines only. */
   for (int k = 0; k < NLOG; k++)
     if (o->log[k] >= 0) cut_log(o, k, before[k]);
   return -1;
+}
+
+int sw_output_step(sw_output *o, const sw_model *m, const sw_data *d, char *err, size_t errsz) {
+  return sw_output_record(o, m, d, 0, err, errsz);
 }
 
 /* ------------------------------------------------------------------ frames */
@@ -583,6 +646,7 @@ static void vtu_body(writer *w, const sw_model *m, const sw_data *d) {
 static int write_vtu(sw_output *o, const sw_model *m, const sw_data *d, char *err,
                      size_t errsz) {
   char name[64];
+  if (make_frames_dir(o, err, errsz)) return -1;
   snprintf(name, sizeof name, "frames/frame_%06d.vtu.tmp", o->nframe);
   if (join(o->tmp, o->dir, name, err, errsz)) return -1;
   name[strlen(name) - 4] = '\0'; /* drop ".tmp" */
@@ -703,6 +767,15 @@ static void summary_model(writer *w, const sw_model *m) {
   w_puts(w, "]");
   w_json_num(w, "dt", m->opt.dt);             /* s */
   w_json_num(w, "duration", m->opt.duration); /* s */
+  w_json_num(w, "stiffness_scale", m->stiffness_scale > 0 ? m->stiffness_scale : 1.0);
+}
+
+/* Peak resident set size of the process so far, MiB (ru_maxrss is in KiB on Linux); 0 if
+ * getrusage fails. */
+static double max_rss_mb(void) {
+  struct rusage ru;
+  if (getrusage(RUSAGE_SELF, &ru) != 0) return 0.0;
+  return (double)ru.ru_maxrss / 1024.0;
 }
 
 static void summary_counters(writer *w, const sw_data *d, double wall) {
@@ -719,7 +792,10 @@ static void summary_counters(writer *w, const sw_data *d, double wall) {
   w_json_num(w, "time_assemble_s", d->time_assemble);
   w_json_num(w, "time_factor_s", d->time_factor);
   w_json_num(w, "time_solve_s", d->time_solve);
+  w_json_num(w, "time_step_s", d->time_step);
+  w_json_long(w, "factor_nnz", d->factor_nnz);
   w_json_num(w, "wall_time_s", wall);
+  w_json_num(w, "max_rss_mb", max_rss_mb());
 }
 
 /* The files of the folder, relative to it, under their current names. */
@@ -766,6 +842,7 @@ static void output_free(sw_output *o) {
   for (int k = 0; k < NLOG; k++)
     if (o->log[k] >= 0) close(o->log[k]);
   sw_free(o->line);
+  sw_free(o->rec);
   sw_free(o->frame_t);
   sw_free(o);
 }
@@ -783,7 +860,11 @@ static int output_alloc(sw_output *o, const sw_model *m, char *err, size_t errsz
   }
   o->frame_t = sw_calloc((size_t)cap, sizeof(double));
   o->frame_cap = cap;
-  if (o->line && o->frame_t) return 0;
+  if (m->opt.positions_every > 0) { /* one record, reused: a step allocates nothing */
+    o->recn = 1 + (size_t)m->nv * (size_t)m->dim;
+    o->rec = sw_calloc(o->recn, sizeof *o->rec);
+  }
+  if (o->line && o->frame_t && (o->rec || !o->recn)) return 0;
   sw_errf(err, errsz, "%s: out of memory for the output writers", m->opt.out_dir);
   return -1;
 }
@@ -798,6 +879,7 @@ sw_output *sw_output_open(const sw_model *m, char *err, size_t errsz) {
   if (output_alloc(o, m, err, errsz) || prepare_folder(o, m, err, errsz) ||
       open_log(o, LOG_TENSION, m, err, errsz) || open_log(o, LOG_ENERGY, m, err, errsz) ||
       (m->ntendon > 0 && open_log(o, LOG_TENDONS, m, err, errsz)) ||
+      (m->opt.positions_every > 0 && open_log(o, LOG_POSITIONS, m, err, errsz)) ||
       sw_output_summary(o, m, NULL, "running", "", 0.0, err, errsz)) {
     output_free(o);
     return NULL;

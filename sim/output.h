@@ -1,9 +1,10 @@
 /* output.h — the writers of a run's folder (DESIGN.md "Outputs").
  *
- * While a run is going, the CSV logs are written as NAME.csv.part, each line in one write(2)
- * after every step; sw_output_close renames them to NAME.csv.  A step whose lines cannot all be
- * written (disk full, file size limit) is cut from every log again (ftruncate), so the logs end
- * at the same step with whole lines; the log that failed keeps its .part name.  summary.json is
+ * While a run is going, the CSV logs (and positions.bin) are written as NAME.part, each line
+ * (or record) in one write(2) after every step; sw_output_close renames them to NAME.  A step
+ * whose lines cannot all be written (disk full, file size limit) is cut from every log again
+ * (ftruncate), so the logs end at the same step with whole lines; the log that failed keeps its
+ * .part name.  summary.json is
  * written through a temporary file and rename, first with status "running", finally "ok" or
  * "failed".  So a killed run leaves *.part files and a summary saying "running": nothing looks
  * complete that is not.  Frames are written to a temporary name and renamed when complete. */
@@ -16,8 +17,13 @@ typedef struct sw_output sw_output;
 
 /* Create m->opt.out_dir (and frames/), open the logs and write their headers. */
 sw_output *sw_output_open(const sw_model *m, char *err, size_t errsz);
-/* One line of tension.csv and energy.csv for the state after an accepted step.  On failure
- * neither log has a line of this step. */
+/* One line of tension.csv and energy.csv (and tendons.csv) for the state after an accepted
+ * step and, when positions is nonzero, one record of positions.bin (t and every vertex
+ * position; the file exists only with opt.positions_every > 0).  Allocates nothing.  On failure
+ * no log has a line (or record) of this step. */
+int sw_output_record(sw_output *o, const sw_model *m, const sw_data *d, int positions, char *err,
+                     size_t errsz);
+/* sw_output_record without a positions record. */
 int sw_output_step(sw_output *o, const sw_model *m, const sw_data *d, char *err, size_t errsz);
 /* frames/frame_NNNNNN.vtu of the current state, and its entry in frames.pvd. */
 int sw_output_frame(sw_output *o, const sw_model *m, const sw_data *d, char *err, size_t errsz);

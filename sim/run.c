@@ -1,7 +1,9 @@
 /* run.c — the run loop: state -> integrator step -> diagnostics -> logs (DESIGN.md data flow).
  * A failed step is retried with half the step up to opt.max_halvings times; a run that cannot
  * go on stops with a message naming the time, the method and the reason, keeps its logs, writes
- * the last good state as a frame and a summary.json with status "failed". */
+ * the last good state as a frame and a summary.json with status "failed".  Frames (every
+ * opt.frames_every s, and the first and last; none when it is < 0) and records of positions.bin
+ * (every opt.positions_every s > 0, and the first and last) are taken at logged states. */
 #define _GNU_SOURCE /* dlsym(RTLD_DEFAULT) */
 #include <dlfcn.h>
 #include <math.h>
@@ -19,6 +21,7 @@ typedef struct run_ctx {
   sw_data *d;
   sw_output *out;
   double next_frame;   /* s */
+  double next_positions; /* s: when the next record of positions.bin is due */
   double wall0, last_progress;
   int progress;
   double t_logged;     /* s: time of the previous log line (damping's trapezoid) */
@@ -48,8 +51,20 @@ static int output_failed(const sw_data *d, char *err, size_t errsz) {
   return SW_FATAL;
 }
 
-/* Diagnostics of the current state, one log line, and a frame when one is due. */
-static int record(run_ctx *r, int force_frame, char *err, size_t errsz) {
+/* A sample taken every `every` s (> 0) is due at t when t reached next (up to round-off). */
+static int is_due(double every, double next, double t) {
+  return every > 0.0 && t >= next - 1e-9 * fmax(every, 1.0);
+}
+
+/* After a sample at t: the next one is the first multiple of every past t. */
+static void advance(double every, double *next, double t) {
+  if (every > 0.0)
+    while (*next <= t + 1e-9 * fmax(every, 1.0)) *next += every;
+}
+
+/* Diagnostics of the current state, one log line, a record of positions.bin and a frame when
+ * they are due (force: the first and last state, due anyway when they are on). */
+static int record(run_ctx *r, int force, char *err, size_t errsz) {
   const sw_model *m = r->m;
   sw_data *d = r->d;
   double u;
@@ -61,15 +76,15 @@ static int record(run_ctx *r, int force_frame, char *err, size_t errsz) {
            SW_FATAL;
   sw_tension_xy(m, d);
   sw_tendon_state(m, d);
-  if (sw_output_step(r->out, m, d, err, errsz)) return output_failed(d, err, errsz);
+  double pe = m->opt.positions_every, fe = m->opt.frames_every; /* s */
+  int pos = pe > 0.0 && (force || is_due(pe, r->next_positions, d->t));
+  if (sw_output_record(r->out, m, d, pos, err, errsz)) return output_failed(d, err, errsz);
+  if (pos) advance(pe, &r->next_positions, d->t);
   r->t_logged = d->t;
   r->logged = 1;
-  double fe = m->opt.frames_every;
-  int due = fe > 0.0 && d->t >= r->next_frame - 1e-9 * fmax(fe, 1.0);
-  if (due || force_frame) {
+  if (fe >= 0.0 && (force || is_due(fe, r->next_frame, d->t))) {
     if (sw_output_frame(r->out, m, d, err, errsz)) return output_failed(d, err, errsz);
-    if (fe > 0.0)
-      while (r->next_frame <= d->t + 1e-9 * fmax(fe, 1.0)) r->next_frame += fe;
+    advance(fe, &r->next_frame, d->t);
   }
   return SW_OK;
 }
@@ -192,6 +207,7 @@ int sw_run(const sw_model *m, int progress, char *err, size_t errsz) {
   r.out = sw_output_open(m, err, errsz);
   if (!r.out) return sw_data_free(r.d), SW_FATAL;
   r.next_frame = m->opt.frames_every;
+  r.next_positions = 0.0; /* a record at t = 0 */
   r.d->energy_bound = m->opt.energy_bound > 0.0 ? m->opt.energy_bound : sw_energy_bound(m, r.d);
   int is_static = !strcmp(m->opt.method, "static");
   int rc = is_static ? SW_OK : record(&r, 1, err, errsz);

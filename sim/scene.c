@@ -61,6 +61,10 @@ static int load_grid(const ctx *c, const ynode *y, mesh_in *mi) {
   if ((double)nvert[0] * nvert[1] > (double)SW_SCENE_MAX_VERTICES)
     return sy_fail(c, v[1], "mesh grid vertices is %d x %d; expected at most %ld vertices in all",
                 nvert[0], nvert[1], (long)SW_SCENE_MAX_VERTICES);
+  if (c->ov && c->ov->grid[0] > 0) { /* sinew run --grid; checked by sw_scene_parse_ex */
+    nvert[0] = c->ov->grid[0];
+    nvert[1] = c->ov->grid[1];
+  }
   if (v[2] && sy_choice(c, v[2], "mesh grid plane", planes, 3, &plane)) return -1;
   if (c->m->dim == 2 && plane != 0)
     return sy_fail(c, v[2], "mesh grid plane is %s in a 2D scene; expected xy (dimension: 2)",
@@ -142,6 +146,9 @@ static int load_mesh(const ctx *c, const ynode *y, mesh_in *mi, double *uv_scale
                    "obj (a grid's (u,v) layout is already in m)");
   if (v[2] && sy_num(c, v[2], "mesh uv_scale", 0, 1, "m per OBJ (u,v) unit", uv_scale))
     return -1;
+  if (c->ov && c->ov->grid[0] > 0 && !v[0])
+    return sy_fail(c, y, "mesh is %s, not mesh: {grid: ...}; expected a grid mesh for the grid "
+                   "override (--grid)", v[1] ? "an OBJ file (obj)" : "a list of points");
   mi->at = v[0] ? v[0] : v[1] ? v[1] : v[3];
   if (v[3]) snprintf(mi->obj, sizeof mi->obj, "points");
   return v[0] ? load_grid(c, v[0], mi) : v[1] ? load_obj(c, v[1], mi) : load_points(c, v[3], mi);
@@ -413,18 +420,20 @@ static int load_integrator(const ctx *c, const ynode *y) {
   return 0;
 }
 
-static const char *const out_keys[] = {"dir", "frames_every"};
+static const char *const out_keys[] = {"dir", "frames_every", "positions_every"};
 
 static int load_output(const ctx *c, const ynode *y) {
   sw_options *o = &c->m->opt;
-  const ynode *v[2];
+  const ynode *v[3];
   const char *dir;
-  if (sy_map(c, y, "output", out_keys, 2, v)) return -1;
+  if (sy_map(c, y, "output", out_keys, 3, v)) return -1;
   if (v[0]) {
     if (sy_str(c, v[0], "output dir", sizeof o->out_dir, &dir)) return -1;
     snprintf(o->out_dir, sizeof o->out_dir, "%s", dir);
   }
   if (v[1] && sy_num(c, v[1], "output frames_every", 0, 0, "s", &o->frames_every)) return -1;
+  if (v[2] && sy_num(c, v[2], "output positions_every", 0, 0, "s", &o->positions_every))
+    return -1;
   return 0;
 }
 
@@ -467,18 +476,44 @@ static int load_scene(ctx *c) {
   return load_options(c, v);
 }
 
+/* The overrides themselves: a grid of at least 2 x 2 vertices and at most the scene key's total,
+ * a finite stiffness scale >= 0 (0: none). */
+static int check_overrides(const char *name, const sw_scene_overrides *ov, char *err,
+                           size_t errsz) {
+  const int *g = ov->grid;
+  if ((g[0] || g[1]) && (g[0] < 2 || g[1] < 2))
+    return sw_errf(err, errsz, "%s: the grid override (--grid) is %d x %d vertices; "
+                   "expected at least 2 each way", name, g[0], g[1]), -1;
+  if ((double)g[0] * g[1] > (double)SW_SCENE_MAX_VERTICES)
+    return sw_errf(err, errsz, "%s: the grid override (--grid) is %d x %d vertices; "
+                   "expected at most %ld vertices in all", name, g[0], g[1],
+                   (long)SW_SCENE_MAX_VERTICES), -1;
+  double s = ov->stiffness_scale;
+  if (!isfinite(s) || s < 0.0)
+    return sw_errf(err, errsz, "%s: the stiffness scale (--stiffness-scale) is %g; "
+                   "expected a number > 0", name, s), -1;
+  return 0;
+}
+
 sw_model *sw_scene_parse(const char *name, const char *buf, size_t len, char *err,
                          size_t errsz) {
+  return sw_scene_parse_ex(name, buf, len, NULL, err, errsz);
+}
+
+sw_model *sw_scene_parse_ex(const char *name, const char *buf, size_t len,
+                            const sw_scene_overrides *ov, char *err, size_t errsz) {
   if (err && errsz) err[0] = '\0';
   if (!name) name = "<scene>";
   if (!buf) len = 0;
+  if (ov && check_overrides(name, ov, err, errsz)) return NULL;
   ynode *root = sy_parse(name, buf, len, err, errsz);
   if (!root) return NULL;
-  ctx c = {.name = name, .err = err, .errsz = errsz, .root = root};
+  ctx c = {.name = name, .err = err, .errsz = errsz, .root = root, .ov = ov};
   c.m = sw_model_new();
   int rc = c.m ? load_scene(&c) : sy_oom(&c, root);
   sw_free(c.sel);
   sy_free(root);
+  if (!rc && ov && ov->stiffness_scale > 0.0) sc_scale_stiffness(c.m, ov->stiffness_scale);
   if (rc) {
     sw_model_free(c.m);
     return NULL;
@@ -526,6 +561,11 @@ static char *read_file(const char *path, size_t *len, char *err, size_t errsz) {
 }
 
 sw_model *sw_scene_load(const char *path, char *err, size_t errsz) {
+  return sw_scene_load_ex(path, NULL, err, errsz);
+}
+
+sw_model *sw_scene_load_ex(const char *path, const sw_scene_overrides *ov, char *err,
+                           size_t errsz) {
   size_t len = 0;
   if (!path) {
     sw_errf(err, errsz, "(null): no scene file given");
@@ -533,7 +573,7 @@ sw_model *sw_scene_load(const char *path, char *err, size_t errsz) {
   }
   char *buf = read_file(path, &len, err, errsz);
   if (!buf) return NULL;
-  sw_model *m = sw_scene_parse(path, buf, len, err, errsz);
+  sw_model *m = sw_scene_parse_ex(path, buf, len, ov, err, errsz);
   sw_free(buf);
   return m;
 }

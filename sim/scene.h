@@ -19,5 +19,8 @@
  * name and output folder (its stem) and the folder OBJ paths are relative to.  Returns a
  * finished model, or NULL with the message in err. */
 sw_model *sw_scene_parse(const char *name, const char *buf, size_t len, char *err, size_t errsz);
+/* The same with overrides (sinew.h, sw_scene_load_ex; ov NULL: none). */
+sw_model *sw_scene_parse_ex(const char *name, const char *buf, size_t len,
+                            const sw_scene_overrides *ov, char *err, size_t errsz);
 
 #endif

@@ -254,6 +254,23 @@ int sc_load_panels(const ctx *c, const ynode *y, const sw_mesh *me, const char *
   return 0;
 }
 
+/* The stiffnesses of a material (N/m, bending N m); an explicit tension XY stiffness too. */
+static void scale_material(sw_material *mt, double s) {
+  double *k[] = {&mt->k_u, &mt->k_v, &mt->k_shear, &mt->e_u, &mt->e_v, &mt->g_uv, &mt->k_corot,
+                 &mt->ks_stretch, &mt->ks_shear, &mt->ks_bend, &mt->k_bend};
+  for (size_t i = 0; i < sizeof k / sizeof k[0]; i++) *k[i] *= s;
+  if (mt->tx_k_u >= 0) mt->tx_k_u *= s; /* < 0: derived from the (scaled) membrane */
+  if (mt->tx_k_v >= 0) mt->tx_k_v *= s;
+}
+
+void sc_scale_stiffness(sw_model *m, double s) {
+  for (int k = 0; k < m->nmat; k++) scale_material(&m->mat[k], s);
+  for (int t = 0; t < m->ntendon; t++) m->tendon[t].stiffness *= s; /* N/m */
+  if (m->opt.tx_k_u >= 0) m->opt.tx_k_u *= s; /* tension_xy k_u, k_v when the scene sets them */
+  if (m->opt.tx_k_v >= 0) m->opt.tx_k_v *= s;
+  m->stiffness_scale *= s;
+}
+
 static const char *const damp_keys[] = {"mass", "stiffness"};
 
 int sc_load_damping(const ctx *c, const ynode *y) {

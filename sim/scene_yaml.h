@@ -28,6 +28,7 @@ typedef struct ctx {
   sw_model *m;
   const ynode *root;
   unsigned char *sel;      /* (nv) scratch of the vertex selections */
+  const sw_scene_overrides *ov; /* or NULL (sw_scene_load_ex) */
 } ctx;
 
 ynode *sy_parse(const char *name, const char *buf, size_t len, char *err, size_t errsz);

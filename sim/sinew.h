@@ -180,7 +180,10 @@ typedef struct sw_options {
   double energy_bound;         /* J: a step whose total energy exceeds it fails (0: automatic,
                                   1e3 x the initial energy scale above the initial energy) */
   char out_dir[SW_PATHSZ];     /* output folder */
-  double frames_every;         /* s between VTU frames (0: first and last only) */
+  double frames_every;         /* s between VTU frames (0: first and last only; < 0: none at
+                                  all, no frames.pvd, except the last good state of a failed
+                                  run) */
+  double positions_every;      /* s between records of positions.bin (0: no positions.bin) */
   double tx_clip;              /* tension XY stiffness clip, N/m (seed 000: 5e4) */
   int tx_reference_uv;         /* 1: rlu = rlv = 1 (uv layout); 0: the initial configuration */
   double tx_k_u, tx_k_v;       /* stiffness used by tension XY, N/m (defaults: the membrane's) */
@@ -225,6 +228,8 @@ struct sw_model {
   int nterm;
   sw_term *term;               /* (nterm) energy terms, only those the scene names */
   sw_options opt;
+  double stiffness_scale;      /* the factor every elastic stiffness of the scene was multiplied
+                                  by at load (sw_scene_overrides; 1: none, 0 read as 1) */
 };
 
 /* Allocate an empty model with default options. */
@@ -236,6 +241,24 @@ SW_API int sw_model_finish(sw_model *m, char *err, size_t errsz);
 SW_API void sw_model_free(sw_model *m);
 /* Load and validate a scene file (YAML).  NULL on error, with "file:line:column: message". */
 SW_API sw_model *sw_scene_load(const char *path, char *err, size_t errsz);
+
+/* What sw_scene_load_ex changes in a scene as it loads it (sinew run --grid, --stiffness-scale).
+ * grid replaces mesh.grid.vertices (the scene's mesh must be a grid; both >= 2, at most the
+ * scene key's total); vertex indices in selections and tendons stay indices (and may then be
+ * out of range: the usual error), boxes select on the new grid.  stiffness_scale multiplies
+ * every elastic stiffness before the terms are built: the membrane's (bw98 k_u, k_v, k_shear;
+ * stvk e_u, e_v, shear_modulus; corotated k; springs stretch, shear, bend), bending stiffness,
+ * every tendon's stiffness and the stiffness tension XY uses (derived or explicit); not
+ * density, damping, bias, rest values, the tension XY clip or loads. */
+typedef struct sw_scene_overrides {
+  int grid[2];                 /* vertices nx, ny; 0: the scene's */
+  double stiffness_scale;      /* > 0; 0 or 1: none */
+} sw_scene_overrides;
+
+/* sw_scene_load with overrides (ov NULL: none).  A bad override is an error naming the scene
+ * file (and the mesh node for a scene whose mesh is not a grid). */
+SW_API sw_model *sw_scene_load_ex(const char *path, const sw_scene_overrides *ov, char *err,
+                                  size_t errsz);
 /* Nonzeros of the upper triangle of the system matrix on the free DOFs (-1 on error). */
 SW_API long sw_system_nnz(const sw_model *m);
 /* Print what `sinew check` shows. */
@@ -272,6 +295,9 @@ struct sw_data {
   int last_newton;             /* Newton iterations of the last step */
   double last_dt;              /* size of the last accepted step, s */
   double time_assemble, time_factor, time_solve, time_step; /* s of wall time */
+  long factor_nnz;             /* nonzeros of the Cholesky factor L of the last factorisation
+                                  (CHOLMOD's count for its ordering; 0: no factor yet, or a
+                                  method without one) */
   char err[SW_ERRSZ];          /* why the last failing call failed */
 };
 
@@ -293,6 +319,9 @@ SW_API void sw_tendon_state(const sw_model *m, sw_data *d);
 SW_API const char *const *sw_method_names(void);
 /* The one-line summary of a method (as `sinew run --help` shows it), or NULL if unknown. */
 SW_API const char *sw_method_summary(const char *name);
+/* 1 for a method that chooses its own steps to a tolerance (cvode, ida: rtol, atol; dt is then
+ * the output interval), 0 for a fixed-step method and static, -1 for an unknown name. */
+SW_API int sw_method_adaptive(const char *name);
 /* Thread settings of the linear algebra (sw_run calls it): OpenMP nesting in CHOLMOD off unless
  * OMP_MAX_ACTIVE_LEVELS or OMP_THREAD_LIMIT is set; OpenBLAS threads = blas_threads, or when 0,
  * $OPENBLAS_NUM_THREADS if set, else 1. */

@@ -108,6 +108,10 @@ int sw_chol_factor(sw_chol *ch, char *err, size_t errsz) {
   return ch->nlr ? lowrank_factor(ch, err, errsz) : SW_OK;
 }
 
+long sw_chol_nnz(const sw_chol *ch) {
+  return ch->started && ch->L ? (long)ch->c.lnz : 0;
+}
+
 /* sol <- sol - coef W C^-1 V^T sol: from A^-1 b to S^-1 b (Woodbury). */
 static void lowrank_correct(sw_chol *ch, double *sol) {
   const long n = (long)ch->A->nrow;

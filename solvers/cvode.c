@@ -212,6 +212,7 @@ static int cv_step(void *p, const sw_model *m, sw_data *d, double h) {
 
 const sw_integrator_ops sw_cvode_ops = {
     .name = "cvode",
+    .adaptive = 1,
     .summary = "SUNDIALS CVODE: adaptive BDF (orders 1-5) to rtol/atol, Newton with CHOLMOD",
     .init = cv_init,
     .step = cv_step,

@@ -218,6 +218,7 @@ static int ida_step(void *p, const sw_model *m, sw_data *d, double h) {
 
 const sw_integrator_ops sw_ida_ops = {
     .name = "ida",
+    .adaptive = 1,
     .summary = "SUNDIALS IDA: adaptive BDF on the implicit form [x' - v; M v' - f], CHOLMOD",
     .init = ida_init,
     .step = ida_step,

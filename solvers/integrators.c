@@ -32,6 +32,13 @@ const char *sw_method_summary(const char *name) {
   return ops ? ops->summary : NULL;
 }
 
+int sw_method_adaptive(const char *name) {
+  if (!name) return -1;
+  if (!strcmp(name, "static")) return 0;
+  const sw_integrator_ops *ops = sw_integrator_find(name);
+  return ops ? (ops->adaptive != 0) : -1;
+}
+
 int sw_energy_check(const sw_model *m, sw_data *d, const double *x, const double *v, double t) {
   double u;
   int rc = sw_eval_terms(m, d, x, t, 0, 0, 0, &u);

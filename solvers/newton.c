@@ -116,6 +116,7 @@ static int fill_factor(sw_newton *nw, const sw_model *m, sw_data *d, double a) {
   int rc = sw_chol_factor(&nw->chol, d->err, sizeof d->err);
   d->time_factor += sw_now() - t1;
   d->nfactor++;
+  d->factor_nnz = sw_chol_nnz(&nw->chol);
   return rc;
 }
 

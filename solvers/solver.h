@@ -75,6 +75,8 @@ double *sw_chol_values(sw_chol *ch);
 double *sw_chol_lowrank(sw_chol *ch, double coef);
 /* Numeric factorisation of the current values: SW_OK, SW_RECOVER (not positive definite). */
 int sw_chol_factor(sw_chol *ch, char *err, size_t errsz);
+/* Nonzeros of L (CHOLMOD's Common->lnz from the analysis: fixed for the run; 0 before it). */
+long sw_chol_nnz(const sw_chol *ch);
 /* sol = S^-1 rhs (n doubles each; may alias). */
 int sw_chol_solve(sw_chol *ch, const double *rhs, double *sol, char *err, size_t errsz);
 void sw_chol_free(sw_chol *ch);
@@ -133,6 +135,8 @@ int sw_newton_line_search(sw_newton *nw, const sw_model *m, sw_data *d, double *
 typedef struct sw_integrator_ops {
   const char *name;
   const char *summary;   /* one line for --help */
+  int adaptive;          /* 1: chooses its own internal steps to rtol/atol (dt is then the
+                            output interval); 0: fixed steps of dt */
   int (*init)(void **state, const sw_model *m, sw_data *d, char *err, size_t errsz);
   /* Advance d->t, d->x, d->v by dt.  On a nonzero return the state is unchanged and d->err
    * says why (positive: a smaller step may succeed). */

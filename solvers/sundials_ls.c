@@ -146,6 +146,7 @@ static int fill_factor(sw_sunls *sys) {
   int rc = sw_chol_factor(&sys->chol, d->err, sizeof d->err);
   d->time_factor += sw_now() - t1;
   d->nfactor++;
+  d->factor_nnz = sw_chol_nnz(&sys->chol);
   return rc;
 }
 

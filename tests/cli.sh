@@ -31,10 +31,109 @@ ls "$tmp/run"/*.part >/dev/null 2>&1 && fail ".part files left after a complete 
 ls "$tmp/run/frames/"*.vtu >/dev/null 2>&1 || fail "no frames"
 grep -q '<VTKFile type="Collection"' "$tmp/run/frames.pvd" || fail "frames.pvd"
 tail -1 "$tmp/run/tension.csv" | grep -q '^0.03' || fail "last line at t = 0.03"
+# summary.json: step wall time, peak memory and the factor's nonzeros, all > 0 for backward Euler
+for key in time_step_s max_rss_mb factor_nnz; do
+  grep -Eq "\"$key\": [0-9.e+-]+,?\$" "$tmp/run/summary.json" || fail "summary has no number $key"
+  v=$(sed -n "s/.*\"$key\": \([0-9.e+-]*\).*/\1/p" "$tmp/run/summary.json")
+  awk -v v="$v" 'BEGIN { exit !(v + 0 > 0) }' || fail "summary $key = '$v', expected > 0"
+done
+
+# --frames-every: a frame every 0.01 s (t = 0, 0.01, 0.02, 0.03); --no-frames: neither frames nor
+# frames.pvd nor frames/, and summary.json lists none.
+"$sinew" run scenes/hanging_cloth.yaml --out "$tmp/fe" --duration 0.03 --frames-every 0.01 --quiet \
+  2>"$tmp/err" || fail "--frames-every run: $(cat "$tmp/err")"
+[ "$(ls "$tmp/fe/frames/"*.vtu | wc -l)" -eq 4 ] || fail "--frames-every 0.01: 4 frames"
+[ "$(grep -c '<DataSet ' "$tmp/fe/frames.pvd")" -eq 4 ] || fail "--frames-every 0.01: frames.pvd"
+"$sinew" run scenes/hanging_cloth.yaml --out "$tmp/fe" --duration 0.03 --no-frames --quiet \
+  2>"$tmp/err" || fail "--no-frames run: $(cat "$tmp/err")"
+[ -e "$tmp/fe/frames.pvd" ] && fail "--no-frames wrote frames.pvd"
+ls "$tmp/fe/frames/"*.vtu >/dev/null 2>&1 && fail "--no-frames left frames (of the earlier run)"
+grep -q 'frame' "$tmp/fe/summary.json" && fail "--no-frames: summary lists frames"
+[ "$(wc -l <"$tmp/fe/tension.csv")" -eq 5 ] || fail "--no-frames: the logs are complete"
+"$sinew" run scenes/hanging_cloth.yaml --out "$tmp/nf" --duration 0.03 --no-frames --quiet \
+  2>/dev/null || fail "--no-frames run in a new folder"
+[ -e "$tmp/nf/frames" ] && fail "--no-frames made frames/"
+
+# --positions-every 0.02 to 0.03 s: records at t = 0, 0.02 and 0.03 (the final time), each
+# 8 + 1600 x 3 x 8 bytes after a 16-byte header SWPOS001, nv = 1600, dim = 3.
+"$sinew" run scenes/hanging_cloth.yaml --out "$tmp/pos" --duration 0.03 --positions-every 0.02 \
+  --no-frames --quiet 2>"$tmp/err" || fail "--positions-every run: $(cat "$tmp/err")"
+[ "$(head -c 8 "$tmp/pos/positions.bin")" = SWPOS001 ] || fail "positions.bin magic"
+[ "$(od -An -t d4 -j 8 -N 8 "$tmp/pos/positions.bin" | tr -s ' ')" = " 1600 3" ] ||
+  fail "positions.bin nv, dim: $(od -An -t d4 -j 8 -N 8 "$tmp/pos/positions.bin")"
+[ "$(stat -c %s "$tmp/pos/positions.bin")" -eq $((16 + 3 * (8 + 1600 * 3 * 8))) ] ||
+  fail "positions.bin: 3 records, size $(stat -c %s "$tmp/pos/positions.bin")"
+grep -q '"positions.bin"' "$tmp/pos/summary.json" || fail "summary lists positions.bin"
+"$sinew" run scenes/hanging_cloth.yaml --out "$tmp/pos" --duration 0.01 --quiet 2>/dev/null ||
+  fail "run without positions"
+[ -e "$tmp/pos/positions.bin" ] && fail "positions.bin of an earlier run left behind"
+
+# A failed run with --no-frames still writes its last good state as the one frame.
+cat >"$tmp/f.yaml" <<'EOF'
+mesh: {grid: {size: [1, 1], vertices: [4, 4]}}
+material: {density: 0.1, membrane: {k_u: 100, k_v: 100, k_shear: 1}}
+gravity: [0, 0, -9.81]
+integrator: {newton: {max_iterations: 1, tol: 1e-12}, max_halvings: 1}
+EOF
+"$sinew" run "$tmp/f.yaml" --out "$tmp/nff" --no-frames --quiet 2>/dev/null &&
+  fail "failing run exited 0"
+[ "$(ls "$tmp/nff/frames/"*.vtu | wc -l)" -eq 1 ] || fail "--no-frames failed run: one frame"
+grep -q '"status": "failed"' "$tmp/nff/summary.json" || fail "--no-frames failed run: status"
+
+# --grid replaces the grid's vertices (boxes select on the new grid); --stiffness-scale shows in
+# check and summary.json; a mesh that is not a grid and index pins out of range are refused.
+box='{select: {box: [[-0.01, 0.99, -1], [1.01, 1.01, 1]]}}'
+sed "s/{select: {vertices: \[1560, 1599\]}}/$box/" scenes/hanging_cloth.yaml >"$tmp/boxpins.yaml"
+grep -q 'box: ' "$tmp/boxpins.yaml" || fail "boxpins.yaml: the pins were not replaced"
+out=$("$sinew" check "$tmp/boxpins.yaml" --grid 7x5) || fail "check --grid 7x5"
+grep -q 'vertices    35 (7 pinned)' <<<"$out" || fail "check --grid 7x5: $out"
+grep -q 'faces       48' <<<"$out" || fail "check --grid 7x5: faces"
+grep -q '^stiffness' <<<"$out" && fail "check prints a stiffness scale of 1"
+out=$("$sinew" check "$tmp/boxpins.yaml" --stiffness-scale 2.5) || fail "check --stiffness-scale"
+grep -q '^stiffness   x 2.5 ' <<<"$out" || fail "check --stiffness-scale 2.5: $out"
+"$sinew" run "$tmp/boxpins.yaml" --grid 6x4 --stiffness-scale 2 --duration 0.02 --out "$tmp/g" \
+  --quiet 2>"$tmp/err" || fail "run --grid --stiffness-scale: $(cat "$tmp/err")"
+grep -q '"vertices": 24,' "$tmp/g/summary.json" || fail "run --grid 6x4: vertices in summary"
+grep -q '"stiffness_scale": 2,' "$tmp/g/summary.json" || fail "summary stiffness_scale"
+grep -q '"stiffness_scale": 1,' "$tmp/run/summary.json" || fail "summary stiffness_scale 1"
+"$sinew" check scenes/skirt.yaml --grid 7x5 >/dev/null 2>"$tmp/err" && fail "--grid on an OBJ"
+grep -q 'skirt.yaml:[0-9]*:[0-9]*: mesh is an OBJ file (obj), not mesh: {grid: ...}' "$tmp/err" ||
+  fail "--grid on an OBJ: $(cat "$tmp/err")"
+if "$sinew" run scenes/hanging_cloth.yaml --grid 7x5 --out "$tmp/x" 2>"$tmp/err" >/dev/null; then
+  fail "--grid with pins by index out of range"
+fi
+want='pins\[0\] select vertices\[0\] is 1560; expected an integer in \[0, 34\]'
+grep -q "hanging_cloth.yaml:[0-9]*:[0-9]*: $want" "$tmp/err" ||
+  fail "--grid index pins message: $(cat "$tmp/err")"
+for bad in 7 7x 1x5 7x5x 0x0 ax5 -3x5 7x99999999999; do
+  "$sinew" run scenes/hanging_cloth.yaml --grid "$bad" --out "$tmp/x" 2>"$tmp/err" >/dev/null &&
+    fail "--grid $bad accepted"
+  grep -q -- "--grid expects NXxNY" "$tmp/err" || fail "--grid $bad message: $(cat "$tmp/err")"
+done
+"$sinew" run "$tmp/boxpins.yaml" --grid 2000x2000 --out "$tmp/x" 2>"$tmp/err" >/dev/null &&
+  fail "--grid 2000x2000 accepted"
+grep -q 'boxpins.yaml: the grid override (--grid) is 2000 x 2000 vertices; expected at most' \
+  "$tmp/err" || fail "--grid 2000x2000 message: $(cat "$tmp/err")"
+for bad in 0 -1 nan x; do
+  "$sinew" run scenes/hanging_cloth.yaml --stiffness-scale "$bad" --out "$tmp/x" 2>"$tmp/err" \
+    >/dev/null && fail "--stiffness-scale $bad accepted"
+  grep -q -- "--stiffness-scale expects a positive number" "$tmp/err" ||
+    fail "--stiffness-scale $bad message: $(cat "$tmp/err")"
+done
+"$sinew" check scenes/hanging_cloth.yaml --quiet >/dev/null 2>&1 && fail "check --quiet accepted"
 
 # Overrides are validated.
 "$sinew" run scenes/hanging_cloth.yaml --dt -1 --out "$tmp/x" >/dev/null 2>&1 && fail "--dt -1"
 "$sinew" run scenes/hanging_cloth.yaml --method nope --out "$tmp/x" >/dev/null 2>&1 && fail "--method nope"
+"$sinew" run scenes/hanging_cloth.yaml --frames-every -1 --out "$tmp/x" >/dev/null 2>&1 &&
+  fail "--frames-every -1"
+"$sinew" run scenes/hanging_cloth.yaml --positions-every abc --out "$tmp/x" 2>"$tmp/err" \
+  >/dev/null && fail "--positions-every abc"
+grep -q -- "--positions-every expects a non-negative number, got 'abc'" "$tmp/err" ||
+  fail "--positions-every message: $(cat "$tmp/err")"
+"$sinew" run scenes/hanging_cloth.yaml --no-frames --frames-every 1 --out "$tmp/x" 2>"$tmp/err" \
+  >/dev/null && fail "--no-frames with --frames-every"
+grep -q -- "--no-frames and --frames-every" "$tmp/err" || fail "--no-frames conflict message"
 [ -e "$tmp/x" ] && fail "a refused run wrote $tmp/x"
 
 # Bad scene: file:line:column, non-zero exit, nothing written.

@@ -6,7 +6,7 @@
 #      "running"; frames.pvd lists only frames whose .vtu is complete XML.
 #   2. Two runs of the same scene with the same settings: tension.csv, energy.csv (all but the
 #      wall-time column step_wall_s), frames.pvd and every frame are bit for bit the same, and
-#      summary.json too apart from its timers.
+#      summary.json too apart from its timers and the peak memory (max_rss_mb).
 set -u
 sinew=$(cd "$(dirname "$1")" && pwd)/$(basename "$1") # absolute: one test runs elsewhere
 tmp=$(mktemp -d)
@@ -131,9 +131,9 @@ for r in 1 2; do
 done
 [ "$(wc -l <"$tmp/energy1")" -eq 12 ] || fail "energy.csv: header and 11 lines expected"
 cmp -s "$tmp/energy1" "$tmp/energy2" || fail "energy.csv differs between runs (beyond step_wall_s)"
-timers='"(time_assemble_s|time_factor_s|time_solve_s|wall_time_s)"'
+timers='"(time_assemble_s|time_factor_s|time_solve_s|time_step_s|wall_time_s|max_rss_mb)"'
 for r in 1 2; do grep -Ev "$timers" "$tmp/rep$r/summary.json" | sed "s|rep$r|rep|" >"$tmp/sum$r"; done
-cmp -s "$tmp/sum1" "$tmp/sum2" || fail "summary.json differs between runs (beyond its timers)"
+cmp -s "$tmp/sum1" "$tmp/sum2" || fail "summary.json differs between runs (beyond its timers and max_rss_mb)"
 
 echo "$fails failure(s)"
 [ "$fails" -eq 0 ]

@@ -451,6 +451,52 @@ static void test_write_fails_part_way(void **state) {
   sw_model_free(m);
 }
 
+/* positions.bin (a record every step, 608 bytes) hits the limit first, part-way through a
+ * record: that step is cut from every log and from positions.bin, which holds whole records,
+ * one per logged state; positions.bin.part keeps its name, the CSV logs are renamed. */
+static void test_positions_write_fails(void **state) {
+  (void)state;
+  char err[SW_ERRSZ] = "";
+  sw_model *m = small_model("fsize_positions");
+  m->opt.duration = 2.0;
+  m->opt.frames_every = -1.0; /* no frames: only the logs and the last good state */
+  m->opt.positions_every = m->opt.dt;
+  const char *dir = m->opt.out_dir;
+  int rc = run_limited(m, 8192, err, sizeof err);
+  assert_int_not_equal(rc, 0);
+  assert_int_not_equal(rc, -100);
+  char want[SW_PATHSZ + 128];
+  snprintf(want, sizeof want, "%s/positions.bin.part: cannot write: %s", dir, strerror(EFBIG));
+  if (!strstr(err, want)) fail_msg("message \"%s\", expected \"%s\"", err, want);
+  print_message("%s\n", err);
+  assert_true(summary_has(dir, "\"status\": \"failed\""));
+  assert_true(summary_has(dir, "\"tension.csv\", \"energy.csv\", \"positions.bin.part\""));
+  assert_true(exists_in(dir, "positions.bin.part") && !exists_in(dir, "positions.bin"));
+  int nt = check_csv(dir, "tension.csv"), ne = check_csv(dir, "energy.csv");
+  assert_int_equal(nt, ne);
+  char path[SW_PATHSZ + 64];
+  snprintf(path, sizeof path, "%s/positions.bin.part", dir);
+  struct stat st;
+  assert_int_equal(stat(path, &st), 0);
+  const long recsz = 8L * (1 + m->nv * m->dim);
+  assert_int_equal((st.st_size - 16) % recsz, 0);
+  assert_int_equal((st.st_size - 16) / recsz, nt - 1); /* one record per logged state */
+  assert_true(nt > 5);
+  /* the last record is the last logged time */
+  char lt[512];
+  last_line(dir, "tension.csv", lt, sizeof lt);
+  FILE *f = fopen(path, "rb");
+  assert_non_null(f);
+  double t;
+  assert_int_equal(fseek(f, (long)st.st_size - recsz, SEEK_SET), 0);
+  assert_int_equal(fread(&t, sizeof t, 1, f), 1);
+  fclose(f);
+  assert_true(t == strtod(lt, NULL));
+  /* no frames but the last good state, listed in frames.pvd */
+  assert_int_equal(check_frames(dir), 1);
+  sw_model_free(m);
+}
+
 static int setup(void **state) {
   (void)state;
   snprintf(root, sizeof root, "/tmp/sinew_test_failures_XXXXXX");
@@ -471,6 +517,7 @@ int main(void) {
       cmocka_unit_test(test_alloc_failures),
       cmocka_unit_test(test_unwritable_folder),
       cmocka_unit_test(test_write_fails_part_way),
+      cmocka_unit_test(test_positions_write_fails),
   };
   return cmocka_run_group_tests(tests, setup, teardown);
 }

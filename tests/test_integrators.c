@@ -343,6 +343,22 @@ static void registry_and_summaries(void **st) {
   assert_string_equal(*n, "static"); /* static stays last */
 }
 
+/* Adaptive: the SUNDIALS methods only; every listed name is known; unknown names are -1. */
+static void adaptive_methods(void **st) {
+  (void)st;
+  for (const char *const *n = sw_method_names(); *n; n++) {
+    int want = !strcmp(*n, "cvode") || !strcmp(*n, "ida");
+    assert_int_equal(sw_method_adaptive(*n), want);
+  }
+  assert_int_equal(sw_method_adaptive("static"), 0);
+  assert_int_equal(sw_method_adaptive("backward-euler"), 0);
+  assert_int_equal(sw_method_adaptive("cvode"), 1);
+  assert_int_equal(sw_method_adaptive("ida"), 1);
+  assert_int_equal(sw_method_adaptive("nope"), -1);
+  assert_int_equal(sw_method_adaptive(""), -1);
+  assert_int_equal(sw_method_adaptive(NULL), -1);
+}
+
 int main(void) {
   const struct CMUnitTest orders[] = {
       cmocka_unit_test(order_backward_euler),  cmocka_unit_test(order_bdf2),
@@ -352,6 +368,7 @@ int main(void) {
   };
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(registry_and_summaries),
+      cmocka_unit_test(adaptive_methods),
       cmocka_unit_test(midpoint_conserves_energy),
       cmocka_unit_test(symplectic_euler_blows_up),
   };

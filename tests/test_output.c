@@ -15,6 +15,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "harness.h"
 #include "output.h"
 #include "sinew.h"
 #include "util.h"
@@ -220,6 +221,7 @@ static void fake_step(fixture *fx, int s) {
   d->nfactor += s + 1;      /* per step: 2, 3, 4 */
   d->nlinesearch += 2 * s;  /* per step: 2, 4, 6 */
   d->time_step += 0.5 * s;  /* per step: 0.5, 1, 1.5 s */
+  d->factor_nnz = 100 * s;  /* the last factor's */
   d->term_energy[0] = 1.0 / 3.0 * s;
   for (int f = 0; f < fx->m.nf; f++) {
     d->txy[f] = f == 0 ? -1.5 * s : 4.25 * s; /* max 4.25 s, mean 1.375 s, p95 4.25 s */
@@ -289,6 +291,12 @@ static void check_summary_ok(const fixture *fx) {
   assert_non_null(strstr(s, "\"factorizations\": 9"));
   assert_non_null(strstr(s, "\"dt\": 0.01"));
   assert_non_null(strstr(s, "\"wall_time_s\": null")); /* non-finite wall time */
+  assert_non_null(strstr(s, "\"time_step_s\": 3,"));    /* 0.5 + 1 + 1.5 s */
+  assert_non_null(strstr(s, "\"factor_nnz\": 300,"));
+  const char *rss = strstr(s, "\"max_rss_mb\": ");
+  assert_non_null(rss);
+  double mb = strtod(rss + strlen("\"max_rss_mb\": "), NULL);
+  assert_true(mb > 0.5 && mb < 1e5); /* MiB: this test program, well above 0.5 MiB */
   assert_non_null(strstr(s, "\"tension.csv\", \"energy.csv\", \"frames.pvd\", "
                             "\"frames/frame_000000.vtu\", \"frames/frame_000001.vtu\"]"));
   assert_null(strstr(s, ".part"));
@@ -438,6 +446,159 @@ static void test_stale_files(void **state) {
   fixture_free(fx);
 }
 
+/* ------------------------------------------------------------ positions.bin */
+
+/* positions.bin read back: nv, dim and the records (t, then nv x dim positions), malloc'ed. */
+typedef struct positions {
+  int nv, dim, nrec;
+  double *rec; /* (nrec x (1 + nv dim)) */
+} positions;
+
+static positions read_positions(const char *dir, const char *name) {
+  char path[SW_PATHSZ + 64];
+  snprintf(path, sizeof path, "%s/%s", dir, name);
+  FILE *f = fopen(path, "rb");
+  if (!f) fail_msg("%s: cannot open", path);
+  char magic[8];
+  int32_t h[2];
+  positions p = {0};
+  assert_int_equal(fread(magic, 1, 8, f), 8);
+  assert_memory_equal(magic, "SWPOS001", 8);
+  assert_int_equal(fread(h, 4, 2, f), 2);
+  p.nv = h[0];
+  p.dim = h[1];
+  assert_true(fseek(f, 0, SEEK_END) == 0);
+  long size = ftell(f), recsz = 8L * (1 + (long)p.nv * p.dim);
+  if ((size - 16) % recsz) fail_msg("%s: %ld bytes: not whole records of %ld", path, size, recsz);
+  p.nrec = (int)((size - 16) / recsz);
+  p.rec = malloc((size_t)(size - 16) + 8);
+  assert_non_null(p.rec);
+  assert_true(fseek(f, 16, SEEK_SET) == 0);
+  assert_int_equal(fread(p.rec, (size_t)recsz, (size_t)p.nrec, f), (size_t)p.nrec);
+  fclose(f);
+  return p;
+}
+
+/* Records at the steps asked for, each the state of that step; the file is positions.bin.part
+ * while the run goes and positions.bin, listed in summary.json, after close. */
+static void test_positions_writer(void **state) {
+  (void)state;
+  fixture *fx = fixture_new(2);
+  fx->m.opt.positions_every = 0.02;
+  char err[SW_ERRSZ] = "";
+  sw_output *o = sw_output_open(&fx->m, err, sizeof err);
+  assert_non_null(o);
+  for (int s = 1; s <= 3; s++) {
+    fake_step(fx, s);
+    for (int k = 0; k < 12; k++) fx->d.x[k] = 100.0 * s + k / 3.0; /* m */
+    assert_int_equal(sw_output_record(o, &fx->m, &fx->d, s != 2, err, sizeof err), 0);
+    if (s == 1) {
+      assert_true(exists_in(fx, "positions.bin.part") && !exists_in(fx, "positions.bin"));
+      char *sum = slurp_in(fx, "summary.json");
+      assert_non_null(strstr(sum, "\"positions.bin.part\""));
+      free(sum);
+    }
+  }
+  assert_int_equal(sw_output_close(o, &fx->m, &fx->d, "ok", "", 1.0, err, sizeof err), 0);
+  assert_false(exists_in(fx, "positions.bin.part"));
+  positions p = read_positions(fx->m.opt.out_dir, "positions.bin");
+  assert_int_equal(p.nv, 4);
+  assert_int_equal(p.dim, 3);
+  assert_int_equal(p.nrec, 2); /* steps 1 and 3 */
+  for (int r = 0; r < 2; r++) {
+    int s = r ? 3 : 1;
+    const double *rec = p.rec + r * 13;
+    assert_true(rec[0] == 0.01 * s);
+    for (int k = 0; k < 12; k++) assert_true(rec[1 + k] == 100.0 * s + k / 3.0);
+  }
+  free(p.rec);
+  char *sum = slurp_in(fx, "summary.json");
+  assert_non_null(strstr(sum, "\"tension.csv\", \"energy.csv\", \"positions.bin\"]"));
+  free(sum);
+  check_tension(fx); /* the logs are unchanged by the records */
+  fixture_free(fx);
+}
+
+/* Without positions_every there is no positions.bin, and a record cannot be asked for; a stale
+ * positions.bin of an earlier run is removed. */
+static void test_positions_off(void **state) {
+  (void)state;
+  fixture *fx = fixture_new(2);
+  char err[SW_ERRSZ] = "";
+  char parent[SW_PATHSZ];
+  snprintf(parent, sizeof parent, "%s/run", fx->root);
+  assert_int_equal(mkdir(parent, 0755), 0);
+  assert_int_equal(mkdir(fx->m.opt.out_dir, 0755), 0);
+  touch_in(fx, "positions.bin");
+  touch_in(fx, "positions.bin.part");
+  sw_output *o = sw_output_open(&fx->m, err, sizeof err);
+  assert_non_null(o);
+  assert_false(exists_in(fx, "positions.bin") || exists_in(fx, "positions.bin.part"));
+  fake_step(fx, 1);
+  assert_int_equal(sw_output_step(o, &fx->m, &fx->d, err, sizeof err), 0);
+  assert_int_not_equal(sw_output_record(o, &fx->m, &fx->d, 1, err, sizeof err), 0);
+  assert_non_null(strstr(err, "not open"));
+  assert_int_equal(sw_output_close(o, &fx->m, &fx->d, "ok", "", 1.0, err, sizeof err), 0);
+  assert_false(exists_in(fx, "positions.bin") || exists_in(fx, "positions.bin.part"));
+  fixture_free(fx);
+}
+
+/* A whole run (sw_run) with positions every 0.03 s to 0.1 s at dt = 0.01 s: records at t = 0,
+ * 0.03, 0.06, 0.09 and the final 0.1; the first is x0, pinned vertices included; the last is the
+ * final frame's positions, exactly (the VTU numbers round-trip). */
+static void test_positions_run(void **state) {
+  (void)state;
+  const double g[3] = {0.0, 0.0, -9.81};
+  sw_model *m = th_grid_model(3, 5, 4, 0.4, 0.3, 0.1, 200.0, 10.0, g, 1);
+  assert_non_null(m);
+  char root[64] = "/tmp/sinew_test_positions_XXXXXX", err[SW_ERRSZ] = "";
+  assert_non_null(mkdtemp(root));
+  snprintf(m->opt.out_dir, sizeof m->opt.out_dir, "%s/run", root);
+  m->opt.dt = 0.01;
+  m->opt.duration = 0.1;
+  m->opt.frames_every = 0.0; /* first and last */
+  m->opt.positions_every = 0.03;
+  if (sw_run(m, 0, err, sizeof err)) fail_msg("sw_run: %s", err);
+  positions p = read_positions(m->opt.out_dir, "positions.bin");
+  const int nd = m->nv * m->dim, rs = 1 + nd;
+  assert_int_equal(p.nv, 20);
+  assert_int_equal(p.dim, 3);
+  assert_int_equal(p.nrec, 5);
+  const double want_t[5] = {0.0, 0.03, 0.06, 0.09, 0.1};
+  for (int r = 0; r < 5; r++) assert_float_equal(p.rec[r * rs], want_t[r], 1e-12);
+  assert_memory_equal(p.rec + 1, m->x0, (size_t)nd * sizeof(double));
+  /* the final frame: its <Points> block, nv lines of x y z */
+  char path[SW_PATHSZ + 64];
+  snprintf(path, sizeof path, "%s/frames/frame_000001.vtu", m->opt.out_dir);
+  char *vtu = slurp(path);
+  assert_non_null(vtu);
+  const char *pt = strstr(vtu, "<Points>");
+  assert_non_null(pt);
+  pt = strchr(strchr(pt, '\n') + 1, '\n') + 1; /* past the DataArray line */
+  const double *last = p.rec + 4 * rs + 1;
+  double moved = 0.0;
+  for (int k = 0; k < nd; k++) {
+    char *end;
+    double v = strtod(pt, &end);
+    assert_true(end != pt);
+    assert_true(v == last[k]);
+    moved = fmax(moved, fabs(last[k] - m->x0[k]));
+    pt = end;
+  }
+  assert_true(moved > 1e-3); /* the cloth fell: the records are not all x0 */
+  for (int k = 0; k < nd; k++) /* pinned vertices stay */
+    if (m->pinned[k / 3]) assert_true(last[k] == m->x0[k]);
+  free(vtu);
+  free(p.rec);
+  snprintf(path, sizeof path, "%s/summary.json", m->opt.out_dir);
+  char *sum = slurp(path);
+  assert_non_null(sum);
+  assert_non_null(strstr(sum, "\"energy.csv\", \"positions.bin\", \"frames.pvd\""));
+  free(sum);
+  remove_tree(root);
+  sw_model_free(m);
+}
+
 /* Nearest-rank p95 on 20 shuffled values, on all-equal values, and on no faces at all. */
 static void test_percentile(void **state) {
   (void)state;
@@ -469,22 +630,26 @@ static void test_percentile(void **state) {
   fixture_free(fx);
 }
 
-/* Each allocation of open failing in turn: NULL with a message, nothing leaked. */
+/* Each allocation of open failing in turn: NULL with a message, nothing leaked (without and
+ * with the record buffer of positions.bin). */
 static void test_alloc_failure(void **state) {
   (void)state;
-  fixture *fx = fixture_new(2);
-  char err[SW_ERRSZ];
-  sw_output *o = NULL;
-  for (long k = 1; !o && k < 100; k++) {
-    err[0] = '\0';
-    sw_alloc_fail_after(k);
-    o = sw_output_open(&fx->m, err, sizeof err);
-    sw_alloc_fail_after(0);
-    if (!o) assert_non_null(strstr(err, "out of memory"));
+  for (int pos = 0; pos < 2; pos++) {
+    fixture *fx = fixture_new(2);
+    fx->m.opt.positions_every = pos ? 0.01 : 0.0;
+    char err[SW_ERRSZ];
+    sw_output *o = NULL;
+    for (long k = 1; !o && k < 100; k++) {
+      err[0] = '\0';
+      sw_alloc_fail_after(k);
+      o = sw_output_open(&fx->m, err, sizeof err);
+      sw_alloc_fail_after(0);
+      if (!o) assert_non_null(strstr(err, "out of memory"));
+    }
+    assert_non_null(o);
+    assert_int_equal(sw_output_close(o, &fx->m, &fx->d, "ok", "", 0.0, err, sizeof err), 0);
+    fixture_free(fx);
   }
-  assert_non_null(o);
-  assert_int_equal(sw_output_close(o, &fx->m, &fx->d, "ok", "", 0.0, err, sizeof err), 0);
-  fixture_free(fx);
 }
 
 int main(void) {
@@ -493,6 +658,8 @@ int main(void) {
       cmocka_unit_test(test_dir_under_file), cmocka_unit_test(test_readonly_dir),
       cmocka_unit_test(test_stale_files),   cmocka_unit_test(test_percentile),
       cmocka_unit_test(test_alloc_failure),
+      cmocka_unit_test(test_positions_writer), cmocka_unit_test(test_positions_off),
+      cmocka_unit_test(test_positions_run),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

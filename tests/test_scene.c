@@ -74,7 +74,7 @@ static const char good_scene[] =
     "integrator: {method: backward-euler, dt: 0.005, max_halvings: 4, hessian: projected,\n"
     "             newton: {max_iterations: 20, tol: 1e-8}}\n"
     "duration: 3\n"
-    "output: {dir: out/here, frames_every: 0.1}\n"
+    "output: {dir: out/here, frames_every: 0.1, positions_every: 0.25}\n"
     "tension_xy: {clip: 1e4, reference: uv, k_v: 300}\n";
 
 static void test_good_scene(void **state) {
@@ -116,6 +116,7 @@ static void test_good_scene(void **state) {
   assert_float_equal(m->opt.duration, 3.0, 0.0);
   assert_string_equal(m->opt.out_dir, "out/here");
   assert_float_equal(m->opt.frames_every, 0.1, 0.0);
+  assert_float_equal(m->opt.positions_every, 0.25, 0.0);
   assert_float_equal(m->opt.tx_clip, 1e4, 0.0);
   assert_int_equal(m->opt.tx_reference_uv, 1);
   assert_float_equal(m->mat[0].tx_k_u, 1000, 0.0); /* the membrane's */
@@ -146,6 +147,8 @@ static void test_defaults(void **state) {
   assert_float_equal(m->opt.tx_k_u, -1.0, 0.0);
   assert_float_equal(m->opt.tx_clip, 5e4, 0.0);
   assert_int_equal(m->opt.tx_reference_uv, 0);
+  assert_float_equal(m->opt.frames_every, 0.0, 0.0);
+  assert_float_equal(m->opt.positions_every, 0.0, 0.0); /* no positions.bin */
   sw_model_free(m);
 }
 
@@ -229,6 +232,17 @@ static void test_panels(void **state) {
   assert_float_equal(m->mat[1].tx_k_v, 7, 0);
   assert_int_equal(m->mat[1].membrane, SW_MEMBRANE_COROTATED);
   assert_int_equal(m->mat[0].membrane, SW_MEMBRANE_BW98);
+  sw_model_free(m);
+  /* --stiffness-scale 3: every panel's stiffness, nothing else */
+  sw_scene_overrides ov = {{0, 0}, 3.0};
+  snprintf(path, sizeof path, "%s/panels.yaml", tmpdir);
+  m = sw_scene_load_ex(path, &ov, err, sizeof err);
+  if (!m) fail_msg("%s", err);
+  assert_true(m->mat[0].k_u == 30 && m->mat[0].k_v == 60 && m->mat[0].k_shear == 3);
+  assert_true(m->mat[1].k_corot == 21 && m->mat[1].tx_k_v == 21 && m->mat[0].tx_k_u == 30);
+  assert_true(m->mat[0].density == 0.1 && m->mat[1].density == 0.3);
+  assert_float_equal(m->total_mass, 0.1 + 0.3, 1e-12);
+  assert_float_equal(m->mat[1].bias, 2.0 * atan(1.0), 1e-15);
   sw_model_free(m);
 }
 
@@ -459,6 +473,8 @@ static const bad_case bad[] = {
     {"reference.yaml", GRID MAT "tension_xy: {reference: rest}\n", 3, 25, "initial, uv"},
     {"duration.yaml", GRID MAT "duration: -1\n", 3, 11, ">= 0"},
     {"frames.yaml", GRID MAT "output: {frames_every: [1]}\n", 3, 24, "a sequence"},
+    {"positions.yaml", GRID MAT "output: {positions_every: -0.1}\n", 3, 27,
+     "output positions_every is -0.1; expected a number >= 0 (s)"},
     {"name.yaml", "name: {a: 1}\n" GRID MAT, 1, 7, "a string"},
     {"empty.yaml", "", 1, 1, "empty"},
     {"scalar.yaml", "hello\n", 1, 1, "expected a mapping"},
@@ -553,6 +569,161 @@ static void test_unreadable(void **state) {
   assert_non_null(strstr(err, "No such file"));
 }
 
+/* ------------------------------------------------------------------ overrides */
+
+/* A 3D grid with a membrane (model line `memb`), bending `bend`, a tendon across the middle and
+ * one along an edge, gravity, a point load and damping. */
+static void overrides_scene(char *buf, size_t sz, const char *memb, const char *bend,
+                            const char *txy) {
+  snprintf(buf, sz,
+           "mesh: {grid: {size: [1, 0.8], vertices: [6, 5]}}\n"
+           "material:\n"
+           "  density: 0.2\n"
+           "  membrane: %s\n"
+           "  bending: %s\n"
+           "gravity: [0, 0, -9.81]\n"
+           "damping: {mass: 0.5, stiffness: 0.01}\n"
+           "pins: [{select: {box: [[-0.01, 0.79, -1], [1.01, 0.81, 1]]}}]\n"
+           "loads: [{select: {vertices: [2]}, force: [0, 0, -1]}]\n"
+           "tendons:\n"
+           "  - {waypoints: {box: [[-0.01, 0.39, -1], [1.01, 0.41, 1]]}, law: spring,\n"
+           "     stiffness: 300, rest_length: {relative: 0.9}, density: 0.01}\n"
+           "  - {waypoints: [0, 1, 2], stiffness: 50, rest_length: 0.3}\n"
+           "%s",
+           memb, bend, txy);
+}
+
+/* The energy of every term at a deformed state x (nv x dim): into e (nterm). */
+static void term_energies(const sw_model *m, const double *x, double *e) {
+  sw_data *d = sw_data_new(m);
+  assert_non_null(d);
+  double u;
+  assert_int_equal(sw_eval_terms(m, d, x, 0.0, 0, 0, 0, &u), SW_OK);
+  memcpy(e, d->term_energy, (size_t)m->nterm * sizeof *e);
+  sw_data_free(d);
+}
+
+static int elastic(const char *term) { return strcmp(term, "gravity") && strcmp(term, "loads"); }
+
+/* With stiffness_scale s every elastic term's energy at a deformed state is s times the
+ * unscaled one (s = 4 exactly: a power of two commutes with rounding); gravity and loads are
+ * unchanged; so are masses, damping, rest lengths, the tension XY clip.  Every membrane model,
+ * both bending models, tendons, derived and explicit tension XY stiffness. */
+static void test_stiffness_scale(void **state) {
+  (void)state;
+  static const char *const memb[] = {
+      "{model: bw98, k_u: 1000, k_v: 700, k_shear: 20, b_u: 1.02}",
+      "{model: stvk, e_u: 800, e_v: 500, shear_modulus: 30, poisson: 0.3}",
+      "{model: corotated, k: 600}",
+      "{model: springs, stretch: 400, shear: 40, bend: 4}",
+  };
+  static const char *const bend[] = {"{model: dihedral, stiffness: 0.002, rest: flat}",
+                                     "{model: quadratic, stiffness: 0.003}"};
+  static const double scales[] = {4.0, 0.3};
+  char text[2048];
+  for (int k = 0; k < 8; k++) {
+    overrides_scene(text, sizeof text, memb[k / 2], bend[k % 2],
+                    k % 3 ? "" : "tension_xy: {k_u: 900, clip: 2000}\n");
+    char err[SW_ERRSZ];
+    sw_model *m0 = sw_scene_parse("scale.yaml", text, strlen(text), err, sizeof err);
+    if (!m0) fail_msg("%s", err);
+    assert_true(m0->stiffness_scale == 1.0);
+    double x[90], e0[16], e1[16];
+    assert_int_equal(m0->nv * m0->dim, 90);
+    for (int i = 0; i < 90; i++) x[i] = m0->x0[i] + 0.05 * sin(1.3 * i + 0.7) + 0.02 * (i % 3 == 2);
+    term_energies(m0, x, e0);
+    for (int q = 0; q < 2; q++) {
+      const double sc = scales[q];
+      sw_scene_overrides ov = {{0, 0}, sc};
+      sw_model *m1 = sw_scene_parse_ex("scale.yaml", text, strlen(text), &ov, err, sizeof err);
+      if (!m1) fail_msg("%s", err);
+      assert_true(m1->stiffness_scale == sc);
+      assert_int_equal(m1->nterm, m0->nterm);
+      assert_true(m1->nterm == 5); /* membrane, bending, tendons, gravity, loads */
+      term_energies(m1, x, e1);
+      for (int t = 0; t < m1->nterm; t++) {
+        assert_string_equal(m1->term[t].name, m0->term[t].name);
+        double want = elastic(m0->term[t].name) ? sc * e0[t] : e0[t];
+        if (!(fabs(e0[t]) > 0)) fail_msg("%s: energy 0 at the deformed state", m0->term[t].name);
+        if (sc == 4.0 ? e1[t] != want : fabs(e1[t] - want) > 1e-13 * fabs(want))
+          fail_msg("scene %d, s = %g, term %s: %.17g, expected %.17g", k, sc,
+                   m0->term[t].name, e1[t], want);
+      }
+      assert_true(m1->total_mass == m0->total_mass);
+      assert_true(m1->damp_mass == m0->damp_mass && m1->damp_stiffness == m0->damp_stiffness);
+      assert_true(m1->opt.tx_clip == m0->opt.tx_clip);
+      assert_true(m1->mat[0].b_u == m0->mat[0].b_u && m1->mat[0].nu_uv == m0->mat[0].nu_uv);
+      assert_true(m1->mat[0].tx_k_u == sc * m0->mat[0].tx_k_u);
+      assert_true(m1->mat[0].tx_k_v == sc * m0->mat[0].tx_k_v);
+      for (int j = 0; j < 2; j++) {
+        assert_true(m1->tendon[j].stiffness == sc * m0->tendon[j].stiffness);
+        assert_true(m1->tendon[j].key_rest[0] == m0->tendon[j].key_rest[0]);
+        assert_true(m1->tendon[j].density == m0->tendon[j].density);
+      }
+      for (int i = 0; i < m1->nv * m1->dim; i++)
+        assert_true(m1->load ? m1->load[i] == m0->load[i] : 1);
+      sw_model_free(m1);
+    }
+    sw_model_free(m0);
+  }
+}
+
+/* The grid override: vertices replaced, boxes on the new grid, indices kept as indices (out of
+ * range: the usual error), a mesh that is not a grid and bad overrides refused. */
+static void test_grid_override(void **state) {
+  (void)state;
+  char err[SW_ERRSZ];
+  const char *text = "mesh: {grid: {size: [1, 1], vertices: [3, 3]}}\n" MAT
+                     "pins: [{select: {box: [[-0.01, 0.99, -1], [1.01, 1.01, 1]]}}]\n";
+  sw_scene_overrides ov = {{7, 5}, 0.0};
+  sw_model *m = sw_scene_parse_ex("grid.yaml", text, strlen(text), &ov, err, sizeof err);
+  if (!m) fail_msg("%s", err);
+  assert_int_equal(m->nv, 35);
+  assert_int_equal(m->nf, 2 * 6 * 4);
+  assert_int_equal(count_pinned(m), 7); /* the top row of the new grid */
+  for (int i = 28; i < 35; i++) assert_true(m->pinned[i]);
+  assert_float_equal(m->x0[3 * 34 + 0], 1.0, 1e-12);
+  assert_float_equal(m->x0[3 * 1 + 0], 1.0 / 6.0, 1e-12);
+  assert_true(m->stiffness_scale == 1.0);
+  sw_model_free(m);
+  /* index 8 exists in 3 x 3, not in 2 x 2 */
+  const char *idx = GRID MAT "pins: [{select: {vertices: [0, 8]}}]\n";
+  ov = (sw_scene_overrides){{2, 2}, 0.0};
+  assert_null(sw_scene_parse_ex("idx.yaml", idx, strlen(idx), &ov, err, sizeof err));
+  assert_non_null(strstr(err, "idx.yaml:3:"));
+  assert_non_null(strstr(err, "vertices[1] is 8; expected an integer in [0, 3]"));
+  ov = (sw_scene_overrides){{4, 4}, 0.0};
+  m = sw_scene_parse_ex("idx.yaml", idx, strlen(idx), &ov, err, sizeof err);
+  if (!m) fail_msg("%s", err);
+  assert_true(m->nv == 16 && m->pinned[0] && m->pinned[8] && count_pinned(m) == 2);
+  sw_model_free(m);
+  /* not a grid: the mesh node, and what is expected */
+  const char *obj = "mesh:\n  obj: nothere.obj\n" MAT;
+  assert_null(sw_scene_parse_ex("obj.yaml", obj, strlen(obj), &ov, err, sizeof err));
+  assert_non_null(strstr(err, "obj.yaml:2:3: mesh is an OBJ file (obj), not mesh: {grid: ...}"));
+  const char *pts = "mesh: {points: [[0, 0, 0], [1, 0, 0]]}\n";
+  assert_null(sw_scene_parse_ex("pts.yaml", pts, strlen(pts), &ov, err, sizeof err));
+  assert_non_null(strstr(err, "pts.yaml:1:7: mesh is a list of points"));
+  /* bad overrides: named, before the scene is read */
+  const sw_scene_overrides bad[] = {{{1, 5}, 0.0}, {{5, 0}, 0.0}, {{2000, 2000}, 0.0},
+                                    {{0, 0}, -1.0}, {{0, 0}, NAN}};
+  const char *want[] = {"grid override (--grid) is 1 x 5 vertices; expected at least 2",
+                        "is 5 x 0 vertices", "expected at most 1000000 vertices in all",
+                        "stiffness scale (--stiffness-scale) is -1; expected a number > 0",
+                        "is nan"};
+  for (int k = 0; k < 5; k++) {
+    assert_null(sw_scene_parse_ex("g.yaml", text, strlen(text), &bad[k], err, sizeof err));
+    if (strncmp(err, "g.yaml: ", 8) || !strstr(err, want[k]))
+      fail_msg("override %d: \"%s\", expected \"%s\"", k, err, want[k]);
+  }
+  /* NULL and zero overrides are none */
+  ov = (sw_scene_overrides){{0, 0}, 0.0};
+  m = sw_scene_parse_ex("g.yaml", text, strlen(text), &ov, err, sizeof err);
+  assert_non_null(m);
+  assert_true(m->nv == 9 && m->stiffness_scale == 1.0);
+  sw_model_free(m);
+}
+
 /* ------------------------------------------------------------------ main */
 
 static void cleanup(void) {
@@ -578,7 +749,8 @@ int main(int argc, char **argv) {
       cmocka_unit_test(test_bad_scenes),   cmocka_unit_test(test_unreadable),
       cmocka_unit_test(test_regress),      cmocka_unit_test(test_alloc_failures),
       cmocka_unit_test(test_panels),       cmocka_unit_test(test_tendons),
-      cmocka_unit_test(test_skirt),
+      cmocka_unit_test(test_skirt),        cmocka_unit_test(test_stiffness_scale),
+      cmocka_unit_test(test_grid_override),
   };
   int rc = cmocka_run_group_tests(tests, NULL, NULL);
   cleanup();
