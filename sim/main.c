@@ -6,16 +6,18 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "bench.h"
 #include "sinew.h"
 
 static void usage(FILE *fp) {
   fprintf(fp,
           "usage: sinew run SCENE [--out DIR] [--method M] [--dt DT] [--duration T]\n"
-          "                 [--rtol R] [--atol A] [--threads N] [--quiet]\n"
+          "                 [--rtol R] [--atol A] [--max-halvings N] [--threads N] [--quiet]\n"
           "                 [--frames-every S | --no-frames] [--positions-every S]\n"
           "                 [--grid NXxNY] [--stiffness-scale S]\n"
           "       sinew check SCENE [--grid NXxNY] [--stiffness-scale S]\n"
           "       sinew inverse SCENE --targets FILE [--out SCENE_OUT]\n"
+          "       sinew bench SCENE [options]   (sinew bench --help)\n"
           "       sinew --help | --version\n"
           "\n"
           "  run     simulate SCENE (YAML) headless and write its logs and frames to the output\n"
@@ -27,6 +29,8 @@ static void usage(FILE *fp) {
           "          give them, written into a copy of SCENE (default: <scene stem>_inverse.yaml\n"
           "          beside FILE), and a forward static check; exit 0 when it passes, 1 when\n"
           "          the targets are unreachable or the check fails, 2 on bad input\n"
+          "  bench   every method and setting on SCENE, each its own run: errors against a\n"
+          "          reference, costs, stability and scaling sweeps, CSV files and charts\n"
           "\n"
           "  --out DIR       output folder (overrides output.dir)\n"
           "  --method M      integrator (overrides integrator.method); one of:\n");
@@ -39,6 +43,8 @@ static void usage(FILE *fp) {
           "  --duration T    simulated time in s (overrides duration)\n"
           "  --rtol R        relative tolerance of adaptive methods (overrides integrator.rtol)\n"
           "  --atol A        absolute tolerance of adaptive methods, m and m/s (integrator.atol)\n"
+          "  --max-halvings N  a failed step is retried with half the step at most N times\n"
+          "                  (overrides integrator.max_halvings; 0: a failed step fails the run)\n"
           "  --threads N     OpenBLAS threads for CHOLMOD (default: $OPENBLAS_NUM_THREADS, else 1)\n"
           "  --quiet         no progress line\n"
           "  --frames-every S\n"
@@ -111,6 +117,7 @@ typedef struct cli {
   double dt, duration, rtol, atol;
   double frames_every, positions_every; /* s; < 0: not given */
   int quiet, threads, no_frames;
+  int max_halvings;            /* < 0: not given */
 } cli;
 
 static int parse_run_args(int argc, char **argv, cli *c) {
@@ -141,6 +148,13 @@ static int parse_run_args(int argc, char **argv, cli *c) {
       if (parse_positive(a, argv[++i], 0, &c->rtol)) return -1;
     } else if (!strcmp(a, "--atol") && has_val) {
       if (parse_positive(a, argv[++i], 0, &c->atol)) return -1;
+    } else if (!strcmp(a, "--max-halvings") && has_val) {
+      char *end;
+      long v = strtol(argv[++i], &end, 10);
+      if (*end || end == argv[i] || v < 0 || v > 60)
+        return fprintf(stderr, "sinew: --max-halvings expects an integer 0..60, got '%s'\n",
+                       argv[i]), -1;
+      c->max_halvings = (int)v;
     } else if (!strcmp(a, "--threads") && has_val) {
       char *end;
       long v = strtol(argv[++i], &end, 10);
@@ -164,7 +178,8 @@ static int parse_run_args(int argc, char **argv, cli *c) {
 }
 
 static int cmd_run(int argc, char **argv) {
-  cli c = {.dt = -1, .duration = -1, .frames_every = -1, .positions_every = -1};
+  cli c = {.dt = -1, .duration = -1, .frames_every = -1, .positions_every = -1,
+           .max_halvings = -1};
   if (parse_run_args(argc, argv, &c)) return 2;
   char err[SW_ERRSZ];
   sw_model *m = sw_scene_load_ex(c.scene, &c.ov, err, sizeof err);
@@ -174,6 +189,7 @@ static int cmd_run(int argc, char **argv) {
   if (c.dt > 0) m->opt.dt = c.dt;
   if (c.duration >= 0) m->opt.duration = c.duration;
   if (c.threads > 0) m->opt.blas_threads = c.threads;
+  if (c.max_halvings >= 0) m->opt.max_halvings = c.max_halvings;
   if (c.rtol > 0) m->opt.rtol = c.rtol;
   if (c.atol > 0) m->opt.atol = c.atol;
   if (c.frames_every >= 0) m->opt.frames_every = c.frames_every;
@@ -347,6 +363,7 @@ int main(int argc, char **argv) {
   }
   if (!strcmp(cmd, "check")) return cmd_check(argc, argv);
   if (!strcmp(cmd, "inverse")) return cmd_inverse(argc, argv);
+  if (!strcmp(cmd, "bench")) return sw_bench_main(argc, argv);
   fprintf(stderr, "sinew: unknown command '%s' (see sinew --help)\n", cmd);
   return 2;
 }

@@ -1,0 +1,105 @@
+/* bench.h — `sinew bench` (docs/benchmarks.md): a scene under each method and setting, each run
+ * its own `sinew run` process, then errors against a reference and costs into CSV files and
+ * charts.  Three parts, one file each:
+ *   bench.c        the command line, the plan (which runs) and its files plan_MODE.csv
+ *   bench_exec.c   running the plan: local processes (--jobs N), or a job list (--emit-jobs)
+ *   bench_read.c   reading a run folder: summary.json, the CSV logs, positions.bin
+ *   bench_merge.c  errors and costs of every run -> MODE CSV files -> tools/bench_charts.py
+ * Only the public API (sinew.h) is used: a bench is a client of `sinew run`. */
+#ifndef SW_BENCH_H
+#define SW_BENCH_H
+
+#include <stddef.h>
+
+#include "sinew.h"
+
+/* What one invocation measures; each mode has its own plan and CSV files in the folder. */
+enum { BM_WORK = 0, BM_STABILITY, BM_SCALING, BM_NMODE };
+/* The role of a run in its mode's plan. */
+enum { BR_REFERENCE = 0, BR_CONFIRM, BR_RUN };
+
+#define BENCH_IDSZ 192
+#define BENCH_MAXLIST 64
+
+typedef struct bench_job {
+  char id[BENCH_IDSZ];         /* folder under DIR/runs and log name under DIR/logs */
+  int role;                    /* BR_* */
+  char method[SW_NAMESZ];
+  int adaptive;                /* 1: setting is rtol; 0: setting is dt */
+  double dt;                   /* s: the step (fixed) or the log interval (adaptive) */
+  double rtol, atol;           /* adaptive methods: tolerances (atol in m and m/s) */
+  double scale;                /* stiffness scale (1: the scene's) */
+  int grid;                    /* scaling: the grid is grid x grid vertices (0: the scene's) */
+  int rep;                     /* 1..repeat */
+} bench_job;
+
+/* The settings of a bench: what `sinew bench` was told, kept in DIR/bench_MODE.cfg so that
+ * `sinew bench --merge DIR` sees the same. */
+typedef struct bench_cfg {
+  int mode;                    /* BM_* */
+  char scene[SW_PATHSZ];       /* absolute path of the scene file */
+  char dir[SW_PATHSZ];         /* the bench folder */
+  char exe[SW_PATHSZ];         /* the sinew executable the runs use */
+  double duration;             /* s */
+  double sample;               /* s between the common sample times */
+  double size;                 /* m: diagonal of the initial bounding box (relative errors) */
+  double ref_rtol;             /* reference tolerance */
+  char ref_method[SW_NAMESZ], confirm_method[SW_NAMESZ];
+  double confirm_tol;          /* the reference is confirmed when the two agree to this */
+  double overdamped;           /* stability: energy lost beyond the reference's, fraction */
+  double diverged;             /* a run whose position error exceeds this (x size) failed */
+  double timeout;              /* s per run, 0: none */
+  int repeat, jobs, steps, charts;
+} bench_cfg;
+
+typedef struct bench_plan {
+  bench_cfg cfg;
+  bench_job *job;
+  int njob;
+} bench_plan;
+
+/* bench.c */
+int sw_bench_main(int argc, char **argv);
+int bench_plan_read(const char *dir, int mode, bench_plan *p, char *err, size_t errsz);
+const char *bench_mode_name(int mode);
+
+/* bench_exec.c: the argv of a job's `sinew run` (into argv[], strings in buf). */
+int bench_job_argv(const bench_cfg *c, const bench_job *j, char **argv, int maxargs, char *buf,
+                   size_t bufsz);
+int bench_execute(const bench_plan *p);
+int bench_emit(const bench_plan *p, const char *jobs_file, char *err, size_t errsz);
+
+/* bench_read.c: what a run left in its folder. */
+typedef struct bench_result {
+  int present;                 /* summary.json was read */
+  char status[16];             /* ok | failed | crashed (no summary, "running", or a signal) */
+  char how[48];                /* short reason of a failure */
+  char message[512];
+  double wall, time_step, time_assemble, time_factor, time_solve, max_rss_mb, time_reached;
+  long steps, newton, factor, assemble, force;
+  long dofs, nv;
+  /* the logs at the common sample times: ns samples */
+  int ns;
+  double *t;                   /* (ns) s */
+  double *txy_max, *txy_mean;  /* (ns) N/m */
+  double *energy, *kinetic;    /* (ns) J: K + U, and K */
+  int ntendon;
+  double *tendon;              /* (ns x ntendon) N */
+  int npos, dim, pnv;          /* positions.bin: samples found, dim, vertices */
+  double *pos;                 /* (ns x pnv x dim) m, NaN where a sample is missing */
+  double step_median;          /* s: median of step_wall_s over the steps after the first */
+} bench_result;
+
+int bench_read(const bench_cfg *c, const bench_job *j, int want_positions, bench_result *r);
+void bench_result_free(bench_result *r);
+int bench_nsample(const bench_cfg *c); /* samples 0, S, 2S, ..., and the final time */
+double bench_sample_time(const bench_cfg *c, int k);
+
+/* bench_merge.c */
+int bench_merge(const bench_plan *p);
+
+/* small shared helpers (bench.c) */
+int bench_path(char *out, size_t sz, const char *dir, const char *a, const char *b);
+void bench_fmt(char *buf, size_t sz, double v); /* shortest %g that reads back exactly */
+
+#endif

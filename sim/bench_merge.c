@@ -1,0 +1,429 @@
+/* bench_merge.c — from the run folders of a plan to its CSV files and charts
+ * (docs/benchmarks.md has every column):
+ *   work precision  reference.csv (the reference and how well the second method agrees with
+ *                   it) and work_precision.csv (errors and costs per method x setting)
+ *   stability       stability.csv (class of every run) and stability_limits.csv
+ *   scaling         scaling.csv (per-step time, shares, memory per method x size)
+ * Errors are measured at the common sample times against the reference:
+ *   position   e(t) = sqrt(mean_i |x_i - x_ref,i|^2) / L, L = the initial bounding-box diagonal;
+ *              pos_err_max = max over samples, pos_err_final = at the final time
+ *   series     L2 = sqrt(mean_k (s_k - r_k)^2) / max_k |r_k|, max = max_k |s_k - r_k| / max_k |r_k|
+ *              (absolute when the reference series is zero) for tension XY max and mean, and
+ *              the max form over every tendon's tension. */
+#include "bench.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+/* ------------------------------------------------------------------ errors */
+
+static double pos_err_at(const bench_result *a, const bench_result *ref, int k, double size) {
+  if (!a->pos || !ref->pos || a->pnv != ref->pnv || a->dim != ref->dim) return NAN;
+  size_t rec = (size_t)a->pnv * (size_t)a->dim;
+  const double *x = a->pos + (size_t)k * rec, *y = ref->pos + (size_t)k * rec;
+  double s = 0.0;
+  for (size_t i = 0; i < rec; i++) s += (x[i] - y[i]) * (x[i] - y[i]);
+  return sqrt(s / a->pnv) / size; /* NaN if either sample is missing */
+}
+
+static double pos_err_max(const bench_result *a, const bench_result *ref, double size) {
+  double m = NAN;
+  for (int k = 0; k < a->ns; k++) {
+    double e = pos_err_at(a, ref, k, size);
+    if (isfinite(e)) m = isfinite(m) ? fmax(m, e) : e;
+  }
+  return m;
+}
+
+/* L2 (which = 0) or max (which = 1) error of series s against r, stride between values. */
+static double series_err(const double *s, const double *r, int n, int stride, int which) {
+  double sum = 0.0, big = 0.0, scale = 0.0;
+  int used = 0;
+  for (int k = 0; k < n * stride; k++) {
+    if (!isfinite(r[k])) continue;
+    scale = fmax(scale, fabs(r[k]));
+    if (!isfinite(s[k])) continue;
+    double e = s[k] - r[k];
+    sum += e * e, big = fmax(big, fabs(e)), used++;
+  }
+  if (!used) return NAN;
+  double v = which ? big : sqrt(sum / used);
+  return scale > 0 ? v / scale : v;
+}
+
+typedef struct errors {
+  double pos_max, pos_final, txy_max_l2, txy_max_linf, txy_mean_l2, txy_mean_linf, tendon;
+} errors;
+
+static void measure(const bench_result *a, const bench_result *ref, double size, errors *e) {
+  e->pos_max = pos_err_max(a, ref, size);
+  e->pos_final = pos_err_at(a, ref, a->ns - 1, size);
+  e->txy_max_l2 = series_err(a->txy_max, ref->txy_max, a->ns, 1, 0);
+  e->txy_max_linf = series_err(a->txy_max, ref->txy_max, a->ns, 1, 1);
+  e->txy_mean_l2 = series_err(a->txy_mean, ref->txy_mean, a->ns, 1, 0);
+  e->txy_mean_linf = series_err(a->txy_mean, ref->txy_mean, a->ns, 1, 1);
+  e->tendon = a->ntendon && a->ntendon == ref->ntendon && a->tendon && ref->tendon
+                  ? series_err(a->tendon, ref->tendon, a->ns, a->ntendon, 1) : NAN;
+}
+
+/* ------------------------------------------------------------------ CSV */
+
+static void put_num(FILE *f, double v) {
+  if (isfinite(v)) fprintf(f, ",%.6g", v);
+  else fputs(",", f);
+}
+
+/* A text field: commas, quotes and line breaks would break the CSV, so they become blanks. */
+static void put_text(FILE *f, const char *s) {
+  fputc(',', f);
+  for (; *s; s++) fputc(*s == ',' || *s == '"' || *s == '\n' || *s == '\r' ? ' ' : *s, f);
+}
+
+static FILE *open_csv(const bench_cfg *c, const char *name, const char *header, char *path,
+                      size_t sz) {
+  snprintf(path, sz, "%s/%s.tmp", c->dir, name);
+  FILE *f = fopen(path, "w");
+  if (!f) fprintf(stderr, "sinew: bench: cannot write %s\n", path);
+  else fprintf(f, "%s\n", header);
+  return f;
+}
+
+/* Close and rename NAME.tmp to NAME, so a reader never sees half a table. */
+static int close_csv(FILE *f, const char *tmp) {
+  char final[SW_PATHSZ + 64];
+  snprintf(final, sizeof final, "%.*s", (int)(strlen(tmp) - 4), tmp);
+  if (fclose(f) || rename(tmp, final))
+    return fprintf(stderr, "sinew: bench: cannot write %s\n", final), -1;
+  return 0;
+}
+
+/* --------------------------------------------------------- runs of a plan */
+
+static double median(double *v, int n) {
+  for (int i = 1; i < n; i++)
+    for (int j = i; j > 0 && v[j] < v[j - 1]; j--) {
+      double t = v[j];
+      v[j] = v[j - 1], v[j - 1] = t;
+    }
+  return n == 0 ? NAN : n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+/* Same method and setting (and scale, grid) as job a: b is a repeat of a. */
+static int same_setting(const bench_job *a, const bench_job *b) {
+  return a->role == b->role && !strcmp(a->method, b->method) && a->dt == b->dt &&
+         a->rtol == b->rtol && a->scale == b->scale && a->grid == b->grid;
+}
+
+/* Median of what(r) over the repeats of job k that finished ok (reads their summaries). */
+static double repeat_median(const bench_plan *p, int k, double (*what)(const bench_result *)) {
+  double v[128];
+  int n = 0;
+  for (int i = 0; i < p->njob && n < 128; i++) {
+    if (!same_setting(&p->job[k], &p->job[i])) continue;
+    bench_result r;
+    bench_read(&p->cfg, &p->job[i], 0, &r);
+    if (!strcmp(r.status, "ok") && isfinite(what(&r))) v[n++] = what(&r);
+    bench_result_free(&r);
+  }
+  return median(v, n);
+}
+
+static double wall_of(const bench_result *r) { return r->wall; }
+static double step_of(const bench_result *r) { return r->step_median; }
+static double rss_of(const bench_result *r) { return r->max_rss_mb; }
+
+static int find_role(const bench_plan *p, int role, double scale) {
+  for (int k = 0; k < p->njob; k++)
+    if (p->job[k].role == role && p->job[k].scale == scale) return k;
+  return -1;
+}
+
+/* Read the reference of a scale; 0 when it finished ok. */
+static int read_reference(const bench_plan *p, double scale, bench_result *ref) {
+  int k = find_role(p, BR_REFERENCE, scale);
+  if (k < 0) return memset(ref, 0, sizeof *ref), -1;
+  bench_read(&p->cfg, &p->job[k], 1, ref);
+  if (!strcmp(ref->status, "ok") && ref->pos) return 0;
+  fprintf(stderr, "sinew: bench: the reference run %s %s%s%s%s: no errors can be measured "
+          "(logs/%s.log)\n", p->job[k].id, ref->status, ref->how[0] ? " (" : "", ref->how,
+          ref->how[0] ? ")" : "", p->job[k].id);
+  return -1;
+}
+
+/* A finished run farther from the reference than cfg.diverged x size has failed. */
+static void check_diverged(const bench_cfg *c, bench_result *r, double pos_max) {
+  if (strcmp(r->status, "ok") || !(pos_max > c->diverged)) return;
+  snprintf(r->status, sizeof r->status, "failed");
+  snprintf(r->how, sizeof r->how, "diverged (error %.3g x size)", pos_max);
+}
+
+/* -------------------------------------------------------- work precision */
+
+static const char *const wp_header =
+    "method,kind,setting,value,status,how,message,repeats,wall_s,wall_min_s,wall_max_s,steps,"
+    "newton_iterations,force_evaluations,assemblies,factorizations,pos_err_max,pos_err_final,"
+    "txy_max_l2,txy_max_linf,txy_mean_l2,txy_mean_linf,tendon_err,run_dir";
+
+static void wall_range(const bench_plan *p, int k, double *lo, double *hi, int *reps) {
+  *lo = INFINITY, *hi = -INFINITY, *reps = 0;
+  for (int i = 0; i < p->njob; i++) {
+    if (!same_setting(&p->job[k], &p->job[i])) continue;
+    bench_result r;
+    bench_read(&p->cfg, &p->job[i], 0, &r);
+    if (!strcmp(r.status, "ok") && isfinite(r.wall))
+      *lo = fmin(*lo, r.wall), *hi = fmax(*hi, r.wall), ++*reps;
+    bench_result_free(&r);
+  }
+}
+
+static void wp_row(FILE *f, const bench_plan *p, int k, const bench_result *ref) {
+  const bench_job *j = &p->job[k];
+  bench_result r;
+  bench_read(&p->cfg, j, 1, &r);
+  errors e = {NAN, NAN, NAN, NAN, NAN, NAN, NAN};
+  if (!strcmp(r.status, "ok") && ref) measure(&r, ref, p->cfg.size, &e);
+  check_diverged(&p->cfg, &r, e.pos_max);
+  int ok = !strcmp(r.status, "ok"), reps;
+  double lo, hi;
+  wall_range(p, k, &lo, &hi, &reps);
+  fprintf(f, "%s,%s,%s,%.6g,%s", j->method, j->adaptive ? "adaptive" : "fixed",
+          j->adaptive ? "rtol" : "dt", j->adaptive ? j->rtol : j->dt, r.status);
+  put_text(f, r.how), put_text(f, r.message);
+  fprintf(f, ",%d", reps);
+  put_num(f, ok ? repeat_median(p, k, wall_of) : NAN), put_num(f, reps ? lo : NAN);
+  put_num(f, reps ? hi : NAN);
+  fprintf(f, ",%ld,%ld,%ld,%ld,%ld", r.steps, r.newton, r.force, r.assemble, r.factor);
+  if (!ok) e = (errors){NAN, NAN, NAN, NAN, NAN, NAN, NAN}; /* a failed run has no errors */
+  put_num(f, e.pos_max), put_num(f, e.pos_final), put_num(f, e.txy_max_l2);
+  put_num(f, e.txy_max_linf), put_num(f, e.txy_mean_l2), put_num(f, e.txy_mean_linf);
+  put_num(f, e.tendon);
+  fprintf(f, ",runs/%s\n", j->id);
+  printf("  %-18s %-4s %-8.3g %-8s %10.3g %10.3g %9.3g s  %s\n", j->method,
+         j->adaptive ? "rtol" : "dt", j->adaptive ? j->rtol : j->dt, r.status, e.pos_max,
+         e.txy_max_l2, ok ? repeat_median(p, k, wall_of) : NAN, r.how);
+  bench_result_free(&r);
+}
+
+/* reference.csv: the reference run and its agreement with the second method. */
+static int wp_reference(const bench_plan *p, const bench_result *ref, int have_ref) {
+  const bench_cfg *c = &p->cfg;
+  int kc = find_role(p, BR_CONFIRM, 1.0), kr = find_role(p, BR_REFERENCE, 1.0);
+  bench_result cr;
+  errors e = {NAN, NAN, NAN, NAN, NAN, NAN, NAN};
+  if (kc >= 0) bench_read(c, &p->job[kc], 1, &cr);
+  else memset(&cr, 0, sizeof cr);
+  if (have_ref && kc >= 0 && !strcmp(cr.status, "ok")) measure(&cr, ref, c->size, &e);
+  int confirmed = isfinite(e.pos_max) && e.pos_max <= c->confirm_tol;
+  char path[SW_PATHSZ + 64];
+  FILE *f = open_csv(c, "reference.csv", "method,rtol,confirm_method,confirm_rtol,pos_err,"
+                     "txy_err,tendon_err,bound,confirmed,wall_s,run_dir,confirm_dir", path,
+                     sizeof path);
+  if (!f) return bench_result_free(&cr), -1;
+  fprintf(f, "%s,%g,%s,%g", c->ref_method, c->ref_rtol, c->confirm_method, c->ref_rtol);
+  put_num(f, e.pos_max), put_num(f, e.txy_max_l2), put_num(f, e.tendon);
+  put_num(f, c->confirm_tol);
+  fprintf(f, ",%s", confirmed ? "yes" : "no");
+  put_num(f, have_ref ? ref->wall : NAN);
+  fprintf(f, ",runs/%s,runs/%s\n", kr >= 0 ? p->job[kr].id : "", kc >= 0 ? p->job[kc].id : "");
+  printf("reference: %s rtol %g; %s at the same rtol agrees to %.3g of the size (positions), "
+         "%.3g (tension XY max): %s (bound %g)\n", c->ref_method, c->ref_rtol, c->confirm_method,
+         e.pos_max, e.txy_max_l2, confirmed ? "confirmed" : "NOT CONFIRMED", c->confirm_tol);
+  bench_result_free(&cr);
+  return close_csv(f, path) ? -1 : confirmed ? 0 : 1;
+}
+
+static int merge_work(const bench_plan *p) {
+  bench_result ref;
+  int have_ref = read_reference(p, 1.0, &ref) == 0;
+  int rc = wp_reference(p, &ref, have_ref);
+  char path[SW_PATHSZ + 64];
+  FILE *f = open_csv(&p->cfg, "work_precision.csv", wp_header, path, sizeof path);
+  if (!f) return bench_result_free(&ref), 2;
+  printf("  %-18s %-4s %-8s %-8s %10s %10s %11s\n", "method", "", "setting", "status",
+         "pos err", "txy err", "wall");
+  for (int k = 0; k < p->njob; k++)
+    if (p->job[k].role == BR_RUN && p->job[k].rep == 1)
+      wp_row(f, p, k, have_ref ? &ref : NULL);
+  bench_result_free(&ref);
+  if (close_csv(f, path)) return 2;
+  return !have_ref || rc ? 1 : 0;
+}
+
+/* ------------------------------------------------------------- stability */
+
+/* The energy that moves in the reference: its largest kinetic energy plus the range of its
+ * total (J); the yardstick of energy lost or gained. */
+static double energy_scale(const bench_result *ref) {
+  double kmax = 0.0, lo = INFINITY, hi = -INFINITY;
+  for (int k = 0; k < ref->ns; k++) {
+    if (isfinite(ref->kinetic[k])) kmax = fmax(kmax, ref->kinetic[k]);
+    if (isfinite(ref->energy[k])) lo = fmin(lo, ref->energy[k]), hi = fmax(hi, ref->energy[k]);
+  }
+  return fmax(kmax + (hi > lo ? hi - lo : 0.0), 1e-12);
+}
+
+/* Largest energy lost (sign +1) or gained (-1) against the reference, / scale. */
+static double energy_dev(const bench_result *r, const bench_result *ref, double sign) {
+  double m = NAN, scale = energy_scale(ref);
+  for (int k = 0; k < r->ns; k++) {
+    double d = sign * (ref->energy[k] - r->energy[k]) / scale;
+    if (isfinite(d)) m = isfinite(m) ? fmax(m, d) : d;
+  }
+  return m;
+}
+
+static const char *const st_header =
+    "method,stiffness_scale,dt,status,how,energy_loss,energy_gain,pos_err_max,message,run_dir";
+
+/* Stable, over-damped or failed (how); a gain of more than the energy scale is a blow-up. */
+static void st_classify(const bench_cfg *c, bench_result *r, const bench_result *ref,
+                        double *loss, double *gain, double *pos) {
+  *loss = *gain = *pos = NAN;
+  if (strcmp(r->status, "ok")) return;
+  if (ref) {
+    *loss = energy_dev(r, ref, 1.0), *gain = energy_dev(r, ref, -1.0);
+    *pos = pos_err_max(r, ref, c->size);
+  }
+  check_diverged(c, r, *pos);
+  if (strcmp(r->status, "ok")) return;
+  if (*gain > 1.0) {
+    snprintf(r->status, sizeof r->status, "failed");
+    snprintf(r->how, sizeof r->how, "energy grew (%.3g x scale)", *gain);
+  } else snprintf(r->status, sizeof r->status, *loss > c->overdamped ? "over-damped" : "stable");
+}
+
+typedef struct limit {
+  char method[SW_NAMESZ];
+  double scale, stable, failed;
+  int tried;
+} limit;
+
+static void track_limit(limit *lim, int *nlim, const bench_job *j, const char *status) {
+  int k = 0;
+  while (k < *nlim && (strcmp(lim[k].method, j->method) || lim[k].scale != j->scale)) k++;
+  if (k == *nlim) {
+    lim[k] = (limit){.scale = j->scale, .stable = NAN, .failed = NAN};
+    snprintf(lim[k].method, sizeof lim[k].method, "%s", j->method);
+    ++*nlim;
+  }
+  lim[k].tried++;
+  if (!strcmp(status, "stable") && !(lim[k].stable >= j->dt)) lim[k].stable = j->dt;
+  if ((!strcmp(status, "failed") || !strcmp(status, "crashed")) && !(lim[k].failed <= j->dt))
+    lim[k].failed = j->dt;
+}
+
+static int write_limits(const bench_cfg *c, const limit *lim, int n) {
+  char path[SW_PATHSZ + 64];
+  FILE *f = open_csv(c, "stability_limits.csv",
+                     "method,stiffness_scale,largest_stable_dt,smallest_failed_dt,tried", path,
+                     sizeof path);
+  if (!f) return -1;
+  printf("largest stable dt (s) per method and stiffness scale:\n");
+  for (int k = 0; k < n; k++) {
+    fprintf(f, "%s,%g", lim[k].method, lim[k].scale);
+    put_num(f, lim[k].stable), put_num(f, lim[k].failed);
+    fprintf(f, ",%d\n", lim[k].tried);
+    printf("  %-18s x%-6g %10.4g   (smallest failed %.4g)\n", lim[k].method, lim[k].scale,
+           lim[k].stable, lim[k].failed);
+  }
+  return close_csv(f, path);
+}
+
+static int merge_stability(const bench_plan *p) {
+  char path[SW_PATHSZ + 64];
+  FILE *f = open_csv(&p->cfg, "stability.csv", st_header, path, sizeof path);
+  limit *lim = calloc((size_t)p->njob + 1, sizeof *lim);
+  if (!f || !lim) return free(lim), f ? fclose(f) : 0, 2;
+  int nlim = 0, rc = 0;
+  for (int k = 0; k < p->njob; k++) {
+    const bench_job *j = &p->job[k];
+    if (j->role != BR_RUN) continue;
+    bench_result ref, r;
+    int have_ref = read_reference(p, j->scale, &ref) == 0;
+    rc |= !have_ref;
+    bench_read(&p->cfg, j, 1, &r);
+    double loss, gain, pos;
+    st_classify(&p->cfg, &r, have_ref ? &ref : NULL, &loss, &gain, &pos);
+    fprintf(f, "%s,%g,%g,%s", j->method, j->scale, j->dt, r.status);
+    put_text(f, r.how), put_num(f, loss), put_num(f, gain), put_num(f, pos);
+    put_text(f, r.message);
+    fprintf(f, ",runs/%s\n", j->id);
+    track_limit(lim, &nlim, j, r.status);
+    bench_result_free(&r), bench_result_free(&ref);
+  }
+  if (close_csv(f, path) || write_limits(&p->cfg, lim, nlim)) rc = 2;
+  free(lim);
+  return rc;
+}
+
+/* --------------------------------------------------------------- scaling */
+
+static int merge_scaling(const bench_plan *p) {
+  char path[SW_PATHSZ + 64];
+  FILE *f = open_csv(&p->cfg, "scaling.csv", "method,grid,vertices,dofs,steps,step_s,"
+                     "assemble_s,factor_s,solve_s,factor_share,max_rss_mb,status,run_dir",
+                     path, sizeof path);
+  if (!f) return 2;
+  printf("  %-18s %8s %9s %10s %8s %9s\n", "method", "vertices", "DOFs", "step (s)", "factor",
+         "RSS (MB)");
+  for (int k = 0; k < p->njob; k++) {
+    const bench_job *j = &p->job[k];
+    if (j->rep != 1) continue;
+    bench_result r;
+    bench_read(&p->cfg, j, 0, &r);
+    int ok = !strcmp(r.status, "ok");
+    double step = ok ? repeat_median(p, k, step_of) : NAN;
+    double ts = r.time_step > 0 ? r.time_step : NAN;
+    fprintf(f, "%s,%d,%ld,%ld,%ld", j->method, j->grid, r.nv, r.dofs, r.steps);
+    put_num(f, step), put_num(f, step * r.time_assemble / ts);
+    put_num(f, step * r.time_factor / ts), put_num(f, step * r.time_solve / ts);
+    put_num(f, r.time_factor / ts), put_num(f, ok ? repeat_median(p, k, rss_of) : NAN);
+    fprintf(f, ",%s,runs/%s\n", r.status, j->id);
+    printf("  %-18s %8ld %9ld %10.4g %7.0f%% %9.1f  %s\n", j->method, r.nv, r.dofs, step,
+           100.0 * r.time_factor / ts, r.max_rss_mb, ok ? "" : r.how);
+    bench_result_free(&r);
+  }
+  return close_csv(f, path) ? 2 : 0;
+}
+
+/* ----------------------------------------------------------------- charts */
+
+#ifndef SW_CHARTS_SCRIPT
+#define SW_CHARTS_SCRIPT "tools/bench_charts.py"
+#endif
+
+/* tools/bench_charts.py DIR through /usr/bin/python3 (Debian's matplotlib); $SINEW_CHARTS
+ * names another script.  A missing Python or matplotlib is a warning: the CSV files stand. */
+static void charts(const bench_cfg *c) {
+  const char *script = getenv("SINEW_CHARTS");
+  if (!script || !*script) script = SW_CHARTS_SCRIPT;
+  if (access(script, R_OK) || access("/usr/bin/python3", X_OK)) {
+    fprintf(stderr, "sinew: bench: no charts: %s or /usr/bin/python3 not found (the CSV files "
+            "are complete; set SINEW_CHARTS to the script)\n", script);
+    return;
+  }
+  fflush(NULL);
+  pid_t pid = fork();
+  if (pid == 0) {
+    execl("/usr/bin/python3", "python3", script, c->dir, (char *)NULL);
+    _exit(127);
+  }
+  int status = 0;
+  if (pid < 0 || waitpid(pid, &status, 0) < 0 || !WIFEXITED(status) || WEXITSTATUS(status))
+    fprintf(stderr, "sinew: bench: the chart script failed (%s %s); the CSV files are "
+            "complete\n", script, c->dir);
+}
+
+int bench_merge(const bench_plan *p) {
+  printf("%s of %s (%d runs) in %s\n", bench_mode_name(p->cfg.mode), p->cfg.scene, p->njob,
+         p->cfg.dir);
+  int rc = p->cfg.mode == BM_WORK ? merge_work(p)
+           : p->cfg.mode == BM_STABILITY ? merge_stability(p) : merge_scaling(p);
+  fflush(stdout);
+  if (p->cfg.charts && rc != 2) charts(&p->cfg);
+  return rc;
+}

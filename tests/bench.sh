@@ -1,0 +1,136 @@
+#!/usr/bin/env bash
+# tests/bench.sh SINEW — `sinew bench` end to end on a 36-vertex cloth (seconds): the CSV has every
+# method x setting, errors fall with dt for the convergent methods at their order, a blown-up
+# run is recorded as failed, a crashed one as crashed, --emit-jobs + --merge give the same
+# errors as local runs, the stability and scaling modes, and the charts are valid PNG files.
+set -u
+sinew=$1
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+fails=0
+fail() { echo "FAIL: $*"; fails=$((fails + 1)); }
+scene=tests/data/bench_tiny.yaml
+py=/usr/bin/python3
+
+# The value of column NAME in the rows of CSV FILE whose first columns match PATTERN (awk regex
+# on the whole line), one per line.
+col() {
+  awk -F, -v name="$2" -v pat="$3" 'NR == 1 { for (i = 1; i <= NF; i++) if ($i == name) c = i; next }
+    $0 ~ pat { print $c }' "$1"
+}
+
+# ---------------------------------------------------------------- work precision
+wp=$tmp/wp
+"$sinew" bench $scene --out "$wp" --methods backward-euler,bdf2,implicit-midpoint,symplectic-euler,cvode \
+  --dts 0.02,0.01,0.005,0.0025 --rtols 1e-3,1e-5 --repeat 2 >"$tmp/wp.out" 2>"$tmp/wp.err" ||
+  fail "bench exit $?: $(tail -5 "$tmp/wp.err")"
+csv=$wp/work_precision.csv
+[ -f "$csv" ] || fail "no work_precision.csv"
+# 4 fixed-step methods x 4 dts + cvode x 2 rtols, one row each (repeats merged)
+[ "$(($(wc -l <"$csv") - 1))" -eq 18 ] || fail "work_precision.csv has $(($(wc -l <"$csv") - 1)) rows, expected 18"
+for m in backward-euler bdf2 implicit-midpoint symplectic-euler; do
+  for dt in 0.02 0.01 0.005 0.0025; do
+    [ "$(col "$csv" method "^$m,fixed,dt,$dt,")" = "$m" ] || fail "no row $m dt $dt"
+  done
+done
+for r in 0.001 1e-05; do
+  [ "$(col "$csv" method "^cvode,adaptive,rtol,$r,")" = cvode ] || fail "no row cvode rtol $r"
+done
+grep -q 'confirmed' "$tmp/wp.out" || fail "no reference confirmation line"
+[ "$(col "$wp/reference.csv" confirmed .)" = yes ] || fail "reference not confirmed: $(cat "$wp/reference.csv")"
+[ "$(col "$csv" repeats '^backward-euler,fixed,dt,0.02,')" = 2 ] || fail "repeats of backward-euler"
+
+# Errors fall with dt at the method's order: slope of log(error) over log(dt) between the two
+# smallest steps within [order - 0.35, order + 0.6] (BDF2 and midpoint 2, backward Euler 1).
+order_ok() { # method order
+  local e1 e2
+  e1=$(col "$csv" pos_err_max "^$1,fixed,dt,0.005,")
+  e2=$(col "$csv" pos_err_max "^$1,fixed,dt,0.0025,")
+  $py -c "import math,sys; s = math.log($e1 / $e2, 2); print('$1 order', s); sys.exit(not ($2 - 0.35 < s < $2 + 0.6))" ||
+    fail "$1: error does not fall at order $2 ($e1 -> $e2)"
+  for dt in 0.02 0.01 0.005 0.0025; do
+    [ "$(col "$csv" status "^$1,fixed,dt,$dt,")" = ok ] || fail "$1 dt $dt not ok"
+  done
+  local prev=1e300 e
+  for dt in 0.02 0.01 0.005 0.0025; do
+    e=$(col "$csv" txy_max_l2 "^$1,fixed,dt,$dt,")
+    $py -c "import sys; sys.exit(not ($e < $prev))" || fail "$1: tension XY error does not fall at dt $dt ($prev -> $e)"
+    prev=$e
+  done
+}
+order_ok backward-euler 1
+order_ok bdf2 2
+order_ok implicit-midpoint 2
+e3=$(col "$csv" pos_err_max '^cvode,adaptive,rtol,0.001,')
+e5=$(col "$csv" pos_err_max '^cvode,adaptive,rtol,1e-05,')
+$py -c "import sys; sys.exit(not ($e5 < $e3))" || fail "cvode: error does not fall with rtol ($e3 -> $e5)"
+
+# Symplectic Euler blows up at dt = 0.02 (above its stability limit): failed, not fatal.
+[ "$(col "$csv" status '^symplectic-euler,fixed,dt,0.02,')" = failed ] || fail "symplectic-euler dt 0.02 not failed"
+col "$csv" how '^symplectic-euler,fixed,dt,0.02,' | grep -q 'blew up' || fail "symplectic-euler failure is not a blow-up"
+[ -z "$(col "$csv" pos_err_max '^symplectic-euler,fixed,dt,0.02,')" ] || fail "a failed run has an error value"
+
+# Charts: valid PNG files (signature and IHDR; matplotlib reads them back).
+for png in work_precision tension_series; do
+  f=$wp/$png.png
+  [ "$(head -c 8 "$f" 2>/dev/null | od -An -tx1 | tr -d ' \n')" = 89504e470d0a1a0a ] || fail "$png.png is not a PNG"
+  [ "$(head -c 16 "$f" | tail -c 4)" = IHDR ] || fail "$png.png has no IHDR"
+  $py -c "import matplotlib.image as m, sys; a = m.imread('$f'); sys.exit(not (a.shape[0] > 100 and a.shape[1] > 100))" ||
+    fail "$png.png does not read back"
+done
+
+# ---------------------------------------------------------- a crash is recorded
+# A run that died by a signal leaves no final summary: --merge records it as crashed.
+id=wp_backward-euler_dt0.01_r1
+echo "signal 11" >"$wp/logs/$id.exit"
+rm -f "$wp/runs/$id/summary.json"
+"$sinew" bench --merge "$wp" --no-charts >/dev/null 2>&1
+[ "$(col "$csv" status '^backward-euler,fixed,dt,0.01,')" = crashed ] || fail "a killed run is not recorded as crashed"
+col "$csv" how '^backward-euler,fixed,dt,0.01,' | grep -q 'signal 11' || fail "crash reason lacks the signal"
+
+# --------------------------------------------------------- job list and merge
+em=$tmp/em
+"$sinew" bench $scene --out "$em" --methods backward-euler,cvode --dts 0.02,0.01 --rtols 1e-4 \
+  --emit-jobs "$tmp/jobs.txt" >"$tmp/em.out" 2>&1 || fail "--emit-jobs: $(cat "$tmp/em.out")"
+[ "$(wc -l <"$tmp/jobs.txt")" -eq 5 ] || fail "jobs.txt has $(wc -l <"$tmp/jobs.txt") lines, expected 5"
+grep -q 'SBATCH --array=1-5' "$em/slurm.sh" || fail "slurm.sh array size"
+[ -f "$em/work_precision.csv" ] && fail "--emit-jobs ran the jobs"
+bash "$tmp/jobs.txt" || fail "the job list does not run"
+"$sinew" bench --merge "$em" --no-charts >"$tmp/merge.out" 2>&1 || fail "--merge: $(cat "$tmp/merge.out")"
+a=$(col "$em/work_precision.csv" pos_err_max '^backward-euler,fixed,dt,0.02,')
+b=$(col "$csv" pos_err_max '^backward-euler,fixed,dt,0.02,')
+[ -n "$a" ] && [ "$a" = "$b" ] || fail "merged job list error $a != local run error $b"
+
+# --------------------------------------------------------------- stability
+st=$tmp/st
+"$sinew" bench $scene --stability --out "$st" --methods backward-euler,symplectic-euler \
+  --dts 0.02,0.005,0.00125 --scales 1,4 >"$tmp/st.out" 2>&1 || fail "--stability: $(tail -3 "$tmp/st.out")"
+s=$st/stability.csv
+[ "$(($(wc -l <"$s") - 1))" -eq 12 ] || fail "stability.csv has $(($(wc -l <"$s") - 1)) rows, expected 12"
+[ "$(col "$s" status '^symplectic-euler,1,0.02,')" = failed ] || fail "symplectic-euler dt 0.02 not failed in the map"
+[ "$(col "$s" status '^symplectic-euler,1,0.00125,')" = stable ] || fail "symplectic-euler dt 0.00125 not stable"
+[ "$(col "$s" status '^backward-euler,1,0.02,')" = over-damped ] || fail "backward-euler dt 0.02 not over-damped ($(col "$s" energy_loss '^backward-euler,1,0.02,'))"
+[ "$(col "$st/stability_limits.csv" largest_stable_dt '^symplectic-euler,1,')" = 0.00125 ] ||
+  fail "largest stable dt of symplectic-euler"
+head -c 8 "$st/stability.png" | od -An -tx1 | tr -d ' \n' | grep -q 89504e470d0a1a0a || fail "stability.png"
+
+# ----------------------------------------------------------------- scaling
+sc=$tmp/sc
+"$sinew" bench $scene --scaling --out "$sc" --methods backward-euler --sizes 6,12,24 --steps 3 \
+  >"$tmp/sc.out" 2>&1 || fail "--scaling: $(tail -3 "$tmp/sc.out")"
+for n in 6 12 24; do
+  row=$(awk -F, -v n=$n '$1 == "backward-euler" && $2 == n' "$sc/scaling.csv")
+  [ "$(cut -d, -f3 <<<"$row")" = $((n * n)) ] || fail "scaling: grid $n has not $((n * n)) vertices: $row"
+  $py -c "import sys; r = '$row'.split(','); sys.exit(not (float(r[5]) > 0 and 0 < float(r[9]) < 1 and float(r[10]) > 0))" ||
+    fail "scaling row $row: step time, factor share or memory out of range"
+done
+head -c 8 "$sc/scaling.png" | od -An -tx1 | tr -d ' \n' | grep -q 89504e470d0a1a0a || fail "scaling.png"
+
+# ------------------------------------------------------------- bad input
+"$sinew" bench $scene --out "$tmp/bad" --dts 0.03,0.02 >/dev/null 2>"$tmp/bad.err" && fail "non-dividing dts accepted"
+grep -q 'does not divide' "$tmp/bad.err" || fail "message for dts that do not divide the sample interval"
+"$sinew" bench $scene --methods nope >/dev/null 2>&1 && fail "unknown method accepted"
+"$sinew" bench --merge "$tmp" >/dev/null 2>&1 && fail "--merge of a folder without a bench"
+
+[ $fails -eq 0 ] && echo "bench: all checks passed"
+exit $((fails > 0))
