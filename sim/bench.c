@@ -55,7 +55,8 @@ static void bench_usage(FILE *fp) {
       "                   [--reference M] [--reference-rtol R] [--confirm M] [--confirm-tol E]\n"
       "                   [--stability [--scales S,...] [--overdamped F]]\n"
       "                   [--scaling [--sizes N,...] [--steps N]]\n"
-      "                   [--jobs N | --emit-jobs FILE] [--timeout S] [--diverged F] [--no-charts]\n"
+      "                   [--jobs N | --emit-jobs FILE] [--timeout S] [--diverged F]\n"
+      "                   [--max-halvings N] [--no-charts]\n"
       "       sinew bench --merge DIR [--no-charts]\n"
       "\n"
       "  Runs SCENE under each method and setting, each in its own `sinew run` process, and\n"
@@ -82,6 +83,9 @@ static void bench_usage(FILE *fp) {
       "  --timeout S  kill a run after S s of wall time (recorded as failed: timed out)\n"
       "  --diverged F a finished run whose position error exceeds F x the cloth's size\n"
       "               (default 1) is recorded as failed (diverged)\n"
+      "  --max-halvings N  a failed step of a run is retried with half the step at most N\n"
+      "               times (default: the scene's for work precision, 0 for --stability,\n"
+      "               where dt must mean dt); work_precision.csv counts the retries\n"
       "  --no-charts  CSV only (charts: /usr/bin/python3 tools/bench_charts.py DIR)\n");
 }
 
@@ -170,6 +174,7 @@ static int parse_valued(const char *a, const char *v, bench_cli *c, bench_cfg *g
   if (!strcmp(a, "--repeat")) return parse_int(a, v, 1, 100, &g->repeat) ? -1 : 1;
   if (!strcmp(a, "--jobs")) return parse_int(a, v, 1, 256, &g->jobs) ? -1 : 1;
   if (!strcmp(a, "--steps")) return parse_int(a, v, 1, 100000, &g->steps) ? -1 : 1;
+  if (!strcmp(a, "--max-halvings")) return parse_int(a, v, 0, 60, &g->max_halvings) ? -1 : 1;
   if (!strcmp(a, "--reference") || !strcmp(a, "--confirm")) {
     char *dst = a[2] == 'r' ? g->ref_method : g->confirm_method;
     if (!known_method(v) || !sw_method_adaptive(v))
@@ -348,6 +353,7 @@ static void defaults(bench_cli *c, bench_cfg *g, const sw_model *m) {
   g->duration = c->duration > 0 ? c->duration : m->opt.duration;
   if (g->mode == BM_SCALING) g->duration = g->steps * m->opt.dt;
   if (g->ref_rtol <= 0) g->ref_rtol = g->mode == BM_STABILITY ? 1e-8 : 1e-10;
+  if (g->max_halvings < 0 && g->mode == BM_STABILITY) g->max_halvings = 0; /* dt means dt */
 }
 
 /* The common sample interval: a multiple of every dt (checked), ~duration/40 by default. */
@@ -434,7 +440,8 @@ static int write_cfg(const bench_cfg *g, char *path, size_t sz) {
   num(f, "reference_rtol", g->ref_rtol), num(f, "confirm_tol", g->confirm_tol);
   num(f, "overdamped", g->overdamped), num(f, "diverged", g->diverged);
   num(f, "timeout", g->timeout);
-  fprintf(f, "repeat = %d\nsteps = %d\n", g->repeat, g->steps);
+  fprintf(f, "repeat = %d\nsteps = %d\nmax_halvings = %d\n", g->repeat, g->steps,
+          g->max_halvings);
   return fclose(f) ? -1 : 0;
 }
 
@@ -479,6 +486,7 @@ static int cfg_line(bench_cfg *g, const char *key, const char *val) {
     if (!strcmp(key, nums[k].k)) return *nums[k].v = strtod(val, NULL), 0;
   if (!strcmp(key, "repeat")) return g->repeat = atoi(val), 0;
   if (!strcmp(key, "steps")) return g->steps = atoi(val), 0;
+  if (!strcmp(key, "max_halvings")) return g->max_halvings = atoi(val), 0;
   return 0; /* unknown keys: from a newer sinew; ignored */
 }
 
@@ -621,6 +629,7 @@ int sw_bench_main(int argc, char **argv) {
   bench_cli c = {0};
   bench_plan p = {.cfg = {.mode = BM_WORK, .confirm_tol = 1e-6, .overdamped = 0.1,
                           .diverged = 1.0, .repeat = 1, .jobs = 1, .steps = 3, .charts = 1,
+                          .max_halvings = -1,
                           .ref_method = "cvode", .confirm_method = "ida"}};
   int rc = parse_bench_args(argc, argv, &c, &p.cfg);
   if (rc) return rc < 0 ? 2 : 0;

@@ -50,6 +50,7 @@ typedef struct bench_cfg {
   double diverged;             /* a run whose position error exceeds this (x size) failed */
   double timeout;              /* s per run, 0: none */
   int repeat, jobs, steps, charts;
+  int max_halvings;            /* passed to the runs (--max-halvings); < 0: the scene's */
 } bench_cfg;
 
 typedef struct bench_plan {
@@ -76,7 +77,7 @@ typedef struct bench_result {
   char how[48];                /* short reason of a failure */
   char message[512];
   double wall, time_step, time_assemble, time_factor, time_solve, max_rss_mb, time_reached;
-  long steps, newton, factor, assemble, force;
+  long steps, newton, factor, assemble, force, retries;
   long dofs, nv;
   /* the logs at the common sample times: ns samples */
   int ns;

@@ -52,7 +52,8 @@ int bench_job_argv(const bench_cfg *c, const bench_job *j, char **argv, int maxa
 #define A(s) rc |= arg(argv, &n, maxargs, buf, bufsz, &used, s)
 #define N(o, v) rc |= num_arg(argv, &n, maxargs, buf, bufsz, &used, o, v)
   A(c->exe), A("run"), A(c->scene), A("--out"), A(out), A("--quiet"), A("--threads"), A("1");
-  A("--method"), A(j->method), A("--no-frames"), A("--max-halvings"), A("0");
+  A("--method"), A(j->method), A("--no-frames");
+  if (c->max_halvings >= 0) N("--max-halvings", c->max_halvings);
   N("--dt", j->dt);
   N("--duration", c->mode == BM_SCALING ? c->steps * j->dt : c->duration);
   if (j->adaptive) N("--rtol", j->rtol), N("--atol", j->atol);

@@ -165,7 +165,7 @@ static void check_diverged(const bench_cfg *c, bench_result *r, double pos_max) 
 
 static const char *const wp_header =
     "method,kind,setting,value,status,how,message,repeats,wall_s,wall_min_s,wall_max_s,steps,"
-    "newton_iterations,force_evaluations,assemblies,factorizations,pos_err_max,pos_err_final,"
+    "newton_iterations,force_evaluations,assemblies,factorizations,retries,pos_err_max,pos_err_final,"
     "txy_max_l2,txy_max_linf,txy_mean_l2,txy_mean_linf,tendon_err,run_dir";
 
 static void wall_range(const bench_plan *p, int k, double *lo, double *hi, int *reps) {
@@ -196,7 +196,8 @@ static void wp_row(FILE *f, const bench_plan *p, int k, const bench_result *ref)
   fprintf(f, ",%d", reps);
   put_num(f, ok ? repeat_median(p, k, wall_of) : NAN), put_num(f, reps ? lo : NAN);
   put_num(f, reps ? hi : NAN);
-  fprintf(f, ",%ld,%ld,%ld,%ld,%ld", r.steps, r.newton, r.force, r.assemble, r.factor);
+  fprintf(f, ",%ld,%ld,%ld,%ld,%ld,%ld", r.steps, r.newton, r.force, r.assemble, r.factor,
+          r.retries);
   if (!ok) e = (errors){NAN, NAN, NAN, NAN, NAN, NAN, NAN}; /* a failed run has no errors */
   put_num(f, e.pos_max), put_num(f, e.pos_final), put_num(f, e.txy_max_l2);
   put_num(f, e.txy_max_linf), put_num(f, e.txy_mean_l2), put_num(f, e.txy_mean_linf);

@@ -131,6 +131,7 @@ static void read_summary(const char *js, bench_result *r) {
   r->factor = json_long(js, "factorizations");
   r->assemble = json_long(js, "assemblies");
   r->force = json_long(js, "force_evaluations");
+  r->retries = json_long(js, "retries");
   r->dofs = json_long(js, "free_dofs");
   r->nv = json_long(js, "vertices");
 }

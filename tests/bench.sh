@@ -22,7 +22,7 @@ col() {
 # ---------------------------------------------------------------- work precision
 wp=$tmp/wp
 "$sinew" bench $scene --out "$wp" --methods backward-euler,bdf2,implicit-midpoint,symplectic-euler,cvode \
-  --dts 0.02,0.01,0.005,0.0025 --rtols 1e-3,1e-5 --repeat 2 >"$tmp/wp.out" 2>"$tmp/wp.err" ||
+  --dts 0.02,0.01,0.005,0.0025 --rtols 1e-3,1e-5 --repeat 2 --max-halvings 0 >"$tmp/wp.out" 2>"$tmp/wp.err" ||
   fail "bench exit $?: $(tail -5 "$tmp/wp.err")"
 csv=$wp/work_precision.csv
 [ -f "$csv" ] || fail "no work_precision.csv"
