@@ -88,6 +88,22 @@ rm -f "$wp/runs/$id/summary.json"
 [ "$(col "$csv" status '^backward-euler,fixed,dt,0.01,')" = crashed ] || fail "a killed run is not recorded as crashed"
 col "$csv" how '^backward-euler,fixed,dt,0.01,' | grep -q 'signal 11' || fail "crash reason lacks the signal"
 
+# A damaged run folder (garbage, truncation, empty files) is read without crashing: --merge
+# exits normally and the damaged run is crashed or has no errors, never a made-up number.
+id=wp_bdf2_dt0.01_r1
+head -c 3000 /dev/urandom >"$wp/runs/$id/positions.bin"
+printf '{\n  "status": "ok",\n  "message": "\\u12' >"$wp/runs/$id/summary.json"
+printf 'time,txy_max,txy_mean\n0,1e999,x\n,,,,\n0.02' >"$wp/runs/$id/tension.csv"
+: >"$wp/runs/$id/energy.csv"
+id2=wp_bdf2_dt0.005_r1
+truncate -s 20 "$wp/runs/$id2/positions.bin"
+head -c 500 /dev/urandom >"$wp/runs/$id2/tension.csv"
+"$sinew" bench --merge "$wp" --no-charts >"$tmp/dmg.out" 2>&1
+rc=$?
+[ $rc -le 2 ] || fail "--merge of damaged runs ended with $rc: $(tail -3 "$tmp/dmg.out")"
+[ -z "$(col "$csv" pos_err_max '^bdf2,fixed,dt,0.01,')" ] || fail "random positions.bin gave an error value"
+[ -z "$(col "$csv" pos_err_max '^bdf2,fixed,dt,0.005,')" ] || fail "truncated positions.bin gave an error value"
+
 # --------------------------------------------------------- job list and merge
 em=$tmp/em
 "$sinew" bench $scene --out "$em" --methods backward-euler,cvode --dts 0.02,0.01 --rtols 1e-4 \

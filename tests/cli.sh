@@ -168,7 +168,7 @@ ls "$tmp/fail"/*.part >/dev/null 2>&1 && fail ".part files left after a failed r
 [ "$(ls "$tmp/fail/frames/"*.vtu | wc -l)" -eq 2 ] || fail "initial frame and last good state"
 
 # Every shipped scene loads.
-for f in scenes/*.yaml scenes/models/*.yaml; do
+for f in scenes/*.yaml scenes/models/*.yaml scenes/bench/*.yaml; do
   "$sinew" check "$f" >/dev/null 2>"$tmp/err" || fail "check $f: $(cat "$tmp/err")"
 done
 

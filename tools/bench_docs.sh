@@ -1,0 +1,60 @@
+#!/usr/bin/env bash
+# tools/bench_docs.sh — regenerate every chart and table of docs/benchmarks.md: `sinew bench` on
+# the shipped scenes, the CSV files, PNG charts and printed tables copied to docs/bench/NAME/.
+#
+#   tools/bench_docs.sh [NAME ...]      NAME: hanging_cloth drawstring membrane_2d stiff
+#                                              stiff_stability scaling (default: all)
+#   JOBS=N  runs N at a time (default 2, both cores: timings are then of runs sharing the
+#           machine; the scaling sweep always runs alone)
+#   OUT=DIR where the run folders go (default out/bench_docs; they are not copied)
+#   SINEW=PATH the sinew executable (default build/sinew)
+#
+# Takes about an hour on a 2-core machine, most of it in the references (CVODE at rtol 1e-10)
+# and in the 512 x 512 grid of the scaling sweep.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+tools/setup.sh >/dev/null
+sinew=${SINEW:-build/sinew}
+out=${OUT:-out/bench_docs}
+jobs=${JOBS:-2}
+mkdir -p "$out"
+
+# bench NAME JOBS ARGS...: run, print, keep the CSV, PNG and the printed table in docs/bench/NAME
+bench() {
+  local name=$1 j=$2
+  shift 2
+  echo "== $name: sinew bench $*"
+  rm -rf "${out:?}/$name"
+  "$sinew" bench "$@" --out "$out/$name" --jobs "$j" | tee "$out/$name.txt" || true
+  mkdir -p "docs/bench/$name"
+  rm -f "docs/bench/$name"/*.csv "docs/bench/$name"/*.png
+  cp "$out/$name"/*.csv "$out/$name"/*.png "docs/bench/$name/"
+  cp "$out/$name.txt" "docs/bench/$name/bench.txt"
+}
+
+run_one() {
+  case $1 in
+    hanging_cloth) # the default scene, first second (a swing), scene dt 10 ms and halvings
+      bench hanging_cloth "$jobs" scenes/hanging_cloth.yaml --duration 1 --repeat 3 \
+        --timeout 1800 ;;
+    drawstring) # a cloth gathered by a hem cable (tendon + gathered, compressed cloth)
+      bench drawstring "$jobs" scenes/cloth_drawstring.yaml --duration 0.5 \
+        --dts 0.01,0.005,0.0025 --rtols 1e-3,1e-4,1e-5 --timeout 1800 ;;
+    membrane_2d) # three cables contracting in turn on a 2D membrane
+      bench membrane_2d "$jobs" scenes/tendon_membrane_2d.yaml --repeat 3 --timeout 1800 ;;
+    stiff) # 50 kN/m fabric: symplectic Euler fails at every implicit-sized step
+      bench stiff "$jobs" scenes/bench/stiff_cloth.yaml --repeat 3 --timeout 1800 ;;
+    stiff_stability) # where each fixed-step method fails, stiffness x 1, 10, 100
+      bench stiff_stability "$jobs" scenes/bench/stiff_cloth.yaml --stability \
+        --dts 0.02,0.01,0.005,0.001,0.0002,0.00005 --scales 1,10,100 --timeout 1800 ;;
+    scaling) # per-step time and memory up to 512 x 512 = 262k vertices, one run at a time
+      bench scaling 1 scenes/bench/scaling_cloth.yaml --scaling --sizes 32,64,128,256,512 \
+        --steps 3 --methods backward-euler,bdf2,implicit-midpoint ;;
+    *) echo "bench_docs: unknown name '$1'" >&2; exit 2 ;;
+  esac
+}
+
+names=("$@")
+((${#names[@]})) || names=(hanging_cloth drawstring membrane_2d stiff stiff_stability scaling)
+for n in "${names[@]}"; do run_one "$n"; done
+echo "bench_docs: charts in docs/bench/*/ (docs/benchmarks.md)"
