@@ -21,11 +21,12 @@ if [ ! -f $dir/build.ninja ]; then
     -Db_lundef=false "${cargs[@]}" >/dev/null
 fi
 ninja -C $dir >/dev/null
-for name in obj scene; do
+for name in obj scene bench; do
   corpus=$dir/corpus_$name
   mkdir -p "$corpus"
   cp tests/fuzz/regress/$name/* "$corpus"/ 2>/dev/null || true
-  if [ $name = scene ]; then cp scenes/*.yaml "$corpus"/; else cp scenes/*.obj "$corpus"/ 2>/dev/null || true; fi
+  if [ $name = scene ]; then cp scenes/*.yaml "$corpus"/; fi
+  if [ $name = obj ]; then cp scenes/*.obj "$corpus"/ 2>/dev/null || true; fi
   echo "fuzz_$name: $secs s"
   (cd $dir && ./tests/fuzz/fuzz_$name -max_len=8192 -max_total_time="$secs" -print_final_stats=1 \
     "corpus_$name" 2>&1 | grep -E '^stat::number_of_executed_units|^INFO: -max_total_time|ERROR|SUMMARY' || true)
