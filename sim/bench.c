@@ -84,8 +84,8 @@ static void bench_usage(FILE *fp) {
       "  --diverged F a finished run whose position error exceeds F x the cloth's size\n"
       "               (default 1) is recorded as failed (diverged)\n"
       "  --max-halvings N  a failed step of a run is retried with half the step at most N\n"
-      "               times (default: the scene's for work precision, 0 for --stability,\n"
-      "               where dt must mean dt); work_precision.csv counts the retries\n"
+      "               times (default 0: dt means dt, a failed step fails the run);\n"
+      "               work_precision.csv counts the retries\n"
       "  --no-charts  CSV only (charts: /usr/bin/python3 tools/bench_charts.py DIR)\n");
 }
 
@@ -353,7 +353,7 @@ static void defaults(bench_cli *c, bench_cfg *g, const sw_model *m) {
   g->duration = c->duration > 0 ? c->duration : m->opt.duration;
   if (g->mode == BM_SCALING) g->duration = g->steps * m->opt.dt;
   if (g->ref_rtol <= 0) g->ref_rtol = g->mode == BM_STABILITY ? 1e-8 : 1e-10;
-  if (g->max_halvings < 0 && g->mode == BM_STABILITY) g->max_halvings = 0; /* dt means dt */
+  if (g->max_halvings < 0) g->max_halvings = 0; /* dt means dt (--max-halvings to change) */
 }
 
 /* The common sample interval: a multiple of every dt (checked), ~duration/40 by default. */
