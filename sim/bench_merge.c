@@ -194,7 +194,9 @@ static void wp_row(FILE *f, const bench_plan *p, int k, const bench_result *ref)
           j->adaptive ? "rtol" : "dt", j->adaptive ? j->rtol : j->dt, r.status);
   put_text(f, r.how), put_text(f, r.message);
   fprintf(f, ",%d", reps);
-  put_num(f, ok ? repeat_median(p, k, wall_of) : NAN), put_num(f, reps ? lo : NAN);
+  /* a failed run's wall time is its time to failure (first repeat) */
+  double wall = ok ? repeat_median(p, k, wall_of) : r.wall;
+  put_num(f, wall), put_num(f, reps ? lo : NAN);
   put_num(f, reps ? hi : NAN);
   fprintf(f, ",%ld,%ld,%ld,%ld,%ld,%ld", r.steps, r.newton, r.force, r.assemble, r.factor,
           r.retries);
@@ -205,7 +207,7 @@ static void wp_row(FILE *f, const bench_plan *p, int k, const bench_result *ref)
   fprintf(f, ",runs/%s\n", j->id);
   printf("  %-18s %-4s %-8.3g %-8s %10.3g %10.3g %9.3g s  %s\n", j->method,
          j->adaptive ? "rtol" : "dt", j->adaptive ? j->rtol : j->dt, r.status, e.pos_max,
-         e.txy_max_l2, ok ? repeat_median(p, k, wall_of) : NAN, r.how);
+         e.txy_max_l2, wall, r.how);
   bench_result_free(&r);
 }
 
