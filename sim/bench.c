@@ -504,7 +504,9 @@ static int read_cfg(const char *dir, int mode, bench_cfg *g) {
     rc = cfg_line(g, line, eq + 3);
   }
   fclose(f);
-  return rc || g->mode != mode || !(g->sample > 0) || !(g->size > 0) ? -1 : 0;
+  /* at most 1e7 sample times: the readers allocate per sample */
+  int sane = g->sample > 0 && g->size > 0 && g->duration >= 0 && g->duration / g->sample <= 1e7;
+  return rc || g->mode != mode || !sane ? -1 : 0;
 }
 
 static int parse_job(char *line, bench_job *j) {

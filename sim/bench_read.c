@@ -10,6 +10,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 /* ------------------------------------------------------------ sample times */
 
@@ -346,6 +347,12 @@ static void read_positions(const bench_cfg *c, const bench_job *j, bench_result 
   }
   r->pnv = head[0], r->dim = head[1];
   size_t rec = (size_t)r->pnv * (size_t)r->dim;
+  struct stat st; /* a header that promises more than the file holds is not believed */
+  if (fstat(fileno(f), &st) || (size_t)st.st_size < 16 + (rec + 1) * sizeof(double)) {
+    r->pnv = r->dim = 0;
+    fclose(f);
+    return;
+  }
   r->pos = nan_array((size_t)r->ns * rec);
   double t;
   while (r->pos && fread(&t, sizeof t, 1, f) == 1) {
