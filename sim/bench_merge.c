@@ -73,6 +73,7 @@ static void measure(const bench_result *a, const bench_result *ref, double size,
 /* ------------------------------------------------------------------ CSV */
 
 static void put_num(FILE *f, double v) {
+  if (v == 0.0) v = 0.0; /* no "-0" */
   if (isfinite(v)) fprintf(f, ",%.6g", v);
   else fputs(",", f);
 }
