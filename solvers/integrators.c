@@ -68,5 +68,13 @@ double sw_energy_bound(const sw_model *m, sw_data *d) {
     g += m->gravity[a] * m->gravity[a];
   }
   scale += m->total_mass * sqrt(g) * sqrt(diam);
+  /* an actuated tendon stores up to K/2 (l0 - rest)^2 as its rest length shrinks (at rest,
+   * the scene may start with no energy at all: its scale is then all in the actuation) */
+  for (int t = 0; t < m->ntendon; t++) {
+    const sw_tendon *td = &m->tendon[t];
+    double l0 = sw_tendon_length(td, m->x0, m->dim), dl = 0.0;
+    for (int k = 0; k < td->nkey; k++) dl = fmax(dl, fabs(l0 - td->key_rest[k]));
+    scale += 0.5 * td->stiffness * dl * dl;
+  }
   return u + k0 + 1e3 * scale;
 }
