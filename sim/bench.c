@@ -9,6 +9,7 @@
  * runs can go to another engine (--emit-jobs) and `sinew bench --merge DIR` can read them. */
 #define _XOPEN_SOURCE 700 /* realpath */
 #include "bench.h"
+#include "cli.h"
 
 #include <errno.h>
 #include <limits.h>
@@ -108,12 +109,6 @@ static int parse_list(const char *opt, const char *s, double *out, int *n) {
   return 0;
 }
 
-static int known_method(const char *name) {
-  for (const char *const *n = sw_method_names(); *n; n++)
-    if (!strcmp(*n, name)) return 1;
-  return 0;
-}
-
 static int parse_methods(const char *s, bench_cli *c) {
   c->nmethod = 0;
   const char *p = s;
@@ -124,33 +119,11 @@ static int parse_methods(const char *s, bench_cli *c) {
     char *name = c->methods[c->nmethod++];
     memcpy(name, p, len);
     name[len] = '\0';
-    if (!known_method(name) || !strcmp(name, "static"))
+    if (!cli_known_method(name) || !strcmp(name, "static"))
       return fprintf(stderr, "sinew: --methods: unknown or static method '%s' (see sinew "
                      "--help)\n", name), -1;
     p += len + (p[len] == ',');
   }
-  return 0;
-}
-
-/* A positive number (or >= 0 when allow_zero). */
-static int parse_num(const char *opt, const char *s, int allow_zero, double *out) {
-  char *end;
-  errno = 0;
-  double v = strtod(s, &end);
-  if (errno || end == s || *end || !isfinite(v) || v < 0 || (v == 0 && !allow_zero))
-    return fprintf(stderr, "sinew: %s expects a %s number, got '%s'\n", opt,
-                   allow_zero ? "non-negative" : "positive", s), -1;
-  *out = v;
-  return 0;
-}
-
-static int parse_int(const char *opt, const char *s, int lo, int hi, int *out) {
-  char *end;
-  long v = strtol(s, &end, 10);
-  if (end == s || *end || v < lo || v > hi)
-    return fprintf(stderr, "sinew: %s expects an integer %d..%d, got '%s'\n", opt, lo, hi, s),
-           -1;
-  *out = (int)v;
   return 0;
 }
 
@@ -164,20 +137,20 @@ static int parse_valued(const char *a, const char *v, bench_cli *c, bench_cfg *g
   if (!strcmp(a, "--rtols")) return parse_list(a, v, c->rtols, &c->nrtol) ? -1 : 1;
   if (!strcmp(a, "--scales")) return parse_list(a, v, c->scales, &c->nscale) ? -1 : 1;
   if (!strcmp(a, "--sizes")) return parse_list(a, v, c->sizes, &c->nsize) ? -1 : 1;
-  if (!strcmp(a, "--duration")) return parse_num(a, v, 0, &c->duration) ? -1 : 1;
-  if (!strcmp(a, "--sample-every")) return parse_num(a, v, 0, &c->sample_every) ? -1 : 1;
-  if (!strcmp(a, "--reference-rtol")) return parse_num(a, v, 0, &g->ref_rtol) ? -1 : 1;
-  if (!strcmp(a, "--confirm-tol")) return parse_num(a, v, 0, &g->confirm_tol) ? -1 : 1;
-  if (!strcmp(a, "--overdamped")) return parse_num(a, v, 0, &g->overdamped) ? -1 : 1;
-  if (!strcmp(a, "--diverged")) return parse_num(a, v, 0, &g->diverged) ? -1 : 1;
-  if (!strcmp(a, "--timeout")) return parse_num(a, v, 1, &g->timeout) ? -1 : 1;
-  if (!strcmp(a, "--repeat")) return parse_int(a, v, 1, 100, &g->repeat) ? -1 : 1;
-  if (!strcmp(a, "--jobs")) return parse_int(a, v, 1, 256, &g->jobs) ? -1 : 1;
-  if (!strcmp(a, "--steps")) return parse_int(a, v, 1, 100000, &g->steps) ? -1 : 1;
-  if (!strcmp(a, "--max-halvings")) return parse_int(a, v, 0, 60, &g->max_halvings) ? -1 : 1;
+  if (!strcmp(a, "--duration")) return cli_number(a, v, 0, &c->duration) ? -1 : 1;
+  if (!strcmp(a, "--sample-every")) return cli_number(a, v, 0, &c->sample_every) ? -1 : 1;
+  if (!strcmp(a, "--reference-rtol")) return cli_number(a, v, 0, &g->ref_rtol) ? -1 : 1;
+  if (!strcmp(a, "--confirm-tol")) return cli_number(a, v, 0, &g->confirm_tol) ? -1 : 1;
+  if (!strcmp(a, "--overdamped")) return cli_number(a, v, 0, &g->overdamped) ? -1 : 1;
+  if (!strcmp(a, "--diverged")) return cli_number(a, v, 0, &g->diverged) ? -1 : 1;
+  if (!strcmp(a, "--timeout")) return cli_number(a, v, 1, &g->timeout) ? -1 : 1;
+  if (!strcmp(a, "--repeat")) return cli_int(a, v, 1, 100, &g->repeat) ? -1 : 1;
+  if (!strcmp(a, "--jobs")) return cli_int(a, v, 1, 256, &g->jobs) ? -1 : 1;
+  if (!strcmp(a, "--steps")) return cli_int(a, v, 1, 100000, &g->steps) ? -1 : 1;
+  if (!strcmp(a, "--max-halvings")) return cli_int(a, v, 0, 60, &g->max_halvings) ? -1 : 1;
   if (!strcmp(a, "--reference") || !strcmp(a, "--confirm")) {
     char *dst = a[2] == 'r' ? g->ref_method : g->confirm_method;
-    if (!known_method(v) || !sw_method_adaptive(v))
+    if (!cli_known_method(v) || !sw_method_adaptive(v))
       return fprintf(stderr, "sinew: %s expects an adaptive method (cvode, ida), got '%s'\n", a,
                      v), -1;
     snprintf(dst, SW_NAMESZ, "%s", v);

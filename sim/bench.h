@@ -76,7 +76,7 @@ typedef struct bench_result {
   char status[16];             /* ok | failed | crashed (no summary, "running", or a signal) */
   char how[48];                /* short reason of a failure */
   char message[512];
-  double wall, time_step, time_assemble, time_factor, time_solve, max_rss_mb, time_reached;
+  double wall, time_step, time_assemble, time_factor, time_solve, max_rss_mb;
   long steps, newton, factor, assemble, force, retries;
   long dofs, nv;
   /* the logs at the common sample times: ns samples */
@@ -93,6 +93,7 @@ typedef struct bench_result {
 
 int bench_read(const bench_cfg *c, const bench_job *j, int want_positions, bench_result *r);
 void bench_result_free(bench_result *r);
+double bench_median(double *v, int n); /* sorts v; NaN when n == 0 */
 int bench_nsample(const bench_cfg *c); /* samples 0, S, 2S, ..., and the final time */
 double bench_sample_time(const bench_cfg *c, int k);
 

@@ -104,23 +104,19 @@ static int close_csv(FILE *f, const char *tmp) {
 
 /* --------------------------------------------------------- runs of a plan */
 
-static double median(double *v, int n) {
-  for (int i = 1; i < n; i++)
-    for (int j = i; j > 0 && v[j] < v[j - 1]; j--) {
-      double t = v[j];
-      v[j] = v[j - 1], v[j - 1] = t;
-    }
-  return n == 0 ? NAN : n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 /* Same method and setting (and scale, grid) as job a: b is a repeat of a. */
 static int same_setting(const bench_job *a, const bench_job *b) {
   return a->role == b->role && !strcmp(a->method, b->method) && a->dt == b->dt &&
          a->rtol == b->rtol && a->scale == b->scale && a->grid == b->grid;
 }
 
-/* Median of what(r) over the repeats of job k that finished ok (reads their summaries). */
-static double repeat_median(const bench_plan *p, int k, double (*what)(const bench_result *)) {
+/* Median, min and max of what(r) over the repeats of job k that finished ok; how many. */
+typedef struct spread {
+  double median, lo, hi;
+  int n;
+} spread;
+
+static spread repeat_spread(const bench_plan *p, int k, double (*what)(const bench_result *)) {
   double v[128];
   int n = 0;
   for (int i = 0; i < p->njob && n < 128; i++) {
@@ -130,7 +126,8 @@ static double repeat_median(const bench_plan *p, int k, double (*what)(const ben
     if (!strcmp(r.status, "ok") && isfinite(what(&r))) v[n++] = what(&r);
     bench_result_free(&r);
   }
-  return median(v, n);
+  double med = bench_median(v, n); /* sorts v */
+  return (spread){med, n ? v[0] : NAN, n ? v[n - 1] : NAN, n};
 }
 
 static double wall_of(const bench_result *r) { return r->wall; }
@@ -169,18 +166,6 @@ static const char *const wp_header =
     "newton_iterations,force_evaluations,assemblies,factorizations,retries,pos_err_max,pos_err_final,"
     "txy_max_l2,txy_max_linf,txy_mean_l2,txy_mean_linf,tendon_err,run_dir";
 
-static void wall_range(const bench_plan *p, int k, double *lo, double *hi, int *reps) {
-  *lo = INFINITY, *hi = -INFINITY, *reps = 0;
-  for (int i = 0; i < p->njob; i++) {
-    if (!same_setting(&p->job[k], &p->job[i])) continue;
-    bench_result r;
-    bench_read(&p->cfg, &p->job[i], 0, &r);
-    if (!strcmp(r.status, "ok") && isfinite(r.wall))
-      *lo = fmin(*lo, r.wall), *hi = fmax(*hi, r.wall), ++*reps;
-    bench_result_free(&r);
-  }
-}
-
 static void wp_row(FILE *f, const bench_plan *p, int k, const bench_result *ref) {
   const bench_job *j = &p->job[k];
   bench_result r;
@@ -188,17 +173,15 @@ static void wp_row(FILE *f, const bench_plan *p, int k, const bench_result *ref)
   errors e = {NAN, NAN, NAN, NAN, NAN, NAN, NAN};
   if (!strcmp(r.status, "ok") && ref) measure(&r, ref, p->cfg.size, &e);
   check_diverged(&p->cfg, &r, e.pos_max);
-  int ok = !strcmp(r.status, "ok"), reps;
-  double lo, hi;
-  wall_range(p, k, &lo, &hi, &reps);
+  int ok = !strcmp(r.status, "ok");
+  spread w = repeat_spread(p, k, wall_of);
   fprintf(f, "%s,%s,%s,%.6g,%s", j->method, j->adaptive ? "adaptive" : "fixed",
           j->adaptive ? "rtol" : "dt", j->adaptive ? j->rtol : j->dt, r.status);
   put_text(f, r.how), put_text(f, r.message);
-  fprintf(f, ",%d", reps);
+  fprintf(f, ",%d", w.n);
   /* a failed run's wall time is its time to failure (first repeat) */
-  double wall = ok ? repeat_median(p, k, wall_of) : r.wall;
-  put_num(f, wall), put_num(f, reps ? lo : NAN);
-  put_num(f, reps ? hi : NAN);
+  double wall = ok ? w.median : r.wall;
+  put_num(f, wall), put_num(f, w.lo), put_num(f, w.hi);
   fprintf(f, ",%ld,%ld,%ld,%ld,%ld,%ld", r.steps, r.newton, r.force, r.assemble, r.factor,
           r.retries);
   if (!ok) e = (errors){NAN, NAN, NAN, NAN, NAN, NAN, NAN}; /* a failed run has no errors */
@@ -380,12 +363,12 @@ static int merge_scaling(const bench_plan *p) {
     bench_result r;
     bench_read(&p->cfg, j, 0, &r);
     int ok = !strcmp(r.status, "ok");
-    double step = ok ? repeat_median(p, k, step_of) : NAN;
+    double step = ok ? repeat_spread(p, k, step_of).median : NAN;
     double ts = r.time_step > 0 ? r.time_step : NAN;
     fprintf(f, "%s,%d,%ld,%ld,%ld", j->method, j->grid, r.nv, r.dofs, r.steps);
     put_num(f, step), put_num(f, step * r.time_assemble / ts);
     put_num(f, step * r.time_factor / ts), put_num(f, step * r.time_solve / ts);
-    put_num(f, r.time_factor / ts), put_num(f, ok ? repeat_median(p, k, rss_of) : NAN);
+    put_num(f, r.time_factor / ts), put_num(f, ok ? repeat_spread(p, k, rss_of).median : NAN);
     fprintf(f, ",%s,runs/%s\n", r.status, j->id);
     printf("  %-18s %8ld %9ld %10.4g %7.0f%% %9.1f  %s\n", j->method, r.nv, r.dofs, step,
            100.0 * r.time_factor / ts, r.max_rss_mb, ok ? "" : r.how);

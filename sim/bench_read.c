@@ -126,7 +126,6 @@ static void read_summary(const char *js, bench_result *r) {
   r->time_factor = json_num(js, "time_factor_s");
   r->time_solve = json_num(js, "time_solve_s");
   r->max_rss_mb = json_num(js, "max_rss_mb");
-  r->time_reached = json_num(js, "time_reached");
   r->steps = json_long(js, "steps");
   r->newton = json_long(js, "newton_iterations");
   r->factor = json_long(js, "factorizations");
@@ -218,7 +217,6 @@ static void each_sample(const bench_cfg *c, const char *text, line_fn fn, void *
 }
 
 typedef struct cols {
-  bench_result *r;
   int a, b;                    /* columns */
   double *x, *y;
 } cols;
@@ -233,6 +231,17 @@ static void read_pair(const bench_cfg *c, const char *text, const char *ca, cons
                       double *x, double *y) {
   cols q = {.a = column(text, ca), .b = column(text, cb), .x = x, .y = y};
   if (q.a >= 0 && q.b >= 0) each_sample(c, text, take_two, &q);
+}
+
+static int cmp_double(const void *a, const void *b) {
+  double x = *(const double *)a, y = *(const double *)b;
+  return (x > y) - (x < y);
+}
+
+double bench_median(double *v, int n) {
+  if (n <= 0) return NAN;
+  qsort(v, (size_t)n, sizeof *v, cmp_double);
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 /* Median of step_wall_s over the logged steps after the first (the first one analyses the
@@ -255,16 +264,7 @@ static double step_median(const char *text) {
     p = strchr(p, '\n');
   }
   int skip = n > 1;
-  double med = NAN;
-  if (n > skip) {
-    for (int i = skip + 1; i < n; i++) /* insertion sort: a few thousand at most */
-      for (int j = i; j > skip && v[j] < v[j - 1]; j--) {
-        double t = v[j];
-        v[j] = v[j - 1], v[j - 1] = t;
-      }
-    int m = n - skip;
-    med = m % 2 ? v[skip + m / 2] : 0.5 * (v[skip + m / 2 - 1] + v[skip + m / 2]);
-  }
+  double med = n > skip ? bench_median(v + skip, n - skip) : NAN;
   free(v);
   return med;
 }

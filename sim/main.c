@@ -7,6 +7,7 @@
 #include <sys/stat.h>
 
 #include "bench.h"
+#include "cli.h"
 #include "sinew.h"
 
 static void usage(FILE *fp) {
@@ -62,25 +63,6 @@ static void usage(FILE *fp) {
           "                  tension XY's) by S > 0\n");
 }
 
-static int parse_positive(const char *opt, const char *s, int allow_zero, double *out) {
-  char *end;
-  errno = 0;
-  double v = strtod(s, &end);
-  if (errno || end == s || *end || !isfinite(v) || v < 0 || (!allow_zero && v == 0)) {
-    fprintf(stderr, "sinew: %s expects a %s number, got '%s'\n", opt,
-            allow_zero ? "non-negative" : "positive", s);
-    return -1;
-  }
-  *out = v;
-  return 0;
-}
-
-static int known_method(const char *name) {
-  for (const char *const *n = sw_method_names(); *n; n++)
-    if (!strcmp(*n, name)) return 1;
-  return 0;
-}
-
 /* --grid NXxNY: two integers >= 2. */
 static int parse_grid(const char *s, int grid[2]) {
   char *end;
@@ -107,7 +89,7 @@ static int parse_override(int argc, char **argv, int *i, sw_scene_overrides *ov)
   if (*i + 1 >= argc) return 0;
   if (!strcmp(a, "--grid")) return parse_grid(argv[++*i], ov->grid) ? -1 : 1;
   if (!strcmp(a, "--stiffness-scale"))
-    return parse_positive(a, argv[++*i], 0, &ov->stiffness_scale) ? -1 : 1;
+    return cli_number(a, argv[++*i], 0, &ov->stiffness_scale) ? -1 : 1;
   return 0;
 }
 
@@ -129,9 +111,9 @@ static int parse_run_args(int argc, char **argv, cli *c) {
     if (!strcmp(a, "--quiet")) c->quiet = 1;
     else if (!strcmp(a, "--no-frames")) c->no_frames = 1;
     else if (!strcmp(a, "--frames-every") && has_val) {
-      if (parse_positive(a, argv[++i], 1, &c->frames_every)) return -1;
+      if (cli_number(a, argv[++i], 1, &c->frames_every)) return -1;
     } else if (!strcmp(a, "--positions-every") && has_val) {
-      if (parse_positive(a, argv[++i], 1, &c->positions_every)) return -1;
+      if (cli_number(a, argv[++i], 1, &c->positions_every)) return -1;
     }
     else if (!strcmp(a, "--out") && has_val) {
       c->out = argv[++i];
@@ -141,26 +123,17 @@ static int parse_run_args(int argc, char **argv, cli *c) {
     }
     else if (!strcmp(a, "--method") && has_val) c->method = argv[++i];
     else if (!strcmp(a, "--dt") && has_val) {
-      if (parse_positive(a, argv[++i], 0, &c->dt)) return -1;
+      if (cli_number(a, argv[++i], 0, &c->dt)) return -1;
     } else if (!strcmp(a, "--duration") && has_val) {
-      if (parse_positive(a, argv[++i], 1, &c->duration)) return -1;
+      if (cli_number(a, argv[++i], 1, &c->duration)) return -1;
     } else if (!strcmp(a, "--rtol") && has_val) {
-      if (parse_positive(a, argv[++i], 0, &c->rtol)) return -1;
+      if (cli_number(a, argv[++i], 0, &c->rtol)) return -1;
     } else if (!strcmp(a, "--atol") && has_val) {
-      if (parse_positive(a, argv[++i], 0, &c->atol)) return -1;
+      if (cli_number(a, argv[++i], 0, &c->atol)) return -1;
     } else if (!strcmp(a, "--max-halvings") && has_val) {
-      char *end;
-      long v = strtol(argv[++i], &end, 10);
-      if (*end || end == argv[i] || v < 0 || v > 60)
-        return fprintf(stderr, "sinew: --max-halvings expects an integer 0..60, got '%s'\n",
-                       argv[i]), -1;
-      c->max_halvings = (int)v;
+      if (cli_int(a, argv[++i], 0, 60, &c->max_halvings)) return -1;
     } else if (!strcmp(a, "--threads") && has_val) {
-      char *end;
-      long v = strtol(argv[++i], &end, 10);
-      if (*end || end == argv[i] || v < 1 || v > 1024)
-        return fprintf(stderr, "sinew: --threads expects an integer 1..1024, got '%s'\n", argv[i]), -1;
-      c->threads = (int)v;
+      if (cli_int(a, argv[++i], 1, 1024, &c->threads)) return -1;
     } else if (a[0] == '-' && a[1]) {
       fprintf(stderr, "sinew: unknown option or missing value: %s (see sinew --help)\n", a);
       return -1;
@@ -170,7 +143,7 @@ static int parse_run_args(int argc, char **argv, cli *c) {
   if (!c->scene) return fprintf(stderr, "sinew: no scene file given (see sinew --help)\n"), -1;
   if (c->no_frames && c->frames_every >= 0)
     return fprintf(stderr, "sinew: --no-frames and --frames-every exclude each other\n"), -1;
-  if (c->method && !known_method(c->method)) {
+  if (c->method && !cli_known_method(c->method)) {
     fprintf(stderr, "sinew: unknown method '%s' (see sinew --help)\n", c->method);
     return -1;
   }

@@ -1,0 +1,13 @@
+/* cli.h — argument checks shared by the subcommands of the sinew executable (main.c, bench.c):
+ * each prints "sinew: OPT expects ..., got 'S'" and returns -1 on a bad value. */
+#ifndef SW_CLI_H
+#define SW_CLI_H
+
+/* A positive number (>= 0 when allow_zero). */
+int cli_number(const char *opt, const char *s, int allow_zero, double *out);
+/* An integer in [lo, hi]. */
+int cli_int(const char *opt, const char *s, int lo, int hi, int *out);
+/* 1 if name is a method of sw_method_names(). */
+int cli_known_method(const char *name);
+
+#endif
