@@ -30,6 +30,24 @@ int bench_path(char *out, size_t sz, const char *dir, const char *a, const char 
   return n < 0 || (size_t)n >= sz ? -1 : 0;
 }
 
+FILE *bench_create(const char *path, char *tmp, size_t sz) {
+  int n = snprintf(tmp, sz, "%s.tmp", path);
+  FILE *f = n < 0 || (size_t)n >= sz ? NULL : fopen(tmp, "w");
+  if (!f) fprintf(stderr, "sinew: bench: cannot write %s: %s\n", path, strerror(errno));
+  return f;
+}
+
+int bench_commit(FILE *f, const char *tmp) {
+  char final[SW_PATHSZ + 256];
+  snprintf(final, sizeof final, "%.*s", (int)(strlen(tmp) - 4), tmp);
+  int bad = ferror(f);
+  if (fclose(f) || bad || rename(tmp, final)) {
+    unlink(tmp);
+    return fprintf(stderr, "sinew: bench: cannot write %s\n", final), -1;
+  }
+  return 0;
+}
+
 void bench_fmt(char *buf, size_t sz, double v) {
   for (int p = 1; p <= 17; p++) {
     snprintf(buf, sz, "%.*g", p, v);
@@ -401,10 +419,10 @@ static void num(FILE *f, const char *key, double v) {
   fprintf(f, "%s = %s\n", key, b);
 }
 
-static int write_cfg(const bench_cfg *g, char *path, size_t sz) {
-  if (bench_path(path, sz, g->dir, "bench_", NULL)) return -1;
-  snprintf(path + strlen(path) - 1, sz - strlen(path) + 1, "_%s.cfg", mode_names[g->mode]);
-  FILE *f = fopen(path, "w");
+static int write_cfg(const bench_cfg *g) {
+  char path[SW_PATHSZ + 64], tmp[SW_PATHSZ + 96];
+  snprintf(path, sizeof path, "%s/bench_%s.cfg", g->dir, mode_names[g->mode]);
+  FILE *f = bench_create(path, tmp, sizeof tmp);
   if (!f) return -1;
   fprintf(f, "# sinew bench settings (read by sinew bench --merge)\nmode = %s\nscene = %s\n"
           "exe = %s\nreference = %s\nconfirm = %s\n", mode_names[g->mode], g->scene, g->exe,
@@ -415,16 +433,15 @@ static int write_cfg(const bench_cfg *g, char *path, size_t sz) {
   num(f, "timeout", g->timeout);
   fprintf(f, "repeat = %d\nsteps = %d\nmax_halvings = %d\n", g->repeat, g->steps,
           g->max_halvings);
-  return fclose(f) ? -1 : 0;
+  return bench_commit(f, tmp);
 }
 
 static int write_plan(const bench_plan *p) {
-  char path[SW_PATHSZ + 64];
-  if (write_cfg(&p->cfg, path, sizeof path))
-    return fprintf(stderr, "sinew: bench: cannot write %s: %s\n", path, strerror(errno)), -1;
+  char path[SW_PATHSZ + 64], tmp[SW_PATHSZ + 96];
+  if (write_cfg(&p->cfg)) return -1;
   snprintf(path, sizeof path, "%s/plan_%s.csv", p->cfg.dir, mode_names[p->cfg.mode]);
-  FILE *f = fopen(path, "w");
-  if (!f) return fprintf(stderr, "sinew: bench: cannot write %s: %s\n", path, strerror(errno)), -1;
+  FILE *f = bench_create(path, tmp, sizeof tmp);
+  if (!f) return -1;
   fprintf(f, "id,role,method,adaptive,dt,rtol,atol,scale,grid,rep\n");
   for (int k = 0; k < p->njob; k++) {
     const bench_job *j = &p->job[k];
@@ -434,8 +451,7 @@ static int write_plan(const bench_plan *p) {
     fprintf(f, "%s,%s,%s,%d,%s,%s,%s,%s,%d,%d\n", j->id, role_names[j->role], j->method,
             j->adaptive, dt, rt, at, sc, j->grid, j->rep);
   }
-  if (fclose(f)) return fprintf(stderr, "sinew: bench: cannot write %s\n", path), -1;
-  return 0;
+  return bench_commit(f, tmp);
 }
 
 /* -------------------------------------------------------- reading a plan */

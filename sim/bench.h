@@ -10,6 +10,7 @@
 #define SW_BENCH_H
 
 #include <stddef.h>
+#include <stdio.h>
 
 #include "sinew.h"
 
@@ -103,5 +104,9 @@ int bench_merge(const bench_plan *p);
 /* small shared helpers (bench.c) */
 int bench_path(char *out, size_t sz, const char *dir, const char *a, const char *b);
 void bench_fmt(char *buf, size_t sz, double v); /* shortest %g that reads back exactly */
+/* A file written whole or not at all: PATH.tmp (its name into tmp), then renamed to PATH by
+ * bench_commit (removed, with a message, when a write failed). */
+FILE *bench_create(const char *path, char *tmp, size_t sz);
+int bench_commit(FILE *f, const char *tmp);
 
 #endif

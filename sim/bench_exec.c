@@ -176,7 +176,8 @@ static void quote(FILE *f, const char *s) {
 static int write_slurm(const bench_plan *p, const char *jobs_abs) {
   char path[SW_PATHSZ + 16];
   snprintf(path, sizeof path, "%s/slurm.sh", p->cfg.dir);
-  FILE *f = fopen(path, "w");
+  char tmp[SW_PATHSZ + 48];
+  FILE *f = bench_create(path, tmp, sizeof tmp);
   if (!f) return -1;
   fprintf(f, "#!/bin/bash\n# A Slurm job array over the bench's job list: sbatch %s\n"
           "# then, when every task has ended: sinew bench --merge ", path);
@@ -185,19 +186,21 @@ static int write_slurm(const bench_plan *p, const char *jobs_abs) {
           "sed -n \"${SLURM_ARRAY_TASK_ID}p\" ", p->njob);
   quote(f, jobs_abs);
   fprintf(f, " | bash\n");
-  return fclose(f);
+  return bench_commit(f, tmp);
 }
 
 /* One line per run: cd DIR && [timeout S] sinew run ... > logs/ID.log 2>&1; echo "exit $?" >
  * logs/ID.exit  (a run killed by signal N leaves "exit 128+N", one stopped by timeout(1) "exit 124"). */
 int bench_emit(const bench_plan *p, const char *jobs_file, char *err, size_t errsz) {
   const bench_cfg *c = &p->cfg;
-  FILE *f = fopen(jobs_file, "w");
-  if (!f) return snprintf(err, errsz, "%s: %s", jobs_file, strerror(errno)), -1;
+  char tmp[SW_PATHSZ + 16];
+  FILE *f = bench_create(jobs_file, tmp, sizeof tmp);
+  if (!f) return snprintf(err, errsz, "no job list written"), -1;
   for (int k = 0; k < p->njob; k++) {
     char *argv[MAXARGS], buf[4 * SW_PATHSZ];
     int n = bench_job_argv(c, &p->job[k], argv, MAXARGS, buf, sizeof buf);
-    if (n < 0) return fclose(f), snprintf(err, errsz, "job %s: too long", p->job[k].id), -1;
+    if (n < 0)
+      return fclose(f), unlink(tmp), snprintf(err, errsz, "job %s: too long", p->job[k].id), -1;
     fputs("cd ", f);
     quote(f, c->dir);
     fputs(" && ", f);
@@ -206,7 +209,7 @@ int bench_emit(const bench_plan *p, const char *jobs_file, char *err, size_t err
     fprintf(f, "> logs/%s.log 2>&1; echo \"exit $?\" > logs/%s.exit\n", p->job[k].id,
             p->job[k].id);
   }
-  if (fclose(f)) return snprintf(err, errsz, "%s: %s", jobs_file, strerror(errno)), -1;
+  if (bench_commit(f, tmp)) return snprintf(err, errsz, "%s: cannot write it", jobs_file), -1;
   char abs[SW_PATHSZ];
   if (!realpath(jobs_file, abs) || write_slurm(p, abs))
     return snprintf(err, errsz, "%s/slurm.sh: cannot write it", c->dir), -1;

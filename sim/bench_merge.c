@@ -84,23 +84,17 @@ static void put_text(FILE *f, const char *s) {
   for (; *s; s++) fputc(*s == ',' || *s == '"' || *s == '\n' || *s == '\r' ? ' ' : *s, f);
 }
 
-static FILE *open_csv(const bench_cfg *c, const char *name, const char *header, char *path,
+/* DIR/NAME.tmp with its header line; close_csv renames it to DIR/NAME. */
+static FILE *open_csv(const bench_cfg *c, const char *name, const char *header, char *tmp,
                       size_t sz) {
-  snprintf(path, sz, "%s/%s.tmp", c->dir, name);
-  FILE *f = fopen(path, "w");
-  if (!f) fprintf(stderr, "sinew: bench: cannot write %s\n", path);
-  else fprintf(f, "%s\n", header);
+  char path[SW_PATHSZ + 64];
+  snprintf(path, sizeof path, "%s/%s", c->dir, name);
+  FILE *f = bench_create(path, tmp, sz);
+  if (f) fprintf(f, "%s\n", header);
   return f;
 }
 
-/* Close and rename NAME.tmp to NAME, so a reader never sees half a table. */
-static int close_csv(FILE *f, const char *tmp) {
-  char final[SW_PATHSZ + 64];
-  snprintf(final, sizeof final, "%.*s", (int)(strlen(tmp) - 4), tmp);
-  if (fclose(f) || rename(tmp, final))
-    return fprintf(stderr, "sinew: bench: cannot write %s\n", final), -1;
-  return 0;
-}
+static int close_csv(FILE *f, const char *tmp) { return bench_commit(f, tmp); }
 
 /* --------------------------------------------------------- runs of a plan */
 
