@@ -67,7 +67,13 @@ double sw_energy_bound(const sw_model *m, sw_data *d) {
     diam += (hi[a] - lo[a]) * (hi[a] - lo[a]);
     g += m->gravity[a] * m->gravity[a];
   }
-  scale += m->total_mass * sqrt(g) * sqrt(diam);
+  double fsum = 0.0; /* N: point loads do at most sum |f_i| diam(x0) of work, as gravity does */
+  for (int i = 0; m->load && i < m->nv; i++) {
+    double f2 = 0.0;
+    for (int a = 0; a < m->dim; a++) f2 += m->load[i * m->dim + a] * m->load[i * m->dim + a];
+    fsum += sqrt(f2);
+  }
+  scale += (m->total_mass * sqrt(g) + fsum) * sqrt(diam);
   /* an actuated tendon stores up to K/2 (l0 - rest)^2 as its rest length shrinks (at rest,
    * the scene may start with no energy at all: its scale is then all in the actuation) */
   for (int t = 0; t < m->ntendon; t++) {

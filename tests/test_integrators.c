@@ -16,6 +16,7 @@
 #include <cmocka.h>
 
 #include "harness.h"
+#include "scene.h"
 #include "solver.h"
 
 /* Integrate the model's initial state to T with n equal steps of ops; x, v (nv x dim) out.
@@ -359,6 +360,33 @@ static void adaptive_methods(void **st) {
   assert_int_equal(sw_method_adaptive(NULL), -1);
 }
 
+/* The automatic energy bound covers what a scene can put in: an actuated tendon's K/2 (l0 -
+ * rest)^2 and a point load's |f| diam(x0) (here 12.5 J and 6 J on a scene whose initial energy
+ * and term energies add up to 12 J); without them a driven scene "blows up" (the 2D tendon
+ * membrane did, at 1 mJ). */
+static void energy_bound_covers_actuation(void **st) {
+  (void)st;
+  const char *scene = "dimension: 2\n"
+                      "mesh: {points: [[0, 0], [1, 0], [2, 0]]}\n"
+                      "pins: [{select: {vertices: [0]}}]\n"
+                      "tendons: [{waypoints: [0, 1], law: spring, stiffness: 100, density: 1,\n"
+                      "           rest_length: {keyframes: [[0, 1.0], [1, 0.5]]}},\n"
+                      "          {waypoints: [1, 2], law: spring, stiffness: 1, density: 1}]\n"
+                      "loads: [{select: {vertices: [2]}, force: [3, 0]}]\n";
+  char err[SW_ERRSZ];
+  sw_model *m = sw_scene_parse("bound.yaml", scene, strlen(scene), err, sizeof err);
+  if (!m) print_error("%s\n", err);
+  assert_non_null(m);
+  sw_data *d = sw_data_new(m);
+  double u;
+  assert_int_equal(sw_eval_terms(m, d, m->x0, 0.0, 0, 0, 0, &u), 0);
+  assert_float_equal(u, -6.0, 1e-12); /* J: the load's -f.x, the tendons at rest */
+  double above = sw_energy_bound(m, d) - u;
+  assert_true(above >= 1e3 * (0.5 * 100 * 0.5 * 0.5 + 3.0 * 2.0 + 6.0 + 6.0));
+  sw_data_free(d);
+  sw_model_free(m);
+}
+
 int main(void) {
   const struct CMUnitTest orders[] = {
       cmocka_unit_test(order_backward_euler),  cmocka_unit_test(order_bdf2),
@@ -371,6 +399,7 @@ int main(void) {
       cmocka_unit_test(adaptive_methods),
       cmocka_unit_test(midpoint_conserves_energy),
       cmocka_unit_test(symplectic_euler_blows_up),
+      cmocka_unit_test(energy_bound_covers_actuation),
   };
   int fails = cmocka_run_group_tests_name("orders", orders, order_setup, order_teardown);
   return fails + cmocka_run_group_tests(tests, NULL, NULL);
