@@ -48,6 +48,11 @@ int bench_commit(FILE *f, const char *tmp) {
   return 0;
 }
 
+int bench_atoi(const char *s) {
+  long v = strtol(s, NULL, 10); /* saturates, unlike atoi */
+  return v > 1000000000L ? 1000000000 : v < -1000000000L ? -1000000000 : (int)v;
+}
+
 void bench_fmt(char *buf, size_t sz, double v) {
   for (int p = 1; p <= 17; p++) {
     snprintf(buf, sz, "%.*g", p, v);
@@ -384,15 +389,15 @@ static int check_scene(bench_cli *c, bench_cfg *g) {
   g->size = diagonal(m);
   sw_model_free(m);
   if (g->mode == BM_SCALING) {
+    for (int k = 0; k < c->nsize; k++)
+      if (c->sizes[k] != floor(c->sizes[k]) || c->sizes[k] < 2 || c->sizes[k] > 4096)
+        return fprintf(stderr, "sinew: --sizes expects integers 2..4096 (vertices per side)\n"),
+               -1;
     sw_scene_overrides ov = {.grid = {(int)c->sizes[0], (int)c->sizes[0]}};
     m = sw_scene_load_ex(c->scene, &ov, err, sizeof err);
     if (!m) return fprintf(stderr, "sinew: bench --scaling: %s\n", err), -1;
     sw_model_free(m);
     g->sample = g->duration; /* no samples: counters and timings only */
-    for (int k = 0; k < c->nsize; k++)
-      if (c->sizes[k] != floor(c->sizes[k]) || c->sizes[k] < 2 || c->sizes[k] > 4096)
-        return fprintf(stderr, "sinew: --sizes expects integers 2..4096 (vertices per side)\n"),
-               -1;
     return 0;
   }
   if (!(g->size > 0)) return fprintf(stderr, "sinew: bench: %s has zero size\n", c->scene), -1;
@@ -473,9 +478,9 @@ static int cfg_line(bench_cfg *g, const char *key, const char *val) {
       {"diverged", &g->diverged}, {"timeout", &g->timeout}};
   for (size_t k = 0; k < sizeof nums / sizeof *nums; k++)
     if (!strcmp(key, nums[k].k)) return *nums[k].v = strtod(val, NULL), 0;
-  if (!strcmp(key, "repeat")) return g->repeat = atoi(val), 0;
-  if (!strcmp(key, "steps")) return g->steps = atoi(val), 0;
-  if (!strcmp(key, "max_halvings")) return g->max_halvings = atoi(val), 0;
+  if (!strcmp(key, "repeat")) return g->repeat = bench_atoi(val), 0;
+  if (!strcmp(key, "steps")) return g->steps = bench_atoi(val), 0;
+  if (!strcmp(key, "max_halvings")) return g->max_halvings = bench_atoi(val), 0;
   return 0; /* unknown keys: from a newer sinew; ignored */
 }
 
@@ -513,9 +518,9 @@ static int parse_job(char *line, bench_job *j) {
   j->role = !strcmp(f[1], "reference") ? BR_REFERENCE : !strcmp(f[1], "confirm") ? BR_CONFIRM
                                                                                  : BR_RUN;
   snprintf(j->method, sizeof j->method, "%s", f[2]);
-  j->adaptive = atoi(f[3]);
+  j->adaptive = bench_atoi(f[3]);
   j->dt = strtod(f[4], NULL), j->rtol = strtod(f[5], NULL), j->atol = strtod(f[6], NULL);
-  j->scale = strtod(f[7], NULL), j->grid = atoi(f[8]), j->rep = atoi(f[9]);
+  j->scale = strtod(f[7], NULL), j->grid = bench_atoi(f[8]), j->rep = bench_atoi(f[9]);
   return 0;
 }
 

@@ -104,6 +104,7 @@ int bench_merge(const bench_plan *p);
 /* small shared helpers (bench.c) */
 int bench_path(char *out, size_t sz, const char *dir, const char *a, const char *b);
 void bench_fmt(char *buf, size_t sz, double v); /* shortest %g that reads back exactly */
+int bench_atoi(const char *s);                  /* strtol clamped to +-1e9 (0 if none) */
 /* A file written whole or not at all: PATH.tmp (its name into tmp), then renamed to PATH by
  * bench_commit (removed, with a message, when a write failed). */
 FILE *bench_create(const char *path, char *tmp, size_t sz);

@@ -28,6 +28,7 @@ double bench_sample_time(const bench_cfg *c, int k) {
 /* The sample a logged time is, or -1. */
 static int sample_of(const bench_cfg *c, double t) {
   double q = t / c->sample;
+  if (!(fabs(q) < 1e9)) return -1;
   long k = lround(q);
   if (fabs(q - (double)k) < 1e-6 && k >= 0 && k <= last_regular(c)) return (int)k;
   int ns = bench_nsample(c);
@@ -83,7 +84,7 @@ static double json_num(const char *js, const char *key) {
 
 static long json_long(const char *js, const char *key) {
   double v = json_num(js, key);
-  return isfinite(v) ? (long)v : 0;
+  return fabs(v) < 1e18 ? (long)v : 0; /* NaN and out of range: 0 */
 }
 
 /* A JSON string value (escapes reduced: \uXXXX becomes '?'). */
@@ -146,8 +147,8 @@ static void classify(const bench_cfg *c, const bench_job *j, bench_result *r) {
     fclose(f);
   }
   int code = -1, sig = 0;
-  if (!strncmp(line, "exit ", 5)) code = atoi(line + 5);
-  if (!strncmp(line, "signal ", 7)) sig = atoi(line + 7);
+  if (!strncmp(line, "exit ", 5)) code = bench_atoi(line + 5);
+  if (!strncmp(line, "signal ", 7)) sig = bench_atoi(line + 7);
   if (code > 128) sig = code - 128; /* sh: 128 + the signal */
   int timed_out = !strncmp(line, "timeout", 7) || (code == 124 && c->timeout > 0);
   if (timed_out) {
