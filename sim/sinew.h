@@ -61,6 +61,12 @@ SW_API int sw_mesh_grid(sw_mesh *mesh, const double size[2], int nx, int ny, con
 
 /* ----------------------------------------------------------------- terms */
 
+/* How a term filters the eigenvalues of its Hessian blocks (sw_eval.project): none (exact),
+ * clamping the negative ones to 0 (the nearest PSD block), or replacing them by their absolute
+ * value (Chen et al., "Stabler Neo-Hookean Simulation: Absolute Eigenvalue Filtering for
+ * Projected Newton", SIGGRAPH 2024).  Either filtered block is positive semi-definite. */
+enum { SW_FILTER_NONE = 0, SW_FILTER_CLAMP = 1, SW_FILTER_ABS = 2 };
+
 /* What a term is asked to evaluate.  grad and hess are accumulated into (+=), not overwritten. */
 typedef struct sw_eval {
   double t;                    /* time, s */
@@ -70,7 +76,8 @@ typedef struct sw_eval {
   double *lowrank;             /* the low-rank vectors u_r of the Hessian (see sw_term.lptr),
                                   sqrt(N/m), written (not accumulated) whenever hess is asked
                                   for; never NULL then for a term with nlowrank > 0 */
-  int project;                 /* nonzero: each block is replaced by a positive semi-definite one */
+  int project;                 /* SW_FILTER_*: how each block is made positive semi-definite
+                                  (SW_FILTER_NONE: the exact Hessian) */
 } sw_eval;
 
 /* The table of operations of one energy term (models/). */
