@@ -18,6 +18,7 @@ sw_model *sw_model_new(void) {
   o->newton_tol = 1e-6;
   o->max_halvings = 8;
   o->hessian = SW_HESSIAN_AUTO;
+  o->newton_reuse = 1;
   o->rtol = 1e-6;
   o->atol = 1e-8;
   o->max_order = 5;

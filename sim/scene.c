@@ -380,9 +380,10 @@ static int load_gravity(const ctx *c, const ynode *y) {
 static const char *const int_keys[] = {"method", "dt", "max_halvings", "newton", "hessian",
                                        "rtol", "atol", "max_order", "max_step", "energy_bound",
                                        "tendon_dense_max"};
-/* in the order of SW_HESSIAN_PROJECTED, _EXACT, _AUTO */
-static const char *const hessian_modes[] = {"projected", "exact", "auto"};
-static const char *const newton_keys[] = {"max_iterations", "tol"};
+/* in the order of SW_HESSIAN_PROJECTED, _EXACT, _AUTO, _ABS, _PROGRESSIVE */
+static const char *const hessian_modes[] = {"projected", "exact", "auto", "abs", "progressive"};
+static const char *const newton_keys[] = {"max_iterations", "tol", "reuse"};
+static const char *const on_off[] = {"false", "true"};
 
 static int load_method(const ctx *c, const ynode *y) {
   const char *const *names = sw_method_names();
@@ -397,7 +398,7 @@ static int load_method(const ctx *c, const ynode *y) {
 
 static int load_integrator(const ctx *c, const ynode *y) {
   sw_options *o = &c->m->opt;
-  const ynode *v[11], *nv[2];
+  const ynode *v[11], *nv[3];
   if (sy_map(c, y, "integrator", int_keys, 11, v)) return -1;
   if (v[10] && sy_int(c, v[10], "integrator tendon_dense_max", 0, INT_MAX, &o->tendon_dense_max))
     return -1;
@@ -407,12 +408,14 @@ static int load_integrator(const ctx *c, const ynode *y) {
   if (v[8] && sy_num(c, v[8], "integrator max_step", 0, 0, "s", &o->max_step)) return -1;
   if (v[9] && sy_num(c, v[9], "integrator energy_bound", 0, 1, "J", &o->energy_bound))
     return -1;
-  if (v[4] && sy_choice(c, v[4], "integrator hessian", hessian_modes, 3, &o->hessian)) return -1;
+  if (v[4] && sy_choice(c, v[4], "integrator hessian", hessian_modes, 5, &o->hessian)) return -1;
   if (v[0] && load_method(c, v[0])) return -1;
   if (v[1] && sy_num(c, v[1], "integrator dt", 0, 1, "s", &o->dt)) return -1;
   if (v[2] && sy_int(c, v[2], "integrator max_halvings", 0, 60, &o->max_halvings)) return -1;
   if (!v[3]) return 0;
-  if (sy_map(c, v[3], "integrator newton", newton_keys, 2, nv)) return -1;
+  if (sy_map(c, v[3], "integrator newton", newton_keys, 3, nv)) return -1;
+  if (nv[2] && sy_choice(c, nv[2], "integrator newton reuse", on_off, 2, &o->newton_reuse))
+    return -1;
   if (nv[0] &&
       sy_int(c, nv[0], "integrator newton max_iterations", 1, INT_MAX, &o->newton_max))
     return -1;

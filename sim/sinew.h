@@ -165,11 +165,14 @@ SW_API double sw_tendon_length(const sw_tendon *td, const double *x, int dim);
 /* Its tension E'(delta) for delta = length - rest, N (cable: 0 when slack). */
 SW_API double sw_tendon_tension(const sw_tendon *td, double delta);
 
-/* Newton's system matrix: the PSD-projected Hessian (always positive definite with a mass
- * term; linear convergence where the cloth is compressed), the exact one (quadratic
- * convergence; fails where S is indefinite), or exact with a fall-back to projected for an
- * iteration whose S is not positive definite. */
-enum { SW_HESSIAN_PROJECTED = 0, SW_HESSIAN_EXACT = 1, SW_HESSIAN_AUTO = 2 };
+/* Newton's system matrix (docs/integrators.md, "Newton"): every element's Hessian clamped to
+ * PSD (always positive definite with a mass term; linear convergence where the cloth is
+ * compressed), absolute-value filtered, exact (quadratic convergence; fails where S is
+ * indefinite), exact with a fall-back to clamped for an iteration whose S is not positive
+ * definite, or progressive: exact except the elements at vertices Newton has not yet
+ * converged (clamped), all clamped for the rest of the step when S is not positive definite. */
+enum { SW_HESSIAN_PROJECTED = 0, SW_HESSIAN_EXACT = 1, SW_HESSIAN_AUTO = 2, SW_HESSIAN_ABS = 3,
+       SW_HESSIAN_PROGRESSIVE = 4 };
 
 typedef struct sw_options {
   char method[SW_NAMESZ];      /* integrator name, see sw_method_names() */
@@ -180,6 +183,7 @@ typedef struct sw_options {
                                   static solve: when max |grad| <= newton_tol (N) */
   int max_halvings;            /* a failed step is retried with dt/2 at most this many times */
   int hessian;                 /* SW_HESSIAN_*: which Hessian Newton's systems use */
+  int newton_reuse;            /* 1: keep a factorisation while Newton contracts well */
   int blas_threads;            /* OpenBLAS threads; 0: $OPENBLAS_NUM_THREADS if set, else 1 */
   double rtol, atol;           /* adaptive methods (CVODE, IDA): relative, absolute (m, m/s) */
   int max_order;               /* adaptive methods: largest BDF order (1..5) */

@@ -24,8 +24,8 @@
 #include "util.h"
 
 typedef struct bdf2_state {
-  sw_newton nw;
-  double *xhat, *xnew, *vnew, *xprev, *vprev; /* (nv x dim) */
+  sw_ipstep ip;
+  double *xprev, *vprev; /* (nv x dim) */
   int have_prev;       /* xprev, vprev hold the state at tcur - hprev */
   double hprev, tcur;  /* size and end time of the last accepted step */
 } bdf2_state;
@@ -33,10 +33,7 @@ typedef struct bdf2_state {
 static void bdf2_free(void *p) {
   bdf2_state *s = p;
   if (!s) return;
-  sw_newton_free(&s->nw);
-  sw_free(s->xhat);
-  sw_free(s->xnew);
-  sw_free(s->vnew);
+  sw_ipstep_free(&s->ip);
   sw_free(s->xprev);
   sw_free(s->vprev);
   sw_free(s);
@@ -47,14 +44,10 @@ static int bdf2_init(void **state, const sw_model *m, sw_data *d, char *err, siz
   bdf2_state *s = sw_calloc(1, sizeof *s);
   if (!s) return sw_errf(err, errsz, "out of memory"), SW_FATAL;
   size_t nd = (size_t)m->nv * (size_t)m->dim;
-  s->xhat = sw_calloc(nd, sizeof(double));
-  s->xnew = sw_calloc(nd, sizeof(double));
-  s->vnew = sw_calloc(nd, sizeof(double));
   s->xprev = sw_calloc(nd, sizeof(double));
   s->vprev = sw_calloc(nd, sizeof(double));
-  int rc = (!s->xhat || !s->xnew || !s->vnew || !s->xprev || !s->vprev)
-               ? (sw_errf(err, errsz, "out of memory"), SW_FATAL)
-               : sw_newton_init(&s->nw, m, err, errsz);
+  int rc = (!s->xprev || !s->vprev) ? (sw_errf(err, errsz, "out of memory"), SW_FATAL)
+                                    : sw_ipstep_init(&s->ip, m, err, errsz);
   if (rc) {
     bdf2_free(s);
     return rc;
@@ -65,56 +58,37 @@ static int bdf2_init(void **state, const sw_model *m, sw_data *d, char *err, siz
 
 static int bdf2_step(void *p, const sw_model *m, sw_data *d, double h) {
   bdf2_state *s = p;
+  sw_ipstep *ip = &s->ip;
   const int nd = m->nv * m->dim;
   /* Same step as the last one, from where it ended (the run loop resets d->t to the interval
    * end, so times match to round-off only). */
   int bdf = s->have_prev && fabs(h - s->hprev) <= 1e-9 * h && fabs(d->t - s->tcur) <= 1e-9 * h;
-  double a, c = 1.0 / h; /* c: v_{n+1} = c (x_{n+1} - xb), xb in vnew (BE start: xb = x_n) */
+  double a, c = 1.0 / h; /* c: v_{n+1} = c (x_{n+1} - xb), xb in xd (BE start: xb = x_n) */
   if (bdf) {
     a = 9.0 / (4.0 * h * h);
     c = 3.0 / (2.0 * h);
     for (int i = 0; i < nd; i++) {
       double xb = (4.0 * d->x[i] - s->xprev[i]) / 3.0, vb = (4.0 * d->v[i] - s->vprev[i]) / 3.0;
-      s->xhat[i] = xb + (2.0 * h / 3.0) * vb;
-      s->vnew[i] = xb; /* kept for the velocity update */
+      ip->xhat[i] = xb + (2.0 * h / 3.0) * vb;
+      ip->xd[i] = xb;
     }
   } else {
     a = 1.0 / (h * h);
     for (int i = 0; i < nd; i++) {
-      s->xhat[i] = d->x[i] + h * d->v[i];
-      s->vnew[i] = d->x[i];
+      ip->xhat[i] = d->x[i] + h * d->v[i];
+      ip->xd[i] = d->x[i];
     }
   }
-  for (int i = 0; i < nd; i++) s->xnew[i] = m->dof[i] < 0 ? d->x[i] : s->xhat[i];
-  sw_newton_opts o = {
-      .a = a,
-      .t = d->t + h,
-      .max_iter = m->opt.newton_max,
-      .tol_dx = m->opt.newton_tol * h,
-      .line_search = 1,
-      .must_converge = 1,
-      .hessian = m->opt.hessian,
-      .cd = c, /* damping: D v_{n+1} = c D (x - xb) */
-      .xd = s->vnew,
-  };
-  /* D at xhat, a predictor of x_{n+1} to O(h^2): that keeps order 2 */
-  int rc = sw_newton_damping(&s->nw, m, d, s->xhat, d->t + h);
+  /* damping: D v_{n+1} = c D (x - xb); D at xhat, a predictor of x_{n+1} to O(h^2): that
+   * keeps order 2 */
+  sw_newton_opts o = sw_ipstep_opts(m, ip, a, d->t + h, c, h, 1.0);
+  int rc = sw_ipstep_solve(ip, m, d, &o, NULL);
   if (rc) return rc;
-  rc = sw_newton_solve(&s->nw, m, d, s->xnew, s->xhat, &o);
-  if (rc) return rc;
-  for (int i = 0; i < nd; i++) {
-    if (m->dof[i] < 0) s->vnew[i] = 0.0;
-    else s->vnew[i] = c * (s->xnew[i] - s->vnew[i]);
-  }
-  rc = sw_energy_check(m, d, s->xnew, s->vnew, d->t + h);
-  if (rc) return rc;
+  for (int i = 0; i < nd; i++) ip->vnew[i] = m->dof[i] < 0 ? 0.0 : c * (ip->xnew[i] - ip->xd[i]);
+  if ((rc = sw_energy_check(m, d, ip->xnew, ip->vnew, d->t + h))) return rc;
   memcpy(s->xprev, d->x, (size_t)nd * sizeof(double));
   memcpy(s->vprev, d->v, (size_t)nd * sizeof(double));
-  memcpy(d->x, s->xnew, (size_t)nd * sizeof(double));
-  memcpy(d->v, s->vnew, (size_t)nd * sizeof(double));
-  d->t += h;
-  d->last_dt = h;
-  d->nstep++;
+  sw_ipstep_commit(ip, m, d, h, 0);
   s->have_prev = 1;
   s->hprev = h;
   s->tcur = d->t;

@@ -23,18 +23,15 @@
 #define GAMMA 0.5
 
 typedef struct nm_state {
-  sw_newton nw;
-  double *xhat, *xnew, *vnew, *acc, *anew; /* (nv x dim) */
-  double tacc;                             /* time of the state acc belongs to */
+  sw_ipstep ip;
+  double *acc, *anew; /* (nv x dim) a_n and a_{n+1} */
+  double tacc;        /* time of the state acc belongs to */
 } nm_state;
 
 static void nm_free(void *p) {
   nm_state *s = p;
   if (!s) return;
-  sw_newton_free(&s->nw);
-  sw_free(s->xhat);
-  sw_free(s->xnew);
-  sw_free(s->vnew);
+  sw_ipstep_free(&s->ip);
   sw_free(s->acc);
   sw_free(s->anew);
   sw_free(s);
@@ -50,9 +47,9 @@ static int eval_acc(nm_state *s, const sw_model *m, sw_data *d) {
       int k = i * m->dim + al;
       s->acc[k] = m->dof[k] < 0 ? 0.0 : -d->grad[k] / m->mass[i];
     }
-  if (sw_damped(m)) { /* a_n = M^-1 (f - D v_n); vnew as scratch for D v_n */
-    if ((rc = sw_damping_force(m, d, d->x, d->t, d->v, s->vnew, NULL))) return rc;
-    for (int k = 0; k < m->nv * m->dim; k++) s->acc[k] -= s->vnew[k] / m->mass[k / m->dim];
+  if (sw_damped(m)) { /* a_n = M^-1 (f - D v_n); anew as scratch for D v_n */
+    if ((rc = sw_damping_force(m, d, d->x, d->t, d->v, s->anew, NULL))) return rc;
+    for (int k = 0; k < m->nv * m->dim; k++) s->acc[k] -= s->anew[k] / m->mass[k / m->dim];
   }
   s->tacc = d->t;
   return SW_OK;
@@ -62,14 +59,10 @@ static int nm_init(void **state, const sw_model *m, sw_data *d, char *err, size_
   nm_state *s = sw_calloc(1, sizeof *s);
   if (!s) return sw_errf(err, errsz, "out of memory"), SW_FATAL;
   size_t nd = (size_t)m->nv * (size_t)m->dim;
-  s->xhat = sw_calloc(nd, sizeof(double));
-  s->xnew = sw_calloc(nd, sizeof(double));
-  s->vnew = sw_calloc(nd, sizeof(double));
   s->acc = sw_calloc(nd, sizeof(double));
   s->anew = sw_calloc(nd, sizeof(double));
-  int rc = (!s->xhat || !s->xnew || !s->vnew || !s->acc || !s->anew)
-               ? (sw_errf(err, errsz, "out of memory"), SW_FATAL)
-               : sw_newton_init(&s->nw, m, err, errsz);
+  int rc = (!s->acc || !s->anew) ? (sw_errf(err, errsz, "out of memory"), SW_FATAL)
+                                 : sw_ipstep_init(&s->ip, m, err, errsz);
   if (!rc && (rc = eval_acc(s, m, d))) sw_errf(err, errsz, "%s", d->err);
   if (rc) {
     nm_free(s);
@@ -81,6 +74,7 @@ static int nm_init(void **state, const sw_model *m, sw_data *d, char *err, size_
 
 static int nm_step(void *p, const sw_model *m, sw_data *d, double h) {
   nm_state *s = p;
+  sw_ipstep *ip = &s->ip;
   const int nd = m->nv * m->dim;
   /* a_n belongs to the state it was computed at; the run loop resets d->t to the interval end
    * (round-off), anything more means the state was changed from outside. */
@@ -89,46 +83,26 @@ static int nm_step(void *p, const sw_model *m, sw_data *d, double h) {
     if (rc) return rc;
   }
   const double bh2 = BETA * h * h;
+  /* damping: v_{n+1} = v_n + h/2 (a_n + a_{n+1}) = (2/h) (x - xd) with
+   * xd = xhat - h/2 (v_n + h/2 a_n); a_{n+1} = M^-1 (f - D v_{n+1}) keeps its formula.
+   * D at xhat, a predictor of x_{n+1} to O(h^2): that keeps order 2. */
   for (int i = 0; i < nd; i++) {
-    s->xhat[i] = d->x[i] + h * d->v[i] + h * h * (0.5 - BETA) * s->acc[i];
-    s->xnew[i] = m->dof[i] < 0 ? d->x[i] : s->xhat[i];
+    ip->xhat[i] = d->x[i] + h * d->v[i] + h * h * (0.5 - BETA) * s->acc[i];
+    ip->xd[i] = ip->xhat[i] - 0.5 * h * (d->v[i] + 0.5 * h * s->acc[i]);
   }
-  sw_newton_opts o = {
-      .a = 1.0 / bh2,
-      .t = d->t + h,
-      .max_iter = m->opt.newton_max,
-      .tol_dx = m->opt.newton_tol * h,
-      .line_search = 1,
-      .must_converge = 1,
-      .hessian = m->opt.hessian,
-      /* damping: v_{n+1} = v_n + h/2 (a_n + a_{n+1}) = (2/h) (x - xd) with
-       * xd = xhat - h/2 (v_n + h/2 a_n); a_{n+1} = M^-1 (f - D v_{n+1}) keeps its formula */
-      .cd = 2.0 / h,
-      .xd = s->anew,
-  };
-  for (int i = 0; i < nd; i++)
-    s->anew[i] = s->xhat[i] - 0.5 * h * (d->v[i] + 0.5 * h * s->acc[i]);
-  /* D at xhat, a predictor of x_{n+1} to O(h^2): that keeps order 2 */
-  int rc = sw_newton_damping(&s->nw, m, d, s->xhat, d->t + h);
-  if (rc) return rc;
-  rc = sw_newton_solve(&s->nw, m, d, s->xnew, s->xhat, &o);
+  sw_newton_opts o = sw_ipstep_opts(m, ip, 1.0 / bh2, d->t + h, 2.0 / h, h, 1.0);
+  int rc = sw_ipstep_solve(ip, m, d, &o, NULL);
   if (rc) return rc;
   for (int i = 0; i < nd; i++) {
     if (m->dof[i] < 0) {
-      s->anew[i] = s->vnew[i] = 0.0;
+      s->anew[i] = ip->vnew[i] = 0.0;
     } else {
-      s->anew[i] = (s->xnew[i] - s->xhat[i]) / bh2;
-      s->vnew[i] = d->v[i] + h * ((1.0 - GAMMA) * s->acc[i] + GAMMA * s->anew[i]);
+      s->anew[i] = (ip->xnew[i] - ip->xhat[i]) / bh2;
+      ip->vnew[i] = d->v[i] + h * ((1.0 - GAMMA) * s->acc[i] + GAMMA * s->anew[i]);
     }
   }
-  rc = sw_energy_check(m, d, s->xnew, s->vnew, d->t + h);
-  if (rc) return rc;
-  memcpy(d->x, s->xnew, (size_t)nd * sizeof(double));
-  memcpy(d->v, s->vnew, (size_t)nd * sizeof(double));
+  if ((rc = sw_ipstep_commit(ip, m, d, h, 1))) return rc;
   memcpy(s->acc, s->anew, (size_t)nd * sizeof(double));
-  d->t += h;
-  d->last_dt = h;
-  d->nstep++;
   s->tacc = d->t;
   return SW_OK;
 }

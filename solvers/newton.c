@@ -1,13 +1,35 @@
 /* newton.c — Newton's method with a backtracking line search on an incremental potential
  *   Phi(x) = a/2 (x - xhat)^T M (x - xhat) + U(x, t)
- * over the free DOFs.  Each iteration assembles S = a M + H (H the PSD-projected Hessian, so S
- * is positive definite whenever a > 0), refactorises it on the fixed pattern and solves
- * S dx = -grad Phi.  Backward Euler is the minimiser with a = 1/h^2 (DESIGN.md). */
+ * over the free DOFs (backward Euler is its minimiser with a = 1/h^2).  An iteration solves
+ * S dx = -grad Phi with S = a M + H (+ cd D), H the terms' Hessian filtered per element as the
+ * `hessian` mode asks, refactorised on the fixed pattern only when the last factorisation no
+ * longer makes Newton contract (the reuse of CVODE's modified Newton, Hindmarsh et al.,
+ * "SUNDIALS: Suite of Nonlinear and Differential/Algebraic Equation Solvers", ACM TOMS 2005).
+ * It stops when max |dx| <= tol_dx (a velocity tolerance times the step), or when max |dx| is
+ * at the round-off of the positions themselves (1e3 eps max |x|): a strict tolerance then
+ * still converges, it never fails on round-off (docs/integrators.md). */
+#include <float.h>
 #include <math.h>
 #include <string.h>
 
 #include "solver.h"
 #include "util.h"
+
+/* The per-stencil flags and the buffer of clamped blocks of `hessian: progressive`. */
+static int stencil_init(sw_newton *nw, const sw_model *m) {
+  if (m->opt.hessian != SW_HESSIAN_PROGRESSIVE) return 0;
+  nw->soff = sw_calloc((size_t)m->nterm + 1, sizeof(long));
+  if (!nw->soff) return -1;
+  long nh = 0;
+  for (int k = 0; k < m->nterm; k++) {
+    nw->soff[k + 1] = nw->soff[k] + m->term[k].nstencil;
+    nh += m->term[k].hptr[m->term[k].nstencil];
+  }
+  nw->flag = sw_calloc((size_t)nw->soff[m->nterm] + 1, 1);
+  nw->hfilt = sw_calloc((size_t)nh + 1, sizeof(double));
+  nw->vres = sw_calloc((size_t)m->nv + 1, sizeof(double));
+  return (!nw->flag || !nw->hfilt || !nw->vres) ? -1 : 0;
+}
 
 int sw_newton_init(sw_newton *nw, const sw_model *m, char *err, size_t errsz) {
   memset(nw, 0, sizeof *nw);
@@ -25,7 +47,8 @@ int sw_newton_init(sw_newton *nw, const sw_model *m, char *err, size_t errsz) {
     nw->r = sw_calloc((size_t)nw->n + 1, sizeof(double));
     nw->dr = sw_calloc((size_t)nw->n + 1, sizeof(double));
   }
-  if (!nw->g || !nw->dx || !nw->xtry || (damped && (!nw->dval || !nw->r || !nw->dr))) {
+  if (!nw->g || !nw->dx || !nw->xtry || (damped && (!nw->dval || !nw->r || !nw->dr)) ||
+      stencil_init(nw, m)) {
     sw_errf(err, errsz, "out of memory for Newton's workspaces (%d DOFs)", nw->n);
     return SW_FATAL;
   }
@@ -41,6 +64,10 @@ void sw_newton_free(sw_newton *nw) {
   sw_free(nw->dval);
   sw_free(nw->r);
   sw_free(nw->dr);
+  sw_free(nw->soff);
+  sw_free(nw->flag);
+  sw_free(nw->hfilt);
+  sw_free(nw->vres);
   memset(nw, 0, sizeof *nw);
 }
 
@@ -103,23 +130,6 @@ int sw_newton_phi(sw_newton *nw, const sw_model *m, sw_data *d, const double *x,
   return SW_OK;
 }
 
-/* Fill S = a M + H (H from the last evaluation: blocks and low-rank vectors) and factorise it. */
-static int fill_factor(sw_newton *nw, const sw_model *m, sw_data *d, double a) {
-  double t0 = sw_now();
-  double *val = sw_chol_values(&nw->chol);
-  sw_pattern_fill(&nw->pat, m, d, a, 1.0, val);
-  sw_pattern_fill_lowrank(&nw->pat, d, sw_chol_lowrank(&nw->chol, 1.0));
-  if (nw->cd > 0.0 && nw->dval)
-    for (long q = 0; q < nw->pat.nnz; q++) val[q] += nw->cd * nw->dval[q];
-  double t1 = sw_now();
-  d->time_assemble += t1 - t0;
-  int rc = sw_chol_factor(&nw->chol, d->err, sizeof d->err);
-  d->time_factor += sw_now() - t1;
-  d->nfactor++;
-  d->factor_nnz = sw_chol_nnz(&nw->chol);
-  return rc;
-}
-
 static void add_step(const sw_model *m, const double *x, const double *dx, double alpha,
                      double *out) {
   const int dim = m->dim;
@@ -149,6 +159,7 @@ int sw_newton_line_search(sw_newton *nw, const sw_model *m, sw_data *d, double *
   return SW_RECOVER;
 }
 
+
 /* max |v_i|, or NaN when any v_i is NaN (fmax would drop it, and a NaN step would "converge"). */
 static double max_abs(const double *v, int n) {
   double s = 0.0;
@@ -159,24 +170,129 @@ static double max_abs(const double *v, int n) {
   return s;
 }
 
-/* Evaluate Phi, its gradient and the Hessian at x, and factorise S = a M + H with the Hessian
- * the options ask for (auto: exact, projected when that S is not positive definite). */
-static int linearise(sw_newton *nw, const sw_model *m, sw_data *d, const double *x,
-                     const double *xhat, const sw_newton_opts *o, double *phi) {
-  int mode = o->hessian;
+int sw_hessian_filter(int hessian) {
+  if (hessian == SW_HESSIAN_PROJECTED) return SW_FILTER_CLAMP;
+  if (hessian == SW_HESSIAN_ABS) return SW_FILTER_ABS;
+  return SW_FILTER_NONE;
+}
+
+/* Fill S = a M + H (H from the last evaluation: blocks and low-rank vectors) + cd D and
+ * factorise it; on success it is the kept factorisation for (a, cd). */
+static int fill_factor(sw_newton *nw, const sw_model *m, sw_data *d, double a) {
   double t0 = sw_now();
-  int rc = sw_newton_phi(nw, m, d, x, xhat, o->a, o->t, 1, 1, mode == SW_HESSIAN_PROJECTED,
-                         phi);
+  double *val = sw_chol_values(&nw->chol);
+  sw_pattern_fill(&nw->pat, m, d, a, 1.0, val);
+  sw_pattern_fill_lowrank(&nw->pat, d, sw_chol_lowrank(&nw->chol, 1.0));
+  if (nw->cd > 0.0 && nw->dval)
+    for (long q = 0; q < nw->pat.nnz; q++) val[q] += nw->cd * nw->dval[q];
+  double t1 = sw_now();
+  d->time_assemble += t1 - t0;
+  int rc = sw_chol_factor(&nw->chol, d->err, sizeof d->err);
+  d->time_factor += sw_now() - t1;
+  d->nfactor++;
+  d->factor_nnz = sw_chol_nnz(&nw->chol);
+  nw->fac_valid = rc == SW_OK;
+  nw->fac_a = a;
+  nw->fac_cd = nw->cd;
+  return rc;
+}
+
+/* hessian: progressive.  Flag (for the rest of the step) every stencil with a free vertex
+ * whose mass-scaled residual |g_i| / (a m_i) exceeds tol_dx: where Newton is still far from
+ * converged its block is clamped, elsewhere it stays exact (after Fernandez-Fernandez, Loschner
+ * and Bender, "Progressively Projected Newton's Method", Eurographics 2026).  Returns the
+ * number of flagged stencils. */
+static long flag_stencils(sw_newton *nw, const sw_model *m, const sw_newton_opts *o) {
+  const int dim = m->dim;
+  for (int i = 0; i < m->nv; i++) {
+    double s = 0.0;
+    for (int al = 0; al < dim; al++) {
+      int c = m->dof[i * dim + al];
+      if (c >= 0) s += nw->g[c] * nw->g[c];
+    }
+    nw->vres[i] = o->a > 0.0 && m->mass[i] > 0.0 ? sqrt(s) / (o->a * m->mass[i]) : INFINITY;
+  }
+  long nflag = 0;
+  for (int k = 0; k < m->nterm; k++) {
+    const sw_term *t = &m->term[k];
+    for (int s = 0; s < t->nstencil; s++) {
+      unsigned char *f = &nw->flag[nw->soff[k] + s];
+      for (int q = t->sptr[s]; !*f && q < t->sptr[s + 1]; q++)
+        if (nw->vres[t->sidx[q]] > o->tol_dx && !m->pinned[t->sidx[q]]) *f = 1;
+      nflag += *f;
+    }
+  }
+  return nflag;
+}
+
+/* Replace the flagged stencils' exact blocks in d->hess by the terms' clamped ones (in
+ * nw->hfilt, from an evaluation at the same x). */
+static void use_filtered(sw_newton *nw, const sw_model *m, sw_data *d) {
+  for (int k = 0; k < m->nterm; k++) {
+    const sw_term *t = &m->term[k];
+    for (int s = 0; s < t->nstencil; s++)
+      if (nw->flag[nw->soff[k] + s]) {
+        long at = d->hoff[k] + t->hptr[s], len = t->hptr[s + 1] - t->hptr[s];
+        memcpy(d->hess + at, nw->hfilt + at, (size_t)len * sizeof(double));
+      }
+  }
+}
+
+/* The terms' Hessian at x filtered by `filter` into d->hess (gradient and energy untouched). */
+static int eval_hessian(const sw_model *m, sw_data *d, const double *x, double t, int filter) {
+  double u, t0 = sw_now();
+  int rc = sw_eval_terms(m, d, x, t, 0, 1, filter, &u);
   d->time_assemble += sw_now() - t0;
-  if (!rc) rc = fill_factor(nw, m, d, o->a);
-  if (rc == SW_RECOVER && mode == SW_HESSIAN_AUTO) {
-    double u;
-    t0 = sw_now();
-    rc = sw_eval_terms(m, d, x, o->t, 0, 1, 1, &u);
-    d->time_assemble += sw_now() - t0;
-    if (!rc) rc = fill_factor(nw, m, d, o->a);
+  return rc;
+}
+
+/* Progressive: exact blocks, the flagged ones clamped.  The gradient is in nw->g already. */
+static int progressive_hessian(sw_newton *nw, const sw_model *m, sw_data *d, const double *x,
+                               const sw_newton_opts *o) {
+  long nflag = flag_stencils(nw, m, o);
+  int rc;
+  if (nflag > 0) {
+    if ((rc = eval_hessian(m, d, x, o->t, SW_FILTER_CLAMP))) return rc;
+    memcpy(nw->hfilt, d->hess, (size_t)d->hoff[m->nterm] * sizeof(double));
+  }
+  if ((rc = eval_hessian(m, d, x, o->t, SW_FILTER_NONE))) return rc;
+  if (nflag > 0) use_filtered(nw, m, d);
+  return SW_OK;
+}
+
+/* Phi and its gradient at x; with `refactor`, also the Hessian as the mode asks and a new
+ * factorisation of S (auto and progressive: clamped everywhere when S is not positive
+ * definite; progressive keeps that for the rest of the step). */
+static int linearise(sw_newton *nw, const sw_model *m, sw_data *d, const double *x,
+                     const double *xhat, const sw_newton_opts *o, int refactor, double *phi) {
+  int mode = o->hessian, first = sw_hessian_filter(mode);
+  int with_hess = refactor && mode != SW_HESSIAN_PROGRESSIVE;
+  double t0 = sw_now();
+  int rc = sw_newton_phi(nw, m, d, x, xhat, o->a, o->t, 1, with_hess, first, phi);
+  d->time_assemble += sw_now() - t0;
+  if (rc || !refactor) return rc;
+  if (mode == SW_HESSIAN_PROGRESSIVE && (rc = progressive_hessian(nw, m, d, x, o))) return rc;
+  rc = fill_factor(nw, m, d, o->a);
+  if (rc == SW_RECOVER && (mode == SW_HESSIAN_AUTO || mode == SW_HESSIAN_PROGRESSIVE)) {
+    if (nw->flag) memset(nw->flag, 1, (size_t)nw->soff[m->nterm]);
+    if (!(rc = eval_hessian(m, d, x, o->t, SW_FILTER_CLAMP))) rc = fill_factor(nw, m, d, o->a);
   }
   return rc;
+}
+
+/* Whether the kept factorisation may start this solve. */
+static int may_reuse(const sw_newton *nw, const sw_newton_opts *o) {
+  return o->reuse && nw->fac_valid && nw->fac_a == o->a && nw->fac_cd == nw->cd &&
+         nw->theta <= SW_NEWTON_THETA;
+}
+
+/* The round-off floor of a Newton step, m: positions of magnitude up to max |x| are resolved to
+ * about eps max |x|; a step a thousand times that is as far as iterating can usefully go. */
+static double round_off_floor(const sw_model *m, const double *x) {
+  double xmax = 0.0;
+  for (int i = 0; i < m->nv * m->dim; i++)
+    if (m->dof[i] >= 0) xmax = fmax(xmax, fabs(x[i]));
+  return 1e3 * DBL_EPSILON * xmax;
 }
 
 int sw_newton_solve(sw_newton *nw, const sw_model *m, sw_data *d, double *x, const double *xhat,
@@ -185,9 +301,13 @@ int sw_newton_solve(sw_newton *nw, const sw_model *m, sw_data *d, double *x, con
   if (nw->n == 0) return SW_OK;
   nw->cd = o->xd ? o->cd : 0.0;
   nw->xd = o->xd;
+  if (nw->flag) memset(nw->flag, 0, (size_t)nw->soff[m->nterm]);
+  int refactor = !may_reuse(nw, o);
+  const double tol = fmax(o->tol_dx, round_off_floor(m, x));
+  double prev = 0.0; /* max |dx| of the last iteration */
   for (int it = 0; it < o->max_iter; it++) {
     double phi;
-    int rc = linearise(nw, m, d, x, xhat, o, &phi);
+    int rc = linearise(nw, m, d, x, xhat, o, refactor, &phi);
     if (rc) return rc;
     for (int c = 0; c < nw->n; c++) nw->g[c] = -nw->g[c];
     double t0 = sw_now();
@@ -203,13 +323,25 @@ int sw_newton_solve(sw_newton *nw, const sw_model *m, sw_data *d, double *x, con
       sw_errf(d->err, sizeof d->err, "Newton step is not finite at t = %g s", o->t);
       return SW_RECOVER;
     }
-    if (o->line_search && step > o->tol_dx) {
+    if (step <= tol) {
+      add_step(m, x, nw->dx, 1.0, x);
+      return SW_OK;
+    }
+    long cuts = d->nlinesearch;
+    if (o->line_search) {
       rc = sw_newton_line_search(nw, m, d, x, xhat, o, phi, slope);
+      if (rc == SW_RECOVER && !refactor) { /* a kept factorisation led nowhere: renew it */
+        refactor = 1;
+        nw->theta = 1.0;
+        continue;
+      }
       if (rc) return rc;
     } else {
       add_step(m, x, nw->dx, 1.0, x);
     }
-    if (step <= o->tol_dx) return SW_OK;
+    nw->theta = prev > 0.0 ? step / prev : 0.0;
+    prev = step;
+    refactor = !o->reuse || nw->theta > SW_NEWTON_THETA || d->nlinesearch > cuts;
   }
   if (!o->must_converge) return SW_OK;
   sw_errf(d->err, sizeof d->err, "Newton did not converge in %d iterations at t = %g s",

@@ -81,12 +81,32 @@ long sw_chol_nnz(const sw_chol *ch);
 int sw_chol_solve(sw_chol *ch, const double *rhs, double *sol, char *err, size_t errsz);
 void sw_chol_free(sw_chol *ch);
 
+/* ----------------------------------------------------------------- filter.c */
+/* Eigenvalue filtering of one symmetric n x n block (row-major, n <= nmax) in place: mode
+ * SW_FILTER_CLAMP (negative eigenvalues to 0) or SW_FILTER_ABS (to their absolute value).
+ * Returns 0 when the block was left as it was (PSD already, or SW_FILTER_NONE), 1 when it was
+ * filtered, -1 when n > nmax or the block is not finite. */
+typedef struct sw_filter {
+  int nmax, lwork;
+  double *q, *lambda, *work; /* (nmax x nmax), (nmax), (lwork): LAPACK dsyev's workspaces */
+} sw_filter;
+int sw_filter_init(sw_filter *f, int nmax);
+void sw_filter_free(sw_filter *f);
+int sw_filter_block(sw_filter *f, double *A, int n, int mode);
+/* The filter the terms apply on the first evaluation of a Hessian in mode SW_HESSIAN_*:
+ * projected -> clamp, abs -> abs, the others -> none (exact). */
+int sw_hessian_filter(int hessian);
+
 /* ----------------------------------------------------------------- newton.c */
 /* Minimise Phi(x) = a/2 (x - xhat)^T M (x - xhat) + U(x, t) + cd/2 (x - xd)^T D (x - xd) over
  * the free DOFs (pinned components of x stay as given).  a = 1/h^2 for backward Euler (the
  * incremental potential); with damping, the stage velocity is v = cd (x - xd) (BE: cd = 1/h,
  * xd = x_n) and D is frozen for the step (sw_newton_damping), so Phi stays a potential whose
- * gradient is the residual a M (x - xhat) + grad U + D v and whose Hessian is a M + H + cd D. */
+ * gradient is the residual a M (x - xhat) + grad U + D v and whose Hessian is a M + H + cd D.
+ * The solver (docs/integrators.md, "Newton"): S from the Hessian the mode asks for, filtered
+ * per element; a factorisation kept across iterations and steps while Newton contracts well;
+ * a line search on Phi; converged when max |dx| <= tol_dx, or when the decrease Newton
+ * predicts is below the round-off of Phi. */
 typedef struct sw_newton {
   sw_pattern pat;
   sw_chol chol;
@@ -98,6 +118,15 @@ typedef struct sw_newton {
   double *r, *dr;        /* (n) x - xd and D (x - xd) */
   double cd;             /* the current solve's damping coefficient, 1/s (0: none) */
   const double *xd;      /* (nv x dim) its anchor */
+  /* per-element filtering (hessian: progressive) */
+  long *soff;            /* (nterm + 1) first stencil of each term in flag */
+  unsigned char *flag;   /* (soff[nterm]) 1: this stencil's block is filtered in this step */
+  double *hfilt;         /* (d->hess's size) the terms' clamped blocks, or NULL */
+  double *vres;          /* (nv) each vertex's mass-scaled residual |g_i| / (a m_i), m */
+  /* the factorisation in the CHOLMOD object: valid, and the a and cd it was built with */
+  int fac_valid;
+  double fac_a, fac_cd;
+  double theta;          /* the last observed contraction |dx_k| / |dx_k-1| */
 } sw_newton;
 
 typedef struct sw_newton_opts {
@@ -108,9 +137,15 @@ typedef struct sw_newton_opts {
   int line_search;       /* backtracking on Phi; 0: take full steps */
   int must_converge;     /* 0: stop after max_iter without failing (one-step variants) */
   int hessian;           /* SW_HESSIAN_* */
+  int reuse;             /* keep a factorisation while Newton contracts by at least
+                            SW_NEWTON_THETA per iteration (also into the next solve with the
+                            same a and cd) */
   double cd;             /* damping: v = cd (x - xd) at the stage, 1/s (0: no damping term) */
   const double *xd;      /* (nv x dim) */
 } sw_newton_opts;
+
+/* The contraction |dx_k| / |dx_k-1| above which a kept factorisation is renewed. */
+#define SW_NEWTON_THETA 0.5
 
 int sw_newton_init(sw_newton *nw, const sw_model *m, char *err, size_t errsz);
 /* D = alpha M + beta K(x) on the pattern for the coming step, K the projected Hessian at (x, t)
@@ -120,8 +155,8 @@ void sw_newton_free(sw_newton *nw);
 /* x: initial guess in, minimiser out.  SW_OK, SW_RECOVER (d->err says why), or SW_FATAL. */
 int sw_newton_solve(sw_newton *nw, const sw_model *m, sw_data *d, double *x, const double *xhat,
                     const sw_newton_opts *o);
-/* Phi at x; its free gradient into nw->g when want_grad; the terms' (projected) Hessian
- * blocks into d->hess when want_hess. */
+/* Phi at x; its free gradient into nw->g when want_grad; the terms' Hessian blocks (filtered
+ * by `project`, SW_FILTER_*) into d->hess when want_hess. */
 int sw_newton_phi(sw_newton *nw, const sw_model *m, sw_data *d, const double *x,
                   const double *xhat, double a, double t, int want_grad, int want_hess,
                   int project, double *phi);
@@ -130,6 +165,29 @@ int sw_newton_phi(sw_newton *nw, const sw_model *m, sw_data *d, const double *x,
  * accepted point.  Each halving counts in d->nlinesearch. */
 int sw_newton_line_search(sw_newton *nw, const sw_model *m, sw_data *d, double *x,
                           const double *xhat, const sw_newton_opts *o, double phi0, double slope);
+
+/* ---------------------------------------------------------------- ipstep.c */
+/* The step every Newton time integrator shares (backward Euler, BDF2, implicit midpoint,
+ * Newmark): one minimisation of Phi(y) = a/2 (y - xhat)^T M (y - xhat) + U(y, t*) (+ the
+ * damping term with v = cd (y - xd)).  The method fills xhat and xd, calls sw_ipstep_solve,
+ * turns y into x_{n+1} and v_{n+1} in xnew and vnew, and commits them. */
+typedef struct sw_ipstep {
+  sw_newton nw;
+  double *xhat, *xd, *xnew, *vnew; /* (nv x dim) */
+} sw_ipstep;
+
+int sw_ipstep_init(sw_ipstep *s, const sw_model *m, char *err, size_t errsz);
+void sw_ipstep_free(sw_ipstep *s);
+/* Newton options from the scene's for a step of size h: a (1/s^2), stage time t (s), damping
+ * coefficient cd (1/s), tolerance max |dy| <= tol_scale * newton_tol * h. */
+sw_newton_opts sw_ipstep_opts(const sw_model *m, const sw_ipstep *s, double a, double t,
+                              double cd, double h, double tol_scale);
+/* D at xhat (a predictor of the stage state) and Newton from y = y0 (NULL: xhat) on the free
+ * DOFs (the pinned components from d->x) into s->xnew. */
+int sw_ipstep_solve(sw_ipstep *s, const sw_model *m, sw_data *d, const sw_newton_opts *o,
+                    const double *y0);
+/* Accept xnew, vnew as the state at d->t + h, after the energy check when check_energy. */
+int sw_ipstep_commit(sw_ipstep *s, const sw_model *m, sw_data *d, double h, int check_energy);
 
 /* ------------------------------------------------------------ integrators.c */
 typedef struct sw_integrator_ops {

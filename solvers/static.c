@@ -74,7 +74,7 @@ static int static_iteration(sw_newton *nw, const sw_model *m, sw_data *d, double
 
 static int static_loop(sw_newton *nw, const sw_model *m, sw_data *d, char *err, size_t errsz) {
   double *x = d->x, phi, scale = 0.0, mu = 0.0, ratio = 1.0;
-  int project = m->opt.hessian == SW_HESSIAN_PROJECTED;
+  int project = sw_hessian_filter(m->opt.hessian);
   for (int it = 0; it < STATIC_MAX_ITER; it++) {
     int rc = sw_newton_phi(nw, m, d, x, x, 0.0, d->t, 1, 1, project, &phi);
     if (rc) return sw_errf(err, errsz, "static solve: %s", d->err), rc;

@@ -99,7 +99,7 @@ static int eval_hessian(sw_sunls *sys, int project) {
 int sw_sunls_hessian(sw_sunls *sys, const double *xf, double t) {
   set_free(sys, xf, sys->xlin);
   sys->tlin = t;
-  return eval_hessian(sys, sys->m->opt.hessian == SW_HESSIAN_PROJECTED);
+  return eval_hessian(sys, sw_hessian_filter(sys->m->opt.hessian));
 }
 
 void sw_sunls_hmul(const sw_sunls *sys, const double *x, double *y) {
@@ -162,15 +162,18 @@ static SUNLinearSolver_ID ls_getid(SUNLinearSolver LS) {
   return SUNLINEARSOLVER_CUSTOM;
 }
 
-/* Factorise S for the coefficients the method's callback just set; with hessian: auto, an S
- * that is not positive definite is rebuilt from the projected Hessian at the same point. */
+/* Factorise S for the coefficients the method's callback just set; with hessian: auto or
+ * progressive, an S that is not positive definite is rebuilt from the clamped Hessian at the
+ * same point. */
 static int ls_setup(SUNLinearSolver LS, SUNMatrix A) {
   (void)A;
   sw_sunls *sys = LS->content;
   sys->coef = sys->coef_next;
   int rc = fill_factor(sys);
-  if (rc == SW_RECOVER && sys->m->opt.hessian == SW_HESSIAN_AUTO && !sys->h_projected) {
-    rc = eval_hessian(sys, 1);
+  int mode = sys->m->opt.hessian;
+  if (rc == SW_RECOVER && (mode == SW_HESSIAN_AUTO || mode == SW_HESSIAN_PROGRESSIVE) &&
+      !sys->h_projected) {
+    rc = eval_hessian(sys, SW_FILTER_CLAMP);
     if (rc == SW_OK) rc = fill_factor(sys);
   }
   return rc == SW_OK ? SUNLS_SUCCESS : rc > 0 ? SUNLS_LUFACT_FAIL : SUNLS_PACKAGE_FAIL_UNREC;

@@ -1,0 +1,74 @@
+/* ipstep.c — the step shared by the Newton time integrators (backward_euler.c, bdf2.c,
+ * implicit_midpoint.c, newmark.c).  Each of them is one minimisation per step of
+ *   Phi(y) = a/2 (y - xhat)^T M (y - xhat) + U(y, t*)  (+ cd/2 (y - xd)^T D (y - xd))
+ * with its own a, xhat, stage time t* and, with damping, the stage velocity v = cd (y - xd);
+ * only those coefficients and the map from y to (x_{n+1}, v_{n+1}) differ.  This file holds
+ * what they have in common: the state, the Newton options, the solve from the predictor, and
+ * the commit of the new state. */
+#include <string.h>
+
+#include "solver.h"
+#include "util.h"
+
+int sw_ipstep_init(sw_ipstep *s, const sw_model *m, char *err, size_t errsz) {
+  memset(s, 0, sizeof *s);
+  size_t nd = (size_t)m->nv * (size_t)m->dim;
+  s->xhat = sw_calloc(nd, sizeof(double));
+  s->xd = sw_calloc(nd, sizeof(double));
+  s->xnew = sw_calloc(nd, sizeof(double));
+  s->vnew = sw_calloc(nd, sizeof(double));
+  if (!s->xhat || !s->xd || !s->xnew || !s->vnew) {
+    sw_errf(err, errsz, "out of memory for the step's state (%zu coordinates)", nd);
+    return SW_FATAL;
+  }
+  return sw_newton_init(&s->nw, m, err, errsz);
+}
+
+void sw_ipstep_free(sw_ipstep *s) {
+  sw_newton_free(&s->nw);
+  sw_free(s->xhat);
+  sw_free(s->xd);
+  sw_free(s->xnew);
+  sw_free(s->vnew);
+  memset(s, 0, sizeof *s);
+}
+
+sw_newton_opts sw_ipstep_opts(const sw_model *m, const sw_ipstep *s, double a, double t,
+                              double cd, double h, double tol_scale) {
+  sw_newton_opts o = {
+      .a = a,
+      .t = t,
+      .max_iter = m->opt.newton_max,
+      .tol_dx = tol_scale * m->opt.newton_tol * h, /* newton_tol is a velocity, m/s */
+      .line_search = 1,
+      .must_converge = 1,
+      .hessian = m->opt.hessian,
+      .reuse = m->opt.newton_reuse,
+      .cd = cd,
+      .xd = s->xd,
+  };
+  return o;
+}
+
+int sw_ipstep_solve(sw_ipstep *s, const sw_model *m, sw_data *d, const sw_newton_opts *o,
+                    const double *y0) {
+  const int nd = m->nv * m->dim;
+  if (!y0) y0 = s->xhat;
+  for (int i = 0; i < nd; i++) s->xnew[i] = m->dof[i] < 0 ? d->x[i] : y0[i];
+  int rc = sw_newton_damping(&s->nw, m, d, s->xhat, o->t);
+  return rc ? rc : sw_newton_solve(&s->nw, m, d, s->xnew, s->xhat, o);
+}
+
+int sw_ipstep_commit(sw_ipstep *s, const sw_model *m, sw_data *d, double h, int check_energy) {
+  if (check_energy) {
+    int rc = sw_energy_check(m, d, s->xnew, s->vnew, d->t + h);
+    if (rc) return rc;
+  }
+  size_t nd = (size_t)m->nv * (size_t)m->dim;
+  memcpy(d->x, s->xnew, nd * sizeof(double));
+  memcpy(d->v, s->vnew, nd * sizeof(double));
+  d->t += h;
+  d->last_dt = h;
+  d->nstep++;
+  return SW_OK;
+}
