@@ -31,9 +31,10 @@ static double stretch(const double *w, int d, double k, double b, int project, d
     for (int a = 0; a < d; a++) n[a] = w[a] / l;
   for (int a = 0; a < d; a++) g[a] = k * (l - b) * n[a];
   if (H) {
-    /* H = k n n^T + k (1 - b/|w|) (I - n n^T); the second coefficient is negative in compression. */
+    /* H = k n n^T + k (1 - b/|w|) (I - n n^T); the second coefficient is negative in
+     * compression: clamped to 0, or its absolute value taken (SW_FILTER_*). */
     double perp = l > 0.0 ? k * (1.0 - b / l) : 0.0;
-    if (project && perp < 0.0) perp = 0.0;
+    if (project && perp < 0.0) perp = project == SW_FILTER_ABS ? -perp : 0.0;
     for (int a = 0; a < d; a++)
       for (int c = 0; c < d; c++)
         H[a * ld + c] = k * n[a] * n[c] + perp * ((a == c) - n[a] * n[c]);
@@ -66,8 +67,10 @@ static void add_outer(double *P, int ld, int d, double c, const double *u1, cons
  * With p = (wu+wv)/2, q = (wv-wu)/2: g = sqrt2|p| e1 + sqrt2|q| e2, e1 = [p^;p^]/sqrt2 (J e1 = e1),
  * e2 = [q^;-q^]/sqrt2 (J e2 = -e2).  On span(e1,e2) the matrix is the 2x2
  * [[2|p|^2 + s, 2|p||q|], [2|p||q|, 2|q|^2 - s]]; on the rest of J's +1 space it is s, on the
- * rest of its -1 space -s.  Each eigenvalue is clamped at zero. */
-static void shear_projected(const double *wu, const double *wv, int d, double k, double *P, int ld) {
+ * rest of its -1 space -s.  Each eigenvalue is clamped at zero (SW_FILTER_CLAMP) or replaced by
+ * its absolute value (SW_FILTER_ABS). */
+static void shear_projected(const double *wu, const double *wv, int d, double k, int mode,
+                            double *P, int ld) {
   double p[3] = {0}, q[3] = {0}, ph[3], qh[3];
   for (int a = 0; a < d; a++) {
     p[a] = 0.5 * (wu[a] + wv[a]);
@@ -95,6 +98,7 @@ static void shear_projected(const double *wu, const double *wv, int d, double k,
   double vec[2][2] = {{v1[0], v1[1]}, {-v1[1], v1[0]}};
   const double h = sqrt(0.5);
   for (int e = 0; e < 2; e++) {
+    if (mode == SW_FILTER_ABS) lam[e] = fabs(lam[e]);
     if (lam[e] <= 0.0) continue;
     /* z = c1 e1 + c2 e2 = h [c1 p^ + c2 q^; c1 p^ - c2 q^] */
     double z1[3], z2[3];
@@ -106,7 +110,8 @@ static void shear_projected(const double *wu, const double *wv, int d, double k,
   }
   /* J's +1 space orthogonal to e1: (1/2)[[Pp, Pp],[Pp, Pp]], Pp = I - p^p^T, eigenvalue s;
    * J's -1 space orthogonal to e2: (1/2)[[Pq, -Pq],[-Pq, Pq]], eigenvalue -s. */
-  double cplus = k * SW_MAX(s, 0.0), cminus = k * SW_MAX(-s, 0.0);
+  double cplus = k * (mode == SW_FILTER_ABS ? fabs(s) : SW_MAX(s, 0.0));
+  double cminus = k * (mode == SW_FILTER_ABS ? fabs(s) : SW_MAX(-s, 0.0));
   for (int a = 0; a < d; a++)
     for (int b = 0; b < d; b++) {
       double pp = ((a == b) - ph[a] * ph[b]) * 0.5 * cplus;
@@ -150,7 +155,7 @@ static double density(const void *law, const double *wu, const double *wv, int d
         P[a * ld + b] = Hu[a * d + b];
         P[(d + a) * ld + d + b] = Hv[a * d + b];
       }
-    if (project) shear_projected(wu, wv, d, bp->k_s, P, ld);
+    if (project) shear_projected(wu, wv, d, bp->k_s, SW_FILTER_CLAMP, P, ld);
     else shear_exact(wu, wv, d, bp->k_s, P, ld);
   }
   return e;

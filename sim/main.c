@@ -16,6 +16,7 @@ static void usage(FILE *fp) {
           "                 [--rtol R] [--atol A] [--max-halvings N] [--threads N] [--quiet]\n"
           "                 [--frames-every S | --no-frames] [--positions-every S]\n"
           "                 [--grid NXxNY] [--stiffness-scale S]\n"
+          "                 [--newton-tol V] [--hessian MODE] [--newton-reuse on|off]\n"
           "       sinew check SCENE [--grid NXxNY] [--stiffness-scale S]\n"
           "       sinew inverse SCENE --targets FILE [--out SCENE_OUT]\n"
           "       sinew bench SCENE [options]   (sinew bench --help)\n"
@@ -46,6 +47,13 @@ static void usage(FILE *fp) {
           "  --atol A        absolute tolerance of adaptive methods, m and m/s (integrator.atol)\n"
           "  --max-halvings N  a failed step is retried with half the step at most N times\n"
           "                  (overrides integrator.max_halvings; 0: a failed step fails the run)\n"
+          "  --newton-tol V  Newton's tolerance, m/s: a step converges when max |dx| <= V dt\n"
+          "                  (overrides integrator.newton.tol; e.g. 1e-9 for a reference run)\n"
+          "  --hessian MODE  Newton's matrix: projected, exact, auto, abs or progressive\n"
+          "                  (overrides integrator.hessian)\n"
+          "  --newton-reuse on|off\n"
+          "                  keep a factorisation while Newton contracts (overrides\n"
+          "                  integrator.newton.reuse)\n"
           "  --threads N     OpenBLAS threads for CHOLMOD (default: $OPENBLAS_NUM_THREADS, else 1)\n"
           "  --quiet         no progress line\n"
           "  --frames-every S\n"
@@ -100,7 +108,19 @@ typedef struct cli {
   double frames_every, positions_every; /* s; < 0: not given */
   int quiet, threads, no_frames;
   int max_halvings;            /* < 0: not given */
+  double newton_tol;           /* m/s; < 0: not given */
+  int hessian, reuse;          /* < 0: not given */
 } cli;
+
+/* An index into a NULL-terminated list of names. */
+static int cli_choice(const char *opt, const char *s, const char *const *names, int *out) {
+  for (int k = 0; names[k]; k++)
+    if (!strcmp(s, names[k])) return *out = k, 0;
+  fprintf(stderr, "sinew: %s expects one of:", opt);
+  for (int k = 0; names[k]; k++) fprintf(stderr, " %s", names[k]);
+  fprintf(stderr, "; got '%s'\n", s);
+  return -1;
+}
 
 static int parse_run_args(int argc, char **argv, cli *c) {
   for (int i = 2; i < argc; i++) {
@@ -132,6 +152,13 @@ static int parse_run_args(int argc, char **argv, cli *c) {
       if (cli_number(a, argv[++i], 0, &c->atol)) return -1;
     } else if (!strcmp(a, "--max-halvings") && has_val) {
       if (cli_int(a, argv[++i], 0, 60, &c->max_halvings)) return -1;
+    } else if (!strcmp(a, "--newton-tol") && has_val) {
+      if (cli_number(a, argv[++i], 0, &c->newton_tol)) return -1;
+    } else if (!strcmp(a, "--hessian") && has_val) {
+      if (cli_choice(a, argv[++i], sw_hessian_names(), &c->hessian)) return -1;
+    } else if (!strcmp(a, "--newton-reuse") && has_val) {
+      static const char *const on_off[] = {"off", "on", NULL};
+      if (cli_choice(a, argv[++i], on_off, &c->reuse)) return -1;
     } else if (!strcmp(a, "--threads") && has_val) {
       if (cli_int(a, argv[++i], 1, 1024, &c->threads)) return -1;
     } else if (a[0] == '-' && a[1]) {
@@ -152,7 +179,7 @@ static int parse_run_args(int argc, char **argv, cli *c) {
 
 static int cmd_run(int argc, char **argv) {
   cli c = {.dt = -1, .duration = -1, .frames_every = -1, .positions_every = -1,
-           .max_halvings = -1};
+           .max_halvings = -1, .newton_tol = -1, .hessian = -1, .reuse = -1};
   if (parse_run_args(argc, argv, &c)) return 2;
   char err[SW_ERRSZ];
   sw_model *m = sw_scene_load_ex(c.scene, &c.ov, err, sizeof err);
@@ -164,6 +191,9 @@ static int cmd_run(int argc, char **argv) {
   if (c.threads > 0) m->opt.blas_threads = c.threads;
   if (c.max_halvings >= 0) m->opt.max_halvings = c.max_halvings;
   if (c.rtol > 0) m->opt.rtol = c.rtol;
+  if (c.newton_tol > 0) m->opt.newton_tol = c.newton_tol;
+  if (c.hessian >= 0) m->opt.hessian = c.hessian;
+  if (c.reuse >= 0) m->opt.newton_reuse = c.reuse;
   if (c.atol > 0) m->opt.atol = c.atol;
   if (c.frames_every >= 0) m->opt.frames_every = c.frames_every;
   if (c.no_frames) m->opt.frames_every = -1.0; /* none */

@@ -6,6 +6,12 @@
 #include "terms.h"
 #include "util.h"
 
+const char *const *sw_hessian_names(void) {
+  static const char *const names[SW_HESSIAN_NMODES + 1] = {"projected", "exact", "auto", "abs",
+                                                           "progressive", NULL};
+  return names;
+}
+
 sw_model *sw_model_new(void) {
   sw_model *m = sw_calloc(1, sizeof *m);
   if (!m) return NULL;
@@ -15,10 +21,10 @@ sw_model *sw_model_new(void) {
   o->dt = 0.01;
   o->duration = 1.0;
   o->newton_max = 50;
-  o->newton_tol = 1e-6;
+  o->newton_tol = 1e-2; /* m/s: docs/integrators.md, "Newton" (measured) */
   o->max_halvings = 8;
-  o->hessian = SW_HESSIAN_AUTO;
-  o->newton_reuse = 1;
+  o->hessian = SW_HESSIAN_DEFAULT; /* abs in 3D, projected in 2D (sw_model_finish) */
+  o->newton_reuse = 0;
   o->rtol = 1e-6;
   o->atol = 1e-8;
   o->max_order = 5;
@@ -261,6 +267,11 @@ int sw_model_finish(sw_model *m, char *err, size_t errsz) {
     if (m->face_mat[f] < 0 || m->face_mat[f] >= m->nmat)
       return sw_errf(err, errsz, "face %d: material %d outside 0..%d", f, m->face_mat[f],
                      m->nmat - 1), -1;
+  /* measured (docs/integrators.md, "Newton"): in 3D a compressed element's absolute-value
+   * curvature lets the cloth buckle out of its plane in few iterations; in 2D it cannot, and
+   * clamping converges where abs overshoots */
+  if (m->opt.hessian == SW_HESSIAN_DEFAULT)
+    m->opt.hessian = m->dim == 3 ? SW_HESSIAN_ABS : SW_HESSIAN_PROJECTED;
   apply_bias(m);
   size_t nd = (size_t)m->nv * (size_t)m->dim;
   m->dminv = sw_calloc((size_t)m->nf, 4 * sizeof(double));

@@ -380,8 +380,6 @@ static int load_gravity(const ctx *c, const ynode *y) {
 static const char *const int_keys[] = {"method", "dt", "max_halvings", "newton", "hessian",
                                        "rtol", "atol", "max_order", "max_step", "energy_bound",
                                        "tendon_dense_max"};
-/* in the order of SW_HESSIAN_PROJECTED, _EXACT, _AUTO, _ABS, _PROGRESSIVE */
-static const char *const hessian_modes[] = {"projected", "exact", "auto", "abs", "progressive"};
 static const char *const newton_keys[] = {"max_iterations", "tol", "reuse"};
 static const char *const on_off[] = {"false", "true"};
 
@@ -408,7 +406,8 @@ static int load_integrator(const ctx *c, const ynode *y) {
   if (v[8] && sy_num(c, v[8], "integrator max_step", 0, 0, "s", &o->max_step)) return -1;
   if (v[9] && sy_num(c, v[9], "integrator energy_bound", 0, 1, "J", &o->energy_bound))
     return -1;
-  if (v[4] && sy_choice(c, v[4], "integrator hessian", hessian_modes, 5, &o->hessian)) return -1;
+  if (v[4] && sy_choice(c, v[4], "integrator hessian", sw_hessian_names(), SW_HESSIAN_NMODES,
+                        &o->hessian)) return -1;
   if (v[0] && load_method(c, v[0])) return -1;
   if (v[1] && sy_num(c, v[1], "integrator dt", 0, 1, "s", &o->dt)) return -1;
   if (v[2] && sy_int(c, v[2], "integrator max_halvings", 0, 60, &o->max_halvings)) return -1;

@@ -172,15 +172,19 @@ SW_API double sw_tendon_tension(const sw_tendon *td, double delta);
  * definite, or progressive: exact except the elements at vertices Newton has not yet
  * converged (clamped), all clamped for the rest of the step when S is not positive definite. */
 enum { SW_HESSIAN_PROJECTED = 0, SW_HESSIAN_EXACT = 1, SW_HESSIAN_AUTO = 2, SW_HESSIAN_ABS = 3,
-       SW_HESSIAN_PROGRESSIVE = 4 };
+       SW_HESSIAN_PROGRESSIVE = 4, SW_HESSIAN_NMODES = 5,
+       SW_HESSIAN_DEFAULT = -1 /* not set: abs in 3D, projected in 2D (sw_model_finish) */ };
+/* The scene's and the command line's names of the SW_HESSIAN_* modes, in their order. */
+SW_API const char *const *sw_hessian_names(void);
 
 typedef struct sw_options {
   char method[SW_NAMESZ];      /* integrator name, see sw_method_names() */
   double dt;                   /* step, s */
   double duration;             /* simulated time, s */
   int newton_max;              /* Newton iterations per step before the step fails */
-  double newton_tol;           /* Newton converges when max |dx| <= newton_tol * dt (m/s);
-                                  static solve: when max |grad| <= newton_tol (N) */
+  double newton_tol;           /* m/s: Newton converges when its estimate of the error left in
+                                  the stage positions is at most newton_tol * dt in every
+                                  coordinate (docs/integrators.md, "Newton") */
   int max_halvings;            /* a failed step is retried with dt/2 at most this many times */
   int hessian;                 /* SW_HESSIAN_*: which Hessian Newton's systems use */
   int newton_reuse;            /* 1: keep a factorisation while Newton contracts well */

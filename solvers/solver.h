@@ -127,6 +127,7 @@ typedef struct sw_newton {
   int fac_valid;
   double fac_a, fac_cd;
   double theta;          /* the last observed contraction |dx_k| / |dx_k-1| */
+  int iter;              /* the current iteration of the solve */
 } sw_newton;
 
 typedef struct sw_newton_opts {
@@ -143,6 +144,13 @@ typedef struct sw_newton_opts {
   double cd;             /* damping: v = cd (x - xd) at the stage, 1/s (0: no damping term) */
   const double *xd;      /* (nv x dim) */
 } sw_newton_opts;
+
+/* hessian: abs filters by absolute value for this many iterations of a step, then clamps: far
+ * from the minimiser the absolute value keeps the curvature a compressed element has, near it
+ * clamping converges where abs would keep overshooting (measured, docs/integrators.md; the
+ * idea of switching filters is Chen et al.'s, "Trust-Region Eigenvalue Filtering for Projected
+ * Newton", SIGGRAPH Asia 2024). */
+#define SW_NEWTON_ABS_ITERS 20
 
 /* The contraction |dx_k| / |dx_k-1| above which a kept factorisation is renewed. */
 #define SW_NEWTON_THETA 0.5

@@ -143,7 +143,9 @@ static void test_defaults(void **state) {
   assert_float_equal(m->opt.duration, 1.0, 0.0);
   assert_int_equal(m->opt.newton_max, 50);
   assert_int_equal(m->opt.max_halvings, 8);
-  assert_int_equal(m->opt.hessian, SW_HESSIAN_AUTO);
+  assert_int_equal(m->opt.hessian, SW_HESSIAN_ABS);
+  assert_float_equal(m->opt.newton_tol, 1e-2, 0.0);
+  assert_int_equal(m->opt.newton_reuse, 0);
   assert_float_equal(m->opt.tx_k_u, -1.0, 0.0);
   assert_float_equal(m->opt.tx_clip, 5e4, 0.0);
   assert_int_equal(m->opt.tx_reference_uv, 0);

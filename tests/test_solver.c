@@ -140,12 +140,62 @@ static void newton_minimises(void **st) {
   sw_model_free(m);
 }
 
+/* One Newton iteration (no line search) of every Hessian mode from a compressed, crumpled
+ * state: its step dx is a descent direction of Phi, grad Phi . dx < 0 (the exact Hessian may
+ * instead be refused as not positive definite, never give an ascent step). */
+static void every_mode_descends(void **st) {
+  (void)st;
+  const int modes[5] = {SW_HESSIAN_PROJECTED, SW_HESSIAN_ABS, SW_HESSIAN_PROGRESSIVE,
+                        SW_HESSIAN_AUTO, SW_HESSIAN_EXACT};
+  for (int k = 0; k < 5; k++) {
+    sw_model *m = small_model(3);
+    m->opt.hessian = modes[k];
+    sw_data *d = sw_data_new(m);
+    sw_newton nw;
+    char err[SW_ERRSZ];
+    assert_int_equal(sw_newton_init(&nw, m, err, sizeof err), 0);
+    int nd = m->nv * 3, descents = 0;
+    double *x = calloc((size_t)nd, sizeof *x), *x1 = calloc((size_t)nd, sizeof *x1);
+    double *g = calloc((size_t)nw.n, sizeof *g);
+    unsigned long rs = 11;
+    for (int trial = 0; trial < 8; trial++) {
+      for (int i = 0; i < nd; i++) /* compressed to 60 %, crumpled out of plane by 1 cm */
+        x[i] = m->dof[i] < 0 ? m->x0[i] : 0.6 * m->x0[i] + 0.01 * th_rand(&rs);
+      memcpy(x1, x, sizeof(double) * (size_t)nd);
+      double phi, h = 0.01;
+      assert_int_equal(sw_newton_phi(&nw, m, d, x, x, 1 / (h * h), 0.0, 1, 0, 0, &phi), 0);
+      memcpy(g, nw.g, sizeof(double) * (size_t)nw.n);
+      sw_newton_opts o = {.a = 1 / (h * h), .max_iter = 1, .tol_dx = 0.0, .line_search = 0,
+                          .must_converge = 0, .hessian = modes[k]};
+      int rc = sw_newton_solve(&nw, m, d, x1, x, &o);
+      if (modes[k] == SW_HESSIAN_EXACT && rc == SW_RECOVER) {
+        assert_non_null(strstr(d->err, "not positive definite"));
+        continue;
+      }
+      assert_int_equal(rc, 0);
+      double slope = 0.0;
+      for (int i = 0; i < nd; i++)
+        if (m->dof[i] >= 0) slope += g[m->dof[i]] * (x1[i] - x[i]);
+      assert_true(slope < 0.0);
+      descents++;
+    }
+    print_message("hessian %s: %d of 8 steps are descent directions\n",
+                  sw_hessian_names()[modes[k]], descents);
+    if (modes[k] != SW_HESSIAN_EXACT) assert_int_equal(descents, 8);
+    sw_newton_free(&nw);
+    free(x), free(x1), free(g);
+    sw_data_free(d);
+    sw_model_free(m);
+  }
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(fill_3d),
       cmocka_unit_test(fill_2d),
       cmocka_unit_test(not_positive_definite),
       cmocka_unit_test(newton_minimises),
+      cmocka_unit_test(every_mode_descends),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
