@@ -81,23 +81,11 @@ long sw_chol_nnz(const sw_chol *ch);
 int sw_chol_solve(sw_chol *ch, const double *rhs, double *sol, char *err, size_t errsz);
 void sw_chol_free(sw_chol *ch);
 
-/* ----------------------------------------------------------------- filter.c */
-/* Eigenvalue filtering of one symmetric n x n block (row-major, n <= nmax) in place: mode
- * SW_FILTER_CLAMP (negative eigenvalues to 0) or SW_FILTER_ABS (to their absolute value).
- * Returns 0 when the block was left as it was (PSD already, or SW_FILTER_NONE), 1 when it was
- * filtered, -1 when n > nmax or the block is not finite. */
-typedef struct sw_filter {
-  int nmax, lwork;
-  double *q, *lambda, *work; /* (nmax x nmax), (nmax), (lwork): LAPACK dsyev's workspaces */
-} sw_filter;
-int sw_filter_init(sw_filter *f, int nmax);
-void sw_filter_free(sw_filter *f);
-int sw_filter_block(sw_filter *f, double *A, int n, int mode);
+/* ----------------------------------------------------------------- newton.c */
 /* The filter the terms apply on the first evaluation of a Hessian in mode SW_HESSIAN_*:
  * projected -> clamp, abs -> abs, the others -> none (exact). */
 int sw_hessian_filter(int hessian);
 
-/* ----------------------------------------------------------------- newton.c */
 /* Minimise Phi(x) = a/2 (x - xhat)^T M (x - xhat) + U(x, t) + cd/2 (x - xd)^T D (x - xd) over
  * the free DOFs (pinned components of x stay as given).  a = 1/h^2 for backward Euler (the
  * incremental potential); with damping, the stage velocity is v = cd (x - xd) (BE: cd = 1/h,
