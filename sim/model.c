@@ -16,6 +16,7 @@ sw_model *sw_model_new(void) {
   o->duration = 1.0;
   o->newton_max = 50;
   o->newton_tol = 1e-6;
+  o->newton_force_tol = 1e-10;
   o->max_halvings = 8;
   o->hessian = SW_HESSIAN_AUTO;
   o->rtol = 1e-6;
