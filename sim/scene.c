@@ -382,7 +382,7 @@ static const char *const int_keys[] = {"method", "dt", "max_halvings", "newton",
                                        "tendon_dense_max"};
 /* in the order of SW_HESSIAN_PROJECTED, _EXACT, _AUTO */
 static const char *const hessian_modes[] = {"projected", "exact", "auto"};
-static const char *const newton_keys[] = {"max_iterations", "tol"};
+static const char *const newton_keys[] = {"max_iterations", "tol", "force_tol"};
 
 static int load_method(const ctx *c, const ynode *y) {
   const char *const *names = sw_method_names();
@@ -397,7 +397,7 @@ static int load_method(const ctx *c, const ynode *y) {
 
 static int load_integrator(const ctx *c, const ynode *y) {
   sw_options *o = &c->m->opt;
-  const ynode *v[11], *nv[2];
+  const ynode *v[11], *nv[3];
   if (sy_map(c, y, "integrator", int_keys, 11, v)) return -1;
   if (v[10] && sy_int(c, v[10], "integrator tendon_dense_max", 0, INT_MAX, &o->tendon_dense_max))
     return -1;
@@ -412,11 +412,18 @@ static int load_integrator(const ctx *c, const ynode *y) {
   if (v[1] && sy_num(c, v[1], "integrator dt", 0, 1, "s", &o->dt)) return -1;
   if (v[2] && sy_int(c, v[2], "integrator max_halvings", 0, 60, &o->max_halvings)) return -1;
   if (!v[3]) return 0;
-  if (sy_map(c, v[3], "integrator newton", newton_keys, 2, nv)) return -1;
+  if (sy_map(c, v[3], "integrator newton", newton_keys, 3, nv)) return -1;
   if (nv[0] &&
       sy_int(c, nv[0], "integrator newton max_iterations", 1, INT_MAX, &o->newton_max))
     return -1;
   if (nv[1] && sy_num(c, nv[1], "integrator newton tol", 0, 1, NULL, &o->newton_tol)) return -1;
+  if (nv[2]) { /* static solve; relative to the force scale, so below 1 */
+    double v = 0.0;
+    if (sy_scalar_number(nv[2], &v) || !(v > 0.0 && v < 1.0))
+      return sy_type_error(c, nv[2], "integrator newton force_tol",
+                           "a number in (0, 1) (relative to the force scale)");
+    o->newton_force_tol = v;
+  }
   return 0;
 }
 
