@@ -22,6 +22,7 @@ sw_model *sw_model_new(void) {
   o->duration = 1.0;
   o->newton_max = 50;
   o->newton_tol = 1e-2; /* m/s: docs/integrators.md, "Newton" (measured) */
+  o->newton_force_tol = 1e-10;
   o->max_halvings = 8;
   o->hessian = SW_HESSIAN_DEFAULT; /* abs in 3D, projected in 2D (sw_model_finish) */
   o->newton_reuse = 0;

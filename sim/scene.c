@@ -380,7 +380,7 @@ static int load_gravity(const ctx *c, const ynode *y) {
 static const char *const int_keys[] = {"method", "dt", "max_halvings", "newton", "hessian",
                                        "rtol", "atol", "max_order", "max_step", "energy_bound",
                                        "tendon_dense_max"};
-static const char *const newton_keys[] = {"max_iterations", "tol", "reuse"};
+static const char *const newton_keys[] = {"max_iterations", "tol", "reuse", "force_tol"};
 static const char *const on_off[] = {"false", "true"};
 
 static int load_method(const ctx *c, const ynode *y) {
@@ -396,7 +396,7 @@ static int load_method(const ctx *c, const ynode *y) {
 
 static int load_integrator(const ctx *c, const ynode *y) {
   sw_options *o = &c->m->opt;
-  const ynode *v[11], *nv[3];
+  const ynode *v[11], *nv[4];
   if (sy_map(c, y, "integrator", int_keys, 11, v)) return -1;
   if (v[10] && sy_int(c, v[10], "integrator tendon_dense_max", 0, INT_MAX, &o->tendon_dense_max))
     return -1;
@@ -412,13 +412,20 @@ static int load_integrator(const ctx *c, const ynode *y) {
   if (v[1] && sy_num(c, v[1], "integrator dt", 0, 1, "s", &o->dt)) return -1;
   if (v[2] && sy_int(c, v[2], "integrator max_halvings", 0, 60, &o->max_halvings)) return -1;
   if (!v[3]) return 0;
-  if (sy_map(c, v[3], "integrator newton", newton_keys, 3, nv)) return -1;
+  if (sy_map(c, v[3], "integrator newton", newton_keys, 4, nv)) return -1;
   if (nv[2] && sy_choice(c, nv[2], "integrator newton reuse", on_off, 2, &o->newton_reuse))
     return -1;
   if (nv[0] &&
       sy_int(c, nv[0], "integrator newton max_iterations", 1, INT_MAX, &o->newton_max))
     return -1;
   if (nv[1] && sy_num(c, nv[1], "integrator newton tol", 0, 1, NULL, &o->newton_tol)) return -1;
+  if (nv[3]) { /* static solve; relative to the force scale, so below 1 */
+    double v = 0.0;
+    if (sy_scalar_number(nv[3], &v) || !(v > 0.0 && v < 1.0))
+      return sy_type_error(c, nv[3], "integrator newton force_tol",
+                           "a number in (0, 1) (relative to the force scale)");
+    o->newton_force_tol = v;
+  }
   return 0;
 }
 

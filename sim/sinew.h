@@ -185,6 +185,9 @@ typedef struct sw_options {
   double newton_tol;           /* m/s: Newton converges when its estimate of the error left in
                                   the stage positions is at most newton_tol * dt in every
                                   coordinate (docs/integrators.md, "Newton") */
+  double newton_force_tol;     /* static solve: converged when the largest free force component
+                                  is <= newton_force_tol x the force scale (dimensionless; or
+                                  at its round-off floor, docs/integrators.md) */
   int max_halvings;            /* a failed step is retried with dt/2 at most this many times */
   int hessian;                 /* SW_HESSIAN_*: which Hessian Newton's systems use */
   int newton_reuse;            /* 1: keep a factorisation while Newton contracts well */
@@ -281,6 +284,17 @@ SW_API void sw_model_print(const sw_model *m, void *file /* FILE* */);
 
 /* ------------------------------------------------------------------ data */
 
+/* Where a static solve stopped (docs/integrators.md, "The static solve"). */
+typedef struct sw_static_info {
+  int iterations;              /* Newton iterations */
+  int roundoff;                /* 1: stopped at the round-off floor; 0: at the tolerance (or
+                                  not converged) */
+  double force;                /* N: the largest free force component max_i |dU/dx_i| */
+  double tol;                  /* N: the tolerance, force_tol x the force scale */
+  double floor;                /* N: the largest round-off floor rho_i of a free component */
+  double floor_ratio;          /* max_i |dU/dx_i| / rho_i: <= 1 at the floor */
+} sw_static_info;
+
 struct sw_data {
   double t;                    /* s */
   double *x, *v;               /* (nv x dim) positions m, velocities m/s */
@@ -308,6 +322,7 @@ struct sw_data {
   double energy_bound;         /* J: a step whose K + U exceeds this fails (0: no check; sw_run
                                   sets it from opt.energy_bound) */
   int last_newton;             /* Newton iterations of the last step */
+  sw_static_info static_info;  /* where the last static solve stopped (sw_static_solve) */
   double last_dt;              /* size of the last accepted step, s */
   double time_assemble, time_factor, time_solve, time_step; /* s of wall time */
   long factor_nnz;             /* nonzeros of the Cholesky factor L of the last factorisation

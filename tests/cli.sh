@@ -188,5 +188,17 @@ grep -Evq '^[0-9.e-]+,(left|middle|right),[^,]+,[^,]+,[^,]+$' <(tail -n +2 "$tmp
   fail "tendons.csv lines: $(head -3 "$tmp/tm/tendons.csv")"
 grep -q '"tendons.csv"' "$tmp/tm/summary.json" || fail "summary lists tendons.csv"
 
+# A static run of a stiff chain (tests/data/static_chain.yaml): its forces stop at their
+# round-off floor, far above the default tolerance; the run succeeds (exit 0, status ok) and
+# writes the equilibrium, whose middle node sags q l^2 / (8 T) = 0.613125 um.
+"$sinew" run tests/data/static_chain.yaml --out "$tmp/sc" --positions-every 1 --quiet \
+  2>"$tmp/err" || fail "static run of a stiff chain: $(cat "$tmp/err")"
+grep -q '"status": "ok"' "$tmp/sc/summary.json" || fail "static chain: summary status"
+[ "$(stat -c %s "$tmp/sc/positions.bin")" -eq $((16 + 8 * (1 + 11 * 2))) ] ||
+  fail "static chain: positions.bin holds one record"
+y5=$(od -An -t f8 -j $((16 + 8 * 12)) -N 8 "$tmp/sc/positions.bin")  # vertex 5, y
+awk -v y="$y5" 'BEGIN { e = (-y - 6.13125e-7) / 6.13125e-7; exit !(e < 1e-6 && e > -1e-6) }' ||
+  fail "static chain: middle node at y = $y5 m, expected -6.13125e-07 m"
+
 echo "$fails failure(s)"
 [ "$fails" -eq 0 ]

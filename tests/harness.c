@@ -141,3 +141,58 @@ double th_slope(const double *h, const double *e, int n) {
   }
   return (n * sxy - sx * sy) / (n * sxx - sx * sx);
 }
+
+/* ------------------------------------------------------------ elastic catenary */
+
+/* Written without cancellation, so that a taut cable (V/H and (V - W)/H tiny) keeps its sag:
+ * asinh a - asinh b = asinh(a sqrt(1 + b^2) - b sqrt(1 + a^2)) and
+ * sqrt(1 + a^2) - sqrt(1 + b^2) = (a - b)(a + b) / (sqrt(1 + a^2) + sqrt(1 + b^2)). */
+void th_irvine_conditions(const th_irvine *c, double H, double V, double f[2], double J[4]) {
+  const double L0 = c->L0, EA = c->EA, W = c->W;
+  double a = V / H, b = (V - W) / H, A = sqrt(1.0 + a * a), B = sqrt(1.0 + b * b);
+  double dasinh = asinh(a * B - b * A), dsqrt = (W / H) * (a + b) / (A + B);
+  f[0] = H * L0 / EA + H * L0 / W * dasinh - c->l;
+  f[1] = L0 / EA * (V - 0.5 * W) + H * L0 / W * dsqrt - c->h;
+  double dinv = -dsqrt / (A * B);                                     /* 1/A - 1/B */
+  J[0] = L0 / EA + L0 / W * (dasinh - a / A + b / B);                 /* d f1 / dH */
+  J[1] = L0 / W * dinv;                                               /* d f1 / dV */
+  J[2] = J[1];                                                        /* d f2 / dH */
+  J[3] = L0 / EA + L0 / W * (a / A - b / B);                          /* d f2 / dV */
+}
+
+int th_irvine_solve(th_irvine *c) {
+  /* Start from the parabola of the inextensible cable: its length l + 8 f^2/(3 l) (f the sag
+   * below the chord) is L0, H = W l / (8 f), and V carries half the weight plus the chord's
+   * share; a cable that is taut or nearly so starts from a sag of l/1000. */
+  double chord = sqrt(c->l * c->l + c->h * c->h), size = fmax(chord, c->L0);
+  double f0 = fmax(sqrt(3.0 * c->l * fmax(c->L0 - chord, 0.0) / 8.0), 1e-3 * c->l);
+  double H = c->W * c->l / (8.0 * f0), V = 0.5 * c->W + H * c->h / c->l, f[2], J[4];
+  for (int it = 0; it < 200; it++) {
+    th_irvine_conditions(c, H, V, f, J);
+    double r = hypot(f[0], f[1]);
+    if (r <= 1e-13 * size) {
+      c->H = H, c->V = V;
+      return 0;
+    }
+    double det = J[0] * J[3] - J[1] * J[2];
+    double dH = -(J[3] * f[0] - J[1] * f[1]) / det, dV = -(J[0] * f[1] - J[2] * f[0]) / det;
+    /* halve until H stays positive and the residual falls */
+    for (double t = 1.0; t > 1e-12; t *= 0.5) {
+      double Ht = H + t * dH, Vt = V + t * dV, ft[2], Jt[4];
+      if (!(Ht > 0.0)) continue;
+      th_irvine_conditions(c, Ht, Vt, ft, Jt);
+      if (hypot(ft[0], ft[1]) < r || t < 1e-6) {
+        H = Ht, V = Vt;
+        break;
+      }
+    }
+  }
+  return -1;
+}
+
+void th_irvine_point(const th_irvine *c, double s, double *x, double *z) {
+  const double H = c->H, V = c->V, W = c->W, L0 = c->L0, EA = c->EA;
+  double a = V / H, q = (V - W * s / L0) / H, A = sqrt(1.0 + a * a), Q = sqrt(1.0 + q * q);
+  *x = H * s / EA + H * L0 / W * asinh(a * Q - q * A);
+  *z = W * s / EA * (V / W - s / (2.0 * L0)) + s * (a + q) / (A + Q); /* (H L0/W)(A - Q) */
+}

@@ -39,6 +39,29 @@ void th_dense_hessian(const sw_model *m, int k, const double *blocks, double *H)
 /* H += sum_r u_r u_r^T over term k's low-rank vectors (values as in d->lowrank + d->loff[k]). */
 void th_dense_lowrank(const sw_model *m, int k, const double *vecs, double *H);
 
+/* The elastic catenary (H. M. Irvine, "Cable Structures", MIT Press 1981, chapter 2): a cable
+ * of unstretched length L0 (m), axial stiffness EA (N) and weight W (N) spread evenly over its
+ * unstretched length, hanging from (0, 0) to (l, h) in a vertical plane, x across, z DOWN.
+ * With s in [0, L0] the unstretched (Lagrangian) coordinate, H the horizontal component of the
+ * tension (the same everywhere) and V the vertical one at s = 0 (the upward force the support
+ * at s = 0 exerts), equilibrium and Hooke's law T = EA (ds'/ds - 1) give
+ *   x(s) = H s / EA + (H L0 / W) [asinh(V/H) - asinh((V - W s/L0)/H)]
+ *   z(s) = (W s / EA)(V/W - s/(2 L0))
+ *          + (H L0 / W) [sqrt(1 + (V/H)^2) - sqrt(1 + ((V - W s/L0)/H)^2)]
+ * and H, V solve x(L0) = l, z(L0) = h (th_irvine_solve: Newton on these two conditions, whose
+ * Jacobian is the symmetric flexibility matrix). */
+typedef struct th_irvine {
+  double l, h;                 /* span and drop of the far support (z down), m */
+  double L0, EA, W;            /* unstretched length m, axial stiffness N, weight N */
+  double H, V;                 /* N, filled by th_irvine_solve */
+} th_irvine;
+/* H and V; 0 on success, -1 when Newton did not converge (residual > 1e-13 of the size). */
+int th_irvine_solve(th_irvine *c);
+/* The residual (x(L0) - l, z(L0) - h) at (H, V) and its Jacobian d(f1, f2)/d(H, V), row-major. */
+void th_irvine_conditions(const th_irvine *c, double H, double V, double f[2], double J[4]);
+/* The position (x, z) of the material point s (0 <= s <= L0), z down. */
+void th_irvine_point(const th_irvine *c, double s, double *x, double *z);
+
 /* The conformance harness (tests/conformance.c, cmocka asserts): term `name` of m at 12 random
  * states around x0 (stretched, compressed to 0.3 and to 0.05 of x0), size the model's length
  * scale (m): gradient and Hessian against central differences, symmetry, and with the flags

@@ -27,7 +27,7 @@
 
 static char tmpdir[1024];
 static const char *srcdir;
-static char written[64][1100];  /* files to remove at the end */
+static char written[256][1100]; /* files to remove at the end */
 static int nwritten;
 
 /* Write text to tmpdir/name; the full path into path. */
@@ -39,7 +39,7 @@ static void write_file(const char *name, const char *text, char *path, size_t sz
   fclose(f);
   for (int i = 0; i < nwritten; i++)
     if (!strcmp(written[i], path)) return;
-  if (nwritten < 64) snprintf(written[nwritten++], sizeof written[0], "%s", path);
+  if (nwritten < 256) snprintf(written[nwritten++], sizeof written[0], "%s", path);
 }
 
 static sw_model *load_text(const char *name, const char *text, char *err) {
@@ -72,7 +72,7 @@ static const char good_scene[] =
     "  - {velocity: [0, 0, 1.0]}\n"
     "  - {velocity: [1, 0, 0], select: {vertices: [44]}}\n"
     "integrator: {method: backward-euler, dt: 0.005, max_halvings: 4, hessian: projected,\n"
-    "             newton: {max_iterations: 20, tol: 1e-8}}\n"
+    "             newton: {max_iterations: 20, tol: 1e-8, force_tol: 1e-7}}\n"
     "duration: 3\n"
     "output: {dir: out/here, frames_every: 0.1, positions_every: 0.25}\n"
     "tension_xy: {clip: 1e4, reference: uv, k_v: 300}\n";
@@ -113,6 +113,7 @@ static void test_good_scene(void **state) {
   assert_int_equal(m->opt.hessian, SW_HESSIAN_PROJECTED);
   assert_int_equal(m->opt.newton_max, 20);
   assert_float_equal(m->opt.newton_tol, 1e-8, 0.0);
+  assert_float_equal(m->opt.newton_force_tol, 1e-7, 0.0);
   assert_float_equal(m->opt.duration, 3.0, 0.0);
   assert_string_equal(m->opt.out_dir, "out/here");
   assert_float_equal(m->opt.frames_every, 0.1, 0.0);
@@ -142,6 +143,7 @@ static void test_defaults(void **state) {
   assert_float_equal(m->opt.dt, 0.01, 0.0);
   assert_float_equal(m->opt.duration, 1.0, 0.0);
   assert_int_equal(m->opt.newton_max, 50);
+  assert_float_equal(m->opt.newton_force_tol, 1e-10, 0.0);
   assert_int_equal(m->opt.max_halvings, 8);
   assert_int_equal(m->opt.hessian, SW_HESSIAN_ABS);
   assert_float_equal(m->opt.newton_tol, 1e-2, 0.0);
@@ -467,6 +469,15 @@ static const bad_case bad[] = {
     {"hessian.yaml", GRID MAT "integrator: {hessian: fancy}\n", 3, 23, "projected, exact, auto"},
     {"newton.yaml", GRID MAT "integrator: {newton: {max_iterations: 0}}\n", 3, 39,
      "max_iterations"},
+    {"force_tol_zero.yaml", GRID MAT "integrator: {newton: {force_tol: 0}}\n", 3, 34,
+     "integrator newton force_tol is 0; expected a number in (0, 1) (relative to the force "
+     "scale)"},
+    {"force_tol_one.yaml", GRID MAT "integrator: {newton: {force_tol: 1}}\n", 3, 34,
+     "force_tol is 1; expected a number in (0, 1)"},
+    {"force_tol_text.yaml", GRID MAT "integrator: {newton: {tol: 1e-6, force_tol: tight}}\n", 3,
+     45, "force_tol"},
+    {"force_tol_inf.yaml", GRID MAT "integrator: {newton: {force_tol: .inf}}\n", 3, 34,
+     "force_tol"},
     {"plane_2d.yaml", "dimension: 2\nmesh: {grid: {size: [1, 1], vertices: [3, 3], plane: xz}}\n"
                       MAT, 2, 54, "xy"},
     {"duplicate.yaml", GRID MAT "duration: 1\nduration: 2\n", 4, 1, "duplicate key 'duration'"},

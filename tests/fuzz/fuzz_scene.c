@@ -32,7 +32,8 @@ static void check_model(const sw_model *m) {
     if (m->pinned[i] > 1) abort();
   const sw_options *o = &m->opt;
   if (!(o->dt > 0) || !(o->duration >= 0) || !(o->frames_every >= 0) || !(o->positions_every >= 0) || o->newton_max < 1 ||
-      !(o->newton_tol > 0) || o->max_halvings < 0 || o->max_halvings > 60 || !o->method[0] ||
+      !(o->newton_tol > 0) || !(o->newton_force_tol > 0 && o->newton_force_tol < 1) ||
+      o->max_halvings < 0 || o->max_halvings > 60 || !o->method[0] ||
       !o->out_dir[0] || !(o->tx_clip > 0))
     abort();
 }
