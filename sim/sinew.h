@@ -297,6 +297,7 @@ struct sw_data {
   long nstep, nnewton, nfactor, nassemble, nforce, nretry, nlinesearch;
   long nerrfail;               /* error-test failures of adaptive methods */
   long nsetup;                 /* linear-solver setups of SUNDIALS methods */
+  long nstep_order[5];         /* adaptive methods: steps taken at BDF order 1..5 */
   double energy_bound;         /* J: a step whose K + U exceeds this fails (0: no check; sw_run
                                   sets it from opt.energy_bound) */
   int last_newton;             /* Newton iterations of the last step */
