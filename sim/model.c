@@ -22,6 +22,7 @@ sw_model *sw_model_new(void) {
   o->atol = 1e-8;
   o->max_order = 5;
   o->max_step = 0.0;
+  o->setup_every = 200;
   o->energy_bound = 0.0;
   o->frames_every = 0.0;
   o->positions_every = 0.0;

@@ -379,7 +379,7 @@ static int load_gravity(const ctx *c, const ynode *y) {
 
 static const char *const int_keys[] = {"method", "dt", "max_halvings", "newton", "hessian",
                                        "rtol", "atol", "max_order", "max_step", "energy_bound",
-                                       "tendon_dense_max"};
+                                       "tendon_dense_max", "setup_every"};
 /* in the order of SW_HESSIAN_PROJECTED, _EXACT, _AUTO */
 static const char *const hessian_modes[] = {"projected", "exact", "auto"};
 static const char *const newton_keys[] = {"max_iterations", "tol"};
@@ -397,8 +397,10 @@ static int load_method(const ctx *c, const ynode *y) {
 
 static int load_integrator(const ctx *c, const ynode *y) {
   sw_options *o = &c->m->opt;
-  const ynode *v[11], *nv[2];
-  if (sy_map(c, y, "integrator", int_keys, 11, v)) return -1;
+  const ynode *v[12], *nv[2];
+  if (sy_map(c, y, "integrator", int_keys, 12, v)) return -1;
+  if (v[11] && sy_int(c, v[11], "integrator setup_every", 1, INT_MAX, &o->setup_every))
+    return -1;
   if (v[10] && sy_int(c, v[10], "integrator tendon_dense_max", 0, INT_MAX, &o->tendon_dense_max))
     return -1;
   if (v[5] && sy_num(c, v[5], "integrator rtol", 0, 1, NULL, &o->rtol)) return -1;

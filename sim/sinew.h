@@ -184,6 +184,8 @@ typedef struct sw_options {
   double rtol, atol;           /* adaptive methods (CVODE, IDA): relative, absolute (m, m/s) */
   int max_order;               /* adaptive methods: largest BDF order (1..5) */
   double max_step;             /* adaptive methods: largest internal step, s (0: no limit) */
+  int setup_every;             /* cvode: most steps between two setups of its Newton matrix
+                                  (CVodeSetLSetupFrequency; SUNDIALS' default is 20) */
   double energy_bound;         /* J: a step whose total energy exceeds it fails (0: automatic,
                                   1e3 x the initial energy scale above the initial energy) */
   char out_dir[SW_PATHSZ];     /* output folder */

@@ -2,7 +2,10 @@
  * order system y = [x; v] over the free DOFs,
  *   y' = [v; M^-1 f(x, v, t)],   f = -dU/dx - D(x) v  (D: Rayleigh damping, damping.c).
  * Tolerances: scalar rtol and atol (m->opt), the same atol for positions (m) and velocities
- * (m/s).  Largest order m->opt.max_order, largest step m->opt.max_step when > 0.
+ * (m/s).  Largest order m->opt.max_order, largest step m->opt.max_step when > 0.  A new Newton
+ * matrix (a linear-solver setup: one CHOLMOD factorisation) at least every m->opt.setup_every
+ * steps (SUNDIALS' default is 20), and whenever CVODE asks for one: gamma moved by more than 30 %
+ * since the last, or Newton failed to converge.
  *
  * The linear solve (sundials_ls.h).  CVODE's Newton matrix is I - gamma J with
  *   J = [[0, I], [-M^-1 H, -M^-1 D]]   (H = d2U/dx2 = -df/dx, the K of df/dx = -H).
@@ -147,6 +150,8 @@ static int cv_init(void **state, const sw_model *m, sw_data *d, char *err, size_
   else if ((flag = CVodeSetLinearSolver(s->mem, s->sys.LS, s->sys.A)))
     what = "CVodeSetLinearSolver";
   else if ((flag = CVodeSetLinSysFn(s->mem, cv_linsys))) what = "CVodeSetLinSysFn";
+  else if ((flag = CVodeSetLSetupFrequency(s->mem, o->setup_every)))
+    what = "CVodeSetLSetupFrequency";
   if (flag) {
     sw_sun_fail(err, errsz, "CVODE", what, CVodeGetReturnFlagName(flag), s->sys.msg, "");
     cv_free(s);

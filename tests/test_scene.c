@@ -72,7 +72,7 @@ static const char good_scene[] =
     "  - {velocity: [0, 0, 1.0]}\n"
     "  - {velocity: [1, 0, 0], select: {vertices: [44]}}\n"
     "integrator: {method: backward-euler, dt: 0.005, max_halvings: 4, hessian: projected,\n"
-    "             newton: {max_iterations: 20, tol: 1e-8}}\n"
+    "             newton: {max_iterations: 20, tol: 1e-8}, setup_every: 50}\n"
     "duration: 3\n"
     "output: {dir: out/here, frames_every: 0.1, positions_every: 0.25}\n"
     "tension_xy: {clip: 1e4, reference: uv, k_v: 300}\n";
@@ -113,6 +113,7 @@ static void test_good_scene(void **state) {
   assert_int_equal(m->opt.hessian, SW_HESSIAN_PROJECTED);
   assert_int_equal(m->opt.newton_max, 20);
   assert_float_equal(m->opt.newton_tol, 1e-8, 0.0);
+  assert_int_equal(m->opt.setup_every, 50);
   assert_float_equal(m->opt.duration, 3.0, 0.0);
   assert_string_equal(m->opt.out_dir, "out/here");
   assert_float_equal(m->opt.frames_every, 0.1, 0.0);
@@ -144,6 +145,7 @@ static void test_defaults(void **state) {
   assert_int_equal(m->opt.newton_max, 50);
   assert_int_equal(m->opt.max_halvings, 8);
   assert_int_equal(m->opt.hessian, SW_HESSIAN_AUTO);
+  assert_int_equal(m->opt.setup_every, 200);
   assert_float_equal(m->opt.tx_k_u, -1.0, 0.0);
   assert_float_equal(m->opt.tx_clip, 5e4, 0.0);
   assert_int_equal(m->opt.tx_reference_uv, 0);
@@ -463,6 +465,7 @@ static const bad_case bad[] = {
     {"method.yaml", GRID MAT "integrator: {method: rk4}\n", 3, 22, "backward-euler"},
     {"halvings.yaml", GRID MAT "integrator: {max_halvings: 61}\n", 3, 28, "[0, 60]"},
     {"hessian.yaml", GRID MAT "integrator: {hessian: fancy}\n", 3, 23, "projected, exact, auto"},
+    {"setup_every.yaml", GRID MAT "integrator: {setup_every: 0}\n", 3, 27, "setup_every"},
     {"newton.yaml", GRID MAT "integrator: {newton: {max_iterations: 0}}\n", 3, 39,
      "max_iterations"},
     {"plane_2d.yaml", "dimension: 2\nmesh: {grid: {size: [1, 1], vertices: [3, 3], plane: xz}}\n"

@@ -4,7 +4,8 @@
  *   - on a small swinging cloth the error against a tight reference falls with rtol, and CVODE
  *     and IDA agree with each other;
  *   - counters are consistent; a caller who changes the state makes the integrator restart;
- *   - max_order bounds the BDF order of every step (steps counted per order);
+ *   - max_order bounds the BDF order of every step (steps counted per order); setup_every
+ *     bounds the steps between CVODE's linear-solver setups;
  *   - a force that turns NaN fails the step fast, naming SUNDIALS' flag and the cause;
  *   - bad options fail at init with SUNDIALS' flag name. */
 #include <math.h>
@@ -272,6 +273,32 @@ static void max_order_is_honoured(void **st) {
   }
 }
 
+/* CVODE sets its Newton matrix up at least every setup_every steps: at every step with 1, at
+ * least every 20th with 20, and less often with 1000 (gamma's drift and failures still ask for
+ * setups), on the same path to the tolerance. */
+static void setup_every_is_honoured(void **st) {
+  (void)st;
+  const int every[3] = {1, 20, 1000};
+  long nsetup[3];
+  double *x0 = NULL;
+  for (int j = 0; j < 3; j++) {
+    sw_model *m = swing_model();
+    m->opt.setup_every = every[j];
+    run_out o = run(&sw_cvode_ops, m, 1e-6, 1e-8, 0.2, 4);
+    double dd = x0 ? th_max_diff(o.x, x0, m->nv * m->dim) : 0.0;
+    print_message("cvode setup_every %4d: %ld steps, %ld setups, %ld factorisations, %.2g m from "
+                  "the first\n", every[j], o.nstep, o.nsetup, o.nfactor, dd);
+    assert_true(o.nsetup >= o.nstep / every[j]);
+    assert_true(dd < 1e-6);
+    nsetup[j] = o.nsetup;
+    if (!x0) x0 = o.x, free(o.v);
+    else run_free(&o);
+    sw_model_free(m);
+  }
+  assert_true(nsetup[2] < nsetup[1]);
+  free(x0);
+}
+
 /* ------------------------------------------------------ restart, hessian */
 
 /* Output intervals do not change the integration (interpolated output); a caller who changes
@@ -470,6 +497,7 @@ int main(void) {
       cmocka_unit_test(free_fall),
       cmocka_unit_test(error_falls_with_rtol),
       cmocka_unit_test(max_order_is_honoured),
+      cmocka_unit_test(setup_every_is_honoured),
       cmocka_unit_test(intervals_and_restart),
       cmocka_unit_test(hessian_fallback_in_setup),
       cmocka_unit_test(hessian_choices),
