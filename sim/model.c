@@ -20,7 +20,7 @@ sw_model *sw_model_new(void) {
   o->hessian = SW_HESSIAN_AUTO;
   o->rtol = 1e-6;
   o->atol = 1e-8;
-  o->max_order = 5;
+  o->max_order = 0; /* automatic: sw_max_order */
   o->max_step = 0.0;
   o->setup_every = 200;
   o->energy_bound = 0.0;

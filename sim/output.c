@@ -771,7 +771,7 @@ static void summary_model(writer *w, const sw_model *m) {
   if (sw_method_adaptive(m->opt.method) == 1) {
     w_json_num(w, "rtol", m->opt.rtol);
     w_json_num(w, "atol", m->opt.atol);   /* m and m/s */
-    w_json_long(w, "max_order", m->opt.max_order);
+    w_json_long(w, "max_order", sw_max_order(m)); /* the order in use, automatic or not */
   }
 }
 

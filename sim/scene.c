@@ -395,6 +395,15 @@ static int load_method(const ctx *c, const ynode *y) {
   return 0;
 }
 
+/* max_order: `auto` (0) or an integer in [1, 5]. */
+static int load_max_order(const ctx *c, const ynode *y, int *out) {
+  if (y->kind == Y_SCALAR && y->plain && !strcmp(y->text, "auto")) return *out = 0, 0;
+  double v;
+  if (sy_scalar_number(y, &v))
+    return sy_type_error(c, y, "integrator max_order", "auto or an integer in [1, 5]");
+  return sy_int(c, y, "integrator max_order", 1, 5, out);
+}
+
 static int load_integrator(const ctx *c, const ynode *y) {
   sw_options *o = &c->m->opt;
   const ynode *v[12], *nv[2];
@@ -405,7 +414,7 @@ static int load_integrator(const ctx *c, const ynode *y) {
     return -1;
   if (v[5] && sy_num(c, v[5], "integrator rtol", 0, 1, NULL, &o->rtol)) return -1;
   if (v[6] && sy_num(c, v[6], "integrator atol", 0, 1, NULL, &o->atol)) return -1;
-  if (v[7] && sy_int(c, v[7], "integrator max_order", 1, 5, &o->max_order)) return -1;
+  if (v[7] && load_max_order(c, v[7], &o->max_order)) return -1;
   if (v[8] && sy_num(c, v[8], "integrator max_step", 0, 0, "s", &o->max_step)) return -1;
   if (v[9] && sy_num(c, v[9], "integrator energy_bound", 0, 1, "J", &o->energy_bound))
     return -1;

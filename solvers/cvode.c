@@ -2,7 +2,8 @@
  * order system y = [x; v] over the free DOFs,
  *   y' = [v; M^-1 f(x, v, t)],   f = -dU/dx - D(x) v  (D: Rayleigh damping, damping.c).
  * Tolerances: scalar rtol and atol (m->opt), the same atol for positions (m) and velocities
- * (m/s).  Largest order m->opt.max_order, largest step m->opt.max_step when > 0.  A new Newton
+ * (m/s).  Largest order sw_sun_max_order (m->opt.max_order, or automatic: 2 at rtol > 1e-4,
+ * else 5), largest step m->opt.max_step when > 0.  A new Newton
  * matrix (a linear-solver setup: one CHOLMOD factorisation) at least every m->opt.setup_every
  * steps (SUNDIALS' default is 20), and whenever CVODE asks for one: gamma moved by more than 30 %
  * since the last, or Newton failed to converge.
@@ -144,7 +145,7 @@ static int cv_init(void **state, const sw_model *m, sw_data *d, char *err, size_
   if ((flag = CVodeInit(s->mem, cv_rhs, d->t, s->y))) what = "CVodeInit";
   else if ((flag = CVodeSetUserData(s->mem, s))) what = "CVodeSetUserData";
   else if ((flag = CVodeSStolerances(s->mem, o->rtol, o->atol))) what = "CVodeSStolerances";
-  else if ((flag = CVodeSetMaxOrd(s->mem, o->max_order))) what = "CVodeSetMaxOrd";
+  else if ((flag = CVodeSetMaxOrd(s->mem, sw_sun_max_order(o, 1)))) what = "CVodeSetMaxOrd";
   else if (o->max_step > 0 && (flag = CVodeSetMaxStep(s->mem, o->max_step)))
     what = "CVodeSetMaxStep";
   else if ((flag = CVodeSetLinearSolver(s->mem, s->sys.LS, s->sys.A)))

@@ -2,7 +2,8 @@
  *   F(t, y, y') = [x' - v; M v' - f(x, t)] = 0,   y = [x; v] on the free DOFs, f = -dU/dx
  * (no damping yet: D = 0; with it the second row is M v' - f + D v).  The initial y' is
  * consistent by construction, y'(0) = [v0; M^-1 f(x0, t0)], so IDACalcIC is not needed.
- * Tolerances, order, largest step and counters as for CVODE (cvode.c); nforce (counted by
+ * Tolerances, largest step and counters as for CVODE (cvode.c), the largest order
+ * sw_sun_max_order (m->opt.max_order, or automatic: 5); nforce (counted by
  * sw_eval_terms) = IDAGetNumResEvals + 1 per (re)start, the one for y'(0).
  *
  * The linear solve (sundials_ls.h).  IDA's matrix dF/dy + cj dF/dy' is
@@ -146,7 +147,7 @@ static int ida_init(void **state, const sw_model *m, sw_data *d, char *err, size
   if ((flag = IDAInit(s->mem, ida_res, d->t, s->y, s->yp))) what = "IDAInit";
   else if ((flag = IDASetUserData(s->mem, s))) what = "IDASetUserData";
   else if ((flag = IDASStolerances(s->mem, o->rtol, o->atol))) what = "IDASStolerances";
-  else if ((flag = IDASetMaxOrd(s->mem, o->max_order))) what = "IDASetMaxOrd";
+  else if ((flag = IDASetMaxOrd(s->mem, sw_sun_max_order(o, 0)))) what = "IDASetMaxOrd";
   else if (o->max_step > 0 && (flag = IDASetMaxStep(s->mem, o->max_step))) what = "IDASetMaxStep";
   else if ((flag = IDASetLinearSolver(s->mem, s->sys.LS, s->sys.A))) what = "IDASetLinearSolver";
   else if ((flag = IDASetJacFn(s->mem, ida_jac))) what = "IDASetJacFn";

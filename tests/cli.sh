@@ -187,10 +187,18 @@ n2=$(sed -n 's/.*"steps": \([0-9]*\).*/\1/p' "$tmp/q2/summary.json")
 /usr/bin/python3 -c "import sys; a = [$o2]; b = [$o5]; sys.exit(not (sum(a) == $n2 and a[2:] == [0, 0, 0] and sum(b[2:]) > 0))" ||
   fail "--max-order: steps by order [$o2] ($n2 steps) with 2, [$o5] with 5"
 grep -q '"steps_by_order"' "$tmp/run/summary.json" && fail "a fixed-step run has steps_by_order"
+# auto (the default): CVODE at most order 2 at rtol 1e-3, 5 at 1e-6 (summary: the order in use)
+for r in 1e-3 1e-6; do
+  "$sinew" run tests/data/bench_tiny.yaml --method cvode --max-order auto --rtol $r --duration 0.1 \
+    --no-frames --out "$tmp/qa$r" --quiet 2>"$tmp/err" || fail "--max-order auto run: $(cat "$tmp/err")"
+done
+grep -q '"max_order": 2,' "$tmp/qa1e-3/summary.json" || fail "auto at rtol 1e-3 is not order 2"
+grep -q '"max_order": 5,' "$tmp/qa1e-6/summary.json" || fail "auto at rtol 1e-6 is not order 5"
 for bad in 0 6 x; do
   "$sinew" run tests/data/bench_tiny.yaml --method cvode --max-order $bad --out "$tmp/x" \
     2>"$tmp/err" >/dev/null && fail "--max-order $bad accepted"
-  grep -q -- "--max-order expects an integer 1..5" "$tmp/err" || fail "--max-order $bad message: $(cat "$tmp/err")"
+  grep -q -- "--max-order expects auto or an integer 1..5, got '$bad'" "$tmp/err" ||
+    fail "--max-order $bad message: $(cat "$tmp/err")"
 done
 
 # Every shipped scene loads.

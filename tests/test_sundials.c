@@ -271,6 +271,22 @@ static void max_order_is_honoured(void **st) {
     }
     assert_true(nstep[0] > 2 * nstep[1] && nstep[1] > nstep[2]);
   }
+  /* automatic (0): CVODE at order 2 at most above rtol 1e-4, up to 5 below; IDA up to 5 */
+  const double rtol[2] = {1e-3, 1e-6};
+  for (int k = 0; k < 2; k++)
+    for (int j = 0; j < 2; j++) {
+      sw_model *m = swing_model();
+      m->opt.max_order = 0;
+      run_out o = run(ops[k], m, rtol[j], rtol[j] * 1e-2, 0.2, 4);
+      long high = o.nstep_order[2] + o.nstep_order[3] + o.nstep_order[4];
+      print_message("%-5s max_order auto, rtol %g: by order %ld %ld %ld %ld %ld\n", ops[k]->name,
+                    rtol[j], o.nstep_order[0], o.nstep_order[1], o.nstep_order[2],
+                    o.nstep_order[3], o.nstep_order[4]);
+      if (k == 0 && j == 0) assert_int_equal(high, 0);
+      else assert_true(high > 0);
+      run_free(&o);
+      sw_model_free(m);
+    }
 }
 
 /* CVODE sets its Newton matrix up at least every setup_every steps: at every step with 1, at
