@@ -68,6 +68,7 @@ typedef struct bench_cli {
   int nmethod;
   double dts[BENCH_MAXLIST], rtols[BENCH_MAXLIST], scales[BENCH_MAXLIST], sizes[BENCH_MAXLIST];
   int ndt, nrtol, nscale, nsize;
+  int orders[5], norder;       /* --max-orders: each adaptive method at each of these */
   double duration, sample_every;
   double scene_dt;             /* s: the scene's integrator.dt */
 } bench_cli;
@@ -75,7 +76,7 @@ typedef struct bench_cli {
 static void bench_usage(FILE *fp) {
   fprintf(fp,
       "usage: sinew bench SCENE [--out DIR] [--methods M,...] [--dts DT,...] [--rtols R,...]\n"
-      "                   [--repeat N] [--duration T] [--sample-every S]\n"
+      "                   [--max-orders Q,...] [--repeat N] [--duration T] [--sample-every S]\n"
       "                   [--reference M] [--reference-rtol R] [--confirm M] [--confirm-tol E]\n"
       "                   [--stability [--scales S,...] [--overdamped F]]\n"
       "                   [--scaling [--sizes N,...] [--steps N]]\n"
@@ -85,14 +86,18 @@ static void bench_usage(FILE *fp) {
       "\n"
       "  Runs SCENE under each method and setting, each in its own `sinew run` process, and\n"
       "  writes CSV files and PNG charts into DIR (default out/bench/<scene stem>).\n"
-      "  Default mode: work precision.  A reference (--reference cvode at --reference-rtol\n"
-      "  1e-10) confirmed by a second method (--confirm ida, same rtol) agreeing to\n"
+      "  Default mode: work precision.  A reference (--reference cvode:q5 at --reference-rtol\n"
+      "  1e-10) confirmed by a second method (--confirm ida:q5, same rtol) agreeing to\n"
       "  --confirm-tol (1e-6 of the cloth's size); then every method x setting: fixed-step\n"
       "  methods at --dts (default: the scene's dt x 1, 1/2, 1/4, 1/8), adaptive ones at\n"
       "  --rtols (default 1e-3 .. 1e-6).  Errors at the common sample times (every\n"
       "  --sample-every s, a multiple of every dt; default ~duration/40) against the reference:\n"
       "  RMS position error / cloth size, tension XY max and mean series (L2, max), tendon\n"
       "  tension, final time; costs: wall time (median of --repeat N), counts.\n"
+      "  An adaptive method may carry its largest BDF order, NAME:qN (N = 1..5, e.g.\n"
+      "  cvode:q2; --methods, --reference, --confirm); --max-orders 2,5 runs each adaptive\n"
+      "  method of --methods given without one at each order, as separate lines\n"
+      "  (cvode:q2, cvode:q5).\n"
       "  --stability  fixed-step methods x --dts (default dt x 8 .. 1/4) x --scales (stiffness\n"
       "               scale, default 1,10,100): stable, over-damped (lost more than\n"
       "               --overdamped 0.1 of the energy scale beyond the reference), or failed;\n"
@@ -132,6 +137,45 @@ static int parse_list(const char *opt, const char *s, double *out, int *n) {
   return 0;
 }
 
+int bench_method_split(const char *spec, char *name, size_t namesz, int *order) {
+  const char *colon = strchr(spec, ':');
+  size_t len = colon ? (size_t)(colon - spec) : strlen(spec);
+  *order = 0;
+  if (len == 0 || len >= namesz) return -1;
+  memcpy(name, spec, len);
+  name[len] = '\0';
+  if (!colon) return 0;
+  if (colon[1] != 'q' || colon[2] < '1' || colon[2] > '5' || colon[3]) return -1;
+  *order = colon[2] - '0';
+  return 0;
+}
+
+/* A method of --methods, --reference or --confirm: a method's name, or an adaptive method's
+ * NAME:qN; 1 if it is adaptive, 0 if not, -1 if neither. */
+static int check_spec(const char *spec) {
+  char name[SW_NAMESZ];
+  int q;
+  if (bench_method_split(spec, name, sizeof name, &q) || !cli_known_method(name)) return -1;
+  int ad = sw_method_adaptive(name) == 1;
+  return q && !ad ? -1 : ad;
+}
+
+/* "1,2,5": distinct orders 1..5. */
+static int parse_orders(const char *opt, const char *s, bench_cli *c) {
+  double v[BENCH_MAXLIST];
+  int n;
+  if (parse_list(opt, s, v, &n)) return -1;
+  c->norder = 0;
+  for (int k = 0; k < n; k++) {
+    int dup = 0;
+    for (int i = 0; i < c->norder; i++) dup |= c->orders[i] == (int)v[k];
+    if (v[k] != floor(v[k]) || v[k] < 1 || v[k] > 5 || dup)
+      return fprintf(stderr, "sinew: %s expects distinct integers 1..5, got '%s'\n", opt, s), -1;
+    c->orders[c->norder++] = (int)v[k];
+  }
+  return 0;
+}
+
 static int parse_methods(const char *s, bench_cli *c) {
   c->nmethod = 0;
   const char *p = s;
@@ -142,9 +186,9 @@ static int parse_methods(const char *s, bench_cli *c) {
     char *name = c->methods[c->nmethod++];
     memcpy(name, p, len);
     name[len] = '\0';
-    if (!cli_known_method(name) || !strcmp(name, "static"))
+    if (check_spec(name) < 0 || !strcmp(name, "static"))
       return fprintf(stderr, "sinew: --methods: unknown or static method '%s' (see sinew "
-                     "--help)\n", name), -1;
+                     "--help; an adaptive one may be NAME:qN, N = 1..5)\n", name), -1;
     p += len + (p[len] == ',');
   }
   return 0;
@@ -158,6 +202,7 @@ static int parse_valued(const char *a, const char *v, bench_cli *c, bench_cfg *g
   if (!strcmp(a, "--methods")) return parse_methods(v, c) ? -1 : 1;
   if (!strcmp(a, "--dts")) return parse_list(a, v, c->dts, &c->ndt) ? -1 : 1;
   if (!strcmp(a, "--rtols")) return parse_list(a, v, c->rtols, &c->nrtol) ? -1 : 1;
+  if (!strcmp(a, "--max-orders")) return parse_orders(a, v, c) ? -1 : 1;
   if (!strcmp(a, "--scales")) return parse_list(a, v, c->scales, &c->nscale) ? -1 : 1;
   if (!strcmp(a, "--sizes")) return parse_list(a, v, c->sizes, &c->nsize) ? -1 : 1;
   if (!strcmp(a, "--duration")) return cli_number(a, v, 0, &c->duration) ? -1 : 1;
@@ -173,9 +218,9 @@ static int parse_valued(const char *a, const char *v, bench_cli *c, bench_cfg *g
   if (!strcmp(a, "--max-halvings")) return cli_int(a, v, 0, 60, &g->max_halvings) ? -1 : 1;
   if (!strcmp(a, "--reference") || !strcmp(a, "--confirm")) {
     char *dst = a[2] == 'r' ? g->ref_method : g->confirm_method;
-    if (!cli_known_method(v) || !sw_method_adaptive(v))
-      return fprintf(stderr, "sinew: %s expects an adaptive method (cvode, ida), got '%s'\n", a,
-                     v), -1;
+    if (check_spec(v) != 1 || strlen(v) >= SW_NAMESZ)
+      return fprintf(stderr, "sinew: %s expects an adaptive method (cvode, ida, or with its "
+                     "largest order: cvode:q5), got '%s'\n", a, v), -1;
     snprintf(dst, SW_NAMESZ, "%s", v);
     return 1;
   }
@@ -226,6 +271,8 @@ static void job_id(bench_job *j, int mode, const char *what) {
   else
     snprintf(j->id, sizeof j->id, "%s%s_%s_%s%s_r%d", pre, sc, j->method,
              j->adaptive ? "rtol" : "dt", v, j->rep);
+  for (char *q = j->id; *q; q++)
+    if (*q == ':') *q = '_'; /* cvode:q2 -> cvode_q2 */
 }
 
 static bench_job *add_job(bench_plan *p, int cap) {
@@ -262,7 +309,7 @@ static void add_run(bench_plan *p, int cap, const char *method, double setting, 
   if (!j) return;
   j->role = BR_RUN;
   snprintf(j->method, sizeof j->method, "%s", method);
-  j->adaptive = sw_method_adaptive(method) == 1;
+  j->adaptive = check_spec(method) == 1;
   j->dt = j->adaptive ? sample : setting;
   j->rtol = j->adaptive ? setting : 0.0;
   j->atol = j->adaptive ? atol_for(g, setting) : 0.0;
@@ -284,7 +331,7 @@ static void plan_work(bench_plan *p, const bench_cli *c, int cap) {
   add_reference(p, cap, BR_REFERENCE, g->ref_method, 1.0, finest(c));
   add_reference(p, cap, BR_CONFIRM, g->confirm_method, 1.0, finest(c));
   for (int m = 0; m < c->nmethod; m++) {
-    int ad = sw_method_adaptive(c->methods[m]) == 1;
+    int ad = check_spec(c->methods[m]) == 1;
     int n = ad ? c->nrtol : c->ndt;
     for (int k = 0; k < n; k++)
       for (int r = 1; r <= g->repeat; r++)
@@ -330,6 +377,26 @@ static void default_methods(bench_cli *c, int mode) {
   for (const char *const *n = sw_method_names(); *n; n++)
     if (strcmp(*n, "static") && (mode == BM_WORK || sw_method_adaptive(*n) == 0))
       snprintf(c->methods[c->nmethod++], SW_NAMESZ, "%s", *n);
+}
+
+/* --max-orders: every adaptive method named without an order becomes one method per order. */
+static int expand_orders(bench_cli *c) {
+  if (!c->norder) return 0;
+  char in[BENCH_MAXLIST][SW_NAMESZ];
+  int n = c->nmethod;
+  memcpy(in, c->methods, sizeof in);
+  c->nmethod = 0;
+  for (int m = 0; m < n; m++) {
+    int plain = check_spec(in[m]) == 1 && !strchr(in[m], ':');
+    for (int k = 0; k < (plain ? c->norder : 1); k++) {
+      if (c->nmethod == BENCH_MAXLIST)
+        return fprintf(stderr, "sinew: bench: more than %d methods\n", BENCH_MAXLIST), -1;
+      char *dst = c->methods[c->nmethod++];
+      if (plain) snprintf(dst, SW_NAMESZ, "%.*s:q%d", SW_NAMESZ - 5, in[m], c->orders[k]);
+      else memcpy(dst, in[m], SW_NAMESZ);
+    }
+  }
+  return 0;
 }
 
 static void defaults(bench_cli *c, bench_cfg *g, const sw_model *m) {
@@ -388,6 +455,7 @@ static int check_scene(bench_cli *c, bench_cfg *g) {
   defaults(c, g, m);
   g->size = diagonal(m);
   sw_model_free(m);
+  if (expand_orders(c)) return -1;
   if (g->mode == BM_SCALING) {
     for (int k = 0; k < c->nsize; k++)
       if (c->sizes[k] != floor(c->sizes[k]) || c->sizes[k] < 2 || c->sizes[k] > 4096)
@@ -626,7 +694,7 @@ int sw_bench_main(int argc, char **argv) {
   bench_plan p = {.cfg = {.mode = BM_WORK, .confirm_tol = 1e-6, .overdamped = 0.1,
                           .diverged = 1.0, .repeat = 1, .jobs = 1, .steps = 3, .charts = 1,
                           .max_halvings = -1,
-                          .ref_method = "cvode", .confirm_method = "ida"}};
+                          .ref_method = "cvode:q5", .confirm_method = "ida:q5"}};
   int rc = parse_bench_args(argc, argv, &c, &p.cfg);
   if (rc) return rc < 0 ? 2 : 0;
   if (c.merge) return merge_all(c.merge, p.cfg.charts);

@@ -101,6 +101,11 @@ double bench_sample_time(const bench_cfg *c, int k);
 /* bench_merge.c */
 int bench_merge(const bench_plan *p);
 
+/* An adaptive method with its largest BDF order, "NAME:qN" (N in 1..5; `sinew run --method NAME
+ * --max-order N`), or a plain method name "NAME" (order 0: the scene's).  name gets NAME;
+ * -1 if SPEC is neither. */
+int bench_method_split(const char *spec, char *name, size_t namesz, int *order);
+
 /* small shared helpers (bench.c) */
 int bench_path(char *out, size_t sz, const char *dir, const char *a, const char *b);
 void bench_fmt(char *buf, size_t sz, double v); /* shortest %g that reads back exactly */

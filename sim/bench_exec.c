@@ -47,12 +47,15 @@ int bench_job_argv(const bench_cfg *c, const bench_job *j, char **argv, int maxa
                    size_t bufsz) {
   int n = 0, rc = 0;
   size_t used = 0;
-  char out[SW_PATHSZ + BENCH_IDSZ + 8], grid[32];
+  char out[SW_PATHSZ + BENCH_IDSZ + 8], grid[32], method[SW_NAMESZ];
+  int order;
   if (bench_path(out, sizeof out, c->dir, "runs", j->id)) return -1;
+  if (bench_method_split(j->method, method, sizeof method, &order)) return -1;
 #define A(s) rc |= arg(argv, &n, maxargs, buf, bufsz, &used, s)
 #define N(o, v) rc |= num_arg(argv, &n, maxargs, buf, bufsz, &used, o, v)
   A(c->exe), A("run"), A(c->scene), A("--out"), A(out), A("--quiet"), A("--threads"), A("1");
-  A("--method"), A(j->method), A("--no-frames");
+  A("--method"), A(method), A("--no-frames");
+  if (order) N("--max-order", order);
   if (c->max_halvings >= 0) N("--max-halvings", c->max_halvings);
   N("--dt", j->dt);
   N("--duration", c->mode == BM_SCALING ? c->steps * j->dt : c->duration);

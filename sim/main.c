@@ -13,7 +13,8 @@
 static void usage(FILE *fp) {
   fprintf(fp,
           "usage: sinew run SCENE [--out DIR] [--method M] [--dt DT] [--duration T]\n"
-          "                 [--rtol R] [--atol A] [--max-halvings N] [--threads N] [--quiet]\n"
+          "                 [--rtol R] [--atol A] [--max-order N|auto] [--max-halvings N]\n"
+          "                 [--threads N] [--quiet]\n"
           "                 [--frames-every S | --no-frames] [--positions-every S]\n"
           "                 [--grid NXxNY] [--stiffness-scale S]\n"
           "                 [--newton-tol V] [--hessian MODE] [--newton-reuse on|off]\n"
@@ -45,6 +46,8 @@ static void usage(FILE *fp) {
           "  --duration T    simulated time in s (overrides duration)\n"
           "  --rtol R        relative tolerance of adaptive methods (overrides integrator.rtol)\n"
           "  --atol A        absolute tolerance of adaptive methods, m and m/s (integrator.atol)\n"
+          "  --max-order N   largest BDF order 1..5 of adaptive methods, or auto (overrides\n"
+          "                  integrator.max_order; auto: cvode 2 at rtol > 1e-4, else 5)\n"
           "  --max-halvings N  a failed step is retried with half the step at most N times\n"
           "                  (overrides integrator.max_halvings; 0: a failed step fails the run)\n"
           "  --newton-tol V  Newton's tolerance, m/s: a step converges when max |dx| <= V dt\n"
@@ -110,6 +113,7 @@ typedef struct cli {
   int max_halvings;            /* < 0: not given */
   double newton_tol;           /* m/s; < 0: not given */
   int hessian, reuse;          /* < 0: not given */
+  int max_order;               /* -1: not given; 0: auto */
 } cli;
 
 /* An index into a NULL-terminated list of names. */
@@ -150,6 +154,14 @@ static int parse_run_args(int argc, char **argv, cli *c) {
       if (cli_number(a, argv[++i], 0, &c->rtol)) return -1;
     } else if (!strcmp(a, "--atol") && has_val) {
       if (cli_number(a, argv[++i], 0, &c->atol)) return -1;
+    } else if (!strcmp(a, "--max-order") && has_val) {
+      const char *v = argv[++i];
+      char *end;
+      long q = strtol(v, &end, 10);
+      if (!strcmp(v, "auto")) c->max_order = 0;
+      else if (end != v && !*end && q >= 1 && q <= 5) c->max_order = (int)q;
+      else return fprintf(stderr, "sinew: --max-order expects auto or an integer 1..5, got '%s'\n",
+                          v), -1;
     } else if (!strcmp(a, "--max-halvings") && has_val) {
       if (cli_int(a, argv[++i], 0, 60, &c->max_halvings)) return -1;
     } else if (!strcmp(a, "--newton-tol") && has_val) {
@@ -179,7 +191,8 @@ static int parse_run_args(int argc, char **argv, cli *c) {
 
 static int cmd_run(int argc, char **argv) {
   cli c = {.dt = -1, .duration = -1, .frames_every = -1, .positions_every = -1,
-           .max_halvings = -1, .newton_tol = -1, .hessian = -1, .reuse = -1};
+           .max_halvings = -1, .newton_tol = -1, .hessian = -1, .reuse = -1,
+           .max_order = -1};
   if (parse_run_args(argc, argv, &c)) return 2;
   char err[SW_ERRSZ];
   sw_model *m = sw_scene_load_ex(c.scene, &c.ov, err, sizeof err);
@@ -195,6 +208,7 @@ static int cmd_run(int argc, char **argv) {
   if (c.hessian >= 0) m->opt.hessian = c.hessian;
   if (c.reuse >= 0) m->opt.newton_reuse = c.reuse;
   if (c.atol > 0) m->opt.atol = c.atol;
+  if (c.max_order >= 0) m->opt.max_order = c.max_order;
   if (c.frames_every >= 0) m->opt.frames_every = c.frames_every;
   if (c.no_frames) m->opt.frames_every = -1.0; /* none */
   if (c.positions_every >= 0) m->opt.positions_every = c.positions_every;

@@ -28,8 +28,9 @@ sw_model *sw_model_new(void) {
   o->newton_reuse = 0;
   o->rtol = 1e-6;
   o->atol = 1e-8;
-  o->max_order = 5;
+  o->max_order = 0; /* automatic: sw_max_order */
   o->max_step = 0.0;
+  o->setup_every = 200;
   o->energy_bound = 0.0;
   o->frames_every = 0.0;
   o->positions_every = 0.0;

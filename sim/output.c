@@ -768,6 +768,11 @@ static void summary_model(writer *w, const sw_model *m) {
   w_json_num(w, "dt", m->opt.dt);             /* s */
   w_json_num(w, "duration", m->opt.duration); /* s */
   w_json_num(w, "stiffness_scale", m->stiffness_scale > 0 ? m->stiffness_scale : 1.0);
+  if (sw_method_adaptive(m->opt.method) == 1) {
+    w_json_num(w, "rtol", m->opt.rtol);
+    w_json_num(w, "atol", m->opt.atol);   /* m and m/s */
+    w_json_long(w, "max_order", sw_max_order(m)); /* the order in use, automatic or not */
+  }
 }
 
 /* Peak resident set size of the process so far, MiB (ru_maxrss is in KiB on Linux); 0 if
@@ -778,7 +783,7 @@ static double max_rss_mb(void) {
   return (double)ru.ru_maxrss / 1024.0;
 }
 
-static void summary_counters(writer *w, const sw_data *d, double wall) {
+static void summary_counters(writer *w, const sw_model *m, const sw_data *d, double wall) {
   w_json_num(w, "time_reached", d->t);
   w_json_long(w, "steps", d->nstep);
   w_json_long(w, "newton_iterations", d->nnewton);
@@ -789,6 +794,11 @@ static void summary_counters(writer *w, const sw_data *d, double wall) {
   w_json_long(w, "linesearch_backtracks", d->nlinesearch);
   w_json_long(w, "error_test_failures", d->nerrfail);
   w_json_long(w, "linear_setups", d->nsetup);
+  if (sw_method_adaptive(m->opt.method) == 1) { /* steps at BDF order 1..5 */
+    w_key(w, "steps_by_order");
+    w_printf(w, "[%ld, %ld, %ld, %ld, %ld]", d->nstep_order[0], d->nstep_order[1],
+             d->nstep_order[2], d->nstep_order[3], d->nstep_order[4]);
+  }
   w_json_num(w, "time_assemble_s", d->time_assemble);
   w_json_num(w, "time_factor_s", d->time_factor);
   w_json_num(w, "time_solve_s", d->time_solve);
@@ -830,7 +840,7 @@ int sw_output_summary(sw_output *o, const sw_model *m, const sw_data *d, const c
   w_key(&w, "message");
   w_json_str(&w, message, 4 * SW_ERRSZ);
   summary_model(&w, m);
-  summary_counters(&w, d ? d : &not_started, wall);
+  summary_counters(&w, m, d ? d : &not_started, wall);
   summary_files(&w, o);
   w_puts(&w, "\n}\n");
   return tmp_commit(&w, o->tmp, o->path, err, errsz);

@@ -379,7 +379,7 @@ static int load_gravity(const ctx *c, const ynode *y) {
 
 static const char *const int_keys[] = {"method", "dt", "max_halvings", "newton", "hessian",
                                        "rtol", "atol", "max_order", "max_step", "energy_bound",
-                                       "tendon_dense_max"};
+                                       "tendon_dense_max", "setup_every"};
 static const char *const newton_keys[] = {"max_iterations", "tol", "reuse", "force_tol"};
 static const char *const on_off[] = {"false", "true"};
 
@@ -394,15 +394,26 @@ static int load_method(const ctx *c, const ynode *y) {
   return 0;
 }
 
+/* max_order: `auto` (0) or an integer in [1, 5]. */
+static int load_max_order(const ctx *c, const ynode *y, int *out) {
+  if (y->kind == Y_SCALAR && y->plain && !strcmp(y->text, "auto")) return *out = 0, 0;
+  double v;
+  if (sy_scalar_number(y, &v))
+    return sy_type_error(c, y, "integrator max_order", "auto or an integer in [1, 5]");
+  return sy_int(c, y, "integrator max_order", 1, 5, out);
+}
+
 static int load_integrator(const ctx *c, const ynode *y) {
   sw_options *o = &c->m->opt;
-  const ynode *v[11], *nv[4];
-  if (sy_map(c, y, "integrator", int_keys, 11, v)) return -1;
+  const ynode *v[12], *nv[4];
+  if (sy_map(c, y, "integrator", int_keys, 12, v)) return -1;
+  if (v[11] && sy_int(c, v[11], "integrator setup_every", 1, INT_MAX, &o->setup_every))
+    return -1;
   if (v[10] && sy_int(c, v[10], "integrator tendon_dense_max", 0, INT_MAX, &o->tendon_dense_max))
     return -1;
   if (v[5] && sy_num(c, v[5], "integrator rtol", 0, 1, NULL, &o->rtol)) return -1;
   if (v[6] && sy_num(c, v[6], "integrator atol", 0, 1, NULL, &o->atol)) return -1;
-  if (v[7] && sy_int(c, v[7], "integrator max_order", 1, 5, &o->max_order)) return -1;
+  if (v[7] && load_max_order(c, v[7], &o->max_order)) return -1;
   if (v[8] && sy_num(c, v[8], "integrator max_step", 0, 0, "s", &o->max_step)) return -1;
   if (v[9] && sy_num(c, v[9], "integrator energy_bound", 0, 1, "J", &o->energy_bound))
     return -1;

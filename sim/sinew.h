@@ -193,8 +193,11 @@ typedef struct sw_options {
   int newton_reuse;            /* 1: keep a factorisation while Newton contracts well */
   int blas_threads;            /* OpenBLAS threads; 0: $OPENBLAS_NUM_THREADS if set, else 1 */
   double rtol, atol;           /* adaptive methods (CVODE, IDA): relative, absolute (m, m/s) */
-  int max_order;               /* adaptive methods: largest BDF order (1..5) */
+  int max_order;               /* adaptive methods: largest BDF order (1..5); 0: automatic,
+                                  sw_max_order */
   double max_step;             /* adaptive methods: largest internal step, s (0: no limit) */
+  int setup_every;             /* cvode: most steps between two setups of its Newton matrix
+                                  (CVodeSetLSetupFrequency; SUNDIALS' default is 20) */
   double energy_bound;         /* J: a step whose total energy exceeds it fails (0: automatic,
                                   1e3 x the initial energy scale above the initial energy) */
   char out_dir[SW_PATHSZ];     /* output folder */
@@ -319,6 +322,7 @@ struct sw_data {
   long nstep, nnewton, nfactor, nassemble, nforce, nretry, nlinesearch;
   long nerrfail;               /* error-test failures of adaptive methods */
   long nsetup;                 /* linear-solver setups of SUNDIALS methods */
+  long nstep_order[5];         /* adaptive methods: steps taken at BDF order 1..5 */
   double energy_bound;         /* J: a step whose K + U exceeds this fails (0: no check; sw_run
                                   sets it from opt.energy_bound) */
   int last_newton;             /* Newton iterations of the last step */
@@ -352,6 +356,11 @@ SW_API const char *sw_method_summary(const char *name);
 /* 1 for a method that chooses its own steps to a tolerance (cvode, ida: rtol, atol; dt is then
  * the output interval), 0 for a fixed-step method and static, -1 for an unknown name. */
 SW_API int sw_method_adaptive(const char *name);
+/* The largest BDF order the model's adaptive method uses: opt.max_order, or when that is 0
+ * (automatic, the default) 2 for cvode at rtol > SW_AUTO_ORDER_RTOL and 5 otherwise (ida
+ * always 5).  docs/integrators.md, "Which BDF order", has the measurements. */
+#define SW_AUTO_ORDER_RTOL 1e-4
+SW_API int sw_max_order(const sw_model *m);
 /* Thread settings of the linear algebra (sw_run calls it): OpenMP nesting in CHOLMOD off unless
  * OMP_MAX_ACTIVE_LEVELS or OMP_THREAD_LIMIT is set; OpenBLAS threads = blas_threads, or when 0,
  * $OPENBLAS_NUM_THREADS if set, else 1. */

@@ -2,7 +2,11 @@
  * order system y = [x; v] over the free DOFs,
  *   y' = [v; M^-1 f(x, v, t)],   f = -dU/dx - D(x) v  (D: Rayleigh damping, damping.c).
  * Tolerances: scalar rtol and atol (m->opt), the same atol for positions (m) and velocities
- * (m/s).  Largest order m->opt.max_order, largest step m->opt.max_step when > 0.
+ * (m/s).  Largest order sw_sun_max_order (m->opt.max_order, or automatic: 2 at rtol > 1e-4,
+ * else 5), largest step m->opt.max_step when > 0.  A new Newton
+ * matrix (a linear-solver setup: one CHOLMOD factorisation) at least every m->opt.setup_every
+ * steps (SUNDIALS' default is 20), and whenever CVODE asks for one: gamma moved by more than 30 %
+ * since the last, or Newton failed to converge.
  *
  * The linear solve (sundials_ls.h).  CVODE's Newton matrix is I - gamma J with
  *   J = [[0, I], [-M^-1 H, -M^-1 D]]   (H = d2U/dx2 = -df/dx, the K of df/dx = -H).
@@ -11,14 +15,15 @@
  * then dx = r1 + gamma dv (no division by gamma).  linsys re-evaluates H only when CVODE says
  * its Jacobian is stale (!jok) and reports it through *jcur; with jok it only re-scales S.
  *
- * The run loop asks for d->t + h with h the output interval: CVODE steps on its own and returns
- * the state interpolated at that time (CV_NORMAL), so h does not limit its steps.  A caller who
+ * The run loop asks for d->t + h with h the output interval: CVODE steps on its own past it and
+ * the state is interpolated back to that time (cv_advance), so h does not limit its steps.  A caller who
  * changes d between steps (t, x or v) makes it restart there (CVodeReInit).  An interval CVODE
  * cannot finish after its own step cuts returns SW_FATAL (a smaller h would not help) with the
  * flag, SUNDIALS' message and the last reason our callbacks gave; steps stay >= sw_sun_hmin.
  *
  * Counters: nstep, nnewton (nonlinear iterations), nsetup (linear solver setups) and nerrfail
- * (error-test failures) are CVODE's own, added as increments per call; nfactor counts CHOLMOD
+ * (error-test failures) are CVODE's own, added as increments per call; nstep_order counts the
+ * steps by the BDF order they were taken at (CVodeGetLastOrder); nfactor counts CHOLMOD
  * factorisations (one per setup, two when hessian: auto falls back to the projected Hessian);
  * nforce is counted by sw_eval_terms, once per right-hand side (= CVodeGetNumRhsEvals: no
  * difference-quotient Jacobian is ever used), so it is not taken from CVODE as well. */
@@ -140,13 +145,14 @@ static int cv_init(void **state, const sw_model *m, sw_data *d, char *err, size_
   if ((flag = CVodeInit(s->mem, cv_rhs, d->t, s->y))) what = "CVodeInit";
   else if ((flag = CVodeSetUserData(s->mem, s))) what = "CVodeSetUserData";
   else if ((flag = CVodeSStolerances(s->mem, o->rtol, o->atol))) what = "CVodeSStolerances";
-  else if ((flag = CVodeSetMaxOrd(s->mem, o->max_order))) what = "CVodeSetMaxOrd";
+  else if ((flag = CVodeSetMaxOrd(s->mem, sw_sun_max_order(o, 1)))) what = "CVodeSetMaxOrd";
   else if (o->max_step > 0 && (flag = CVodeSetMaxStep(s->mem, o->max_step)))
     what = "CVodeSetMaxStep";
-  else if ((flag = CVodeSetMaxNumSteps(s->mem, 1000000L))) what = "CVodeSetMaxNumSteps";
   else if ((flag = CVodeSetLinearSolver(s->mem, s->sys.LS, s->sys.A)))
     what = "CVodeSetLinearSolver";
   else if ((flag = CVodeSetLinSysFn(s->mem, cv_linsys))) what = "CVodeSetLinSysFn";
+  else if ((flag = CVodeSetLSetupFrequency(s->mem, o->setup_every)))
+    what = "CVodeSetLSetupFrequency";
   if (flag) {
     sw_sun_fail(err, errsz, "CVODE", what, CVodeGetReturnFlagName(flag), s->sys.msg, "");
     cv_free(s);
@@ -166,6 +172,25 @@ static void cv_counters(cv_state *s, sw_data *d) {
   CVodeGetNumLinSolvSetups(s->mem, &nsetup);
   CVodeGetNumErrTestFails(s->mem, &netf);
   sw_sun_counts_add(&s->cnt, d, nst, nni, nsetup, netf);
+}
+
+/* CVODE's steps until its internal time passes tout, one at a time (CV_ONE_STEP) so that the
+ * order of each is counted, then y at tout interpolated (CVodeGetDky): the same steps and the
+ * same numbers as CV_NORMAL, which does exactly this inside.  At most SW_SUN_MXSTEP steps. */
+static int cv_advance(cv_state *s, sw_data *d, double tout, sw_real *tret) {
+  sw_real tn = 0.0;
+  CVodeGetCurrentTime(s->mem, &tn);
+  for (long k = 0; tn < tout; k++) {
+    if (k == SW_SUN_MXSTEP) return CV_TOO_MUCH_WORK;
+    int flag = CVode(s->mem, tout, s->y, tret, CV_ONE_STEP);
+    if (flag < 0) return flag;
+    int q = 0;
+    CVodeGetLastOrder(s->mem, &q);
+    if (q >= 1 && q <= 5) d->nstep_order[q - 1]++;
+    CVodeGetCurrentTime(s->mem, &tn);
+  }
+  *tret = tout;
+  return CVodeGetDky(s->mem, tout, 0, s->y);
 }
 
 static int cv_step(void *p, const sw_model *m, sw_data *d, double h) {
@@ -192,7 +217,7 @@ static int cv_step(void *p, const sw_model *m, sw_data *d, double h) {
   s->sys.msg[0] = d->err[0] = '\0'; /* d->err: what our callbacks last failed on, if anything */
   int flag = CVodeSetMinStep(s->mem, sw_sun_hmin(tout));
   if (flag) return cv_fail(s, d, "CVodeSetMinStep", flag, "");
-  flag = CVode(s->mem, tout, s->y, &tret, CV_NORMAL);
+  flag = cv_advance(s, d, tout, &tret);
   cv_counters(s, d);
   if (flag < 0) {
     char what[64];

@@ -93,6 +93,13 @@ int sw_sunls_changed(const sw_sunls *sys, const sw_data *d, double h, double tla
 int sw_cvode_reduce(sw_sunls *sys, const double *b, double *x);
 int sw_ida_reduce(sw_sunls *sys, const double *b, double *x);
 
+/* The largest BDF order: opt.max_order, or when it is 0 the automatic one, 2 for CVODE (cvode
+ * = 1) at rtol > SW_AUTO_ORDER_RTOL, else 5 (sw_max_order). */
+int sw_sun_max_order(const sw_options *o, int cvode);
+
+/* The most internal steps CVODE or IDA may take towards one output time (their mxstep). */
+#define SW_SUN_MXSTEP 1000000L
+
 /* The smallest internal step for an output at tout, s: far below any step cloth needs, yet well
  * above the round-off of t.  Without it a force that turns NaN at some time (the step returns a
  * recoverable error) makes SUNDIALS creep towards that time with ever smaller steps until its

@@ -142,6 +142,28 @@ for n in 6 12 24; do
 done
 head -c 8 "$sc/scaling.png" | od -An -tx1 | tr -d ' \n' | grep -q 89504e470d0a1a0a || fail "scaling.png"
 
+# ------------------------------------------------------ adaptive max orders
+# --max-orders 2,5: each adaptive method once per order, its own line (cvode:q2, cvode:q5), the
+# order passed to its runs; NAME:qN in --methods is the same; the reference is cvode:q5.
+mo=$tmp/mo
+"$sinew" bench $scene --out "$mo" --methods cvode,ida:q1,bdf2 --max-orders 2,5 --dts 0.02 \
+  --rtols 1e-4 --no-charts >"$tmp/mo.out" 2>&1 || fail "--max-orders: $(tail -3 "$tmp/mo.out")"
+[ "$(cut -d, -f1 "$mo/work_precision.csv" | tail -n +2 | tr '\n' ' ')" = "cvode:q2 cvode:q5 ida:q1 bdf2 " ] ||
+  fail "--max-orders rows: $(cut -d, -f1 "$mo/work_precision.csv" | tr '\n' ' ')"
+for q in 2 5; do
+  grep -q "\"max_order\": $q," "$mo/runs/wp_cvode_q${q}_rtol0.0001_r1/summary.json" ||
+    fail "cvode:q$q did not run at max_order $q"
+done
+grep -q '"max_order": 1,' "$mo/runs/wp_ida_q1_rtol0.0001_r1/summary.json" || fail "ida:q1 order"
+grep -q '"max_order": 5,' "$mo/runs/wp_reference/summary.json" || fail "the reference is not at order 5"
+[ "$(col "$mo/reference.csv" method .)" = cvode:q5 ] || fail "reference method $(col "$mo/reference.csv" method .)"
+s2=$(col "$mo/work_precision.csv" steps '^cvode:q2,')
+s5=$(col "$mo/work_precision.csv" steps '^cvode:q5,')
+[ "$s2" -gt 0 ] && [ "$s5" -gt 0 ] && [ "$s2" -ne "$s5" ] || fail "cvode:q2 and q5 took $s2 and $s5 steps"
+"$sinew" bench $scene --methods cvode --max-orders 6 >/dev/null 2>&1 && fail "--max-orders 6 accepted"
+"$sinew" bench $scene --methods bdf2:q2 >/dev/null 2>&1 && fail "a fixed-step method with an order accepted"
+"$sinew" bench $scene --methods cvode:q0 >/dev/null 2>&1 && fail "cvode:q0 accepted"
+
 # ------------------------------------------------------------- bad input
 "$sinew" bench $scene --out "$tmp/bad" --dts 0.03,0.02 >/dev/null 2>"$tmp/bad.err" && fail "non-dividing dts accepted"
 grep -q 'does not divide' "$tmp/bad.err" || fail "message for dts that do not divide the sample interval"

@@ -174,6 +174,33 @@ ls "$tmp/fail"/*.part >/dev/null 2>&1 && fail ".part files left after a failed r
   --max-halvings 0 --no-frames --out "$tmp/tm" --quiet 2>"$tmp/err" ||
   fail "tendon membrane under bdf2 stopped: $(cat "$tmp/err")"
 
+# --max-order N (adaptive methods): summary.json records it and counts every step at its BDF
+# order, none above N; out-of-range orders are refused.
+for q in 2 5; do
+  "$sinew" run tests/data/bench_tiny.yaml --method cvode --max-order $q --duration 0.1 --no-frames \
+    --out "$tmp/q$q" --quiet 2>"$tmp/err" || fail "--max-order $q run: $(cat "$tmp/err")"
+  grep -q "\"max_order\": $q," "$tmp/q$q/summary.json" || fail "--max-order $q: summary max_order"
+done
+o2=$(sed -n 's/.*"steps_by_order": \[\(.*\)\].*/\1/p' "$tmp/q2/summary.json")
+o5=$(sed -n 's/.*"steps_by_order": \[\(.*\)\].*/\1/p' "$tmp/q5/summary.json")
+n2=$(sed -n 's/.*"steps": \([0-9]*\).*/\1/p' "$tmp/q2/summary.json")
+/usr/bin/python3 -c "import sys; a = [$o2]; b = [$o5]; sys.exit(not (sum(a) == $n2 and a[2:] == [0, 0, 0] and sum(b[2:]) > 0))" ||
+  fail "--max-order: steps by order [$o2] ($n2 steps) with 2, [$o5] with 5"
+grep -q '"steps_by_order"' "$tmp/run/summary.json" && fail "a fixed-step run has steps_by_order"
+# auto (the default): CVODE at most order 2 at rtol 1e-3, 5 at 1e-6 (summary: the order in use)
+for r in 1e-3 1e-6; do
+  "$sinew" run tests/data/bench_tiny.yaml --method cvode --max-order auto --rtol $r --duration 0.1 \
+    --no-frames --out "$tmp/qa$r" --quiet 2>"$tmp/err" || fail "--max-order auto run: $(cat "$tmp/err")"
+done
+grep -q '"max_order": 2,' "$tmp/qa1e-3/summary.json" || fail "auto at rtol 1e-3 is not order 2"
+grep -q '"max_order": 5,' "$tmp/qa1e-6/summary.json" || fail "auto at rtol 1e-6 is not order 5"
+for bad in 0 6 x; do
+  "$sinew" run tests/data/bench_tiny.yaml --method cvode --max-order $bad --out "$tmp/x" \
+    2>"$tmp/err" >/dev/null && fail "--max-order $bad accepted"
+  grep -q -- "--max-order expects auto or an integer 1..5, got '$bad'" "$tmp/err" ||
+    fail "--max-order $bad message: $(cat "$tmp/err")"
+done
+
 # Every shipped scene loads.
 for f in scenes/*.yaml scenes/models/*.yaml scenes/bench/*.yaml; do
   "$sinew" check "$f" >/dev/null 2>"$tmp/err" || fail "check $f: $(cat "$tmp/err")"

@@ -72,7 +72,7 @@ static const char good_scene[] =
     "  - {velocity: [0, 0, 1.0]}\n"
     "  - {velocity: [1, 0, 0], select: {vertices: [44]}}\n"
     "integrator: {method: backward-euler, dt: 0.005, max_halvings: 4, hessian: projected,\n"
-    "             newton: {max_iterations: 20, tol: 1e-8, force_tol: 1e-7}}\n"
+    "             newton: {max_iterations: 20, tol: 1e-8, force_tol: 1e-7}, setup_every: 50}\n"
     "duration: 3\n"
     "output: {dir: out/here, frames_every: 0.1, positions_every: 0.25}\n"
     "tension_xy: {clip: 1e4, reference: uv, k_v: 300}\n";
@@ -114,6 +114,7 @@ static void test_good_scene(void **state) {
   assert_int_equal(m->opt.newton_max, 20);
   assert_float_equal(m->opt.newton_tol, 1e-8, 0.0);
   assert_float_equal(m->opt.newton_force_tol, 1e-7, 0.0);
+  assert_int_equal(m->opt.setup_every, 50);
   assert_float_equal(m->opt.duration, 3.0, 0.0);
   assert_string_equal(m->opt.out_dir, "out/here");
   assert_float_equal(m->opt.frames_every, 0.1, 0.0);
@@ -148,12 +149,41 @@ static void test_defaults(void **state) {
   assert_int_equal(m->opt.hessian, SW_HESSIAN_ABS);
   assert_float_equal(m->opt.newton_tol, 1e-2, 0.0);
   assert_int_equal(m->opt.newton_reuse, 0);
+  assert_int_equal(m->opt.setup_every, 200);
+  assert_int_equal(m->opt.max_order, 0); /* automatic */
   assert_float_equal(m->opt.tx_k_u, -1.0, 0.0);
   assert_float_equal(m->opt.tx_clip, 5e4, 0.0);
   assert_int_equal(m->opt.tx_reference_uv, 0);
   assert_float_equal(m->opt.frames_every, 0.0, 0.0);
   assert_float_equal(m->opt.positions_every, 0.0, 0.0); /* no positions.bin */
   sw_model_free(m);
+}
+
+/* integrator.max_order: auto or 1..5; what sw_max_order makes of auto (cvode: 2 above rtol 1e-4,
+ * else 5; ida: 5). */
+static void test_max_order(void **state) {
+  (void)state;
+  char err[SW_ERRSZ];
+  static const char *const text[3] = {"integrator: {method: cvode, max_order: auto, rtol: 1e-3}\n",
+                                      "integrator: {method: cvode, max_order: 3, rtol: 1e-3}\n",
+                                      "integrator: {method: ida, rtol: 1e-3}\n"};
+  const int want_opt[3] = {0, 3, 0}, want_used[3] = {2, 3, 5};
+  for (int k = 0; k < 3; k++) {
+    char buf[256];
+    snprintf(buf, sizeof buf, "mesh: {grid: {size: [1, 1], vertices: [3, 3]}}\n"
+             "material: {density: 0.1}\n%s", text[k]);
+    sw_model *m = load_text("max_order.yaml", buf, err);
+    if (!m) fail_msg("%s", err);
+    assert_int_equal(m->opt.max_order, want_opt[k]);
+    assert_int_equal(sw_max_order(m), want_used[k]);
+    if (k == 0) {
+      m->opt.rtol = 1e-4; /* the boundary is CVODE's high order */
+      assert_int_equal(sw_max_order(m), 5);
+      m->opt.rtol = 2e-4;
+      assert_int_equal(sw_max_order(m), 2);
+    }
+    sw_model_free(m);
+  }
 }
 
 static void test_2d(void **state) {
@@ -467,6 +497,10 @@ static const bad_case bad[] = {
     {"method.yaml", GRID MAT "integrator: {method: rk4}\n", 3, 22, "backward-euler"},
     {"halvings.yaml", GRID MAT "integrator: {max_halvings: 61}\n", 3, 28, "[0, 60]"},
     {"hessian.yaml", GRID MAT "integrator: {hessian: fancy}\n", 3, 23, "projected, exact, auto"},
+    {"setup_every.yaml", GRID MAT "integrator: {setup_every: 0}\n", 3, 27, "setup_every"},
+    {"max_order.yaml", GRID MAT "integrator: {max_order: 6}\n", 3, 25, "[1, 5]"},
+    {"max_order_word.yaml", GRID MAT "integrator: {max_order: high}\n", 3, 25,
+     "expected auto or an integer in [1, 5]"},
     {"newton.yaml", GRID MAT "integrator: {newton: {max_iterations: 0}}\n", 3, 39,
      "max_iterations"},
     {"force_tol_zero.yaml", GRID MAT "integrator: {newton: {force_tol: 0}}\n", 3, 34,
@@ -757,6 +791,7 @@ int main(int argc, char **argv) {
   }
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_good_scene),   cmocka_unit_test(test_defaults),
+      cmocka_unit_test(test_max_order),
       cmocka_unit_test(test_2d),           cmocka_unit_test(test_obj),
       cmocka_unit_test(test_repo_scene),   cmocka_unit_test(test_memory),
       cmocka_unit_test(test_bad_scenes),   cmocka_unit_test(test_unreadable),

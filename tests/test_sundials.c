@@ -4,6 +4,8 @@
  *   - on a small swinging cloth the error against a tight reference falls with rtol, and CVODE
  *     and IDA agree with each other;
  *   - counters are consistent; a caller who changes the state makes the integrator restart;
+ *   - max_order bounds the BDF order of every step (steps counted per order); setup_every
+ *     bounds the steps between CVODE's linear-solver setups;
  *   - a force that turns NaN fails the step fast, naming SUNDIALS' flag and the cause;
  *   - bad options fail at init with SUNDIALS' flag name. */
 #include <math.h>
@@ -34,6 +36,7 @@ static sw_model *swing_model(void) {
 typedef struct run_out {
   double *x, *v;
   long nstep, nnewton, nfactor, nforce, nsetup, nerrfail, nassemble;
+  long nstep_order[5];
   double last_dt;
 } run_out;
 
@@ -60,6 +63,7 @@ static run_out run(const sw_integrator_ops *ops, sw_model *m, double rtol, doubl
                .nstep = d->nstep, .nnewton = d->nnewton, .nfactor = d->nfactor,
                .nforce = d->nforce, .nsetup = d->nsetup, .nerrfail = d->nerrfail,
                .nassemble = d->nassemble, .last_dt = d->last_dt};
+  memcpy(o.nstep_order, d->nstep_order, sizeof o.nstep_order);
   memcpy(o.x, d->x, nd * sizeof(double));
   memcpy(o.v, d->v, nd * sizeof(double));
   ops->free(s);
@@ -234,6 +238,81 @@ static void error_falls_with_rtol(void **st) {
   free(x8[1]);
   run_free(&ref);
   sw_model_free(m);
+}
+
+/* ------------------------------------------------------------- max_order */
+
+/* Every step is counted at its order, none above max_order; order 1 takes the most steps, and
+ * with 5 allowed the smooth swing uses orders above 2. */
+static void max_order_is_honoured(void **st) {
+  (void)st;
+  const sw_integrator_ops *ops[2] = {&sw_cvode_ops, &sw_ida_ops};
+  const int order[3] = {1, 2, 5};
+  for (int k = 0; k < 2; k++) {
+    long nstep[3];
+    for (int j = 0; j < 3; j++) {
+      sw_model *m = swing_model();
+      m->opt.max_order = order[j];
+      run_out o = run(ops[k], m, 1e-6, 1e-8, 0.2, 4);
+      long sum = 0, high = 0;
+      for (int q = 1; q <= 5; q++) {
+        sum += o.nstep_order[q - 1];
+        if (q > order[j]) assert_int_equal(o.nstep_order[q - 1], 0);
+        if (q > 2) high += o.nstep_order[q - 1];
+      }
+      print_message("%-5s max_order %d: %5ld steps, by order %ld %ld %ld %ld %ld\n",
+                    ops[k]->name, order[j], o.nstep, o.nstep_order[0], o.nstep_order[1],
+                    o.nstep_order[2], o.nstep_order[3], o.nstep_order[4]);
+      assert_int_equal(sum, o.nstep);
+      if (order[j] == 5) assert_true(high > o.nstep / 2);
+      nstep[j] = o.nstep;
+      run_free(&o);
+      sw_model_free(m);
+    }
+    assert_true(nstep[0] > 2 * nstep[1] && nstep[1] > nstep[2]);
+  }
+  /* automatic (0): CVODE at order 2 at most above rtol 1e-4, up to 5 below; IDA up to 5 */
+  const double rtol[2] = {1e-3, 1e-6};
+  for (int k = 0; k < 2; k++)
+    for (int j = 0; j < 2; j++) {
+      sw_model *m = swing_model();
+      m->opt.max_order = 0;
+      run_out o = run(ops[k], m, rtol[j], rtol[j] * 1e-2, 0.2, 4);
+      long high = o.nstep_order[2] + o.nstep_order[3] + o.nstep_order[4];
+      print_message("%-5s max_order auto, rtol %g: by order %ld %ld %ld %ld %ld\n", ops[k]->name,
+                    rtol[j], o.nstep_order[0], o.nstep_order[1], o.nstep_order[2],
+                    o.nstep_order[3], o.nstep_order[4]);
+      if (k == 0 && j == 0) assert_int_equal(high, 0);
+      else assert_true(high > 0);
+      run_free(&o);
+      sw_model_free(m);
+    }
+}
+
+/* CVODE sets its Newton matrix up at least every setup_every steps: at every step with 1, at
+ * least every 20th with 20, and less often with 1000 (gamma's drift and failures still ask for
+ * setups), on the same path to the tolerance. */
+static void setup_every_is_honoured(void **st) {
+  (void)st;
+  const int every[3] = {1, 20, 1000};
+  long nsetup[3];
+  double *x0 = NULL;
+  for (int j = 0; j < 3; j++) {
+    sw_model *m = swing_model();
+    m->opt.setup_every = every[j];
+    run_out o = run(&sw_cvode_ops, m, 1e-6, 1e-8, 0.2, 4);
+    double dd = x0 ? th_max_diff(o.x, x0, m->nv * m->dim) : 0.0;
+    print_message("cvode setup_every %4d: %ld steps, %ld setups, %ld factorisations, %.2g m from "
+                  "the first\n", every[j], o.nstep, o.nsetup, o.nfactor, dd);
+    assert_true(o.nsetup >= o.nstep / every[j]);
+    assert_true(dd < 1e-6);
+    nsetup[j] = o.nsetup;
+    if (!x0) x0 = o.x, free(o.v);
+    else run_free(&o);
+    sw_model_free(m);
+  }
+  assert_true(nsetup[2] < nsetup[1]);
+  free(x0);
 }
 
 /* ------------------------------------------------------ restart, hessian */
@@ -433,6 +512,8 @@ int main(void) {
       cmocka_unit_test(reduction_solves_full_system),
       cmocka_unit_test(free_fall),
       cmocka_unit_test(error_falls_with_rtol),
+      cmocka_unit_test(max_order_is_honoured),
+      cmocka_unit_test(setup_every_is_honoured),
       cmocka_unit_test(intervals_and_restart),
       cmocka_unit_test(hessian_fallback_in_setup),
       cmocka_unit_test(hessian_choices),
