@@ -304,7 +304,7 @@ int sw_newton_solve(sw_newton *nw, const sw_model *m, sw_data *d, double *x, con
   nw->xd = o->xd;
   if (nw->flag) memset(nw->flag, 0, (size_t)nw->soff[m->nterm]);
   int refactor = !may_reuse(nw, o);
-  const double floor = round_off_floor(m, x);
+  const double xfloor = round_off_floor(m, x);
   double prev = 0.0; /* max |dx| of the last iteration */
   for (int it = 0; it < o->max_iter; it++) {
     double phi;
@@ -332,7 +332,7 @@ int sw_newton_solve(sw_newton *nw, const sw_model *m, sw_data *d, double *x, con
      * never counted above the step itself (CVODE's test, Hindmarsh et al. 2005) */
     double rate = prev > 0.0 ? step / prev : 1.0;
     double left = rate < 0.5 ? step * rate / (1.0 - rate) : step;
-    if (left <= o->tol_dx || step <= floor || stalled) {
+    if (left <= o->tol_dx || step <= xfloor || stalled) {
       add_step(m, x, nw->dx, 1.0, x);
       return SW_OK;
     }
@@ -348,7 +348,7 @@ int sw_newton_solve(sw_newton *nw, const sw_model *m, sw_data *d, double *x, con
     } else {
       add_step(m, x, nw->dx, 1.0, x);
     }
-    nw->theta = prev > 0.0 ? step / prev : 0.0;
+    nw->theta = prev > 0.0 ? rate : 0.0;
     prev = step;
     refactor = !o->reuse || nw->theta > SW_NEWTON_THETA || d->nlinesearch > cuts;
   }
