@@ -20,8 +20,8 @@
  * those of the energy restricted to j = 0.  At F = 0: gradient 0 and P = k I.
  * Projection: P's eigenvalues are k (three times), k (1 - 2/tau) (the in-plane twist) and, in
  * 3D, k (1 - 1/sigma1), k (1 - 1/sigma2) (out of plane: the 2 x 2 block k (I - U^-1)).  So P is
- * PSD and kept when tau >= 2 in 2D or sigma2 >= 1 in 3D; otherwise it is replaced by its
- * nearest PSD matrix (sw_membrane_project). */
+ * PSD and kept when tau >= 2 in 2D or sigma2 >= 1 in 3D; otherwise its eigenvalues are
+ * clamped at 0 or replaced by their absolute values (sw_membrane_project, as ev->project asks). */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -96,7 +96,7 @@ static double corot_density(const void *law, const double *wu, const double *wv,
       for (int b = 0; b < ld; b++)
         P[a * ld + b] = d == 3 ? P6[a * 6 + b] : P6[at[a] * 6 + at[b]];
     int psd = d == 2 ? tau >= 2.0 : s2 >= 1.0;
-    if (project && !psd && sw_membrane_project(P, wu, wv, d)) return NAN;
+    if (project && !psd && sw_membrane_project(P, wu, wv, d, project)) return NAN;
   }
   return 0.5 * k * ((s1 - 1.0) * (s1 - 1.0) + (s2 - 1.0) * (s2 - 1.0));
 }

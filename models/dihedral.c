@@ -31,8 +31,9 @@
  * product matrix), and for alpha = s (x_k - x_l).e^: grad_k = s e^, grad_l = -s e^,
  * grad_1 += s q, grad_0 -= s q, q = (I - e^ e^T)(x_k - x_l)/|e|.
  * E's Hessian is 2w (g g^T + (theta - theta_rest) d2theta), w = k_b |e_rest|^2/(2(A1+A2)); it is
- * indefinite where the second part dominates, and the projection replaces each 12 x 12 block
- * by its PSD part (LAPACK dsyev, negative eigenvalues set to 0). */
+ * indefinite where the second part dominates, and the eigenvalue filter (SW_FILTER_*) acts on
+ * each 12 x 12 block (LAPACK dsyev): negative eigenvalues set to 0 (its PSD part) or replaced
+ * by their absolute values. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -172,8 +173,9 @@ static void theta_hessian(const hinge *h, double *Ht) {
     }
 }
 
-/* Replace the symmetric 12 x 12 block B by its PSD part: sum over positive eigenvalues. */
-static void project_psd(double *B) {
+/* Filter the eigenvalues of the symmetric 12 x 12 block B by `mode`: its PSD part (the sum over
+ * positive eigenvalues) or V |Lambda| V^T. */
+static void project_psd(double *B, int mode) {
   const int n = 12, lwork = 12 * 34;
   double A[144], lam[12], work[12 * 34];
   int info = 0;
@@ -182,10 +184,11 @@ static void project_psd(double *B) {
   if (info != 0 || lam[0] >= 0.0) return; /* already PSD (or LAPACK failed: keep it) */
   memset(B, 0, sizeof A);
   for (int k = 0; k < n; k++) {
-    if (lam[k] <= 0.0) continue;
+    double l = sw_filter_eigenvalue(lam[k], mode);
+    if (l <= 0.0) continue;
     const double *v = A + k * n; /* column k (symmetric, so row/column order is moot) */
     for (int r = 0; r < n; r++)
-      for (int c = 0; c < n; c++) B[r * n + c] += lam[k] * v[r] * v[c];
+      for (int c = 0; c < n; c++) B[r * n + c] += l * v[r] * v[c];
   }
 }
 
@@ -219,7 +222,7 @@ static double edge_eval(const sw_term *t, int s, const sw_eval *ev) {
     theta_hessian(&h, Ht);
     for (int r = 0; r < 12; r++)
       for (int c = 0; c < 12; c++) Ht[r * 12 + c] = 2.0 * w * (g[r] * g[c] + dth * Ht[r * 12 + c]);
-    if (ev->project && dth != 0.0) project_psd(Ht); /* dth = 0: 2w g g^T, PSD */
+    if (ev->project && dth != 0.0) project_psd(Ht, ev->project); /* dth = 0: 2w g g^T, PSD */
     double *blk = ev->hess + t->hptr[s];
     for (int k = 0; k < 144; k++) blk[k] += Ht[k];
   }
