@@ -18,10 +18,17 @@
  * = |c|/sigma1 is a cone in c) nor at F = 0.  When j <= 1e-12 t we take c^ = 0, i.e. dj = 0 (the
  * smallest subgradient) and drop the unbounded 1/j curvature: psi, gradient and P are then
  * those of the energy restricted to j = 0.  At F = 0: gradient 0 and P = k I.
- * Projection: P's eigenvalues are k (three times), k (1 - 2/tau) (the in-plane twist) and, in
- * 3D, k (1 - 1/sigma1), k (1 - 1/sigma2) (out of plane: the 2 x 2 block k (I - U^-1)).  So P is
- * PSD and kept when tau >= 2 in 2D or sigma2 >= 1 in 3D; otherwise it is replaced by its
- * nearest PSD matrix (sw_membrane_project). */
+ * Filters (SW_FILTER_*): P commutes with the reflection through the plane of wu, wv.  In the
+ * frame n = c^, e1 = wu^ (orthogonal to n), e2 = n x e1, where F's in-plane part
+ * [[a, b], [c, d]] has det = j > 0, the in-plane 4 x 4 block is k I - (2k/tau) t t^T with the
+ * twist t ~ (-(b - c), a + d, -(a + d), -(b - c)) (in a, b, c, d): eigenvalues k (three times)
+ * and k (1 - 2/tau); the out-of-plane block, on dwu = x n, dwv = y n, is k (I - U^-1):
+ * eigenvalues k (1 - 1/sigma_i) on C's eigenvectors (x, y).  With j = 0, P = k (1 - 1/tau) I +
+ * (k/tau^3) f f^T.  So P is PSD and kept when tau >= 2 in 2D or sigma2 >= 1 in 3D; otherwise the
+ * filtered P (eigenvalues clamped at 0 or made absolute, as ev->project asks) is built from
+ * that eigen-system directly.  Filtering the exact P numerically instead lost the accuracy of
+ * its small eigenvalues as j -> 0: the out-of-plane one is ~ -k t/j, and the 1/j entries
+ * cancel in the in-plane block, leaving round-off of 1e-16 k t/j. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -63,6 +70,72 @@ static void corot_hessian(double k, double tau, double j, const double *f, const
     }
 }
 
+/* P (6 x 6, on [wu; wv] padded to 3D) with its eigenvalues filtered by `mode`, from its
+ * eigen-system in closed form (see the head comment): f = [wu; wv], tau = tr U, j = |c|,
+ * ch = c^ (any value when j = 0), s1 >= s2 the principal stretches and (c11, c12, c22) = C. */
+static void corot_filtered(double k, const double *f, double tau, double j, const double *ch,
+                           double s1, double s2, double c11, double c12, double c22, int mode,
+                           double *P6) {
+  memset(P6, 0, 36 * sizeof(double));
+  if (!(tau > 0.0)) { /* F = 0: P = k I */
+    for (int a = 0; a < 6; a++) P6[a * 7] = k;
+    return;
+  }
+  if (j == 0.0) { /* degenerate: k (1 - 1/tau) I + (k/tau^3) f f^T, eigenvector f */
+    double ff = 0.0;
+    for (int a = 0; a < 6; a++) ff += f[a] * f[a];
+    double lo = sw_filter_eigenvalue(k * (1.0 - 1.0 / tau), mode);
+    double hi = sw_filter_eigenvalue(k * (1.0 - 1.0 / tau) + k * ff / (tau * tau * tau), mode);
+    for (int a = 0; a < 6; a++)
+      for (int b = 0; b < 6; b++) P6[a * 6 + b] = lo * (a == b) + (hi - lo) * f[a] * f[b] / ff;
+    return;
+  }
+  /* The orthonormal frame n = c^, e1 = wu^ orthogonalised against n (to round-off: c^ loses
+   * accuracy as j -> 0, and the frame must stay orthonormal), e2 = n x e1, in which F's in-plane
+   * part [[a, b], [c, d]] = [[wu.e1, wv.e1], [wu.e2, wv.e2]] has det ~ j > 0. */
+  double e1[3], e2[3], un = f[0] * ch[0] + f[1] * ch[1] + f[2] * ch[2], l1 = 0.0;
+  for (int a = 0; a < 3; a++) e1[a] = f[a] - un * ch[a], l1 += e1[a] * e1[a];
+  l1 = sqrt(l1);
+  for (int a = 0; a < 3; a++) e1[a] /= l1;
+  e2[0] = ch[1] * e1[2] - ch[2] * e1[1];
+  e2[1] = ch[2] * e1[0] - ch[0] * e1[2];
+  e2[2] = ch[0] * e1[1] - ch[1] * e1[0];
+  double fa = f[0] * e1[0] + f[1] * e1[1] + f[2] * e1[2];
+  double fc = f[0] * e2[0] + f[1] * e2[1] + f[2] * e2[2];
+  double fb = f[3] * e1[0] + f[4] * e1[1] + f[5] * e1[2];
+  double fd = f[3] * e2[0] + f[4] * e2[1] + f[5] * e2[2];
+  /* In-plane: k on the three directions orthogonal to the twist
+   * t = (-(b - c), a + d, -(a + d), -(b - c)) (in a, b, c, d), k (1 - 2/tau) on t. */
+  double ta = -(fb - fc), tb = fa + fd, tc = -(fa + fd), td = -(fb - fc);
+  double tn = sqrt(ta * ta + tb * tb + tc * tc + td * td), tw[6];
+  for (int a = 0; a < 3; a++) {
+    tw[a] = (ta * e1[a] + tc * e2[a]) / tn;     /* d wu */
+    tw[3 + a] = (tb * e1[a] + td * e2[a]) / tn; /* d wv */
+  }
+  double ltw = sw_filter_eigenvalue(k * (1.0 - 2.0 / tau), mode) - k;
+  for (int a = 0; a < 6; a++)
+    for (int b = 0; b < 6; b++) {
+      int same = a / 3 == b / 3;
+      P6[a * 6 + b] = (same ? k * ((a == b) - ch[a % 3] * ch[b % 3]) : 0.0) + ltw * tw[a] * tw[b];
+    }
+  /* Out of plane, d wu = x n, d wv = y n: the 2 x 2 block k (I - U^-1), eigenvalues
+   * k (1 - 1/s_i) on C's eigenvectors v_i. */
+  double h = 0.5 * (c11 - c22), r = sqrt(h * h + c12 * c12), v[2] = {1.0, 0.0};
+  if (r > 0.0) {
+    double x1 = h + r, y1 = c12, x2 = c12, y2 = r - h;
+    int first = x1 * x1 + y1 * y1 >= x2 * x2 + y2 * y2;
+    double vx = first ? x1 : x2, vy = first ? y1 : y2, vn = sqrt(vx * vx + vy * vy);
+    v[0] = vx / vn, v[1] = vy / vn;
+  }
+  const double vec[2][2] = {{v[0], v[1]}, {-v[1], v[0]}}, sig[2] = {s1, s2};
+  for (int i = 0; i < 2; i++) {
+    double l = sw_filter_eigenvalue(k * (1.0 - 1.0 / sig[i]), mode), w[6];
+    for (int a = 0; a < 3; a++) w[a] = vec[i][0] * ch[a], w[3 + a] = vec[i][1] * ch[a];
+    for (int a = 0; a < 6; a++)
+      for (int b = 0; b < 6; b++) P6[a * 6 + b] += l * w[a] * w[b];
+  }
+}
+
 static double corot_density(const void *law, const double *wu, const double *wv, int d,
                             int project, double *gu, double *gv, double *P) {
   const double k = ((const corot_law *)law)->k;
@@ -89,14 +162,19 @@ static double corot_density(const void *law, const double *wu, const double *wv,
     gv[a] = cf * f[3 + a] - cj * dj[3 + a];
   }
   if (P) {
-    if (tau > 0.0) corot_hessian(k, tau, j, f, dj, ch, P6);
-    else for (int a = 0; a < 36; a++) P6[a] = k * (a % 7 == 0);
+    int psd = d == 2 ? tau >= 2.0 : s2 >= 1.0;
+    if (project && !psd)
+      corot_filtered(k, f, tau, j, ch, s1, s2, c11, c12, c22, project, P6);
+    else if (tau > 0.0)
+      corot_hessian(k, tau, j, f, dj, ch, P6);
+    else
+      for (int a = 0; a < 36; a++) P6[a] = k * (a % 7 == 0);
     const int ld = 2 * d, at[4] = {0, 1, 3, 4}; /* 2D: the in-plane rows of P6 */
     for (int a = 0; a < ld; a++)
       for (int b = 0; b < ld; b++)
         P[a * ld + b] = d == 3 ? P6[a * 6 + b] : P6[at[a] * 6 + at[b]];
-    int psd = d == 2 ? tau >= 2.0 : s2 >= 1.0;
-    if (project && !psd && sw_membrane_project(P, wu, wv, d)) return NAN;
+    for (int a = 0; project && !psd && a < ld * ld; a++)
+      if (!isfinite(P[a])) return NAN;
   }
   return 0.5 * k * ((s1 - 1.0) * (s1 - 1.0) + (s2 - 1.0) * (s2 - 1.0));
 }

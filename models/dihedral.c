@@ -31,8 +31,9 @@
  * product matrix), and for alpha = s (x_k - x_l).e^: grad_k = s e^, grad_l = -s e^,
  * grad_1 += s q, grad_0 -= s q, q = (I - e^ e^T)(x_k - x_l)/|e|.
  * E's Hessian is 2w (g g^T + (theta - theta_rest) d2theta), w = k_b |e_rest|^2/(2(A1+A2)); it is
- * indefinite where the second part dominates, and the projection replaces each 12 x 12 block
- * by its PSD part (LAPACK dsyev, negative eigenvalues set to 0). */
+ * indefinite where the second part dominates, and the eigenvalue filter (SW_FILTER_*) acts on
+ * each 12 x 12 block (LAPACK dsyev): negative eigenvalues set to 0 (its PSD part) or replaced
+ * by their absolute values. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -42,6 +43,14 @@
 
 extern void dsyev_(const char *jobz, const char *uplo, const int *n, double *a, const int *lda,
                    double *w, double *work, const int *lwork, int *info);
+
+/* Collapsing faces.  theta's gradient grows as 1/area and its Hessian as 1/area^2 as a face
+ * collapses: a hinge next to a crushed face has blocks of 1e18 N/m beside a mass term of a few
+ * N/m, and both the round-off of the filtered block (1e-16 of its largest eigenvalue) and
+ * Cholesky's own then make Newton's system indefinite to CHOLMOD (docs/models.md, "Collapsing
+ * faces").  So a filtered block gets SHIFT times its largest eigenvalue on its diagonal: far
+ * above that round-off, and far below anything that matters where the block is not huge. */
+#define SHIFT 1e-10
 
 typedef struct dihedral_param {
   int n;          /* edges (stencils) */
@@ -172,20 +181,28 @@ static void theta_hessian(const hinge *h, double *Ht) {
     }
 }
 
-/* Replace the symmetric 12 x 12 block B by its PSD part: sum over positive eigenvalues. */
-static void project_psd(double *B) {
+/* Filter the eigenvalues of the symmetric 12 x 12 block B by `mode`: its PSD part (the sum over
+ * positive eigenvalues) or V |Lambda| V^T; then SHIFT x its largest eigenvalue on the diagonal. */
+static void project_psd(double *B, int mode) {
   const int n = 12, lwork = 12 * 34;
   double A[144], lam[12], work[12 * 34];
   int info = 0;
   memcpy(A, B, sizeof A);
   dsyev_("V", "U", &n, A, &n, lam, work, &lwork, &info);
-  if (info != 0 || lam[0] >= 0.0) return; /* already PSD (or LAPACK failed: keep it) */
+  if (info != 0) return; /* LAPACK failed: keep it */
+  double top = fmax(sw_filter_eigenvalue(lam[0], mode), lam[n - 1]);
+  if (lam[0] >= 0.0) { /* already PSD */
+    for (int k = 0; k < n; k++) B[k * 13] += SHIFT * top;
+    return;
+  }
   memset(B, 0, sizeof A);
+  for (int k = 0; k < n; k++) B[k * 13] = SHIFT * top;
   for (int k = 0; k < n; k++) {
-    if (lam[k] <= 0.0) continue;
+    double l = sw_filter_eigenvalue(lam[k], mode);
+    if (l <= 0.0) continue;
     const double *v = A + k * n; /* column k (symmetric, so row/column order is moot) */
     for (int r = 0; r < n; r++)
-      for (int c = 0; c < n; c++) B[r * n + c] += lam[k] * v[r] * v[c];
+      for (int c = 0; c < n; c++) B[r * n + c] += l * v[r] * v[c];
   }
 }
 
@@ -219,7 +236,13 @@ static double edge_eval(const sw_term *t, int s, const sw_eval *ev) {
     theta_hessian(&h, Ht);
     for (int r = 0; r < 12; r++)
       for (int c = 0; c < 12; c++) Ht[r * 12 + c] = 2.0 * w * (g[r] * g[c] + dth * Ht[r * 12 + c]);
-    if (ev->project && dth != 0.0) project_psd(Ht); /* dth = 0: 2w g g^T, PSD */
+    if (ev->project && dth != 0.0) {
+      project_psd(Ht, ev->project);
+    } else if (ev->project) { /* dth = 0: 2w g g^T, PSD, its eigenvalue 2w |g|^2 */
+      double gg = 0.0;
+      for (int k = 0; k < 12; k++) gg += g[k] * g[k];
+      for (int k = 0; k < 12; k++) Ht[k * 13] += SHIFT * 2.0 * w * gg;
+    }
     double *blk = ev->hess + t->hptr[s];
     for (int k = 0; k < 144; k++) blk[k] += Ht[k];
   }

@@ -14,9 +14,10 @@
  * cylinder.  The rest state is always the flat (u,v) layout (bend_rest is not used).
  * K annihilates every affine map of the rest layout (rigid motions, uniform stretch), so the
  * gradient is w K_i s (s = sum K_j x_j, w = k_b/(A1+A2)) and the Hessian block (i,j) is the
- * constant w K_i K_j I: positive semi-definite, its own projection.  In 2D there is no
- * out-of-plane bending: the term then only penalises the non-affine in-plane distortion of
- * each pair of triangles, which is harmless and kept for scenes that share a material. */
+ * constant w K_i K_j I: positive semi-definite, so both eigenvalue filters (SW_FILTER_*) leave
+ * it unchanged.  In 2D there is no out-of-plane bending: the term then only penalises the
+ * non-affine in-plane distortion of each pair of triangles, which is harmless and kept for
+ * scenes that share a material. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>

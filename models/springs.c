@@ -15,8 +15,8 @@
  * faces whose material has membrane SW_MEMBRANE_SPRINGS; a spring with no such face is not
  * made.  With n = (x_i - x_j)/l, l = |x_i - x_j|, the gradient is k (l - L) n at x_i and the
  * exact Hessian block is H = k n n^T + k (1 - L/l)(I - n n^T), [[H, -H], [-H, H]] on the pair;
- * in compression (l < L) the second coefficient is negative, and the projection clamps it at 0,
- * which leaves each block PSD. */
+ * in compression (l < L) the second coefficient is negative, and the eigenvalue filter
+ * (SW_FILTER_*) clamps it at 0 or takes its absolute value, which leaves each block PSD. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -112,7 +112,8 @@ static int make_springs(sw_term *t, springs_param *sp, const sw_model *m, const 
   return n;
 }
 
-/* k/2 (l - L)^2 of one spring: energy, gradient at x_i (d), the d x d block H (or NULL). */
+/* k/2 (l - L)^2 of one spring: energy, gradient at x_i (d), the d x d block H (or NULL),
+ * filtered by `project` (SW_FILTER_*). */
 static double spring_eval(const double *xi, const double *xj, int d, double k, double L,
                           int project, double *g, double *H) {
   double n[3] = {1.0, 0.0, 0.0}, l = 0.0;
@@ -123,7 +124,7 @@ static double spring_eval(const double *xi, const double *xj, int d, double k, d
   for (int a = 0; a < d; a++) g[a] = k * (l - L) * n[a];
   if (H) {
     double perp = l > 0.0 ? k * (1.0 - L / l) : 0.0; /* N/m; negative in compression */
-    if (project && perp < 0.0) perp = 0.0;
+    if (project) perp = sw_filter_eigenvalue(perp, project);
     for (int a = 0; a < d; a++)
       for (int c = 0; c < d; c++) H[a * d + c] = k * n[a] * n[c] + perp * ((a == c) - n[a] * n[c]);
   }

@@ -12,8 +12,9 @@
  * With s = Q e = [S11, S22, S12] (second Piola–Kirchhoff stress, N/m):
  *   dpsi/dwu = S11 wu + S12 wv,  dpsi/dwv = S12 wu + S22 wv   (the columns of F S),
  *   P = J Q J^T + S (x) I_d,  J = [[wu, 0, wv], [0, wv, wu]] (2d x 3), S = [[S11, S12], [S12, S22]].
- * J Q J^T is PSD (Q is positive definite), so P is PSD whenever S is (stretched faces): the
- * projection then keeps P; otherwise P goes to its nearest PSD matrix (sw_membrane_project). */
+ * J Q J^T is PSD (Q is positive definite), so P is PSD whenever S is (stretched faces): a
+ * filter then keeps P; otherwise its eigenvalues are clamped at 0 or replaced by their
+ * absolute values (sw_membrane_project, as ev->project asks). */
 #include <math.h>
 #include <stdio.h>
 
@@ -58,7 +59,7 @@ static double stvk_density(const void *law, const double *wu, const double *wv, 
   if (P) {
     stvk_hessian(q, wu, wv, d, s, P);
     int s_psd = s[0] >= 0.0 && s[1] >= 0.0 && s[0] * s[1] >= s[2] * s[2];
-    if (project && !s_psd && sw_membrane_project(P, wu, wv, d)) return NAN;
+    if (project && !s_psd && sw_membrane_project(P, wu, wv, d, project)) return NAN;
   }
   return 0.5 * (e[0] * s[0] + e[1] * s[1] + e[2] * s[2]);
 }

@@ -9,8 +9,10 @@
  *   d2 Delta: (a,a) = zeta_a + zeta_{a-1}, (a,a+1) = (a+1,a) = -zeta_a,
  *             zeta_k = (I - s^_k s^_k^T) / |s_k|          (seed 003 "second partials")
  *   g = E' grad Delta,  H = E'' grad Delta grad Delta^T + E' d2 Delta   (seed 003 §1.2)
- * in 2D and 3D alike.  Both parts of H are PSD when E'' >= 0 (always) and E' >= 0, so the
- * projected Hessian drops E' d2 Delta where E' < 0 (a compressed spring).
+ * in 2D and 3D alike.  Both parts of H are PSD when E'' >= 0 (always) and E' >= 0: d2 Delta is
+ * PSD, so the eigenvalues of E' d2 Delta are those of d2 Delta times E'.  Where E' < 0 (a
+ * compressed spring) the filtered Hessian (SW_FILTER_*) drops that part (clamp) or takes
+ * |E'| d2 Delta (absolute eigenvalues).
  *
  * A zero-length segment (coincident waypoints: |s_k| <= 1e-12 of the coordinates' size) has
  * no direction: it counts its length (~0) in l and contributes s^_k = 0 and zeta_k = 0, i.e.
@@ -162,7 +164,7 @@ static double eval_one(const sw_term *t, const sw_model *m, const sw_eval *ev, i
       for (int c = 0; c < d; c++) ev->grad[(size_t)td->way[a] * d + c] += e1 * g[c];
     }
   if (ev->hess) {
-    double cb = (ev->project && e1 < 0.0) ? 0.0 : e1; /* the PSD rule */
+    double cb = ev->project ? sw_filter_eigenvalue(e1, ev->project) : e1; /* the PSD rule */
     int s0 = tp->first[k];
     if (tp->rank[k] < 0) dense_block(td, ev->x, d, e2, cb, ev->hess + t->hptr[s0]);
     else

@@ -184,12 +184,16 @@ static void jacobi_eigen(double *A, int n, double *w, double *V) {
   for (int k = 0; k < n; k++) w[k] = A[k * n + k];
 }
 
-int sw_psd_project(double *A, int n) {
-  /* The nearest PSD matrix in the Frobenius norm keeps the eigenvectors and clamps the
-   * eigenvalues at 0 (Higham 1988, "Computing a nearest symmetric positive semidefinite
-   * matrix").  Fixed-size workspace: no allocation. */
+int sw_psd_project(double *A, int n, int mode) {
+  /* Both filters keep the eigenvectors.  Clamping the eigenvalues at 0 gives the nearest PSD
+   * matrix in the Frobenius norm (Higham 1988, "Computing a nearest symmetric positive
+   * semidefinite matrix"); their absolute values give V |Lambda| V^T, which keeps the curvature
+   * of the negative directions (Chen, Liu, Levin, Zheng, Jacobson, "Stabler Neo-Hookean
+   * Simulation: Absolute Eigenvalue Filtering for Projected Newton", SIGGRAPH 2024).
+   * Fixed-size workspace: no allocation. */
   double B[36], V[36], w[6], wmin = 0.0;
   if (n < 1 || n > 6) return -1;
+  if (mode == SW_FILTER_NONE) return 0;
   memcpy(B, A, sizeof(double) * (size_t)(n * n));
   jacobi_eigen(B, n, w, V);
   for (int k = 0; k < n; k++) {
@@ -197,6 +201,7 @@ int sw_psd_project(double *A, int n) {
     wmin = fmin(wmin, w[k]);
   }
   if (wmin >= 0.0) return 0; /* already PSD: A unchanged */
+  for (int k = 0; k < n; k++) w[k] = sw_filter_eigenvalue(w[k], mode);
   for (int i = 0; i < n; i++)
     for (int j = i; j < n; j++) {
       double s = 0.0;
@@ -256,12 +261,14 @@ static void frame_congruence(double *P, const double *E, int fwd) {
   memcpy(P, Q, sizeof Q);
 }
 
-int sw_membrane_project(double *P, const double *wu, const double *wv, int d) {
+int sw_membrane_project(double *P, const double *wu, const double *wv, int d, int mode) {
   /* A density of C = F^T F only is unchanged by the reflection through the plane of wu, wv,
    * so P commutes with it: in a frame [e1 e2 n] of that plane P is block diagonal, the 4 x 4
-   * in-plane block (rows e1, e2 of wu and wv) and the 2 x 2 block on [a n; b n], and the
-   * nearest PSD matrix of P is made of those of the blocks. */
-  if (d == 2) return sw_psd_project(P, 4);
+   * in-plane block (rows e1, e2 of wu and wv) and the 2 x 2 block on [a n; b n]; P's
+   * eigenvectors are those of the blocks, and its filtered matrix (nearest PSD, or absolute
+   * eigenvalues) is made of the blocks' filtered ones. */
+  if (mode == SW_FILTER_NONE) return 0;
+  if (d == 2) return sw_psd_project(P, 4, mode);
   double E[9], A[16], B[4];
   const int in[4] = {0, 1, 3, 4}, out[2] = {2, 5};
   plane_frame(wu, wv, E);
@@ -270,7 +277,7 @@ int sw_membrane_project(double *P, const double *wu, const double *wv, int d) {
     for (int j = 0; j < 4; j++) A[i * 4 + j] = P[in[i] * 6 + in[j]];
   for (int i = 0; i < 2; i++)
     for (int j = 0; j < 2; j++) B[i * 2 + j] = P[out[i] * 6 + out[j]];
-  if (sw_psd_project(A, 4) || sw_psd_project(B, 2)) return -1;
+  if (sw_psd_project(A, 4, mode) || sw_psd_project(B, 2, mode)) return -1;
   memset(P, 0, 36 * sizeof(double));
   for (int i = 0; i < 4; i++)
     for (int j = 0; j < 4; j++) P[in[i] * 6 + in[j]] = A[i * 4 + j];

@@ -3,6 +3,7 @@
 #ifndef SW_TERMS_H
 #define SW_TERMS_H
 
+#include <math.h>
 #include <stddef.h>
 
 #include "sinew.h"
@@ -12,10 +13,17 @@
 int sw_term_alloc_stencils(sw_term *t, int nstencil, int per, int dim);
 void sw_term_free(sw_term *t);
 
+/* An eigenvalue lam of a Hessian after the filter `mode` (SW_FILTER_*, sinew.h): unchanged
+ * (none), clamped at 0 (clamp), or its absolute value (abs).  A NaN stays NaN. */
+static inline double sw_filter_eigenvalue(double lam, int mode) {
+  return mode == SW_FILTER_ABS ? fabs(lam) : mode == SW_FILTER_CLAMP && lam < 0.0 ? 0.0 : lam;
+}
+
 /* Membranes (models/term.c): a term with one 3-vertex stencil per face whose material uses the
  * model, energy sum_f a_f psi(wu, wv).  `density` returns psi (J/m^2 = N/m) of the material
  * constants `law` and fills gu = dpsi/dwu, gv = dpsi/dwv (d each, N/m) and, when P is not NULL,
- * P = d2psi/d(wu,wv)^2 (2d x 2d row-major, N/m), made PSD when `project`; NaN on failure. */
+ * P = d2psi/d(wu,wv)^2 (2d x 2d row-major, N/m), its eigenvalues filtered by `project`
+ * (SW_FILTER_*); NaN on failure. */
 typedef double (*sw_membrane_density)(const void *law, const double *wu, const double *wv,
                                       int d, int project, double *gu, double *gv, double *P);
 typedef struct sw_membrane {
@@ -34,13 +42,14 @@ sw_membrane *sw_membrane_new(sw_term *t, const sw_model *m, const sw_term_ops *o
                              size_t lawsz, sw_membrane_density density, char *err, size_t errsz);
 int sw_membrane_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, double *energy);
 void sw_membrane_free(void *param);
-/* Replace the symmetric n x n matrix A (row-major, n <= 6) by its nearest positive
- * semi-definite matrix (Jacobi eigen-decomposition; unchanged when already PSD).  0, or -1 when
- * n is out of range or A is not finite. */
-int sw_psd_project(double *A, int n);
-/* The nearest PSD matrix of the P (2d x 2d) of a density that depends on F only through C =
- * F^T F (stvk, corotated), from those of its in-plane and out-of-plane blocks.  0 or -1. */
-int sw_membrane_project(double *P, const double *wu, const double *wv, int d);
+/* Filter the eigenvalues of the symmetric n x n matrix A (row-major, n <= 6) by `mode`
+ * (SW_FILTER_*): SW_FILTER_CLAMP gives its nearest positive semi-definite matrix, SW_FILTER_ABS
+ * V |Lambda| V^T; A is unchanged when it is PSD already, or for SW_FILTER_NONE (Jacobi
+ * eigen-decomposition).  0, or -1 when n is out of range or A is not finite. */
+int sw_psd_project(double *A, int n, int mode);
+/* The filtered P (2d x 2d) of a density that depends on F only through C = F^T F (stvk,
+ * corotated), from the filtered in-plane and out-of-plane blocks (sw_psd_project).  0 or -1. */
+int sw_membrane_project(double *P, const double *wu, const double *wv, int d, int mode);
 
 /* models/bw98.c: Baraff-Witkin stretch and shear (seed 002, DESIGN.md). */
 int sw_bw98_build(sw_term *t, const sw_model *m, char *err, size_t errsz);

@@ -14,6 +14,9 @@
 #include "harness.h"
 #include "terms.h"
 
+extern void dsyev_(const char *jobz, const char *uplo, const int *n, double *a, const int *lda,
+                   double *w, double *work, const int *lwork, int *info);
+
 static sw_material springs_mat(double kst, double ksh, double kbe) {
   sw_material mt = {.density = 0.2, .membrane = SW_MEMBRANE_SPRINGS, .b_u = 1.0, .b_v = 1.0,
                     .ks_stretch = kst, .ks_shear = ksh, .ks_bend = kbe, .tx_k_u = -1.0,
@@ -107,6 +110,73 @@ static void dihedral_states(void **st) {
   fold(m, 0.1, -2.9, 1e-3, x); /* folded the other way by 166 degrees */
   th_conformance_at(m, "dihedral", 0, 0.3, x);
   free(x);
+  sw_model_free(m);
+}
+
+/* The filtered block of one hinge (a 2 x 2 grid: two triangles) against LAPACK: folded by 1.2
+ * rad with a rest angle of 0 (indefinite), and at rest (2 w g g^T, PSD): the filter's
+ * V f(Lambda) V^T (f: max(., 0) or |.|) plus 1e-10 x its largest eigenvalue on the diagonal,
+ * while energy and gradient are the exact ones whatever the filter.  Also with face A squashed
+ * to 1e-12 of its area, where the block's eigenvalues reach ~1e20 N/m. */
+static void dihedral_filtered_block(void **st) {
+  (void)st;
+  sw_material mt = bending_mat(SW_BENDING_DIHEDRAL, 2e-3, SW_BEND_REST_FLAT);
+  sw_model *m = th_grid_model_mat(3, 2, 2, 0.1, 0.1, &mt);
+  assert_non_null(m);
+  const sw_term *t = NULL;
+  for (int k = 0; k < m->nterm; k++)
+    if (!strcmp(m->term[k].name, "dihedral")) t = &m->term[k];
+  assert_non_null(t);
+  assert_int_equal(t->nstencil, 1);
+  const int *v = t->sidx; /* x0, x1 on the edge, x2 far in face A, x3 far in face B */
+  for (int state = 0; state < 3; state++) {
+    double x[12];
+    memcpy(x, m->x0, sizeof x);
+    if (state >= 1) { /* rotate x3 about the edge by 1.2 rad */
+      double o[3], e[3], r[3], L = 0.0;
+      for (int i = 0; i < 3; i++) o[i] = x[3 * v[0] + i], e[i] = x[3 * v[1] + i] - o[i];
+      for (int i = 0; i < 3; i++) L += e[i] * e[i];
+      for (int i = 0; i < 3; i++) e[i] /= sqrt(L), r[i] = x[3 * v[3] + i] - o[i];
+      double c = cos(1.2), sn = sin(1.2), er = e[0] * r[0] + e[1] * r[1] + e[2] * r[2];
+      double exr[3] = {e[1] * r[2] - e[2] * r[1], e[2] * r[0] - e[0] * r[2], e[0] * r[1] - e[1] * r[0]};
+      for (int i = 0; i < 3; i++) x[3 * v[3] + i] = o[i] + r[i] * c + exr[i] * sn + e[i] * er * (1 - c);
+    }
+    if (state == 2) /* x2 onto the edge's midpoint, 1e-12 of the cell off it (in plane) */
+      for (int i = 0; i < 3; i++)
+        x[3 * v[2] + i] = 0.5 * (x[3 * v[0] + i] + x[3 * v[1] + i]) +
+                          1e-12 * (x[3 * v[2] + i] - 0.5 * (x[3 * v[0] + i] + x[3 * v[1] + i]));
+    double H[144], g0[12];
+    memset(H, 0, sizeof H), memset(g0, 0, sizeof g0);
+    sw_eval ex = {.x = x, .grad = g0, .hess = H, .project = SW_FILTER_NONE};
+    double e0 = 0.0;
+    assert_int_equal(t->ops->eval(t, m, &ex, &e0), SW_OK);
+    for (int mode = SW_FILTER_CLAMP; mode <= SW_FILTER_ABS; mode++) {
+      double B[144], g[12], V[144], lam[12], work[12 * 34], R[144] = {0}, e = 0.0;
+      int n = 12, lwork = 12 * 34, info = 0;
+      memset(B, 0, sizeof B), memset(g, 0, sizeof g);
+      sw_eval ev = {.x = x, .grad = g, .hess = B, .project = mode};
+      assert_int_equal(t->ops->eval(t, m, &ev, &e), SW_OK);
+      assert_true(e == e0);
+      for (int i = 0; i < 12; i++) assert_true(g[i] == g0[i]);
+      memcpy(V, H, sizeof V);
+      dsyev_("V", "U", &n, V, &n, lam, work, &lwork, &info);
+      assert_int_equal(info, 0);
+      if (state >= 1) assert_true(lam[0] < -1e-6 * lam[11]); /* the exact block is indefinite */
+      double top = 0.0;
+      for (int k = 0; k < 12; k++) {
+        double l = mode == SW_FILTER_ABS ? fabs(lam[k]) : fmax(lam[k], 0.0);
+        top = fmax(top, l);
+        for (int i = 0; i < 12; i++)
+          for (int j = 0; j < 12; j++) R[i * 12 + j] += l * V[k * 12 + i] * V[k * 12 + j];
+      }
+      for (int i = 0; i < 12; i++) R[i * 13] += 1e-10 * top;
+      double err = 0.0;
+      for (int i = 0; i < 144; i++) err = fmax(err, fabs(B[i] - R[i]));
+      if (state == 2) assert_true(top > 1e18);
+      if (!(err <= 1e-13 * top)) print_error("state %d mode %d: |B - R| = %g of %g\n", state, mode, err, top);
+      assert_true(err <= 1e-13 * top);
+    }
+  }
   sw_model_free(m);
 }
 
@@ -301,6 +371,7 @@ int main(void) {
       cmocka_unit_test(springs_3d),          cmocka_unit_test(springs_2d),
       cmocka_unit_test(quadratic_3d),        cmocka_unit_test(quadratic_2d),
       cmocka_unit_test(dihedral_states),     cmocka_unit_test(dihedral_refuses_2d),
+      cmocka_unit_test(dihedral_filtered_block),
       cmocka_unit_test(dihedral_curved_rest), cmocka_unit_test(seam_rest),
       cmocka_unit_test(springs_counts),      cmocka_unit_test(springs_stretch_2d),
       cmocka_unit_test(springs_stretch_3d),  cmocka_unit_test(arc_dihedral),

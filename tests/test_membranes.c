@@ -301,8 +301,9 @@ static void stvk_strip_stiffness(void **st) {
 
 /* ------------------------------------------------------------------ PSD projection */
 
-/* The nearest PSD matrix by LAPACK: V max(w, 0) V^T. */
-static void lapack_psd(double *A, int n) {
+/* The filtered matrix by LAPACK: V max(w, 0) V^T (clamp, the nearest PSD matrix) or
+ * V |w| V^T (abs). */
+static void lapack_psd(double *A, int n, int mode) {
   double w[6], work[256];
   int lwork = 256, info = 0;
   double V[36], R[36] = {0};
@@ -311,17 +312,19 @@ static void lapack_psd(double *A, int n) {
   assert_int_equal(info, 0);
   for (int k = 0; k < n; k++)
     for (int i = 0; i < n; i++)
-      for (int j = 0; j < n; j++) R[i * n + j] += fmax(w[k], 0.0) * V[k * n + i] * V[k * n + j];
+      for (int j = 0; j < n; j++) R[i * n + j] += (mode == SW_FILTER_ABS ? fabs(w[k]) : fmax(w[k], 0.0)) *
+                                             V[k * n + i] * V[k * n + j];
   memcpy(A, R, sizeof(double) * (size_t)(n * n));
 }
 
 /* sw_psd_project (Jacobi) and sw_membrane_project (in-plane and normal blocks) against LAPACK,
- * on random P = J M J^T + S (x) I, the form of the Hessian of any density of C (stvk.c). */
+ * on random P = J M J^T + S (x) I, the form of the Hessian of any density of C (stvk.c), with
+ * both filters: clamped eigenvalues (the nearest PSD matrix) and absolute ones. */
 static void psd_projection(void **st) {
   (void)st;
   unsigned long rs = 4242;
-  for (int rep = 0; rep < 200; rep++) {
-    int d = 2 + rep % 2, n = 2 * d;
+  for (int rep = 0; rep < 400; rep++) {
+    int d = 2 + rep % 2, n = 2 * d, mode = rep % 4 < 2 ? SW_FILTER_CLAMP : SW_FILTER_ABS;
     double wu[3] = {0}, wv[3] = {0}, M[9], S[3], P[36], A[36], B[36];
     for (int a = 0; a < d; a++) wu[a] = th_rand(&rs), wv[a] = th_rand(&rs);
     if (rep % 10 == 9) memcpy(wv, wu, sizeof wu); /* degenerate: parallel columns */
@@ -344,9 +347,9 @@ static void psd_projection(void **st) {
         P[i * n + j] = v;
       }
     memcpy(A, P, sizeof P), memcpy(B, P, sizeof P);
-    assert_int_equal(sw_psd_project(A, n), 0);
-    assert_int_equal(sw_membrane_project(B, wu, wv, d), 0);
-    lapack_psd(P, n);
+    assert_int_equal(sw_psd_project(A, n, mode), 0);
+    assert_int_equal(sw_membrane_project(B, wu, wv, d, mode), 0);
+    lapack_psd(P, n, mode);
     for (int i = 0; i < n * n; i++) {
       assert_true(fabs(A[i] - P[i]) < 1e-12);
       assert_true(fabs(B[i] - P[i]) < 1e-12);
