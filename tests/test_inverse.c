@@ -1,5 +1,5 @@
 /* test_inverse.c — the tendon inverse problem (solvers/inverse.c, nnls.c, inverse_check.c,
- * sim/targets.c, sim/scene_write.c; docs/inverse.md): NNLS against known answers and a
+ * sim/input/targets.c, sim/input/scene_write.c; docs/inverse.md): NNLS against known answers and a
  * brute-force enumeration of active sets, recovery of known tensions on cable nets in 2D and 3D,
  * unreachable targets, the forward check, the targets CSV and its errors, the rewritten scene,
  * and the point-load term. */

@@ -1,4 +1,4 @@
-/* test_output.c — the run folder writers (sim/output.c) on a hand-built 4-vertex, 2-face model.
+/* test_output.c — the run folder writers (sim/output/) on a hand-built 4-vertex, 2-face model.
  * No term operation is called: the fake term "bw98" has ops == NULL. */
 #include <setjmp.h>
 #include <stdarg.h>

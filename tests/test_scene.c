@@ -531,7 +531,7 @@ static const bad_case bad[] = {
     {"two_docs.yaml", GRID MAT "---\nname: y\n", 4, 1, "second YAML document"},
     {"deep.yaml", GRID MAT "x: [[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[["
                            "]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]\n", 3, 35, "nested"},
-    /* materials, panels, damping (sim/scene_material.c) */
+    /* materials, panels, damping (sim/input/scene_material.c) */
     {"stvk_neg.yaml", GRID "material:\n  density: 0.1\n"
      "  membrane: {model: stvk, e_u: -1, e_v: 1, shear_modulus: 1}\n", 4, 32, "e_u"},
     {"stvk_poisson.yaml", GRID "material:\n  density: 0.1\n"
@@ -552,7 +552,7 @@ static const bad_case bad[] = {
      "  bending: {model: quadratic, stiffness: -1}\n", 4, 42, "stiffness"},
     {"panel_group.yaml", GRID MAT "panels: {front: {density: 0.2}}\n", 3, 10, "default"},
     {"damping_neg.yaml", GRID MAT "damping: {mass: -1}\n", 3, 17, "damping mass"},
-    /* tendons (sim/scene_tendon.c) */
+    /* tendons (sim/input/scene_tendon.c) */
     {"tendon_repeat.yaml", GRID MAT "tendons:\n  - {waypoints: [0, 1, 0], stiffness: 10}\n", 4,
      24, "repeats vertex 0"},
     {"tendon_index.yaml", GRID MAT "tendons:\n  - {waypoints: [0, 9], stiffness: 10}\n", 4, 21,

@@ -1,4 +1,4 @@
-/* scene_yaml.h — internal to the scene loader (sim/scene*.c): the YAML tree with positions
+/* scene_yaml.h — internal to the scene loader (sim/input/scene*.c): the YAML tree with positions
  * (libfyaml's event parser, scene_yaml.c), the loader's context and the schema getters that
  * check one node and report "file:line:column: what was found; expected what". */
 #ifndef SW_SCENE_YAML_H
