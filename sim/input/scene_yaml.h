@@ -57,7 +57,7 @@ const char *sy_clip(const ynode *y, char *t, size_t sz);
 const char *sy_join(const char *const *names, int n, char *buf, size_t sz);
 int sy_scalar_number(const ynode *y, double *v);
 
-/* Selections (scene.c): mark in c->sel the vertices y picks ({vertices: [...]} or {box: ...}). */
+/* Selections (scene_select.c): mark in c->sel the vertices y picks ({vertices: [...]} or {box: ...}). */
 int sy_select(const ctx *c, const ynode *y, const char *what);
 
 #endif
