@@ -1,10 +1,11 @@
 /* bench.h — `sinew bench` (docs/benchmarks.md): a scene under each method and setting, each run
  * its own `sinew run` process, then errors against a reference and costs into CSV files and
- * charts.  Three parts, one file each:
+ * charts.  One file each part, each calling only the ones listed below it:
  *   bench.c        the command line, the plan (which runs) and its files plan_MODE.csv
  *   bench_exec.c   running the plan: local processes (--jobs N), or a job list (--emit-jobs)
- *   bench_read.c   reading a run folder: summary.json, the CSV logs, positions.bin
  *   bench_merge.c  errors and costs of every run -> MODE CSV files -> tools/bench_charts.py
+ *   bench_read.c   reading a run folder: summary.json, the CSV logs, positions.bin
+ *   bench_util.c   the helpers they share: paths, whole files, numbers, method specs
  * Only the public API (sinew.h) is used: a bench is a client of `sinew run`. */
 #ifndef SW_BENCH_H
 #define SW_BENCH_H
@@ -106,7 +107,7 @@ int bench_merge(const bench_plan *p);
  * -1 if SPEC is neither. */
 int bench_method_split(const char *spec, char *name, size_t namesz, int *order);
 
-/* small shared helpers (bench.c) */
+/* small shared helpers (bench_util.c; bench_method_split above too) */
 int bench_path(char *out, size_t sz, const char *dir, const char *a, const char *b);
 void bench_fmt(char *buf, size_t sz, double v); /* shortest %g that reads back exactly */
 int bench_atoi(const char *s);                  /* strtol clamped to +-1e9 (0 if none) */
