@@ -25,13 +25,10 @@
  * does after split = 2^halvings failures).  Returns h. */
 static double integrate_split(const sw_integrator_ops *ops, const sw_model *m, double T, int n,
                               int split, double *x, double *v) {
-  sw_data *d = sw_data_new(m);
+  void *s;
+  sw_data *d = th_start(ops, m, &s);
   assert_non_null(d);
-  char err[SW_ERRSZ];
-  void *s = NULL;
-  int rc = ops->init(&s, m, d, err, sizeof err);
-  if (rc) print_error("%s: init: %s\n", ops->name, err);
-  assert_int_equal(rc, 0);
+  int rc;
   const double h = split > 1 ? T / (n + 0.5) : T / n;
   for (int k = 1; d->t < T; k++) {
     /* as the run loop does: step k ends at k h, not at a running sum */
@@ -186,10 +183,7 @@ static sw_model *vibration_scene(sw_data **dout, double *evib) {
   m->opt.newton_tol = 1e-10;
   sw_data *d = sw_data_new(m);
   double r[3];
-  char err[SW_ERRSZ];
-  int rc = sw_static_solve(m, d, r, err, sizeof err);
-  if (rc) print_error("%s\n", err);
-  assert_int_equal(rc, 0);
+  assert_int_equal(th_static(m, d, r), 0);
   double ueq = total_energy(m, d);
   unsigned long rs = 12345;
   for (int i = 0; i < m->nv * m->dim; i++)
@@ -373,9 +367,7 @@ static void energy_bound_covers_actuation(void **st) {
                       "           rest_length: {keyframes: [[0, 1.0], [1, 0.5]]}},\n"
                       "          {waypoints: [1, 2], law: spring, stiffness: 1, density: 1}]\n"
                       "loads: [{select: {vertices: [2]}, force: [3, 0]}]\n";
-  char err[SW_ERRSZ];
-  sw_model *m = sw_scene_parse("bound.yaml", scene, strlen(scene), err, sizeof err);
-  if (!m) print_error("%s\n", err);
+  sw_model *m = th_scene("bound.yaml", scene);
   assert_non_null(m);
   sw_data *d = sw_data_new(m);
   double u;
