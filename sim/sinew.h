@@ -176,6 +176,12 @@ enum { SW_HESSIAN_PROJECTED = 0, SW_HESSIAN_EXACT = 1, SW_HESSIAN_AUTO = 2, SW_H
        SW_HESSIAN_DEFAULT = -1 /* not set: abs in 3D, projected in 2D (sw_model_finish) */ };
 /* The scene's and the command line's names of the SW_HESSIAN_* modes, in their order. */
 SW_API const char *const *sw_hessian_names(void);
+/* How Newton measures its update dx against tol * dt (docs/integrators.md, "Newton"): the
+ * mass-weighted RMS over the free DOFs, sqrt(sum m_i |dx_i|^2 / sum m_i), with no coordinate
+ * above SW_NEWTON_RMS_CAP x the tolerance; or the largest coordinate, max |dx|. */
+enum { SW_NORM_RMS = 0, SW_NORM_MAX = 1, SW_NORM_N = 2 };
+#define SW_NEWTON_RMS_CAP 10.0
+SW_API const char *const *sw_norm_names(void);
 
 typedef struct sw_options {
   char method[SW_NAMESZ];      /* integrator name, see sw_method_names() */
@@ -183,8 +189,9 @@ typedef struct sw_options {
   double duration;             /* simulated time, s */
   int newton_max;              /* Newton iterations per step before the step fails */
   double newton_tol;           /* m/s: Newton converges when its estimate of the error left in
-                                  the stage positions is at most newton_tol * dt in every
-                                  coordinate (docs/integrators.md, "Newton") */
+                                  the stage positions, in the newton_norm, is at most
+                                  newton_tol * dt (docs/integrators.md, "Newton") */
+  int newton_norm;             /* SW_NORM_*: how that error is measured */
   double newton_force_tol;     /* static solve: converged when the largest free force component
                                   is <= newton_force_tol x the force scale (dimensionless; or
                                   at its round-off floor, docs/integrators.md) */

@@ -115,6 +115,7 @@ typedef struct sw_newton {
   int fac_valid;
   double fac_a, fac_cd;
   double theta;          /* the last observed contraction |dx_k| / |dx_k-1| */
+  double *wdof;          /* (n) each free DOF's share of the free mass, m_i / sum m_i */
   int iter;              /* the current iteration of the solve */
 } sw_newton;
 
@@ -122,7 +123,9 @@ typedef struct sw_newton_opts {
   double a;              /* mass coefficient, 1/s^2 */
   double t;              /* time at which U is evaluated, s */
   int max_iter;
-  double tol_dx;         /* converged when max |dx| <= tol_dx (m) */
+  double tol_dx;         /* converged when |dx| <= tol_dx (m) in the norm below */
+  int norm;              /* SW_NORM_*: mass-weighted RMS (no coordinate above
+                            SW_NEWTON_RMS_CAP tol_dx) or max */
   int line_search;       /* backtracking on Phi; 0: take full steps */
   int must_converge;     /* 0: stop after max_iter without failing (one-step variants) */
   int hessian;           /* SW_HESSIAN_* */

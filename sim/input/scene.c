@@ -325,7 +325,7 @@ static int load_gravity(const ctx *c, const ynode *y) {
 static const char *const int_keys[] = {"method", "dt", "max_halvings", "newton", "hessian",
                                        "rtol", "atol", "max_order", "max_step", "energy_bound",
                                        "tendon_dense_max", "setup_every"};
-static const char *const newton_keys[] = {"max_iterations", "tol", "reuse", "force_tol"};
+static const char *const newton_keys[] = {"max_iterations", "tol", "reuse", "force_tol", "norm"};
 static const char *const on_off[] = {"false", "true"};
 
 static int load_method(const ctx *c, const ynode *y) {
@@ -350,7 +350,7 @@ static int load_max_order(const ctx *c, const ynode *y, int *out) {
 
 static int load_integrator(const ctx *c, const ynode *y) {
   sw_options *o = &c->m->opt;
-  const ynode *v[12], *nv[4];
+  const ynode *v[12], *nv[5];
   if (sy_map(c, y, "integrator", int_keys, 12, v)) return -1;
   if (v[11] && sy_int(c, v[11], "integrator setup_every", 1, INT_MAX, &o->setup_every))
     return -1;
@@ -368,7 +368,9 @@ static int load_integrator(const ctx *c, const ynode *y) {
   if (v[1] && sy_num(c, v[1], "integrator dt", 0, 1, "s", &o->dt)) return -1;
   if (v[2] && sy_int(c, v[2], "integrator max_halvings", 0, 60, &o->max_halvings)) return -1;
   if (!v[3]) return 0;
-  if (sy_map(c, v[3], "integrator newton", newton_keys, 4, nv)) return -1;
+  if (sy_map(c, v[3], "integrator newton", newton_keys, 5, nv)) return -1;
+  if (nv[4] && sy_choice(c, nv[4], "integrator newton norm", sw_norm_names(), SW_NORM_N,
+                         &o->newton_norm)) return -1;
   if (nv[2] && sy_choice(c, nv[2], "integrator newton reuse", on_off, 2, &o->newton_reuse))
     return -1;
   if (nv[0] &&
