@@ -1,4 +1,4 @@
-/* solver.h — the shared linear-algebra path of every implicit method (DESIGN.md "Integrators"):
+/* solver.h — the shared linear-algebra path of every implicit method (docs/integrators.md):
  * a fixed upper-triangle CSC pattern on the free DOFs built once from the terms' stencils,
  * CHOLMOD analysed once and refactorised per Newton iteration, Newton's method on an
  * incremental potential, and the table of operations every integrator fills. */
@@ -37,7 +37,7 @@ void sw_pattern_symv(const sw_pattern *p, const double *values, const double *x,
 
 /* ---------------------------------------------------------------- damping.c */
 /* Rayleigh damping D = alpha M + beta K(x), K the PSD-projected Hessian of the terms
- * (DESIGN.md "Integrators": S = c^2 M + c D + H); sw_damped (sinew.h) says if there is any. */
+ * (docs/integrators.md: S = c^2 M + c D + H); sw_damped (sinew.h) says if there is any. */
 /* values += sum_t c_t grad l_t grad l_t^T at x on the pattern (tendons of at most
  * tendon_dense_max waypoints: their dense stencil holds every slot). */
 void sw_damping_tendons_fill(const sw_pattern *p, const sw_model *m, const double *x,
