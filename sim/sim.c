@@ -414,6 +414,8 @@ void sw_sim_energy(const sw_sim *s, double *kinetic, double *potential, double *
   *dissipated = s->d->dissipated;
 }
 
+double sw_sim_time(const sw_sim *s) { return s->d->t; }
+
 double sw_sim_rest(const sw_sim *s, int k) {
   return k >= 0 && k < s->m->ntendon ? sw_tendon_rest(&s->m->tendon[k], s->d->t) : NAN;
 }

@@ -446,6 +446,8 @@ SW_API long sw_sim_counter(const sw_sim *s, const char *name);
 /* Sizes and names: "nv", "dim", "nf", "ntendon", "nterm", "ndof"; names of tendon or term k. */
 SW_API int sw_sim_size(const sw_sim *s, const char *name);
 SW_API const char *sw_sim_name(const sw_sim *s, const char *kind, int k);
+/* The current time d->t, s. */
+SW_API double sw_sim_time(const sw_sim *s);
 /* Tendon k's rest length at the current time, m; its waypoints (vertex indices) and their
  * number in *n. */
 SW_API double sw_sim_rest(const sw_sim *s, int k);
