@@ -276,7 +276,7 @@ sw_sim *sw_sim_new(sw_model *m, int flags, char *err, size_t errsz) {
            sw_free(s), NULL;
   if (flags & SW_SIM_OUTPUT) {
     s->out = sw_output_open(m, err, errsz);
-    if (!s->out) return sw_sim_free(s), NULL;
+    if (!s->out) return s->finished = 1, sw_sim_free(s), NULL; /* nothing to close */
   }
   s->next_frame = m->opt.frames_every;
   s->next_positions = 0.0; /* a record at t = 0 */

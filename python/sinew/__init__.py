@@ -186,6 +186,9 @@ class _Tendons(Mapping):
     def __len__(self):
         return len(self._items)
 
+    def __repr__(self):
+        return "<tendons: %s>" % ", ".join(repr(t) for t in self._items.values())
+
 
 class Simulation:
     """A scene being simulated, one step at a time (sinew.h: sw_sim).  Made by sinew.load."""
