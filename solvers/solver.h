@@ -185,6 +185,9 @@ sw_newton_opts sw_ipstep_opts(const sw_model *m, const sw_ipstep *s, double a, d
  * DOFs (the pinned components from d->x) into s->xnew. */
 int sw_ipstep_solve(sw_ipstep *s, const sw_model *m, sw_data *d, const sw_newton_opts *o,
                     const double *y0);
+/* After a change between steps (SW_CHANGED_*): a kept factorisation is dropped (the Hessian it
+ * was built from changed). */
+void sw_ipstep_reset(sw_ipstep *s);
 /* Accept xnew, vnew as the state at d->t + h, after the energy check when check_energy. */
 int sw_ipstep_commit(sw_ipstep *s, const sw_model *m, sw_data *d, double h, int check_energy);
 
@@ -199,7 +202,15 @@ typedef struct sw_integrator_ops {
    * says why (positive: a smaller step may succeed). */
   int (*step)(void *state, const sw_model *m, sw_data *d, double dt);
   void (*free)(void *state);
+  /* Between steps the caller (sim.c) changed what SW_CHANGED_* says: forget what no longer
+   * holds and restart from d at the next step.  NULL: the method keeps nothing that could. */
+  void (*reset)(void *state, const sw_model *m, sw_data *d, int what);
 } sw_integrator_ops;
+
+/* What changed between two steps: the state (d->t, d->x, d->v: a history of past states no
+ * longer leads to it), or the model (rest lengths, pin positions, loads: the equations of
+ * motion changed at d->t, a history of states still holds). */
+enum { SW_CHANGED_STATE = 1, SW_CHANGED_MODEL = 2 };
 
 /* SW_OK, or SW_RECOVER (with d->err) when K(v) + U(x, t) exceeds d->energy_bound (> 0) or is
  * not finite: an explicit method blowing up fails the step instead of producing garbage. */

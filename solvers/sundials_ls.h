@@ -60,6 +60,8 @@ struct sw_sunls {
 int sw_sunls_init(sw_sunls *sys, const sw_model *m, sw_data *d, sw_sunls_reduce_fn reduce,
                   char *err, size_t errsz);
 void sw_sunls_free(sw_sunls *sys);
+/* The pinned positions of the evaluations (sys->xfull) from x (nv x dim), after they moved. */
+void sw_sunls_pins(sw_sunls *sys, const double *x);
 
 /* y (2n) <- the free components of x and v (nv x dim each); and back (pinned: v = 0). */
 void sw_sunls_gather(const sw_sunls *sys, const double *x, const double *v, double *y);
