@@ -17,6 +17,12 @@ const char *const *sw_norm_names(void) {
   return names;
 }
 
+const char *const *sw_frames_format_names(void) {
+  static const char *const names[SW_FRAMES_N + 1] = {"binary", "binary32", "ascii",
+                                                            NULL};
+  return names;
+}
+
 sw_model *sw_model_new(void) {
   sw_model *m = sw_calloc(1, sizeof *m);
   if (!m) return NULL;
@@ -40,6 +46,7 @@ sw_model *sw_model_new(void) {
   o->energy_bound = 0.0;
   o->frames_every = 0.0;
   o->positions_every = 0.0;
+  o->frames_format = SW_FRAMES_BINARY;
   o->tx_clip = 5e4;
   o->tx_reference_uv = 0;
   o->tx_k_u = o->tx_k_v = -1.0;

@@ -183,6 +183,13 @@ enum { SW_NORM_RMS = 0, SW_NORM_MAX = 1, SW_NORM_N = 2 };
 #define SW_NEWTON_RMS_CAP 10.0
 SW_API const char *const *sw_norm_names(void);
 
+/* The encoding of the frames (sim/output/vtu.c, docs/scenes.md "Frames"): VTK XML with its
+ * arrays appended raw and zlib-compressed (as ParaView writes), every real exact (Float64) or
+ * as Float32 (about half the size), or inline ascii (exact). */
+enum { SW_FRAMES_BINARY = 0, SW_FRAMES_BINARY32 = 1, SW_FRAMES_ASCII = 2, SW_FRAMES_N = 3 };
+/* Their names ("binary", "binary32", "ascii"), NULL-terminated. */
+SW_API const char *const *sw_frames_format_names(void);
+
 typedef struct sw_options {
   char method[SW_NAMESZ];      /* integrator name, see sw_method_names() */
   double dt;                   /* step, s */
@@ -212,6 +219,7 @@ typedef struct sw_options {
                                   all, no frames.pvd, except the last good state of a failed
                                   run) */
   double positions_every;      /* s between records of positions.bin (0: no positions.bin) */
+  int frames_format;           /* SW_FRAMES_*: how the frames are encoded */
   double tx_clip;              /* tension XY stiffness clip, N/m (seed 000: 5e4) */
   int tx_reference_uv;         /* 1: rlu = rlv = 1 (uv layout); 0: the initial configuration */
   double tx_k_u, tx_k_v;       /* stiffness used by tension XY, N/m (defaults: the membrane's) */

@@ -131,6 +131,10 @@ done
   >/dev/null && fail "--positions-every abc"
 grep -q -- "--positions-every expects a non-negative number, got 'abc'" "$tmp/err" ||
   fail "--positions-every message: $(cat "$tmp/err")"
+"$sinew" run scenes/hanging_cloth.yaml --frames-format vtk --out "$tmp/x" 2>"$tmp/err" \
+  >/dev/null && fail "--frames-format vtk"
+grep -q -- "--frames-format expects one of: binary binary32 ascii; got 'vtk'" "$tmp/err" ||
+  fail "--frames-format message: $(cat "$tmp/err")"
 "$sinew" run scenes/hanging_cloth.yaml --no-frames --frames-every 1 --out "$tmp/x" 2>"$tmp/err" \
   >/dev/null && fail "--no-frames with --frames-every"
 grep -q -- "--no-frames and --frames-every" "$tmp/err" || fail "--no-frames conflict message"

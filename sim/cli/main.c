@@ -69,6 +69,9 @@ static void usage(FILE *fp) {
           "                  output.frames_every)\n"
           "  --no-frames     no VTU frames and no frames.pvd (a failed run still writes its last\n"
           "                  good state as a frame)\n"
+          "  --frames-format binary|binary32|ascii\n"
+          "                  frames zlib-compressed and exact (default), zlib-compressed in\n"
+          "                  Float32, or ascii (overrides output.frames_format)\n"
           "  --positions-every S\n"
           "                  s between records of positions.bin (every vertex position, binary;\n"
           "                  docs/scenes.md); 0: no file (overrides output.positions_every)\n"
@@ -118,6 +121,7 @@ typedef struct cli {
   int max_halvings;            /* < 0: not given */
   double newton_tol;           /* m/s; < 0: not given */
   int hessian, reuse, norm;    /* < 0: not given */
+  int frames_format;           /* SW_FRAMES_*; < 0: not given */
   int max_order;               /* -1: not given; 0: auto */
 } cli;
 
@@ -141,6 +145,8 @@ static int parse_run_args(int argc, char **argv, cli *c) {
     else if (!strcmp(a, "--no-frames")) c->no_frames = 1;
     else if (!strcmp(a, "--frames-every") && has_val) {
       if (cli_number(a, argv[++i], 1, &c->frames_every)) return -1;
+    } else if (!strcmp(a, "--frames-format") && has_val) {
+      if (cli_choice(a, argv[++i], sw_frames_format_names(), &c->frames_format)) return -1;
     } else if (!strcmp(a, "--positions-every") && has_val) {
       if (cli_number(a, argv[++i], 1, &c->positions_every)) return -1;
     }
@@ -199,7 +205,7 @@ static int parse_run_args(int argc, char **argv, cli *c) {
 static int cmd_run(int argc, char **argv) {
   cli c = {.dt = -1, .duration = -1, .frames_every = -1, .positions_every = -1,
            .max_halvings = -1, .newton_tol = -1, .hessian = -1, .reuse = -1, .norm = -1,
-           .max_order = -1};
+           .max_order = -1, .frames_format = -1};
   if (parse_run_args(argc, argv, &c)) return 2;
   char err[SW_ERRSZ];
   sw_model *m = sw_scene_load_ex(c.scene, &c.ov, err, sizeof err);
@@ -219,6 +225,7 @@ static int cmd_run(int argc, char **argv) {
   if (c.max_order >= 0) m->opt.max_order = c.max_order;
   if (c.frames_every >= 0) m->opt.frames_every = c.frames_every;
   if (c.no_frames) m->opt.frames_every = -1.0; /* none */
+  if (c.frames_format >= 0) m->opt.frames_format = c.frames_format;
   if (c.positions_every >= 0) m->opt.positions_every = c.positions_every;
   if (!c.quiet)
     fprintf(stderr, "sinew: %s: %d vertices, %d free DOFs, %s, dt = %g s, to t = %g s\n",
