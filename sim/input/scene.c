@@ -3,7 +3,7 @@
  * Two stages.  First the YAML text is parsed with libfyaml's event parser into a small tree of
  * our own (ynode) that keeps the 1-based line and column of every node (the libfyaml of
  * Debian 12 has no public node positions); libfyaml's own diagnostics are collected, never
- * printed.  Then the tree is checked against the schema (DESIGN.md, "Scene files") and the
+ * printed.  Then the tree is checked against the schema (docs/scenes.md) and the
  * model is filled.  Every error is "file:line:column: what was found; what was expected".
  * Units are SI: m, s, kg, N. */
 #include "scene.h"
