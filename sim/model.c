@@ -46,7 +46,7 @@ sw_model *sw_model_new(void) {
   o->energy_bound = 0.0;
   o->frames_every = 0.0;
   o->positions_every = 0.0;
-  o->frames_format = SW_FRAMES_BINARY;
+  o->frames_format = SW_FRAMES_BINARY32; /* docs/scenes.md, "Frames" (measured) */
   o->tx_clip = 5e4;
   o->tx_reference_uv = 0;
   o->tx_k_u = o->tx_k_v = -1.0;

@@ -605,6 +605,7 @@ static void test_positions_run(void **state) {
   m->opt.dt = 0.01;
   m->opt.duration = 0.1;
   m->opt.frames_every = 0.0; /* first and last */
+  m->opt.frames_format = SW_FRAMES_BINARY; /* exact, to compare with positions.bin */
   m->opt.positions_every = 0.03;
   if (sw_run(m, 0, err, sizeof err)) fail_msg("sw_run: %s", err);
   positions p = read_positions(m->opt.out_dir, "positions.bin");
