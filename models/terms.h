@@ -123,7 +123,7 @@ int sw_point_load_build(sw_term *t, const sw_model *m, char *err, size_t errsz);
 /* models/tension_xy.c: the reference stretch rlu, rlv of every face (Optitex, "Tension XY calculations explanation"). */
 void sw_tension_xy_reference(const sw_model *m, sw_data *d);
 
-/* The deformation gradient F = Ds Dm^-1 = [wu wv] of face f at positions x (seeds 000/001),
+/* The deformation gradient F = Ds Dm^-1 = [wu wv] of face f at positions x (Optitex; Yan 2019),
  * with the coefficients that make it linear in the corners: wu = sum_i cu[i] x_i,
  * wv = sum_i cv[i] x_i.  wu, wv have m->dim components. */
 void sw_face_coeffs(const sw_model *m, int f, double cu[3], double cv[3]);
