@@ -70,6 +70,7 @@ void sw_model_free(sw_model *m) {
   }
   sw_free(m->tendon);
   sw_free(m->load);
+  sw_free(m->load_ramp);
   sw_free(m);
 }
 

@@ -339,21 +339,45 @@ static int load_velocities(const ctx *c, const ynode *y) {
   return 0;
 }
 
-static const char *const load_keys[] = {"select", "force"};
+static const char *const load_keys[] = {"select", "force", "ramp"};
 
-/* loads: [{select: SEL, force: [fx, fy(, fz)]}]: force (N) on each selected vertex; the items
- * add up (models/point_load.c). */
+/* A ramp time (s >= 0) into *T. */
+static int load_ramp_time(const ctx *c, const ynode *y, const char *what, double *T) {
+  return sy_num(c, y, what, 0, 0, "s", T);
+}
+
+/* loads[p] ramp T on the selected vertices: one ramp per vertex. */
+static int set_load_ramp(const ctx *c, const ynode *at, const char *w, double T) {
+  sw_model *m = c->m;
+  if (!m->load_ramp && T == 0.0) return 0;
+  if (!m->load_ramp && !(m->load_ramp = sw_calloc((size_t)m->nv, sizeof *m->load_ramp)))
+    return sy_oom(c, at);
+  for (int i = 0; i < m->nv; i++) {
+    if (!c->sel[i]) continue;
+    int loaded = 0;
+    for (int a = 0; a < m->dim; a++) loaded |= m->load[i * m->dim + a] != 0.0;
+    if (loaded && m->load_ramp[i] != T)
+      return sy_fail(c, at, "%s ramp is %g s on vertex %d, which an earlier load ramps over "
+                     "%g s; expected one ramp time per vertex", w, T, i, m->load_ramp[i]);
+    m->load_ramp[i] = T; /* s */
+  }
+  return 0;
+}
+
+/* loads: [{select: SEL, force: [fx, fy(, fz)], ramp: T}]: force (N) on each selected vertex,
+ * grown from 0 over T s (sw_ramp; default 0: on at t = 0); the items add up
+ * (models/point_load.c). */
 static int load_loads(const ctx *c, const ynode *y) {
   sw_model *m = c->m;
   char w[64], lab[96];
-  const ynode *v[2];
+  const ynode *v[3];
   double f[3];
   if (sy_seq(c, y, "loads", "a sequence of {select: ..., force: [...]}")) return -1;
   if (!(m->load = sw_calloc((size_t)m->nv * (size_t)m->dim, sizeof *m->load)))
     return sy_oom(c, y);
   for (int p = 0; p < y->n; p++) {
     snprintf(w, sizeof w, "loads[%d]", p);
-    if (sy_map(c, y->kid[p], w, load_keys, 2, v) ||
+    if (sy_map(c, y->kid[p], w, load_keys, 3, v) ||
         sy_need(c, y->kid[p], v[0], w, "select", "select: {vertices: [...]} or {box: [...]}") ||
         sy_need(c, y->kid[p], v[1], w, "force", "force: [fx, fy(, fz)] in N"))
       return -1;
@@ -361,16 +385,29 @@ static int load_loads(const ctx *c, const ynode *y) {
     if (sy_vec(c, v[1], lab, m->dim, -HUGE_VAL, 0, "N", f)) return -1;
     snprintf(lab, sizeof lab, "%s select", w);
     if (sy_select(c, v[0], lab)) return -1;
+    double T = 0.0; /* s */
+    snprintf(lab, sizeof lab, "%s ramp", w);
+    if ((v[2] && load_ramp_time(c, v[2], lab, &T)) || set_load_ramp(c, v[2] ? v[2] : y->kid[p], w, T))
+      return -1;
     for (int i = 0; i < m->nv; i++)
       for (int a = 0; c->sel[i] && a < m->dim; a++) m->load[i * m->dim + a] += f[a]; /* N */
   }
   return 0;
 }
 
+static const char *const gravity_keys[] = {"vector", "ramp"};
+
+/* gravity: [gx, gy(, gz)] or {vector: [...], ramp: T} (grown from 0 over T s, sw_ramp). */
 static int load_gravity(const ctx *c, const ynode *y) {
   sw_model *m = c->m;
   if (!y) return 0;
-  if (sy_vec(c, y, "gravity", m->dim, -HUGE_VAL, 0, "m/s^2", m->gravity)) return -1;
+  const ynode *v[2] = {y, NULL};
+  if (y->kind == Y_MAP &&
+      (sy_map(c, y, "gravity", gravity_keys, 2, v) ||
+       sy_need(c, y, v[0], "gravity", "vector", "vector: [gx, gy(, gz)] in m/s^2")))
+    return -1;
+  if (sy_vec(c, v[0], "gravity", m->dim, -HUGE_VAL, 0, "m/s^2", m->gravity)) return -1;
+  if (v[1] && load_ramp_time(c, v[1], "gravity ramp", &m->gravity_ramp)) return -1;
   m->has_gravity = 1;
   return 0;
 }

@@ -1,7 +1,8 @@
 /* scene_tendon.c — a scene's `tendons` (DESIGN.md "Tendons", docs/scenes.md):
  *   - {name: s1, waypoints: [0, 41, 82] | {box: [[lo], [hi]], along: x} | {vertices: [...]},
  *      law: cable | spring, stiffness: K (N/m), rest_length: L (m) | {relative: r} |
- *      {keyframes: [[t, L], ...], relative: false}, density: kg/m, damping: N s/m}
+ *      {keyframes: [[t, L], ...], relative: false, interpolation: smooth | linear},
+ *      density: kg/m, damping: N s/m}
  * A selection's vertices are ordered along an axis (`along`, default: the axis on which they
  * spread most).  Rest length default: the initial length (relative 1). */
 #include "scene_material.h"
@@ -109,7 +110,8 @@ static int load_waypoints(const ctx *c, const ynode *y, const char *w, sw_tendon
   return 0;
 }
 
-static const char *const rest_keys[] = {"relative", "keyframes"};
+static const char *const rest_keys[] = {"relative", "keyframes", "interpolation"};
+static const char *const interps[] = {"linear", "smooth"}; /* SW_INTERP_* order */
 
 /* Keyframes [[t, L], ...] with increasing t; L relative to l0 when relative. */
 static int load_keyframes(const ctx *c, const ynode *y, const char *w, double scale,
@@ -151,11 +153,17 @@ static int load_rest(const ctx *c, const ynode *y, const char *w, double l0, sw_
     td->key_rest[0] = r; /* m */
     return 0;
   }
-  const ynode *v[2];
-  if (sy_map(c, y, lab, rest_keys, 2, v)) return -1;
+  const ynode *v[3];
+  if (sy_map(c, y, lab, rest_keys, 3, v)) return -1;
   double rel = 1.0;
   int by_ratio = 0;
   char l2[320];
+  snprintf(l2, sizeof l2, "%s interpolation", lab);
+  if (v[2] && !v[1])
+    return sy_fail(c, v[2], "%s is given without keyframes; expected interpolation only with "
+                   "keyframes: [...]", l2);
+  td->interp = SW_INTERP_SMOOTH; /* the default: docs/scenes.md "Forcing" (measured) */
+  if (v[2] && sy_choice(c, v[2], l2, interps, 2, &td->interp)) return -1;
   snprintf(l2, sizeof l2, "%s relative", lab);
   if (v[1]) { /* relative: true/false (default false: keyframes in m) */
     if (v[0]) {

@@ -153,13 +153,32 @@ typedef struct sw_tendon {
   int nkey;                    /* rest-length keyframes, >= 1 (1: constant) */
   double *key_t;               /* (nkey) s, increasing */
   double *key_rest;            /* (nkey) rest length, m (relative ones resolved at load) */
+  int interp;                  /* SW_INTERP_*: how the rest length goes between keyframes */
   double density;              /* kg/m: linear density, lumped onto the waypoints */
   double damping;              /* N s/m: force -c (dl/dt) grad l along the tendon */
 } sw_tendon;
 
-/* The rest length of a tendon at time t: piecewise linear in its keyframes, constant
- * outside them (m). */
+/* Forcing (models/forcing.c, docs/scenes.md "Forcing").  Keyframes are interpolated linearly
+ * (the slope jumps at each keyframe) or smoothly: the quintic blend 6u^5 - 15u^4 + 10u^3
+ * between consecutive keyframes, C^2 everywhere and never outside the keyframes' range.
+ * Scenes default to smooth; a zeroed sw_tendon is linear. */
+enum { SW_INTERP_LINEAR = 0, SW_INTERP_SMOOTH = 1 };
+/* The value at time t (s) of keyframes (kt[k], kv[k]), k < n, kt increasing; constant outside
+ * them. */
+SW_API double sw_keyframe_value(const double *kt, const double *kv, int n, int interp,
+                                double t);
+/* Its time derivative at t (units of kv per s; 0 outside the keyframes). */
+SW_API double sw_keyframe_rate(const double *kt, const double *kv, int n, int interp,
+                               double t);
+/* A smooth ramp from 0 at t = 0 to 1 at t = T (the quintic blend of t/T), 1 when T <= 0; and
+ * its rate (1/s). */
+SW_API double sw_ramp(double t, double T);
+SW_API double sw_ramp_rate(double t, double T);
+
+/* The rest length of a tendon at time t: its keyframes interpolated as td->interp says,
+ * constant outside them (m); and its rate (m/s). */
 SW_API double sw_tendon_rest(const sw_tendon *td, double t);
+SW_API double sw_tendon_rest_rate(const sw_tendon *td, double t);
 /* The current length sum |x_{w_k} - x_{w_k+1}| of a tendon at x (nv x dim), m. */
 SW_API double sw_tendon_length(const sw_tendon *td, const double *x, int dim);
 /* Its tension E'(delta) for delta = length - rest, N (cable: 0 when slack). */
@@ -235,6 +254,7 @@ struct sw_model {
   int ndof;                    /* free DOFs */
   double gravity[3];           /* m/s^2 */
   int has_gravity;
+  double gravity_ramp;         /* s: gravity grows as sw_ramp(t, gravity_ramp) (0: on at t = 0) */
   int nmat;                    /* materials, >= 1 */
   sw_material *mat;            /* (nmat) mat[0]: the scene's material; others: panels */
   int *face_mat;               /* (nf) material of each face */
@@ -246,6 +266,8 @@ struct sw_model {
   sw_tendon *tendon;           /* (ntendon) */
   double *load;                /* (nv x dim) external point load on each vertex, N (scene key
                                   `loads`, term "loads", models/point_load.c), or NULL */
+  double *load_ramp;           /* (nv) s: vertex i's load grows as sw_ramp(t, load_ramp[i]);
+                                  NULL: every load on at t = 0 */
   int nterm;
   sw_term *term;               /* (nterm) energy terms, only those the scene names */
   sw_options opt;
