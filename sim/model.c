@@ -58,6 +58,7 @@ void sw_model_free(sw_model *m) {
   sw_free(m->dminv);
   sw_free(m->area);
   sw_free(m->mass);
+  sw_free(m->point_mass);
   sw_free(m->pinned);
   sw_free(m->dof);
   sw_free(m->mat);
@@ -118,7 +119,8 @@ static int rest_shapes(sw_model *m, int need_area, char *err, size_t errsz) {
 }
 
 /* Lumped mass: each triangle gives a third of density * area to each corner, each tendon
- * segment half of its linear density * initial length to each end (DESIGN.md). */
+ * segment half of its linear density * initial length to each end (DESIGN.md), and each
+ * point mass (`masses`) goes to its vertex. */
 static void lumped_mass(sw_model *m) {
   m->total_mass = 0.0;
   for (int f = 0; f < m->nf; f++) {
@@ -139,6 +141,10 @@ static void lumped_mass(sw_model *m) {
       m->total_mass += 2.0 * share;
     }
   }
+  for (int i = 0; m->point_mass && i < m->nv; i++) {
+    m->mass[i] += m->point_mass[i]; /* kg */
+    m->total_mass += m->point_mass[i];
+  }
 }
 
 static int dof_map(sw_model *m, char *err, size_t errsz) {
@@ -146,7 +152,7 @@ static int dof_map(sw_model *m, char *err, size_t errsz) {
   for (int i = 0; i < m->nv; i++) {
     if (!m->pinned[i] && !(m->mass[i] > 0.0)) {
       sw_errf(err, errsz, "vertex %d is free but has no mass (in no face with area and density, "
-              "on no tendon with density); pin it or give it mass", i);
+              "on no tendon with density, no point mass); pin it or give it mass", i);
       return -1;
     }
     for (int a = 0; a < m->dim; a++) m->dof[i * m->dim + a] = m->pinned[i] ? -1 : n++;

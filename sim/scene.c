@@ -194,9 +194,10 @@ static int fill_geometry(const ctx *c, const mesh_in *mi, double uv_scale) {
 static const char *const top_keys[] = {"name",     "dimension", "mesh",     "material",
                                        "gravity",  "pins",      "initial_velocity",
                                        "integrator", "duration", "output",  "tension_xy",
-                                       "panels",   "damping",   "tendons",  "loads"};
+                                       "panels",   "damping",   "tendons",  "loads",
+                                       "masses"};
 enum { K_NAME, K_DIM, K_MESH, K_MAT, K_GRAV, K_PINS, K_IV, K_INT, K_DUR, K_OUT, K_TXY, K_PANELS,
-       K_DAMP, K_TENDONS, K_LOADS, K_N };
+       K_DAMP, K_TENDONS, K_LOADS, K_MASSES, K_N };
 
 static int load_name_dim(const ctx *c, const ynode **v) {
   sw_model *m = c->m;
@@ -339,6 +340,17 @@ static int load_velocities(const ctx *c, const ynode *y) {
   return 0;
 }
 
+/* One item {select: SEL, <keys[1]>: value, ...} of a list of per-vertex quantities: its keys
+ * into v, the two first required (hint: how to write the second). */
+static int vertex_item(const ctx *c, const ynode *item, const char *w, const char *const *keys,
+                       int nkeys, const ynode **v, const char *hint) {
+  return sy_map(c, item, w, keys, nkeys, v) ||
+                 sy_need(c, item, v[0], w, "select", "select: {vertices: [...]} or {box: [...]}") ||
+                 sy_need(c, item, v[1], w, keys[1], hint)
+             ? -1
+             : 0;
+}
+
 static const char *const load_keys[] = {"select", "force", "ramp"};
 
 /* A ramp time (s >= 0) into *T. */
@@ -377,20 +389,41 @@ static int load_loads(const ctx *c, const ynode *y) {
     return sy_oom(c, y);
   for (int p = 0; p < y->n; p++) {
     snprintf(w, sizeof w, "loads[%d]", p);
-    if (sy_map(c, y->kid[p], w, load_keys, 3, v) ||
-        sy_need(c, y->kid[p], v[0], w, "select", "select: {vertices: [...]} or {box: [...]}") ||
-        sy_need(c, y->kid[p], v[1], w, "force", "force: [fx, fy(, fz)] in N"))
-      return -1;
+    if (vertex_item(c, y->kid[p], w, load_keys, 3, v, "force: [fx, fy(, fz)] in N")) return -1;
     snprintf(lab, sizeof lab, "%s force", w);
     if (sy_vec(c, v[1], lab, m->dim, -HUGE_VAL, 0, "N", f)) return -1;
     snprintf(lab, sizeof lab, "%s select", w);
     if (sy_select(c, v[0], lab)) return -1;
     double T = 0.0; /* s */
     snprintf(lab, sizeof lab, "%s ramp", w);
-    if ((v[2] && load_ramp_time(c, v[2], lab, &T)) || set_load_ramp(c, v[2] ? v[2] : y->kid[p], w, T))
+    if ((v[2] && load_ramp_time(c, v[2], lab, &T)) ||
+        set_load_ramp(c, v[2] ? v[2] : y->kid[p], w, T))
       return -1;
     for (int i = 0; i < m->nv; i++)
       for (int a = 0; c->sel[i] && a < m->dim; a++) m->load[i * m->dim + a] += f[a]; /* N */
+  }
+  return 0;
+}
+
+static const char *const mass_keys[] = {"select", "mass"};
+
+/* masses: [{select: SEL, mass: kg}]: a point mass on each selected vertex, added to its lumped
+ * mass (not shared out); the items add up. */
+static int load_masses(const ctx *c, const ynode *y) {
+  sw_model *m = c->m;
+  char w[64], lab[96];
+  const ynode *v[2];
+  if (sy_seq(c, y, "masses", "a sequence of {select: ..., mass: kg}")) return -1;
+  if (!(m->point_mass = sw_calloc((size_t)m->nv, sizeof *m->point_mass))) return sy_oom(c, y);
+  for (int p = 0; p < y->n; p++) {
+    double mass;
+    snprintf(w, sizeof w, "masses[%d]", p);
+    if (vertex_item(c, y->kid[p], w, mass_keys, 2, v, "mass: kg >= 0")) return -1;
+    snprintf(lab, sizeof lab, "%s mass", w);
+    if (sy_num(c, v[1], lab, 0, 0, "kg", &mass)) return -1;
+    snprintf(lab, sizeof lab, "%s select", w);
+    if (sy_select(c, v[0], lab)) return -1;
+    for (int i = 0; i < m->nv; i++) m->point_mass[i] += c->sel[i] ? mass : 0.0; /* kg */
   }
   return 0;
 }
@@ -530,6 +563,7 @@ static int load_scene(ctx *c) {
   if (v[K_DAMP] && sc_load_damping(c, v[K_DAMP])) return -1;
   if (v[K_TENDONS] && sc_load_tendons(c, v[K_TENDONS])) return -1;
   if (v[K_LOADS] && load_loads(c, v[K_LOADS])) return -1;
+  if (v[K_MASSES] && load_masses(c, v[K_MASSES])) return -1;
   return load_options(c, v);
 }
 

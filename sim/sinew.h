@@ -248,6 +248,7 @@ struct sw_model {
   double *dminv;               /* (nf x 4) Dm^-1 row-major, Dm = [uv1-uv0, uv2-uv0], 1/m */
   double *area;                /* (nf) rest area |det Dm|/2, m^2 */
   double *mass;                /* (nv) lumped mass, kg */
+  double *point_mass;          /* (nv) point masses the scene adds (`masses`), kg, or NULL */
   double total_mass;           /* kg */
   unsigned char *pinned;       /* (nv) 1 if the vertex is pinned */
   int *dof;                    /* (nv x dim) free DOF index, or -1 for a pinned component */

@@ -5,7 +5,8 @@
  *   - a stiff tendon whose rest length follows keyframes: backward Euler's error against a
  *     tight CVODE reference falls at first order with dt under smooth keyframes and stays on a
  *     plateau (the free oscillation a slope jump starts) under linear ones;
- *   - gravity and point loads ramp smoothly from 0. */
+ *   - gravity and point loads ramp smoothly from 0;
+ *   - a point mass (`masses`) on a spring hangs m g / K below its rest position. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -201,11 +202,45 @@ static void ramps_and_keys(void **st) {
   }
 }
 
+/* ------------------------------------------------------------------ point masses */
+
+/* A 0.25 kg point mass on a massless 100 N/m spring (a tendon) under g = 9.81 m/s^2 hangs
+ * m g / K = 24.525 mm below the spring's rest position; two items on one vertex add up. */
+static void point_mass_hangs(void **st) {
+  (void)st;
+  sw_model *m = parse("dimension: 2\n"
+                      "mesh: {points: [[0, 0], [0, -0.5]]}\n"
+                      "pins: [{select: {vertices: [0]}}]\n"
+                      "gravity: [0, -9.81]\n"
+                      "tendons: [{waypoints: [0, 1], law: spring, stiffness: 100}]\n"
+                      "masses: [{select: {vertices: [1]}, mass: 0.125},\n"
+                      "         {select: {box: [[-1, -1], [1, -0.4]]}, mass: 0.125}]\n"
+                      "integrator: {method: static}\n");
+  assert_float_equal(m->mass[1], 0.25, 1e-15);
+  assert_float_equal(m->total_mass, 0.25, 1e-15);
+  sw_data *d = sw_data_new(m);
+  double reaction[3];
+  char err[SW_ERRSZ];
+  int rc = sw_static_solve(m, d, reaction, err, sizeof err);
+  if (rc) print_error("%s\n", err);
+  assert_int_equal(rc, 0);
+  assert_float_equal(d->x[3], -0.5 - 0.024525, 1e-12); /* m */
+  assert_float_equal(d->x[2], 0.0, 1e-15);
+  sw_data_free(d);
+  sw_model_free(m);
+  const char *bad = "dimension: 2\nmesh: {points: [[0, 0]]}\nmasses: [{select: {vertices: [0]}, "
+                    "mass: -1}]\n";
+  char e[SW_ERRSZ];
+  assert_null(sw_scene_parse("bad.yaml", bad, strlen(bad), e, sizeof e));
+  assert_non_null(strstr(e, "bad.yaml:3:42: masses[0] mass is -1"));
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(smooth_blend),
       cmocka_unit_test(keyframe_orders),
       cmocka_unit_test(ramps_and_keys),
+      cmocka_unit_test(point_mass_hangs),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
