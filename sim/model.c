@@ -264,6 +264,57 @@ static int check_tendons(const sw_model *m, char *err, size_t errsz) {
   return 0;
 }
 
+/* splitmix64 (G. Steele, D. Lea, C. Flood, "Fast Splittable Pseudorandom Number Generators",
+ * OOPSLA 2014): a uniform number in [-1, 1) from the state. */
+static double uniform(unsigned long long *state) {
+  unsigned long long z = (*state += 0x9e3779b97f4a7c15ULL);
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  z ^= z >> 31;
+  return (double)(z >> 11) * 0x1.0p-52 - 1.0;
+}
+
+/* The area-weighted normal of every vertex at x0 into n (nv x 3, unit; 0 for a vertex in no
+ * face or whose faces cancel). */
+static void vertex_normals(const sw_model *m, double *n) {
+  for (int f = 0; f < m->nf; f++) {
+    const int *v = m->face + 3 * f;
+    const double *a = m->x0 + 3 * v[0], *b = m->x0 + 3 * v[1], *c = m->x0 + 3 * v[2];
+    double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    double e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    double fn[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                    e1[0] * e2[1] - e1[1] * e2[0]};
+    for (int i = 0; i < 3; i++)
+      for (int k = 0; k < 3; k++) n[3 * v[i] + k] += fn[k];
+  }
+  for (int i = 0; i < m->nv; i++) {
+    double *ni = n + 3 * i, l = sqrt(ni[0] * ni[0] + ni[1] * ni[1] + ni[2] * ni[2]);
+    for (int k = 0; k < 3; k++) ni[k] = l > 0.0 ? ni[k] / l : 0.0;
+  }
+}
+
+/* `perturb` (docs/scenes.md): each free vertex of a 3D model moves along its normal by
+ * A u, u uniform in [-1, 1) from the seed; a vertex in no face along a random direction of
+ * length A u.  After the terms are built, so rest angles and lengths are those of the mesh. */
+static int perturb(sw_model *m, char *err, size_t errsz) {
+  if (!(m->perturb_amplitude > 0.0)) return 0;
+  if (m->dim != 3) return sw_errf(err, errsz, "perturb needs dimension 3"), -1;
+  double *n = sw_calloc((size_t)m->nv * 3, sizeof *n);
+  if (!n) return sw_errf(err, errsz, "out of memory"), -1;
+  vertex_normals(m, n);
+  unsigned long long state = m->perturb_seed;
+  for (int i = 0; i < m->nv; i++) {
+    double u = uniform(&state), r[3] = {uniform(&state), uniform(&state), uniform(&state)};
+    double *dir = n + 3 * i, l = 0.0;
+    if (dir[0] == 0.0 && dir[1] == 0.0 && dir[2] == 0.0) memcpy(dir, r, sizeof r);
+    for (int k = 0; k < 3; k++) l += dir[k] * dir[k];
+    double s = m->pinned[i] || l == 0.0 ? 0.0 : m->perturb_amplitude * u / sqrt(l); /* m */
+    for (int k = 0; k < 3; k++) m->x0[3 * i + k] += s * dir[k];
+  }
+  sw_free(n);
+  return 0;
+}
+
 int sw_model_finish(sw_model *m, char *err, size_t errsz) {
   if (m->dim != 2 && m->dim != 3) return sw_errf(err, errsz, "dimension must be 2 or 3"), -1;
   if (m->nv <= 0) return sw_errf(err, errsz, "the model has no vertices"), -1;
@@ -297,7 +348,8 @@ int sw_model_finish(sw_model *m, char *err, size_t errsz) {
   lumped_mass(m);
   if (dof_map(m, err, errsz)) return -1;
   tension_stiffness(m);
-  return build_terms(m, err, errsz);
+  if (build_terms(m, err, errsz)) return -1;
+  return perturb(m, err, errsz);
 }
 
 void sw_model_print(const sw_model *m, void *file) {

@@ -195,9 +195,9 @@ static const char *const top_keys[] = {"name",     "dimension", "mesh",     "mat
                                        "gravity",  "pins",      "initial_velocity",
                                        "integrator", "duration", "output",  "tension_xy",
                                        "panels",   "damping",   "tendons",  "loads",
-                                       "masses"};
+                                       "masses",   "perturb"};
 enum { K_NAME, K_DIM, K_MESH, K_MAT, K_GRAV, K_PINS, K_IV, K_INT, K_DUR, K_OUT, K_TXY, K_PANELS,
-       K_DAMP, K_TENDONS, K_LOADS, K_MASSES, K_N };
+       K_DAMP, K_TENDONS, K_LOADS, K_MASSES, K_PERTURB, K_N };
 
 static int load_name_dim(const ctx *c, const ynode **v) {
   sw_model *m = c->m;
@@ -428,6 +428,26 @@ static int load_masses(const ctx *c, const ynode *y) {
   return 0;
 }
 
+static const char *const perturb_keys[] = {"amplitude", "seed"};
+
+/* perturb: {amplitude: m, seed: n}: sw_model_finish moves the free vertices of x0 along their
+ * normals by up to the amplitude (3D only). */
+static int load_perturb(const ctx *c, const ynode *y) {
+  sw_model *m = c->m;
+  const ynode *v[2];
+  int seed = 0;
+  if (sy_map(c, y, "perturb", perturb_keys, 2, v) ||
+      sy_need(c, y, v[0], "perturb", "amplitude", "amplitude: m > 0"))
+    return -1;
+  if (m->dim != 3)
+    return sy_fail(c, y, "perturb is given in a 2D scene; expected it only with dimension: 3 "
+                   "(it moves vertices out of their surface)");
+  if (sy_num(c, v[0], "perturb amplitude", 0, 1, "m", &m->perturb_amplitude)) return -1;
+  if (v[1] && sy_int(c, v[1], "perturb seed", 0, INT_MAX, &seed)) return -1;
+  m->perturb_seed = (unsigned long)seed;
+  return 0;
+}
+
 static const char *const gravity_keys[] = {"vector", "ramp"};
 
 /* gravity: [gx, gy(, gz)] or {vector: [...], ramp: T} (grown from 0 over T s, sw_ramp). */
@@ -564,6 +584,7 @@ static int load_scene(ctx *c) {
   if (v[K_TENDONS] && sc_load_tendons(c, v[K_TENDONS])) return -1;
   if (v[K_LOADS] && load_loads(c, v[K_LOADS])) return -1;
   if (v[K_MASSES] && load_masses(c, v[K_MASSES])) return -1;
+  if (v[K_PERTURB] && load_perturb(c, v[K_PERTURB])) return -1;
   return load_options(c, v);
 }
 

@@ -243,6 +243,9 @@ struct sw_model {
   int nv, nf;                  /* vertices, triangles */
   double *x0;                  /* (nv x dim) initial positions, m */
   double *v0;                  /* (nv x dim) initial velocities, m/s */
+  double perturb_amplitude;    /* m: sw_model_finish moves each free vertex of x0 by up to this
+                                  along its normal, after the rest shapes are taken (0: none) */
+  unsigned long perturb_seed;  /* the seed of that perturbation (the same seed, the same x0) */
   int *face;                   /* (nf x 3) vertex indices */
   double *uv;                  /* (nf x 6) rest (u,v) of each corner, m */
   double *dminv;               /* (nf x 4) Dm^-1 row-major, Dm = [uv1-uv0, uv2-uv0], 1/m */
@@ -280,7 +283,8 @@ struct sw_model {
 SW_API sw_model *sw_model_new(void);
 /* After a loader filled dim, nv, nf, x0, v0, face, uv, pinned, gravity, mat (face_mat: NULL
  * for all faces on mat[0]), tendons and opt: rotate each panel's layout by its bias, compute
- * rest shapes, lumped masses, the DOF map and build the terms.  Nonzero on error. */
+ * rest shapes, lumped masses, the DOF map and build the terms; then perturb x0 when
+ * perturb_amplitude > 0.  Nonzero on error. */
 SW_API int sw_model_finish(sw_model *m, char *err, size_t errsz);
 SW_API void sw_model_free(sw_model *m);
 /* Load and validate a scene file (YAML).  NULL on error, with "file:line:column: message". */
