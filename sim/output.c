@@ -2,7 +2,8 @@
  *
  * Folder layout (relative to m->opt.out_dir):
  *   tension.csv    time, max/mean/p95 of tension XY, max warp/weft stretch, max shear
- *   energy.csv     time, kinetic and per-term energies, step size and per-step solver counts
+ *   energy.csv     time, kinetic and per-term energies, step size and per-step solver counts;
+ *                  damping power and dissipated energy; actuation power and work in
  *   positions.bin  with opt.positions_every > 0: every vertex position at sampled times, binary
  *                  (a 16-byte header "SWPOS001", int32 nv, int32 dim; then per record float64 t
  *                  and nv x dim float64 positions; host byte order)
@@ -303,6 +304,7 @@ static void log_header(sw_output *o, int k, const sw_model *m) {
     line_str(o, &len, ",potential,total,dt,steps,newton_iterations,factorizations,"
                       "force_evaluations,error_test_failures,linesearch_backtracks,step_wall_s");
     if (sw_damped(m)) line_str(o, &len, ",damping_power,dissipated");
+    if (sw_actuated(m)) line_str(o, &len, ",actuation_power,work_in");
   }
   line_end(o, len);
 }
@@ -494,6 +496,10 @@ static int step_energy(sw_output *o, const sw_model *m, const sw_data *d, char *
   if (sw_damped(m)) {
     line_num(o, &len, d->damp_power); /* W */
     line_num(o, &len, d->dissipated); /* J */
+  }
+  if (sw_actuated(m)) {
+    line_num(o, &len, d->actuation_power); /* W */
+    line_num(o, &len, d->work_in);         /* J */
   }
   line_end(o, len);
   if (put_line(o, LOG_ENERGY, err, errsz)) return -1;
@@ -859,7 +865,7 @@ static void output_free(sw_output *o) {
 
 static int output_alloc(sw_output *o, const sw_model *m, char *err, size_t errsz) {
   /* the energy line or header is the longest: at most NUMSZ per field, or a term name */
-  o->linesz = ((size_t)m->nterm + 16) * (NUMSZ + SW_NAMESZ);
+  o->linesz = ((size_t)m->nterm + 18) * (NUMSZ + SW_NAMESZ);
   size_t tendon_lines = (size_t)m->ntendon * (4 * NUMSZ + SW_NAMESZ + 4) + 64;
   if (tendon_lines > o->linesz) o->linesz = tendon_lines;
   o->line = sw_calloc(o->linesz, 1);

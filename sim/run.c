@@ -41,6 +41,15 @@ static int damping_power(run_ctx *r) {
   return SW_OK;
 }
 
+/* The power the forcing puts in at the current state and its integral, the work in, by the
+ * trapezoid rule between log lines (as damping_power). */
+static void actuation_power(run_ctx *r) {
+  sw_data *d = r->d;
+  double p = sw_actuation_power(r->m, d->x, d->t); /* W */
+  if (r->logged) d->work_in += 0.5 * (d->actuation_power + p) * (d->t - r->t_logged); /* J */
+  d->actuation_power = p;
+}
+
 /* Prefix err (an output failure) with the time it happened at; returns SW_FATAL. */
 static int output_failed(const sw_data *d, char *err, size_t errsz) {
   if (err && errsz) {
@@ -69,6 +78,7 @@ static int record(run_ctx *r, int force, char *err, size_t errsz) {
   sw_data *d = r->d;
   double u;
   int rc = sw_damped(m) ? damping_power(r) : SW_OK;
+  if (sw_actuated(m)) actuation_power(r);
   if (!rc) rc = sw_eval_terms(m, d, d->x, d->t, 0, 0, 0, &u);
   if (rc) /* e.g. a step accepted a state whose energy is not finite */
     return sw_errf(err, errsz, "t = %.9g s: %s: cannot evaluate the state to log it: %s", d->t,

@@ -175,6 +175,14 @@ SW_API double sw_keyframe_rate(const double *kt, const double *kv, int n, int in
 SW_API double sw_ramp(double t, double T);
 SW_API double sw_ramp_rate(double t, double T);
 
+/* Nonzero when the model's potential depends on time (keyframed tendons, ramped gravity or
+ * loads): energy.csv then logs the work the forcing does. */
+SW_API int sw_actuated(const sw_model *m);
+/* The power the forcing puts in at positions x (nv x dim) and time t: dU/dt at fixed x, W
+ * (docs/integrators.md, "Energy"): -sum tension alpha'(t) over tendons, -r'(t) sum m g.x for
+ * ramped gravity, -sum r_i'(t) f_i.x_i for ramped loads. */
+SW_API double sw_actuation_power(const sw_model *m, const double *x, double t);
+
 /* The rest length of a tendon at time t: its keyframes interpolated as td->interp says,
  * constant outside them (m); and its rate (m/s). */
 SW_API double sw_tendon_rest(const sw_tendon *td, double t);
@@ -345,6 +353,8 @@ struct sw_data {
   double *tendon_tension;      /* (ntendon) E'(delta), N */
   double damp_power;           /* W: v.D v dissipated by damping at the last diagnostics */
   double dissipated;           /* J: its integral over the run so far (trapezoid on the logs) */
+  double actuation_power;      /* W: dU/dt at fixed x (sw_actuation_power) at the last log */
+  double work_in;              /* J: its integral over the run so far (trapezoid on the logs) */
   /* counters (cumulative over the run) */
   long nstep, nnewton, nfactor, nassemble, nforce, nretry, nlinesearch;
   long nerrfail;               /* error-test failures of adaptive methods */
