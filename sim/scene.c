@@ -37,6 +37,7 @@ static void file_stem(const char *path, char *out, size_t sz) {
 typedef struct mesh_in {
   sw_mesh mesh;
   const ynode *at;        /* the grid or obj value, for messages */
+  int grid[2];            /* a grid's vertices nx, ny (0: not a grid) */
   char obj[SW_PATHSZ];    /* the OBJ file as opened */
 } mesh_in;
 
@@ -72,6 +73,8 @@ static int load_grid(const ctx *c, const ynode *y, mesh_in *mi) {
   char e[SW_ERRSZ];
   if (sw_mesh_grid(&mi->mesh, size, nvert[0], nvert[1], planes[plane], e, sizeof e))
     return sy_fail(c, y, "in mesh grid: %s", e);
+  mi->grid[0] = nvert[0];
+  mi->grid[1] = nvert[1];
   return 0;
 }
 
@@ -231,6 +234,7 @@ static int load_geometry(ctx *c, const ynode **v) {
                  "expected material: {...} that the panels start from");
   if (!rc && v[K_MAT]) rc = sc_load_material(c, v[K_MAT], &mi.mesh, mi.obj);
   if (!rc) rc = fill_geometry(c, &mi, uv_scale);
+  memcpy(c->grid, mi.grid, sizeof c->grid);
   if (!rc && v[K_PANELS]) rc = sc_load_panels(c, v[K_PANELS], &mi.mesh, mi.obj, uv_scale);
   sw_mesh_free(&mi.mesh);
   if (!rc && !(c->sel = sw_calloc((size_t)c->m->nv, 1))) rc = sy_oom(c, c->root);
@@ -239,11 +243,16 @@ static int load_geometry(ctx *c, const ynode **v) {
 
 /* ================================================================ selections, pins, velocities */
 
-static const char *const sel_keys[] = {"vertices", "box"};
+static const char *const sel_keys[] = {"vertices", "box", "grid"};
+
+void sy_note_index(const ctx *c, const ynode *y) {
+  if (c->by_index && !*c->by_index) *c->by_index = y;
+}
 
 static int select_list(const ctx *c, const ynode *y, const char *what) {
   char lab[176];
   if (sy_seq(c, y, what, "a sequence of vertex indices")) return -1;
+  sy_note_index(c, y);
   for (int i = 0; i < y->n; i++) {
     int k;
     snprintf(lab, sizeof lab, "%s[%d]", what, i);
@@ -278,17 +287,49 @@ static int select_box(const ctx *c, const ynode *y, const char *what) {
   return 0;
 }
 
+/* grid: [[i, j], ...]: grid vertex (i, j), index j nx + i; a negative i or j counts from the
+ * far end (-1: the last), so [-1, -1] stays the far corner on any grid (--grid). */
+static int select_grid(const ctx *c, const ynode *y, const char *what) {
+  char lab[192];
+  const int *g = c->grid;
+  if (!g[0])
+    return sy_fail(c, y, "%s is given but the mesh is not a grid; expected vertices or box",
+                   what);
+  if (sy_seq(c, y, what, "a sequence of [i, j] grid positions")) return -1;
+  for (int k = 0; k < y->n; k++) {
+    int ij[2];
+    snprintf(lab, sizeof lab, "%s[%d]", what, k);
+    if (sy_seq(c, y->kid[k], lab, "[i, j]: column and row, negative from the far end"))
+      return -1;
+    if (y->kid[k]->n != 2)
+      return sy_fail(c, y->kid[k], "%s has %d numbers; expected [i, j]", lab, y->kid[k]->n);
+    for (int a = 0; a < 2; a++) {
+      snprintf(lab, sizeof lab, "%s[%d][%d]", what, k, a);
+      if (sy_int(c, y->kid[k]->kid[a], lab, -(long)g[a], g[a] - 1L, &ij[a])) return -1;
+      if (ij[a] < 0) ij[a] += g[a];
+    }
+    c->sel[ij[1] * g[0] + ij[0]] = 1;
+  }
+  return 0;
+}
+
 /* Mark the vertices that the selection y picks in c->sel. */
 int sy_select(const ctx *c, const ynode *y, const char *what) {
-  const ynode *v[2];
+  static const char *const kind[] = {"vertices", "box", "grid"};
+  const ynode *v[3];
   char lab[128];
   memset(c->sel, 0, (size_t)c->m->nv);
-  if (sy_map(c, y, what, sel_keys, 2, v)) return -1;
-  if (!v[0] == !v[1])
-    return sy_fail(c, y, "%s has %s; expected exactly one of vertices or box", what,
-                v[0] ? "both vertices and box" : "neither vertices nor box");
-  snprintf(lab, sizeof lab, "%s %s", what, v[0] ? "vertices" : "box");
-  if (v[0] ? select_list(c, v[0], lab) : select_box(c, v[1], lab)) return -1;
+  if (sy_map(c, y, what, sel_keys, 3, v)) return -1;
+  int given = !!v[0] + !!v[1] + !!v[2], k = v[0] ? 0 : v[1] ? 1 : 2;
+  if (given != 1)
+    return sy_fail(c, y, "%s has %s; expected exactly one of vertices, box or grid", what,
+                   given ? "more than one of vertices, box and grid" : "none of vertices, box, "
+                   "grid");
+  snprintf(lab, sizeof lab, "%s %s", what, kind[k]);
+  int rc = k == 0 ? select_list(c, v[0], lab)
+           : k == 1 ? select_box(c, v[1], lab)
+                    : select_grid(c, v[2], lab);
+  if (rc) return -1;
   for (int i = 0; i < c->m->nv; i++)
     if (c->sel[i]) return 0;
   return sy_fail(c, y, "%s selects no vertex; expected a selection of at least one vertex", what);
@@ -607,6 +648,15 @@ static int check_overrides(const char *name, const sw_scene_overrides *ov, char 
   return 0;
 }
 
+/* --grid on a scene that selects by vertex index: where, and what to use instead. */
+static void grid_warning(const ctx *c, const ynode *at) {
+  snprintf(c->m->warning, sizeof c->m->warning,
+           "%s:%d:%d: the scene selects vertices by index, and the grid override (--grid "
+           "%dx%d) keeps indices, not places: the same indices are other vertices on the new "
+           "grid; select by box or grid: [[i, j], ...] to keep their meaning", c->name, at->line,
+           at->col, c->ov->grid[0], c->ov->grid[1]);
+}
+
 sw_model *sw_scene_parse(const char *name, const char *buf, size_t len, char *err,
                          size_t errsz) {
   return sw_scene_parse_ex(name, buf, len, NULL, err, errsz);
@@ -620,9 +670,12 @@ sw_model *sw_scene_parse_ex(const char *name, const char *buf, size_t len,
   if (ov && check_overrides(name, ov, err, errsz)) return NULL;
   ynode *root = sy_parse(name, buf, len, err, errsz);
   if (!root) return NULL;
-  ctx c = {.name = name, .err = err, .errsz = errsz, .root = root, .ov = ov};
+  const ynode *by_index = NULL;
+  ctx c = {.name = name, .err = err, .errsz = errsz, .root = root, .ov = ov,
+           .by_index = &by_index};
   c.m = sw_model_new();
   int rc = c.m ? load_scene(&c) : sy_oom(&c, root);
+  if (!rc && by_index && ov && ov->grid[0] > 0) grid_warning(&c, by_index);
   sw_free(c.sel);
   sy_free(root);
   if (!rc && ov && ov->stiffness_scale > 0.0) sc_scale_stiffness(c.m, ov->stiffness_scale);

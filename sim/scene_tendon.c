@@ -22,12 +22,13 @@ static const char *const tendon_keys[] = {"name", "waypoints", "law", "stiffness
 enum { TK_NAME, TK_WAY, TK_LAW, TK_K, TK_REST, TK_DENSITY, TK_DAMP, TK_N };
 static const char *const laws[] = {"spring", "cable"}; /* SW_LAW_* order */
 static const char *const axes[] = {"x", "y", "z"};
-static const char *const way_keys[] = {"vertices", "box", "along"};
+static const char *const way_keys[] = {"vertices", "box", "grid", "along"};
 
 /* Listed waypoints: each index in the mesh, none repeated. */
 static int waypoint_list(const ctx *c, const ynode *y, const char *w, sw_tendon *td) {
   char lab[256];
   if (!(td->way = sw_calloc((size_t)y->n + 1, sizeof *td->way))) return sy_oom(c, y);
+  sy_note_index(c, y);
   memset(c->sel, 0, (size_t)c->m->nv);
   for (int i = 0; i < y->n; i++) {
     snprintf(lab, sizeof lab, "%s waypoints[%d]", w, i);
@@ -62,22 +63,22 @@ static int sort_along(const sw_model *m, int axis, int *way, int n) {
 /* A selection's vertices (c->sel) ordered along an axis. */
 static int waypoint_selection(const ctx *c, const ynode *y, const char *w, sw_tendon *td) {
   const sw_model *m = c->m;
-  const ynode *v[3];
+  const ynode *v[4];
   char lab[256];
-  if (sy_map(c, y, w, way_keys, 3, v)) return -1;
-  /* the pin selection reads a map of only vertices or box: hand it one without along */
+  if (sy_map(c, y, w, way_keys, 4, v)) return -1;
+  /* the pin selection reads a map of only vertices, box or grid: hand it one without along */
   ynode sub = *y;
-  const ynode *kids[4];
+  const ynode *kids[6];
   int n = 0;
   for (int p = 0; p < y->n / 2; p++)
-    if (y->kid[2 * p + 1] != v[2]) kids[n++] = y->kid[2 * p], kids[n++] = y->kid[2 * p + 1];
+    if (y->kid[2 * p + 1] != v[3]) kids[n++] = y->kid[2 * p], kids[n++] = y->kid[2 * p + 1];
   sub.kid = (ynode **)kids;
   sub.n = n;
   if (sy_select(c, &sub, w)) return -1;
   int axis = -1;
-  if (v[2]) {
+  if (v[3]) {
     snprintf(lab, sizeof lab, "%s along", w);
-    if (sy_choice(c, v[2], lab, axes, m->dim, &axis)) return -1;
+    if (sy_choice(c, v[3], lab, axes, m->dim, &axis)) return -1;
   }
   int cnt = 0;
   for (int i = 0; i < m->nv; i++) cnt += c->sel[i];

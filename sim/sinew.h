@@ -285,6 +285,8 @@ struct sw_model {
   sw_options opt;
   double stiffness_scale;      /* the factor every elastic stiffness of the scene was multiplied
                                   by at load (sw_scene_overrides; 1: none, 0 read as 1) */
+  char warning[SW_ERRSZ];      /* what the loader warns of ("" when nothing): a grid override
+                                  on a scene that selects vertices by index */
 };
 
 /* Allocate an empty model with default options. */
@@ -301,7 +303,8 @@ SW_API sw_model *sw_scene_load(const char *path, char *err, size_t errsz);
 /* What sw_scene_load_ex changes in a scene as it loads it (sinew run --grid, --stiffness-scale).
  * grid replaces mesh.grid.vertices (the scene's mesh must be a grid; both >= 2, at most the
  * scene key's total); vertex indices in selections and tendons stay indices (and may then be
- * out of range: the usual error), boxes select on the new grid.  stiffness_scale multiplies
+ * out of range: the usual error; m->warning says where the scene selects by index), boxes and
+ * grid selections ({grid: [[i, j], ...]}) select on the new grid.  stiffness_scale multiplies
  * every elastic stiffness before the terms are built: the membrane's (bw98 k_u, k_v, k_shear;
  * stvk e_u, e_v, shear_modulus; corotated k; springs stretch, shear, bend), bending stiffness,
  * every tendon's stiffness and the stiffness tension XY uses (derived or explicit); not
