@@ -293,23 +293,68 @@ static void vertex_normals(const sw_model *m, double *n) {
   }
 }
 
-/* `perturb` (docs/scenes.md): each free vertex of a 3D model moves along its normal by
- * A u, u uniform in [-1, 1) from the seed; a vertex in no face along a random direction of
- * length A u.  After the terms are built, so rest angles and lengths are those of the mesh. */
+#define PERTURB_WAVES 6 /* plane waves in the perturbation field */
+#define PERTURB_PI 3.14159265358979323846
+
+/* The bounding-box diagonal of x0 (m) and its lower corner. */
+static double bbox(const sw_model *m, double lo[3]) {
+  double hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL}, d2 = 0.0;
+  lo[0] = lo[1] = lo[2] = HUGE_VAL;
+  for (int i = 0; i < m->nv; i++)
+    for (int a = 0; a < 3; a++) {
+      lo[a] = fmin(lo[a], m->x0[3 * i + a]);
+      hi[a] = fmax(hi[a], m->x0[3 * i + a]);
+    }
+  for (int a = 0; a < 3; a++) d2 += (hi[a] - lo[a]) * (hi[a] - lo[a]);
+  return sqrt(d2);
+}
+
+/* The smooth field w(x) = sum_k a_k sin(k_k . x + phi_k), PERTURB_WAVES waves of random
+ * direction, wavelength D/2 .. D (D the diagonal), amplitude a_k and phase phi_k, times a taper
+ * from 0 at the pinned vertices to 1 at D/4 from them (the quintic ramp): one value per
+ * vertex into w.  Smooth in space and defined by position, not by index. */
+static void smooth_field(const sw_model *m, unsigned long long *state, double *w) {
+  double lo[3], D = bbox(m, lo), k[PERTURB_WAVES][3], a[PERTURB_WAVES], ph[PERTURB_WAVES];
+  for (int q = 0; q < PERTURB_WAVES; q++) {
+    double dir[3] = {uniform(state), uniform(state), uniform(state)}, l = 0.0;
+    for (int c = 0; c < 3; c++) l += dir[c] * dir[c];
+    double kk = 2.0 * PERTURB_PI / D * (1.5 + 0.5 * uniform(state)) / (l > 0.0 ? sqrt(l) : 1.0);
+    for (int c = 0; c < 3; c++) k[q][c] = l > 0.0 ? kk * dir[c] : 0.0; /* 1/m */
+    a[q] = uniform(state);
+    ph[q] = PERTURB_PI * uniform(state);
+  }
+  for (int i = 0; i < m->nv; i++) {
+    const double *x = m->x0 + 3 * i;
+    double v = 0.0, dmin = HUGE_VAL;
+    for (int q = 0; q < PERTURB_WAVES; q++)
+      v += a[q] * sin(k[q][0] * (x[0] - lo[0]) + k[q][1] * (x[1] - lo[1]) +
+                      k[q][2] * (x[2] - lo[2]) + ph[q]);
+    for (int j = 0; j < m->nv; j++) {
+      if (!m->pinned[j]) continue;
+      double d2 = 0.0;
+      for (int c = 0; c < 3; c++) d2 += (x[c] - m->x0[3 * j + c]) * (x[c] - m->x0[3 * j + c]);
+      dmin = fmin(dmin, d2);
+    }
+    w[i] = v * sw_ramp(sqrt(dmin), 0.25 * D);
+  }
+}
+
+/* `perturb` (docs/scenes.md): each free vertex of a 3D model moves along its normal by the
+ * smooth field of smooth_field, scaled so that its largest value is the amplitude; a vertex in
+ * no face does not move.  After the terms are built, so rest angles and lengths are those of
+ * the mesh. */
 static int perturb(sw_model *m, char *err, size_t errsz) {
   if (!(m->perturb_amplitude > 0.0)) return 0;
   if (m->dim != 3) return sw_errf(err, errsz, "perturb needs dimension 3"), -1;
-  double *n = sw_calloc((size_t)m->nv * 3, sizeof *n);
+  double *n = sw_calloc((size_t)m->nv * 4, sizeof *n), *w = n + 3 * (size_t)m->nv, wmax = 0.0;
   if (!n) return sw_errf(err, errsz, "out of memory"), -1;
   vertex_normals(m, n);
   unsigned long long state = m->perturb_seed;
-  for (int i = 0; i < m->nv; i++) {
-    double u = uniform(&state), r[3] = {uniform(&state), uniform(&state), uniform(&state)};
-    double *dir = n + 3 * i, l = 0.0;
-    if (dir[0] == 0.0 && dir[1] == 0.0 && dir[2] == 0.0) memcpy(dir, r, sizeof r);
-    for (int k = 0; k < 3; k++) l += dir[k] * dir[k];
-    double s = m->pinned[i] || l == 0.0 ? 0.0 : m->perturb_amplitude * u / sqrt(l); /* m */
-    for (int k = 0; k < 3; k++) m->x0[3 * i + k] += s * dir[k];
+  smooth_field(m, &state, w);
+  for (int i = 0; i < m->nv; i++) wmax = fmax(wmax, fabs(w[i]));
+  for (int i = 0; wmax > 0.0 && i < m->nv; i++) {
+    double s = m->pinned[i] ? 0.0 : m->perturb_amplitude * w[i] / wmax; /* m */
+    for (int c = 0; c < 3; c++) m->x0[3 * i + c] += s * n[3 * i + c];
   }
   sw_free(n);
   return 0;

@@ -472,7 +472,7 @@ static int load_masses(const ctx *c, const ynode *y) {
 static const char *const perturb_keys[] = {"amplitude", "seed"};
 
 /* perturb: {amplitude: m, seed: n}: sw_model_finish moves the free vertices of x0 along their
- * normals by up to the amplitude (3D only). */
+ * normals by a smooth random field of that largest value (3D only). */
 static int load_perturb(const ctx *c, const ynode *y) {
   sw_model *m = c->m;
   const ynode *v[2];

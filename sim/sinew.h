@@ -251,8 +251,9 @@ struct sw_model {
   int nv, nf;                  /* vertices, triangles */
   double *x0;                  /* (nv x dim) initial positions, m */
   double *v0;                  /* (nv x dim) initial velocities, m/s */
-  double perturb_amplitude;    /* m: sw_model_finish moves each free vertex of x0 by up to this
-                                  along its normal, after the rest shapes are taken (0: none) */
+  double perturb_amplitude;    /* m: sw_model_finish moves each free vertex of x0 along its
+                                  normal by a smooth random field of this largest value, after
+                                  the rest shapes are taken (0: none; docs/scenes.md) */
   unsigned long perturb_seed;  /* the seed of that perturbation (the same seed, the same x0) */
   int *face;                   /* (nf x 3) vertex indices */
   double *uv;                  /* (nf x 6) rest (u,v) of each corner, m */
