@@ -1,27 +1,19 @@
 /* dihedral.c — discrete-shells bending (Grinspun, Hirani, Desbrun, Schröder 2003, "Discrete
- * shells", eq. 3), 3D only.  docs/models.md "dihedral" has the derivation of the constant.
+ * shells") on the triangles of models/bending.c, 3D only.  docs/models.md "Bending".
  *
- * Per interior edge e with vertices x0, x1 (e = x1 - x0) and far vertices x2 (face A) and x3
- * (face B):
- *   E_e = k_b (theta_e - theta_rest)^2 |e_rest|^2 / (2 (A1 + A2))          (J)
- * k_b in N m, |e_rest| the edge's rest length (mean of its length in the two faces' (u,v)),
- * A1, A2 the faces' rest (u,v) areas.  In Grinspun's form k (theta - theta_rest)^2 |e|^2 / A_e
- * with A_e = (A1 + A2)/3 this is k = k_b / 6.  Why 1/6: on a grid of hx x hy cells (either
- * diagonal) bent into a cylinder of radius R about an axis along the grid, every triangle of a
- * cell column has the normal of the cylinder at the column's centre, so only the edges along
- * the axis bend, each by theta = hx/R; with |e| = hy and A1 + A2 = hx hy each such edge gives
- * theta^2 |e|^2 / A_e = 3 hx hy / R^2, i.e. sum_e theta^2 |e|^2 / A_e -> 3 Area / R^2, and
- * E -> (k_b/2) Area / R^2 = (k_b/2) int kappa^2 dA.  The error is the half cell at each end
- * of the bent direction, E = (k_b/2)(Area/R^2)(1 - hx/length): first order (tests/test_bending.c).
- * An equilateral mesh in either orientation gives the same limit 3 Area/R^2 (a numerical check;
- * there the chords also tilt the normals along the axis); on general meshes and surfaces the
- * discrete-shells energy is known to depend on the mesh.
+ * Each hinge a of a triangle T (x0, x1 on the edge in T's corner order, x2 T's own far vertex,
+ * x3 the far vertex across) bends by theta_a - theta_rest_a, and T's energy is
+ *   E_T = (1/2) sum_ab W_ab dth_a dth_b,   dth = wrap(theta - theta_rest)           (J)
+ * with W (J/rad^2) from models/bending.c: the plate energy (k_b A/2)|II_T|^2 of T's constant
+ * curvature II_T = sum_a c_a dth_a n_a n_a^T.  With face A = T every hinge of T measures its
+ * angle against T's own normal, so the three angles have one sign convention.
  *
  * theta is the signed angle between the face normals NA = e x (x2 - x0), NB = (x3 - x0) x e,
  * theta = atan2((NB x NA).e/|e|, NA.NB) (the sign that makes the gradient below its
  * derivative), which needs no normalisation and is accurate near 0 and near +-pi;
- * theta - theta_rest is wrapped into [-pi, pi).  Its gradient is the classic one (Bridson, Marino, Fedkiw 2003, sec. 4; Tamstorf & Grinspun 2013, "Discrete bending forces
- * and their Jacobians", sec. 3): with psi_F = N_F / |N_F|^2,
+ * theta - theta_rest is wrapped into [-pi, pi).  Its gradient is the classic one (Bridson,
+ * Marino, Fedkiw 2003, sec. 4; Tamstorf & Grinspun 2013, "Discrete bending forces and their
+ * Jacobians", sec. 3): with psi_F = N_F / |N_F|^2,
  *   dtheta/dx_i = sum_F alpha_{F,i} psi_F,
  *   alpha_A = ((x2-x1).e^, -(x2-x0).e^, |e|, 0),  alpha_B = ((x3-x1).e^, -(x3-x0).e^, 0, |e|).
  * Its exact Hessian is that gradient differentiated here by the product rule (Tamstorf &
@@ -30,10 +22,10 @@
  * P_F = (I - 2 n_F n_F^T)/|N_F|^2 (the derivative of N/|N|^2), J_{F,j} = dN_F/dx_j (a cross-
  * product matrix), and for alpha = s (x_k - x_l).e^: grad_k = s e^, grad_l = -s e^,
  * grad_1 += s q, grad_0 -= s q, q = (I - e^ e^T)(x_k - x_l)/|e|.
- * E's Hessian is 2w (g g^T + (theta - theta_rest) d2theta), w = k_b |e_rest|^2/(2(A1+A2)); it is
- * indefinite where the second part dominates, and the eigenvalue filter (SW_FILTER_*) acts on
- * each 12 x 12 block (LAPACK dsyev): negative eigenvalues set to 0 (its PSD part) or replaced
- * by their absolute values. */
+ * E_T's gradient is sum_a mu_a g_a (mu = W dth, g_a = dtheta_a/dx) and its Hessian
+ * sum_ab W_ab g_a g_b^T + sum_a mu_a d2theta_a: indefinite where the second part dominates, so
+ * the eigenvalue filter (SW_FILTER_*) acts on each triangle's block (at most 18 x 18, LAPACK
+ * dsyev): negative eigenvalues set to 0 (its PSD part) or replaced by their absolute values. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -53,9 +45,9 @@ extern void dsyev_(const char *jobz, const char *uplo, const int *n, double *a, 
 #define SHIFT 1e-10
 
 typedef struct dihedral_param {
-  int n;          /* edges (stencils) */
-  double *w;      /* (n) k_b |e_rest|^2 / (2 (A1 + A2)), J/rad^2 */
-  double *rest;   /* (n) rest angle, rad */
+  int n;          /* triangles (stencils) */
+  sw_bend_tri *tri; /* (n) hinges and weights */
+  double *rest;   /* (n x 3) rest angle of each hinge, rad */
 } dihedral_param;
 
 typedef struct hinge {
@@ -77,7 +69,7 @@ static const int JAC[2][4][2] = {{{2, 1}, {0, 2}, {1, 0}, {0, 0}},
 static void dihedral_free(void *p) {
   dihedral_param *dp = p;
   if (!dp) return;
-  sw_free(dp->w);
+  sw_free(dp->tri);
   sw_free(dp->rest);
   sw_free(dp);
 }
@@ -181,22 +173,24 @@ static void theta_hessian(const hinge *h, double *Ht) {
     }
 }
 
-/* Filter the eigenvalues of the symmetric 12 x 12 block B by `mode`: its PSD part (the sum over
- * positive eigenvalues) or V |Lambda| V^T; then SHIFT x its largest eigenvalue on the diagonal. */
-static void project_psd(double *B, int mode) {
-  const int n = 12, lwork = 12 * 34;
-  double A[144], lam[12], work[12 * 34];
+/* Filter the eigenvalues of the symmetric n x n block B (n <= 18) by `mode`: its PSD part (the
+ * sum over positive eigenvalues) or V |Lambda| V^T; then SHIFT x its largest eigenvalue on the
+ * diagonal. */
+static void project_psd(double *B, int n, int mode) {
+  enum { NMAX = 18, LWORK = 18 * 34 };
+  const int lwork = LWORK;
+  double A[NMAX * NMAX], lam[NMAX], work[LWORK];
   int info = 0;
-  memcpy(A, B, sizeof A);
+  memcpy(A, B, (size_t)(n * n) * sizeof(double));
   dsyev_("V", "U", &n, A, &n, lam, work, &lwork, &info);
   if (info != 0) return; /* LAPACK failed: keep it */
   double top = fmax(sw_filter_eigenvalue(lam[0], mode), lam[n - 1]);
   if (lam[0] >= 0.0) { /* already PSD */
-    for (int k = 0; k < n; k++) B[k * 13] += SHIFT * top;
+    for (int k = 0; k < n; k++) B[k * (n + 1)] += SHIFT * top;
     return;
   }
-  memset(B, 0, sizeof A);
-  for (int k = 0; k < n; k++) B[k * 13] = SHIFT * top;
+  memset(B, 0, (size_t)(n * n) * sizeof(double));
+  for (int k = 0; k < n; k++) B[k * (n + 1)] = SHIFT * top;
   for (int k = 0; k < n; k++) {
     double l = sw_filter_eigenvalue(lam[k], mode);
     if (l <= 0.0) continue;
@@ -212,48 +206,65 @@ static double wrap(double a) {
   return a - 2.0 * pi * floor((a + pi) / (2.0 * pi));
 }
 
-/* The 4 positions of stencil s from x (nv x 3). */
-static void gather(const sw_term *t, int s, const double *x, hinge *h) {
-  for (int i = 0; i < 4; i++)
-    memcpy(h->x[i], x + 3 * (size_t)t->sidx[4 * s + i], 3 * sizeof(double));
+/* Hinge a of triangle stencil s: its 4 positions from x (nv x 3). */
+static void gather(const sw_term *t, int s, const sw_bend_hinge *hg, const double *x, hinge *h) {
+  const int *v = t->sidx + t->sptr[s];
+  for (int i = 0; i < 4; i++) memcpy(h->x[i], x + 3 * (size_t)v[hg->v[i]], 3 * sizeof(double));
   hinge_setup(h);
 }
 
-static double edge_eval(const sw_term *t, int s, const sw_eval *ev) {
+/* blk (w x w, w = 3 nv) += c u v^T for hinge vectors u, v (12, on the hinges' stencil-local
+ * vertices pu, pv). */
+static void add_outer(double *blk, int w, double c, const double *u, const int *pu,
+                      const double *v, const int *pv) {
+  for (int i = 0; i < 12; i++)
+    for (int j = 0; j < 12; j++)
+      blk[(3 * pu[i / 3] + i % 3) * w + 3 * pv[j / 3] + j % 3] += c * u[i] * v[j];
+}
+
+/* Energy of triangle stencil s; its gradient and (filtered) Hessian block as ev asks. */
+static double tri_eval(const sw_term *t, int s, const sw_eval *ev) {
   const dihedral_param *dp = t->param;
-  hinge h;
-  gather(t, s, ev->x, &h);
-  double dth = wrap(h.theta - dp->rest[s]), w = dp->w[s]; /* rad, J/rad^2 */
-  if (!h.ok || (!ev->grad && !ev->hess)) return w * dth * dth;
-  double g[12];
-  theta_gradient(&h, g);
-  if (ev->grad)
-    for (int i = 0; i < 4; i++)
-      for (int r = 0; r < 3; r++)
-        ev->grad[3 * t->sidx[4 * s + i] + r] += 2.0 * w * dth * g[3 * i + r];
-  if (ev->hess) {
-    double Ht[144];
-    theta_hessian(&h, Ht);
-    for (int r = 0; r < 12; r++)
-      for (int c = 0; c < 12; c++) Ht[r * 12 + c] = 2.0 * w * (g[r] * g[c] + dth * Ht[r * 12 + c]);
-    if (ev->project && dth != 0.0) {
-      project_psd(Ht, ev->project);
-    } else if (ev->project) { /* dth = 0: 2w g g^T, PSD, its eigenvalue 2w |g|^2 */
-      double gg = 0.0;
-      for (int k = 0; k < 12; k++) gg += g[k] * g[k];
-      for (int k = 0; k < 12; k++) Ht[k * 13] += SHIFT * 2.0 * w * gg;
-    }
-    double *blk = ev->hess + t->hptr[s];
-    for (int k = 0; k < 144; k++) blk[k] += Ht[k];
+  const sw_bend_tri *tr = &dp->tri[s];
+  const int nh = tr->nh, w = 3 * tr->nv;
+  hinge h[3];
+  double dth[3], mu[3] = {0}, g[3][12], e = 0.0;
+  int ok = 1;
+  for (int a = 0; a < nh; a++) {
+    gather(t, s, &tr->h[a], ev->x, &h[a]);
+    dth[a] = wrap(h[a].theta - dp->rest[3 * s + a]); /* rad */
+    ok = ok && h[a].ok;
   }
-  return w * dth * dth;
+  for (int a = 0; a < nh; a++) {
+    for (int b = 0; b < nh; b++) mu[a] += tr->W[a][b] * dth[b]; /* J/rad */
+    e += 0.5 * mu[a] * dth[a];
+  }
+  if (!ok || (!ev->grad && !ev->hess)) return e;
+  const int *v = t->sidx + t->sptr[s];
+  for (int a = 0; a < nh; a++) theta_gradient(&h[a], g[a]);
+  if (ev->grad)
+    for (int a = 0; a < nh; a++)
+      for (int i = 0; i < 12; i++) ev->grad[3 * v[tr->h[a].v[i / 3]] + i % 3] += mu[a] * g[a][i];
+  if (!ev->hess) return e;
+  double B[18 * 18] = {0}, Ht[144];
+  for (int a = 0; a < nh; a++) {
+    for (int b = 0; b < nh; b++) add_outer(B, w, tr->W[a][b], g[a], tr->h[a].v, g[b], tr->h[b].v);
+    theta_hessian(&h[a], Ht);
+    for (int i = 0; i < 12; i++)
+      for (int j = 0; j < 12; j++)
+        B[(3 * tr->h[a].v[i / 3] + i % 3) * w + 3 * tr->h[a].v[j / 3] + j % 3] += mu[a] * Ht[i * 12 + j];
+  }
+  if (ev->project) project_psd(B, w, ev->project);
+  double *blk = ev->hess + t->hptr[s];
+  for (int k = 0; k < w * w; k++) blk[k] += B[k];
+  return e;
 }
 
 static int dihedral_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, double *energy) {
   (void)m;
   const dihedral_param *dp = t->param;
   double total = 0.0;
-  for (int s = 0; s < dp->n; s++) total += edge_eval(t, s, ev);
+  for (int s = 0; s < dp->n; s++) total += tri_eval(t, s, ev);
   *energy = total;
   return isfinite(total) ? SW_OK : SW_RECOVER;
 }
@@ -270,20 +281,16 @@ int sw_dihedral_build(sw_term *t, const sw_model *m, char *err, size_t errsz) {
   if (m->dim != 3)
     return sw_errf(err, errsz, "dihedral bending needs dimension 3: a %dD scene has no "
                    "out-of-plane bending (use bending model quadratic, or none)", m->dim), -1;
-  sw_bend *be = sw_bend_edges(m, SW_BENDING_DIHEDRAL, &dp->n, err, errsz);
-  if (!be) return -1;
-  dp->w = sw_calloc((size_t)dp->n, sizeof(double));
-  dp->rest = sw_calloc((size_t)dp->n, sizeof(double));
-  int rc = !dp->w || !dp->rest || sw_term_alloc_stencils(t, dp->n, 4, 3);
-  if (rc) sw_errf(err, errsz, "out of memory for %d bending edges", dp->n);
-  for (int s = 0; !rc && s < dp->n; s++) {
-    memcpy(t->sidx + 4 * s, be[s].v, sizeof be[s].v);
-    dp->w[s] = be[s].kb * be[s].len * be[s].len /
-               (2.0 * (m->area[be[s].f[0]] + m->area[be[s].f[1]])); /* J/rad^2 */
-    hinge h;
-    gather(t, s, m->x0, &h);
-    dp->rest[s] = be[s].rest_flat ? 0.0 : h.theta;
-  }
-  sw_free(be);
-  return rc ? -1 : 0;
+  dp->tri = sw_bend_tris(m, SW_BENDING_DIHEDRAL, &dp->n, err, errsz);
+  if (!dp->tri) return -1;
+  dp->rest = sw_calloc((size_t)dp->n + 1, 3 * sizeof(double));
+  int rc = !dp->rest || sw_bend_alloc_stencils(t, dp->tri, dp->n, 3);
+  if (rc) return sw_errf(err, errsz, "out of memory for %d bending triangles", dp->n), -1;
+  for (int s = 0; s < dp->n; s++)
+    for (int a = 0; a < dp->tri[s].nh; a++) {
+      hinge h;
+      gather(t, s, &dp->tri[s].h[a], m->x0, &h);
+      dp->rest[3 * s + a] = dp->tri[s].rest_flat ? 0.0 : h.theta;
+    }
+  return 0;
 }

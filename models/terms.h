@@ -95,20 +95,28 @@ double sw_face_uv_distance(const sw_model *m, int f, int va, int vb);
 /* Rest distance of the far vertices of interior edge e: the two faces unfolded flat about the
  * edge, each in its own (u,v) layout (so it is defined across a seam), m. */
 double sw_edge_far_distance(const sw_model *m, const sw_topology *tp, int e);
-/* One interior edge of a bending term: x0 = v[0], x1 = v[1] on the edge, x2 = v[2] the far
- * vertex of face f[0], x3 = v[3] that of face f[1]. */
-typedef struct sw_bend {
-  int v[4], f[2];
+/* One hinge of a bending triangle (models/bending.c): the triangle's edge opposite its corner k,
+ * bent against the face far_face across it.  v: stencil-local vertices x0, x1 (the edge, in the
+ * triangle's corner order), x2 (the triangle's own corner k), x3 (the far vertex across). */
+typedef struct sw_bend_hinge {
+  int k, far_face, v[4];
   double len;      /* rest edge length: mean of its length in the two faces' (u,v), m */
-  double kb;       /* bending stiffness, N m */
-  int rest_flat;   /* 1: rest angle 0; 0: the angle in x0 */
-} sw_bend;
-/* The interior edges that bend with `model` (SW_BENDING_*), in a new array of *n (sw_free it;
- * NULL with err when out of memory).  The rule: an edge's model is its faces' one when they
- * agree, the other face's when one face has none, dihedral when they name different models;
- * k_b is the mean of the two faces' k_bend (a face without bending counts 0); the rest is flat
- * only when every bending face of the edge asks for a flat rest. */
-sw_bend *sw_bend_edges(const sw_model *m, int model, int *n, char *err, size_t errsz);
+} sw_bend_hinge;
+/* One bending triangle: its energy is (1/2) sum_ab W_ab theta_a theta_b over its interior
+ * edges (hinges), theta the bending of each (docs/models.md "Bending"). */
+typedef struct sw_bend_tri {
+  int face, nv, nh;
+  int v[6];               /* stencil: the face's 3 corners, then the far vertex of each hinge */
+  sw_bend_hinge h[3];
+  double W[3][3];         /* J/rad^2, positive semi-definite */
+  double kb;              /* the face material's bending stiffness, N m */
+  int rest_flat;          /* 1: rest angles 0; 0: the angles in x0 */
+} sw_bend_tri;
+/* The faces whose material bends with `model` (SW_BENDING_*), with k_bend > 0 and at least one
+ * interior edge, in a new array of *n (sw_free it; NULL with err when out of memory). */
+sw_bend_tri *sw_bend_tris(const sw_model *m, int model, int *n, char *err, size_t errsz);
+/* Stencils of t: one per triangle, its nv vertices.  Nonzero when out of memory. */
+int sw_bend_alloc_stencils(sw_term *t, const sw_bend_tri *tri, int n, int dim);
 /* models/point_load.c: E = -sum_i f_i . x_i with f = m->load (no Hessian, no stencils). */
 int sw_point_load_build(sw_term *t, const sw_model *m, char *err, size_t errsz);
 

@@ -12,6 +12,11 @@ const char *const *sw_hessian_names(void) {
   return names;
 }
 
+const char *const *sw_norm_names(void) {
+  static const char *const names[SW_NORM_N + 1] = {"rms", "max", NULL};
+  return names;
+}
+
 sw_model *sw_model_new(void) {
   sw_model *m = sw_calloc(1, sizeof *m);
   if (!m) return NULL;
@@ -22,6 +27,7 @@ sw_model *sw_model_new(void) {
   o->duration = 1.0;
   o->newton_max = 50;
   o->newton_tol = 1e-2; /* m/s: docs/integrators.md, "Newton" (measured) */
+  o->newton_norm = SW_NORM_RMS;
   o->newton_force_tol = 1e-10;
   o->max_halvings = 8;
   o->hessian = SW_HESSIAN_DEFAULT; /* abs in 3D, projected in 2D (sw_model_finish) */

@@ -33,6 +33,8 @@ void sw_ipstep_free(sw_ipstep *s) {
   memset(s, 0, sizeof *s);
 }
 
+void sw_ipstep_reset(sw_ipstep *s) { s->nw.fac_valid = 0; }
+
 sw_newton_opts sw_ipstep_opts(const sw_model *m, const sw_ipstep *s, double a, double t,
                               double cd, double h, double tol_scale) {
   sw_newton_opts o = {
@@ -40,6 +42,7 @@ sw_newton_opts sw_ipstep_opts(const sw_model *m, const sw_ipstep *s, double a, d
       .t = t,
       .max_iter = m->opt.newton_max,
       .tol_dx = tol_scale * m->opt.newton_tol * h, /* newton_tol is a velocity, m/s */
+      .norm = m->opt.newton_norm,
       .line_search = 1,
       .must_converge = 1,
       .hessian = m->opt.hessian,

@@ -31,6 +31,21 @@ static int stencil_init(sw_newton *nw, const sw_model *m) {
   return (!nw->flag || !nw->hfilt || !nw->vres) ? -1 : 0;
 }
 
+/* The weights of the RMS norm: w_c = dim m_c / sum m_c over the free DOFs, so that
+ * sqrt(sum w_c dx_c^2) is the mass-weighted RMS of the vertices' |dx_i| (uniform if massless). */
+static int weights_init(sw_newton *nw, const sw_model *m) {
+  nw->wdof = sw_calloc((size_t)nw->n + 1, sizeof(double));
+  if (!nw->wdof) return -1;
+  double total = 0.0;
+  for (int i = 0; i < m->nv * m->dim; i++)
+    if (m->dof[i] >= 0) total += m->mass[i / m->dim];
+  for (int i = 0; i < m->nv * m->dim; i++)
+    if (m->dof[i] >= 0)
+      nw->wdof[m->dof[i]] = total > 0.0 ? m->dim * m->mass[i / m->dim] / total
+                                        : (double)m->dim / nw->n;
+  return 0;
+}
+
 int sw_newton_init(sw_newton *nw, const sw_model *m, char *err, size_t errsz) {
   memset(nw, 0, sizeof *nw);
   nw->n = m->ndof;
@@ -48,7 +63,7 @@ int sw_newton_init(sw_newton *nw, const sw_model *m, char *err, size_t errsz) {
     nw->dr = sw_calloc((size_t)nw->n + 1, sizeof(double));
   }
   if (!nw->g || !nw->dx || !nw->xtry || (damped && (!nw->dval || !nw->r || !nw->dr)) ||
-      stencil_init(nw, m)) {
+      stencil_init(nw, m) || weights_init(nw, m)) {
     sw_errf(err, errsz, "out of memory for Newton's workspaces (%d DOFs)", nw->n);
     return SW_FATAL;
   }
@@ -68,6 +83,7 @@ void sw_newton_free(sw_newton *nw) {
   sw_free(nw->flag);
   sw_free(nw->hfilt);
   sw_free(nw->vres);
+  sw_free(nw->wdof);
   memset(nw, 0, sizeof *nw);
 }
 
@@ -168,6 +184,15 @@ static double max_abs(const double *v, int n) {
     s = fmax(s, fabs(v[i]));
   }
   return s;
+}
+
+/* The size of Newton's update in the solve's norm, m: the mass-weighted RMS, or max |dx|/cap
+ * if larger (no coordinate beyond cap x the tolerance), or max |dx|; NaN if any is NaN. */
+static double update_size(const sw_newton *nw, int norm, double dxmax) {
+  if (norm != SW_NORM_RMS || isnan(dxmax)) return dxmax;
+  double s = 0.0;
+  for (int c = 0; c < nw->n; c++) s += nw->wdof[c] * nw->dx[c] * nw->dx[c];
+  return fmax(sqrt(s), dxmax / SW_NEWTON_RMS_CAP);
 }
 
 int sw_hessian_filter(int hessian) {
@@ -320,7 +345,7 @@ int sw_newton_solve(sw_newton *nw, const sw_model *m, sw_data *d, double *x, con
     d->last_newton++;
     double slope = 0.0; /* grad Phi . dx, negative for a descent direction */
     for (int c = 0; c < nw->n; c++) slope -= nw->g[c] * nw->dx[c];
-    double step = max_abs(nw->dx, nw->n);
+    double dxmax = max_abs(nw->dx, nw->n), step = update_size(nw, o->norm, dxmax);
     if (!isfinite(step)) {
       sw_errf(d->err, sizeof d->err, "Newton step is not finite at t = %g s", o->t);
       return SW_RECOVER;
@@ -332,7 +357,7 @@ int sw_newton_solve(sw_newton *nw, const sw_model *m, sw_data *d, double *x, con
      * never counted above the step itself (CVODE's test, Hindmarsh et al. 2005) */
     double rate = prev > 0.0 ? step / prev : 1.0;
     double left = rate < 0.5 ? step * rate / (1.0 - rate) : step;
-    if (left <= o->tol_dx || step <= xfloor || stalled) {
+    if (left <= o->tol_dx || dxmax <= xfloor || stalled) {
       add_step(m, x, nw->dx, 1.0, x);
       return SW_OK;
     }

@@ -243,5 +243,21 @@ y5=$(od -An -t f8 -j $((16 + 8 * 12)) -N 8 "$tmp/sc/positions.bin")  # vertex 5,
 awk -v y="$y5" 'BEGIN { e = (-y - 6.13125e-7) / 6.13125e-7; exit !(e < 1e-6 && e > -1e-6) }' ||
   fail "static chain: middle node at y = $y5 m, expected -6.13125e-07 m"
 
+# The gathered two-panel garment (bw98 + StVK panels, dihedral bending, Rayleigh damping, the
+# drawstring pulling): Newton converges at every step of the scene's own dt, no halving.
+"$sinew" run scenes/garment_drawstring.yaml --duration 0.6 --max-halvings 0 --no-frames \
+  --out "$tmp/garment" --quiet 2>"$tmp/err" || fail "garment to 0.6 s without halving: $(cat "$tmp/err")"
+grep -q '"status": "ok"' "$tmp/garment/summary.json" || fail "garment: status not ok"
+grep -q '"retries": 0,' "$tmp/garment/summary.json" || fail "garment: a step was retried"
+
+# --newton-norm: the two norms, and a bad one refused
+for n in rms max; do
+  "$sinew" run scenes/hanging_cloth.yaml --newton-norm $n --duration 0.02 --no-frames \
+    --out "$tmp/norm" --quiet 2>/dev/null || fail "--newton-norm $n"
+done
+"$sinew" run scenes/hanging_cloth.yaml --newton-norm l2 --out "$tmp/x" >/dev/null 2>"$tmp/err" &&
+  fail "--newton-norm l2 accepted"
+grep -q -- "--newton-norm" "$tmp/err" || fail "--newton-norm l2 message: $(cat "$tmp/err")"
+
 echo "$fails failure(s)"
 [ "$fails" -eq 0 ]

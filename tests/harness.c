@@ -1,10 +1,14 @@
 /* harness.c — see harness.h. */
 #include "harness.h"
 
+#include <dirent.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+
+#include "scene.h"
 
 double th_rand(unsigned long *s) {
   *s = *s * 6364136223846793005UL + 1442695040888963407UL;
@@ -195,4 +199,77 @@ void th_irvine_point(const th_irvine *c, double s, double *x, double *z) {
   double a = V / H, q = (V - W * s / L0) / H, A = sqrt(1.0 + a * a), Q = sqrt(1.0 + q * q);
   *x = H * s / EA + H * L0 / W * asinh(a * Q - q * A);
   *z = W * s / EA * (V / W - s / (2.0 * L0)) + s * (a + q) / (A + Q); /* (H L0/W)(A - Q) */
+}
+
+/* ------------------------------------------------------------ fixtures */
+
+sw_model *th_scene(const char *name, const char *text) {
+  char err[SW_ERRSZ];
+  sw_model *m = sw_scene_parse(name, text, strlen(text), err, sizeof err);
+  if (!m) fprintf(stderr, "%s\n", err);
+  return m;
+}
+
+sw_data *th_start(const sw_integrator_ops *ops, const sw_model *m, void **s) {
+  char err[SW_ERRSZ];
+  sw_data *d = sw_data_new(m);
+  *s = NULL;
+  if (!d) return fprintf(stderr, "%s: out of memory for the state\n", ops->name), NULL;
+  if (ops->init(s, m, d, err, sizeof err) == 0) return d;
+  fprintf(stderr, "%s: init: %s\n", ops->name, err);
+  sw_data_free(d);
+  return NULL;
+}
+
+int th_static(const sw_model *m, sw_data *d, double r[3]) {
+  char err[SW_ERRSZ];
+  int rc = sw_static_solve(m, d, r, err, sizeof err);
+  if (rc) fprintf(stderr, "%s\n", err);
+  return rc;
+}
+
+/* ---------------------------------------------------------------- files */
+
+char *th_slurp(const char *path) {
+  FILE *f = fopen(path, "rb");
+  if (!f) return NULL;
+  size_t cap = 4096, n = 0, got;
+  char *s = malloc(cap);
+  while (s && (got = fread(s + n, 1, cap - n - 1, f)) > 0) {
+    n += got;
+    if (cap - n - 1 == 0) s = realloc(s, cap *= 2);
+  }
+  fclose(f);
+  if (s) s[n] = '\0';
+  return s;
+}
+
+char *th_slurp_in(const char *dir, const char *name) {
+  char path[SW_PATHSZ + 64];
+  snprintf(path, sizeof path, "%s/%s", dir, name);
+  return th_slurp(path);
+}
+
+int th_exists_in(const char *dir, const char *name) {
+  char path[SW_PATHSZ + 64];
+  struct stat st;
+  snprintf(path, sizeof path, "%s/%s", dir, name);
+  return stat(path, &st) == 0;
+}
+
+void th_remove_tree(const char *path) {
+  struct stat st;
+  if (lstat(path, &st)) return;
+  if (S_ISDIR(st.st_mode)) {
+    DIR *dp = opendir(path);
+    struct dirent *e;
+    while (dp && (e = readdir(dp))) {
+      if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, "..")) continue;
+      char sub[SW_PATHSZ + 256];
+      snprintf(sub, sizeof sub, "%s/%s", path, e->d_name);
+      th_remove_tree(sub);
+    }
+    if (dp) closedir(dp);
+  }
+  remove(path);
 }

@@ -1,8 +1,12 @@
-/* harness.h — helpers shared by the C tests: small models built in code, random states. */
+/* harness.h — helpers shared by the C tests: small models built in code, random states,
+ * integrators and solves started with their messages printed, files of a run folder.  No
+ * cmocka here (the benchmarks link it too): a helper that fails prints why and returns NULL
+ * or nonzero, and the test asserts. */
 #ifndef SW_TEST_HARNESS_H
 #define SW_TEST_HARNESS_H
 
 #include "sinew.h"
+#include "solver.h"
 
 /* A deterministic uniform random number in [-1, 1). */
 double th_rand(unsigned long *state);
@@ -30,6 +34,22 @@ sw_model *th_grid_start(int dim, int nx, int ny, double sx, double sy, double rh
  * model not yet finished. */
 void th_add_tendon(sw_model *m, const int *way, int nway, int law, double K, double rest,
                    double density);
+/* A scene from YAML text (the name is used in messages); NULL with the message printed. */
+sw_model *th_scene(const char *name, const char *text);
+/* A new state of m and ops started on it (*s); NULL with the message printed when either
+ * fails (the state freed). */
+sw_data *th_start(const sw_integrator_ops *ops, const sw_model *m, void **s);
+/* sw_static_solve of m from d (pin reactions into r[3], N), its message printed on failure. */
+int th_static(const sw_model *m, sw_data *d, double r[3]);
+
+/* Files: the whole of path (NUL-terminated, malloc'ed), or NULL; the same for dir/name. */
+char *th_slurp(const char *path);
+char *th_slurp_in(const char *dir, const char *name);
+/* 1 if dir/name exists. */
+int th_exists_in(const char *dir, const char *name);
+/* rm -r path (no symbolic links are followed: they are removed as such). */
+void th_remove_tree(const char *path);
+
 /* max_i |a_i - b_i| over n entries. */
 double th_max_diff(const double *a, const double *b, int n);
 /* Least-squares slope of log(e) against log(h) over n points: an observed convergence order. */

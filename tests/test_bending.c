@@ -113,11 +113,11 @@ static void dihedral_states(void **st) {
   sw_model_free(m);
 }
 
-/* The filtered block of one hinge (a 2 x 2 grid: two triangles) against LAPACK: folded by 1.2
- * rad with a rest angle of 0 (indefinite), and at rest (2 w g g^T, PSD): the filter's
- * V f(Lambda) V^T (f: max(., 0) or |.|) plus 1e-10 x its largest eigenvalue on the diagonal,
- * while energy and gradient are the exact ones whatever the filter.  Also with face A squashed
- * to 1e-12 of its area, where the block's eigenvalues reach ~1e20 N/m. */
+/* The filtered block of one triangle (a 2 x 2 grid: two triangles, one hinge each) against
+ * LAPACK: folded by 1.2 rad with a rest angle of 0 (indefinite), and at rest (W g g^T, PSD):
+ * the filter's V f(Lambda) V^T (f: max(., 0) or |.|) plus 1e-10 x its largest eigenvalue on
+ * the diagonal, while energy and gradient are the exact ones whatever the filter.  Also with the
+ * triangle squashed to 1e-12 of its area, where the block's eigenvalues reach ~1e20 N/m. */
 static void dihedral_filtered_block(void **st) {
   (void)st;
   sw_material mt = bending_mat(SW_BENDING_DIHEDRAL, 2e-3, SW_BEND_REST_FLAT);
@@ -127,8 +127,21 @@ static void dihedral_filtered_block(void **st) {
   for (int k = 0; k < m->nterm; k++)
     if (!strcmp(m->term[k].name, "dihedral")) t = &m->term[k];
   assert_non_null(t);
-  assert_int_equal(t->nstencil, 1);
-  const int *v = t->sidx; /* x0, x1 on the edge, x2 far in face A, x3 far in face B */
+  assert_int_equal(t->nstencil, 2);
+  assert_int_equal(t->sptr[1], 4);
+  /* stencil 0: its face's corners, then the far vertex across; x0, x1 the shared edge, x2 the
+   * face's own far corner, x3 the far vertex across */
+  int v[4], ne = 0;
+  v[3] = t->sidx[3];
+  for (int i = 0; i < 3; i++) { /* the edge: corners also in stencil 1's face */
+    int c = t->sidx[i], shared = 0;
+    for (int j = 4; j < 7; j++) shared |= t->sidx[j] == c;
+    if (shared) v[ne++] = c;
+    else v[2] = c;
+  }
+  assert_int_equal(ne, 2);
+  const size_t nb = (size_t)t->hptr[t->nstencil];
+  double *H = calloc(nb, sizeof *H), *Bf = calloc(nb, sizeof *Bf);
   for (int state = 0; state < 3; state++) {
     double x[12];
     memcpy(x, m->x0, sizeof x);
@@ -145,15 +158,15 @@ static void dihedral_filtered_block(void **st) {
       for (int i = 0; i < 3; i++)
         x[3 * v[2] + i] = 0.5 * (x[3 * v[0] + i] + x[3 * v[1] + i]) +
                           1e-12 * (x[3 * v[2] + i] - 0.5 * (x[3 * v[0] + i] + x[3 * v[1] + i]));
-    double H[144], g0[12];
-    memset(H, 0, sizeof H), memset(g0, 0, sizeof g0);
+    double g0[12];
+    memset(H, 0, nb * sizeof *H), memset(g0, 0, sizeof g0);
     sw_eval ex = {.x = x, .grad = g0, .hess = H, .project = SW_FILTER_NONE};
     double e0 = 0.0;
     assert_int_equal(t->ops->eval(t, m, &ex, &e0), SW_OK);
     for (int mode = SW_FILTER_CLAMP; mode <= SW_FILTER_ABS; mode++) {
-      double B[144], g[12], V[144], lam[12], work[12 * 34], R[144] = {0}, e = 0.0;
+      double *B = Bf, g[12], V[144], lam[12], work[12 * 34], R[144] = {0}, e = 0.0;
       int n = 12, lwork = 12 * 34, info = 0;
-      memset(B, 0, sizeof B), memset(g, 0, sizeof g);
+      memset(B, 0, nb * sizeof *B), memset(g, 0, sizeof g);
       sw_eval ev = {.x = x, .grad = g, .hess = B, .project = mode};
       assert_int_equal(t->ops->eval(t, m, &ev, &e), SW_OK);
       assert_true(e == e0);
@@ -177,6 +190,7 @@ static void dihedral_filtered_block(void **st) {
       assert_true(err <= 1e-13 * top);
     }
   }
+  free(H), free(Bf);
   sw_model_free(m);
 }
 

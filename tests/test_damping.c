@@ -25,13 +25,10 @@
  * With work != NULL: the work damping did, by the trapezoid rule on v.D v at the steps (J). */
 static void integrate(const sw_integrator_ops *ops, const sw_model *m, double T, int n, double *x,
                       double *v, double *work) {
-  sw_data *d = sw_data_new(m);
+  void *s;
+  sw_data *d = th_start(ops, m, &s);
   assert_non_null(d);
-  char err[SW_ERRSZ];
-  void *s = NULL;
-  int rc = ops->init(&s, m, d, err, sizeof err);
-  if (rc) print_error("%s: init: %s\n", ops->name, err);
-  assert_int_equal(rc, 0);
+  int rc;
   size_t nd = (size_t)m->nv * (size_t)m->dim;
   double *scratch = calloc(nd, sizeof(double)), p0 = 0.0, p1;
   if (work) {
@@ -171,9 +168,7 @@ static void tendon_oscillator(void **st) {
                       "damping: {mass: 1.0, stiffness: 0.005}\n"
                       "tendons: [{waypoints: [0, 1], law: spring, stiffness: 100,\n"
                       "           rest_length: 1.0, density: 1.0, damping: 0.5}]\n";
-  char err[SW_ERRSZ];
-  sw_model *m = sw_scene_parse("oscillator.yaml", scene, strlen(scene), err, sizeof err);
-  if (!m) print_error("%s\n", err);
+  sw_model *m = th_scene("oscillator.yaml", scene);
   assert_non_null(m);
   const double mass = 0.6, K = 100.0, L = 1.0, A = 0.2, T = 0.5; /* kg, N/m, m, m, s */
   double b = 1.0 * mass + 0.005 * K + 0.5, gam = b / (2 * mass);   /* N s/m, 1/s */

@@ -36,55 +36,10 @@ static char root[64]; /* temporary folder of this test program */
 
 /* ----------------------------------------------------------------- helpers */
 
-static char *slurp(const char *path) {
-  FILE *f = fopen(path, "rb");
-  if (!f) return NULL;
-  size_t cap = 4096, n = 0, got;
-  char *s = malloc(cap);
-  while (s && (got = fread(s + n, 1, cap - n - 1, f)) > 0) {
-    n += got;
-    if (cap - n - 1 == 0) s = realloc(s, cap *= 2);
-  }
-  fclose(f);
-  if (s) s[n] = '\0';
-  return s;
-}
-
-static char *slurp_in(const char *dir, const char *name) {
-  char path[SW_PATHSZ + 64];
-  snprintf(path, sizeof path, "%s/%s", dir, name);
-  return slurp(path);
-}
-
-static int exists_in(const char *dir, const char *name) {
-  char path[SW_PATHSZ + 64];
-  struct stat st;
-  snprintf(path, sizeof path, "%s/%s", dir, name);
-  return stat(path, &st) == 0;
-}
-
-/* rm -r path (no symbolic links are made by these tests). */
-static void remove_tree(const char *path) {
-  struct stat st;
-  if (lstat(path, &st)) return;
-  if (S_ISDIR(st.st_mode)) {
-    DIR *dp = opendir(path);
-    struct dirent *e;
-    while (dp && (e = readdir(dp))) {
-      if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, "..")) continue;
-      char sub[SW_PATHSZ + 256];
-      snprintf(sub, sizeof sub, "%s/%s", path, e->d_name);
-      remove_tree(sub);
-    }
-    if (dp) closedir(dp);
-  }
-  remove(path);
-}
-
 /* A CSV log of whole lines: it ends in a newline and every line has the header's number of
  * fields.  Returns the number of lines, header included. */
 static int check_csv(const char *dir, const char *name) {
-  char *s = slurp_in(dir, name);
+  char *s = th_slurp_in(dir, name);
   if (!s) fail_msg("%s/%s: missing", dir, name);
   size_t n = strlen(s);
   if (n == 0 || s[n - 1] != '\n') fail_msg("%s/%s: does not end in a newline", dir, name);
@@ -105,7 +60,7 @@ static int check_csv(const char *dir, const char *name) {
 
 /* The last line of a log (without its newline) into buf. */
 static void last_line(const char *dir, const char *name, char *buf, size_t sz) {
-  char *s = slurp_in(dir, name);
+  char *s = th_slurp_in(dir, name);
   assert_non_null(s);
   size_t n = strlen(s);
   assert_true(n > 0 && s[n - 1] == '\n');
@@ -117,7 +72,7 @@ static void last_line(const char *dir, const char *name, char *buf, size_t sz) {
 
 /* Every frame listed in frames.pvd exists and is complete XML; returns how many are listed. */
 static int check_frames(const char *dir) {
-  char *pvd = slurp_in(dir, "frames.pvd");
+  char *pvd = th_slurp_in(dir, "frames.pvd");
   if (!pvd) return 0;
   assert_non_null(strstr(pvd, "</VTKFile>\n"));
   int n = 0;
@@ -127,7 +82,7 @@ static int check_frames(const char *dir) {
     assert_true(len < sizeof name);
     memcpy(name, p + 6, len);
     name[len] = '\0';
-    char *vtu = slurp_in(dir, name);
+    char *vtu = th_slurp_in(dir, name);
     if (!vtu) fail_msg("%s/%s is listed in frames.pvd but missing", dir, name);
     size_t vn = strlen(vtu);
     if (vn < 11 || strcmp(vtu + vn - 11, "</VTKFile>\n"))
@@ -140,7 +95,7 @@ static int check_frames(const char *dir) {
 }
 
 static int summary_has(const char *dir, const char *what) {
-  char *s = slurp_in(dir, "summary.json");
+  char *s = th_slurp_in(dir, "summary.json");
   int has = s && strstr(s, what);
   free(s);
   return has;
@@ -234,7 +189,7 @@ static void run_nan(const char *method, int where, const char *reason) {
   assert_true(summary_has(dir, "\"status\": \"failed\""));
   assert_true(summary_has(dir, reason));
   assert_true(summary_has(dir, "\"tension.csv\", \"energy.csv\""));
-  assert_false(exists_in(dir, "tension.csv.part") || exists_in(dir, "energy.csv.part"));
+  assert_false(th_exists_in(dir, "tension.csv.part") || th_exists_in(dir, "energy.csv.part"));
   assert_int_equal(check_csv(dir, "tension.csv"), 6); /* header, t = 0, 0.01, ..., 0.04 */
   assert_int_equal(check_csv(dir, "energy.csv"), 6);
   last_line(dir, "tension.csv", line, sizeof line);
@@ -243,7 +198,7 @@ static void run_nan(const char *method, int where, const char *reason) {
   assert_true(!strncmp(line, "0.04,", 5));
   assert_null(strstr(line, "nan")); /* no NaN was logged */
   assert_int_equal(check_frames(dir), 2); /* t = 0 and the last good state */
-  char *pvd = slurp_in(dir, "frames.pvd");
+  char *pvd = th_slurp_in(dir, "frames.pvd");
   assert_non_null(strstr(pvd, "timestep=\"0.04\""));
   free(pvd);
   sw_model_free(m);
@@ -304,7 +259,7 @@ static void test_alloc_failures(void **state) {
     if (sw_run(m, 0, err, sizeof err)) fail_msg("%s: the run fails without injection: %s", *meth, err);
     long k = 1, nfail = 0;
     for (; k < 100000; k++) {
-      remove_tree(dir);
+      th_remove_tree(dir);
       err[0] = '\0';
       sw_alloc_fail_after(k);
       int rc = sw_run(m, 0, err, sizeof err);
@@ -316,7 +271,7 @@ static void test_alloc_failures(void **state) {
       snprintf(last, sizeof last, "%s", err);
       if (summary_has(dir, "\"status\": \"ok\""))
         fail_msg("%s: allocation %ld failing: summary.json says ok (%s)", *meth, k, err);
-      if (exists_in(dir, "summary.json") && !summary_has(dir, "\"status\": \"failed\"") &&
+      if (th_exists_in(dir, "summary.json") && !summary_has(dir, "\"status\": \"failed\"") &&
           !summary_has(dir, "\"status\": \"running\""))
         fail_msg("%s: allocation %ld failing: summary.json has no status", *meth, k);
     }
@@ -324,7 +279,7 @@ static void test_alloc_failures(void **state) {
     assert_true(nfail > 0);
     assert_true(summary_has(dir, "\"status\": \"ok\""));
     print_message("%s: %ld allocations made to fail in turn\n", *meth, nfail);
-    remove_tree(dir);
+    th_remove_tree(dir);
     sw_model_free(m);
   }
 }
@@ -359,7 +314,7 @@ static void test_unwritable_folder(void **state) {
   assert_int_not_equal(sw_run(m, 0, err, sizeof err), 0);
   if (!strstr(err, taken) || !strstr(err, "Not a directory")) fail_msg("message \"%s\"", err);
   print_message("%s\n", err);
-  assert_false(exists_in(m->opt.out_dir, "summary.json"));
+  assert_false(th_exists_in(m->opt.out_dir, "summary.json"));
   sw_model_free(m);
   if (geteuid() == 0) return; /* root may write into a read-only folder */
   m = small_model("read_only");
@@ -429,8 +384,8 @@ static void test_write_fails_part_way(void **state) {
   assert_true(summary_has(dir, "\"status\": \"failed\""));
   assert_true(summary_has(dir, "energy.csv.part: cannot write"));
   assert_true(summary_has(dir, "\"tension.csv\", \"energy.csv.part\""));
-  assert_true(exists_in(dir, "energy.csv.part") && !exists_in(dir, "energy.csv"));
-  assert_true(exists_in(dir, "tension.csv") && !exists_in(dir, "tension.csv.part"));
+  assert_true(th_exists_in(dir, "energy.csv.part") && !th_exists_in(dir, "energy.csv"));
+  assert_true(th_exists_in(dir, "tension.csv") && !th_exists_in(dir, "tension.csv.part"));
   int nt = check_csv(dir, "tension.csv"), ne = check_csv(dir, "energy.csv.part");
   assert_int_equal(nt, ne);
   assert_true(ne > 10);
@@ -441,7 +396,7 @@ static void test_write_fails_part_way(void **state) {
   print_message("both logs end at t = %.*s s\n", (int)strcspn(lt, ","), lt);
   assert_int_equal(check_frames(dir), 2);
   /* The same with no room at all: the logs cannot be opened; no summary says "ok". */
-  remove_tree(dir);
+  th_remove_tree(dir);
   rc = run_limited(m, 0, err, sizeof err);
   assert_int_not_equal(rc, 0);
   assert_int_not_equal(rc, -100);
@@ -471,7 +426,7 @@ static void test_positions_write_fails(void **state) {
   print_message("%s\n", err);
   assert_true(summary_has(dir, "\"status\": \"failed\""));
   assert_true(summary_has(dir, "\"tension.csv\", \"energy.csv\", \"positions.bin.part\""));
-  assert_true(exists_in(dir, "positions.bin.part") && !exists_in(dir, "positions.bin"));
+  assert_true(th_exists_in(dir, "positions.bin.part") && !th_exists_in(dir, "positions.bin"));
   int nt = check_csv(dir, "tension.csv"), ne = check_csv(dir, "energy.csv");
   assert_int_equal(nt, ne);
   char path[SW_PATHSZ + 64];
@@ -505,7 +460,7 @@ static int setup(void **state) {
 
 static int teardown(void **state) {
   (void)state;
-  remove_tree(root);
+  th_remove_tree(root);
   return 0;
 }
 

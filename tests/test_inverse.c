@@ -1,5 +1,5 @@
 /* test_inverse.c — the tendon inverse problem (solvers/inverse.c, nnls.c, inverse_check.c,
- * sim/targets.c, sim/scene_write.c; docs/inverse.md): NNLS against known answers and a
+ * sim/input/targets.c, sim/input/scene_write.c; docs/inverse.md): NNLS against known answers and a
  * brute-force enumeration of active sets, recovery of known tensions on cable nets in 2D and 3D,
  * unreachable targets, the forward check, the targets CSV and its errors, the rewritten scene,
  * and the point-load term. */
@@ -204,7 +204,7 @@ static void free_targets(sw_targets *tg) {
   free(tg->f);
 }
 
-/* A's columns are -grad l (seed 003 §2) by central differences of sw_tendon_length. */
+/* A's columns are -grad l (the tendon model §2) by central differences of sw_tendon_length. */
 static void matrix_is_minus_grad_length(void **st) {
   (void)st;
   sw_model *m = load(net3d);

@@ -1,4 +1,4 @@
-/* test_mesh.c — the grid generator and the OBJ reader (sim/mesh.c, sim/obj.c).
+/* test_mesh.c — the grid generator and the OBJ reader (sim/input/mesh.c, sim/input/obj.c).
  *
  * OBJ files are written at run time into a mkdtemp folder.  Usage:
  *   test_mesh [REGRESS_DIR]

@@ -1,4 +1,4 @@
-/* test_output.c — the run folder writers (sim/output.c) on a hand-built 4-vertex, 2-face model.
+/* test_output.c — the run folder writers (sim/output/) on a hand-built 4-vertex, 2-face model.
  * No term operation is called: the fake term "bw98" has ops == NULL. */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -34,32 +34,12 @@ typedef struct fixture {
 
 /* ----------------------------------------------------------------- helpers */
 
-static char *slurp(const char *path) {
-  FILE *f = fopen(path, "rb");
-  if (!f) return NULL;
-  size_t cap = 4096, n = 0;
-  char *s = malloc(cap);
-  size_t got;
-  while (s && (got = fread(s + n, 1, cap - n - 1, f)) > 0) {
-    n += got;
-    if (cap - n - 1 == 0) s = realloc(s, cap *= 2);
-  }
-  fclose(f);
-  if (s) s[n] = '\0';
-  return s;
-}
-
 static char *slurp_in(const fixture *fx, const char *name) {
-  char path[SW_PATHSZ + 64];
-  snprintf(path, sizeof path, "%s/%s", fx->m.opt.out_dir, name);
-  return slurp(path);
+  return th_slurp_in(fx->m.opt.out_dir, name);
 }
 
 static int exists_in(const fixture *fx, const char *name) {
-  char path[SW_PATHSZ + 64];
-  struct stat st;
-  snprintf(path, sizeof path, "%s/%s", fx->m.opt.out_dir, name);
-  return stat(path, &st) == 0;
+  return th_exists_in(fx->m.opt.out_dir, name);
 }
 
 static void touch_in(const fixture *fx, const char *name) {
@@ -108,24 +88,6 @@ static int csv_fields(const char *line, double *out, int max) {
     p = end + 1;
   }
   return n;
-}
-
-/* rm -r path (no symbolic links are made by these tests). */
-static void remove_tree(const char *path) {
-  struct stat st;
-  if (lstat(path, &st)) return;
-  if (S_ISDIR(st.st_mode)) {
-    DIR *dp = opendir(path);
-    struct dirent *e;
-    while (dp && (e = readdir(dp))) {
-      if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, "..")) continue;
-      char sub[SW_PATHSZ + 256];
-      snprintf(sub, sizeof sub, "%s/%s", path, e->d_name);
-      remove_tree(sub);
-    }
-    if (dp) closedir(dp);
-  }
-  remove(path);
 }
 
 /* ----------------------------------------------------------------- fixture */
@@ -204,7 +166,7 @@ static void fixture_free(fixture *fx) {
                d->x,          d->v,      d->term_energy,  d->txy,     d->stretch_u, d->stretch_v,
                d->shear,      d->scratch};
   for (size_t i = 0; i < sizeof p / sizeof p[0]; i++) sw_free(p[i]);
-  remove_tree(fx->root);
+  th_remove_tree(fx->root);
   free(fx);
 }
 
@@ -570,7 +532,7 @@ static void test_positions_run(void **state) {
   /* the final frame: its <Points> block, nv lines of x y z */
   char path[SW_PATHSZ + 64];
   snprintf(path, sizeof path, "%s/frames/frame_000001.vtu", m->opt.out_dir);
-  char *vtu = slurp(path);
+  char *vtu = th_slurp(path);
   assert_non_null(vtu);
   const char *pt = strstr(vtu, "<Points>");
   assert_non_null(pt);
@@ -591,11 +553,11 @@ static void test_positions_run(void **state) {
   free(vtu);
   free(p.rec);
   snprintf(path, sizeof path, "%s/summary.json", m->opt.out_dir);
-  char *sum = slurp(path);
+  char *sum = th_slurp(path);
   assert_non_null(sum);
   assert_non_null(strstr(sum, "\"energy.csv\", \"positions.bin\", \"frames.pvd\""));
   free(sum);
-  remove_tree(root);
+  th_remove_tree(root);
   sw_model_free(m);
 }
 

@@ -72,7 +72,7 @@ static const char good_scene[] =
     "  - {velocity: [0, 0, 1.0]}\n"
     "  - {velocity: [1, 0, 0], select: {vertices: [44]}}\n"
     "integrator: {method: backward-euler, dt: 0.005, max_halvings: 4, hessian: projected,\n"
-    "             newton: {max_iterations: 20, tol: 1e-8, force_tol: 1e-7}, setup_every: 50}\n"
+    "             newton: {max_iterations: 20, tol: 1e-8, force_tol: 1e-7, norm: max}, setup_every: 50}\n"
     "duration: 3\n"
     "output: {dir: out/here, frames_every: 0.1, positions_every: 0.25}\n"
     "tension_xy: {clip: 1e4, reference: uv, k_v: 300}\n";
@@ -114,6 +114,7 @@ static void test_good_scene(void **state) {
   assert_int_equal(m->opt.newton_max, 20);
   assert_float_equal(m->opt.newton_tol, 1e-8, 0.0);
   assert_float_equal(m->opt.newton_force_tol, 1e-7, 0.0);
+  assert_int_equal(m->opt.newton_norm, SW_NORM_MAX);
   assert_int_equal(m->opt.setup_every, 50);
   assert_float_equal(m->opt.duration, 3.0, 0.0);
   assert_string_equal(m->opt.out_dir, "out/here");
@@ -148,6 +149,7 @@ static void test_defaults(void **state) {
   assert_int_equal(m->opt.max_halvings, 8);
   assert_int_equal(m->opt.hessian, SW_HESSIAN_ABS);
   assert_float_equal(m->opt.newton_tol, 1e-2, 0.0);
+  assert_int_equal(m->opt.newton_norm, SW_NORM_RMS);
   assert_int_equal(m->opt.newton_reuse, 0);
   assert_int_equal(m->opt.setup_every, 200);
   assert_int_equal(m->opt.max_order, 0); /* automatic */
@@ -531,7 +533,7 @@ static const bad_case bad[] = {
     {"two_docs.yaml", GRID MAT "---\nname: y\n", 4, 1, "second YAML document"},
     {"deep.yaml", GRID MAT "x: [[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[["
                            "]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]\n", 3, 35, "nested"},
-    /* materials, panels, damping (sim/scene_material.c) */
+    /* materials, panels, damping (sim/input/scene_material.c) */
     {"stvk_neg.yaml", GRID "material:\n  density: 0.1\n"
      "  membrane: {model: stvk, e_u: -1, e_v: 1, shear_modulus: 1}\n", 4, 32, "e_u"},
     {"stvk_poisson.yaml", GRID "material:\n  density: 0.1\n"
@@ -552,7 +554,7 @@ static const bad_case bad[] = {
      "  bending: {model: quadratic, stiffness: -1}\n", 4, 42, "stiffness"},
     {"panel_group.yaml", GRID MAT "panels: {front: {density: 0.2}}\n", 3, 10, "default"},
     {"damping_neg.yaml", GRID MAT "damping: {mass: -1}\n", 3, 17, "damping mass"},
-    /* tendons (sim/scene_tendon.c) */
+    /* tendons (sim/input/scene_tendon.c) */
     {"tendon_repeat.yaml", GRID MAT "tendons:\n  - {waypoints: [0, 1, 0], stiffness: 10}\n", 4,
      24, "repeats vertex 0"},
     {"tendon_index.yaml", GRID MAT "tendons:\n  - {waypoints: [0, 9], stiffness: 10}\n", 4, 21,

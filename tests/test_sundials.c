@@ -45,13 +45,10 @@ static run_out run(const sw_integrator_ops *ops, sw_model *m, double rtol, doubl
                    int nout) {
   m->opt.rtol = rtol;
   m->opt.atol = atol;
-  sw_data *d = sw_data_new(m);
+  void *s;
+  sw_data *d = th_start(ops, m, &s);
   assert_non_null(d);
-  char err[SW_ERRSZ];
-  void *s = NULL;
-  int rc = ops->init(&s, m, d, err, sizeof err);
-  if (rc) print_error("%s: init: %s\n", ops->name, err);
-  assert_int_equal(rc, 0);
+  int rc;
   for (int k = 1; k <= nout; k++) {
     rc = ops->step(s, m, d, T * k / nout - d->t);
     if (rc) print_error("%s: interval %d: %s\n", ops->name, k, d->err);

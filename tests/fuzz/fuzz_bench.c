@@ -1,5 +1,5 @@
-/* fuzz_bench.c — libFuzzer harness of `sinew bench`'s readers (sim/bench_read.c, the plan reader
- * of sim/bench.c): the input, split at lines "@@@", becomes a run folder's summary.json,
+/* fuzz_bench.c — libFuzzer harness of `sinew bench`'s readers (sim/cli/bench_read.c, the plan
+ * reader of sim/cli/bench.c): the input, split at lines "@@@", becomes a run folder's summary.json,
  * tension.csv, energy.csv, tendons.csv, positions.bin and logs/ID.exit, and a bench folder's
  * bench_work_precision.cfg and plan_work_precision.csv; reading them must not crash, leak or
  * read out of bounds, whatever they hold. */

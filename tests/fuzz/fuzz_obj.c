@@ -1,8 +1,8 @@
-/* fuzz_obj.c — libFuzzer harness for the OBJ reader (sim/obj.c, via sw_obj_parse).
+/* fuzz_obj.c — libFuzzer harness for the OBJ reader (sim/input/obj.c, via sw_obj_parse).
  *
  * Build (from the repository root):
  *   clang -std=c11 -D_POSIX_C_SOURCE=200809L -g -O1 -fsanitize=fuzzer,address,undefined \
- *     -Isim tests/fuzz/fuzz_obj.c sim/obj.c sim/mesh.c sim/util.c -lm -o fuzz_obj
+ *     -Isim -Isim/input tests/fuzz/fuzz_obj.c sim/input/obj.c sim/input/mesh.c sim/util.c -lm -o fuzz_obj
  * Run:  ./fuzz_obj -max_total_time=180 CORPUS_DIR
  * Any crash input goes to tests/fuzz/regress/obj/ (test_mesh reads every file there).
  * Besides ASan/UBSan findings, an accepted mesh that breaks an invariant aborts.

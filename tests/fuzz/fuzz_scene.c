@@ -1,4 +1,4 @@
-/* fuzz_scene.c — libFuzzer harness for the scene loader (sim/scene.c, via sw_scene_parse).
+/* fuzz_scene.c — libFuzzer harness for the scene loader (sim/input/scene.c, via sw_scene_parse).
  *
  * Build (from the repository root; the lower vertex cap keeps every input fast):
  *   clang -std=c11 -D_POSIX_C_SOURCE=200809L -DSW_SCENE_MAX_VERTICES=20000 -g -O1 \

@@ -241,99 +241,7 @@ static int load_geometry(ctx *c, const ynode **v) {
   return rc;
 }
 
-/* ================================================================ selections, pins, velocities */
-
-static const char *const sel_keys[] = {"vertices", "box", "grid"};
-
-void sy_note_index(const ctx *c, const ynode *y) {
-  if (c->by_index && !*c->by_index) *c->by_index = y;
-}
-
-static int select_list(const ctx *c, const ynode *y, const char *what) {
-  char lab[176];
-  if (sy_seq(c, y, what, "a sequence of vertex indices")) return -1;
-  sy_note_index(c, y);
-  for (int i = 0; i < y->n; i++) {
-    int k;
-    snprintf(lab, sizeof lab, "%s[%d]", what, i);
-    if (sy_int(c, y->kid[i], lab, 0, (long)c->m->nv - 1, &k)) return -1;
-    c->sel[k] = 1;
-  }
-  return 0;
-}
-
-static int select_box(const ctx *c, const ynode *y, const char *what) {
-  const sw_model *m = c->m;
-  char lab[176];
-  double lo[3], hi[3];
-  if (sy_seq(c, y, what, "[[min corner], [max corner]]")) return -1;
-  if (y->n != 2) return sy_fail(c, y, "%s has %d corners; expected 2 (min and max)", what, y->n);
-  snprintf(lab, sizeof lab, "%s min corner", what);
-  if (sy_vec(c, y->kid[0], lab, m->dim, -HUGE_VAL, 0, "m", lo)) return -1;
-  snprintf(lab, sizeof lab, "%s max corner", what);
-  if (sy_vec(c, y->kid[1], lab, m->dim, -HUGE_VAL, 0, "m", hi)) return -1;
-  for (int a = 0; a < m->dim; a++)
-    if (lo[a] > hi[a])
-      return sy_fail(c, y, "%s has min %g > max %g in component %d; expected min <= max", what,
-                  lo[a], hi[a], a);
-  for (int i = 0; i < m->nv; i++) {
-    int in = 1;
-    for (int a = 0; a < m->dim; a++) {
-      double x = m->x0[i * m->dim + a];
-      in = in && x >= lo[a] && x <= hi[a];
-    }
-    if (in) c->sel[i] = 1;
-  }
-  return 0;
-}
-
-/* grid: [[i, j], ...]: grid vertex (i, j), index j nx + i; a negative i or j counts from the
- * far end (-1: the last), so [-1, -1] stays the far corner on any grid (--grid). */
-static int select_grid(const ctx *c, const ynode *y, const char *what) {
-  char lab[192];
-  const int *g = c->grid;
-  if (!g[0])
-    return sy_fail(c, y, "%s is given but the mesh is not a grid; expected vertices or box",
-                   what);
-  if (sy_seq(c, y, what, "a sequence of [i, j] grid positions")) return -1;
-  for (int k = 0; k < y->n; k++) {
-    int ij[2];
-    snprintf(lab, sizeof lab, "%s[%d]", what, k);
-    if (sy_seq(c, y->kid[k], lab, "[i, j]: column and row, negative from the far end"))
-      return -1;
-    if (y->kid[k]->n != 2)
-      return sy_fail(c, y->kid[k], "%s has %d numbers; expected [i, j]", lab, y->kid[k]->n);
-    for (int a = 0; a < 2; a++) {
-      snprintf(lab, sizeof lab, "%s[%d][%d]", what, k, a);
-      if (sy_int(c, y->kid[k]->kid[a], lab, -(long)g[a], g[a] - 1L, &ij[a])) return -1;
-      if (ij[a] < 0) ij[a] += g[a];
-    }
-    c->sel[ij[1] * g[0] + ij[0]] = 1;
-  }
-  return 0;
-}
-
-/* Mark the vertices that the selection y picks in c->sel. */
-int sy_select(const ctx *c, const ynode *y, const char *what) {
-  static const char *const kind[] = {"vertices", "box", "grid"};
-  const ynode *v[3];
-  char lab[128];
-  memset(c->sel, 0, (size_t)c->m->nv);
-  if (sy_map(c, y, what, sel_keys, 3, v)) return -1;
-  int given = !!v[0] + !!v[1] + !!v[2], k = v[0] ? 0 : v[1] ? 1 : 2;
-  if (given != 1)
-    return sy_fail(c, y, "%s has %s; expected exactly one of vertices, box or grid", what,
-                   given ? "more than one of vertices, box and grid" : "none of vertices, box, "
-                   "grid");
-  snprintf(lab, sizeof lab, "%s %s", what, kind[k]);
-  int rc = k == 0 ? select_list(c, v[0], lab)
-           : k == 1 ? select_box(c, v[1], lab)
-                    : select_grid(c, v[2], lab);
-  if (rc) return -1;
-  for (int i = 0; i < c->m->nv; i++)
-    if (c->sel[i]) return 0;
-  return sy_fail(c, y, "%s selects no vertex; expected a selection of at least one vertex", what);
-}
+/* ================================================================ pins, velocities */
 
 static const char *const pin_keys[] = {"select"};
 
@@ -511,7 +419,7 @@ static int load_gravity(const ctx *c, const ynode *y) {
 static const char *const int_keys[] = {"method", "dt", "max_halvings", "newton", "hessian",
                                        "rtol", "atol", "max_order", "max_step", "energy_bound",
                                        "tendon_dense_max", "setup_every"};
-static const char *const newton_keys[] = {"max_iterations", "tol", "reuse", "force_tol"};
+static const char *const newton_keys[] = {"max_iterations", "tol", "reuse", "force_tol", "norm"};
 static const char *const on_off[] = {"false", "true"};
 
 static int load_method(const ctx *c, const ynode *y) {
@@ -536,7 +444,7 @@ static int load_max_order(const ctx *c, const ynode *y, int *out) {
 
 static int load_integrator(const ctx *c, const ynode *y) {
   sw_options *o = &c->m->opt;
-  const ynode *v[12], *nv[4];
+  const ynode *v[12], *nv[5];
   if (sy_map(c, y, "integrator", int_keys, 12, v)) return -1;
   if (v[11] && sy_int(c, v[11], "integrator setup_every", 1, INT_MAX, &o->setup_every))
     return -1;
@@ -554,7 +462,9 @@ static int load_integrator(const ctx *c, const ynode *y) {
   if (v[1] && sy_num(c, v[1], "integrator dt", 0, 1, "s", &o->dt)) return -1;
   if (v[2] && sy_int(c, v[2], "integrator max_halvings", 0, 60, &o->max_halvings)) return -1;
   if (!v[3]) return 0;
-  if (sy_map(c, v[3], "integrator newton", newton_keys, 4, nv)) return -1;
+  if (sy_map(c, v[3], "integrator newton", newton_keys, 5, nv)) return -1;
+  if (nv[4] && sy_choice(c, nv[4], "integrator newton norm", sw_norm_names(), SW_NORM_N,
+                         &o->newton_norm)) return -1;
   if (nv[2] && sy_choice(c, nv[2], "integrator newton reuse", on_off, 2, &o->newton_reuse))
     return -1;
   if (nv[0] &&

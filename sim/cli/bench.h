@@ -1,10 +1,11 @@
 /* bench.h — `sinew bench` (docs/benchmarks.md): a scene under each method and setting, each run
  * its own `sinew run` process, then errors against a reference and costs into CSV files and
- * charts.  Three parts, one file each:
+ * charts.  One file each part, each calling only the ones listed below it:
  *   bench.c        the command line, the plan (which runs) and its files plan_MODE.csv
  *   bench_exec.c   running the plan: local processes (--jobs N), or a job list (--emit-jobs)
- *   bench_read.c   reading a run folder: summary.json, the CSV logs, positions.bin
  *   bench_merge.c  errors and costs of every run -> MODE CSV files -> tools/bench_charts.py
+ *   bench_read.c   reading a run folder: summary.json, the CSV logs, positions.bin
+ *   bench_util.c   the helpers they share: paths, whole files, numbers, method specs
  * Only the public API (sinew.h) is used: a bench is a client of `sinew run`. */
 #ifndef SW_BENCH_H
 #define SW_BENCH_H
@@ -63,7 +64,6 @@ typedef struct bench_plan {
 /* bench.c */
 int sw_bench_main(int argc, char **argv);
 int bench_plan_read(const char *dir, int mode, bench_plan *p, char *err, size_t errsz);
-const char *bench_mode_name(int mode);
 
 /* bench_exec.c: the argv of a job's `sinew run` (into argv[], strings in buf). */
 int bench_job_argv(const bench_cfg *c, const bench_job *j, char **argv, int maxargs, char *buf,
@@ -101,12 +101,12 @@ double bench_sample_time(const bench_cfg *c, int k);
 /* bench_merge.c */
 int bench_merge(const bench_plan *p);
 
+/* bench_util.c: small shared helpers, below every other part */
+const char *bench_mode_name(int mode); /* work_precision, stability, scaling */
 /* An adaptive method with its largest BDF order, "NAME:qN" (N in 1..5; `sinew run --method NAME
  * --max-order N`), or a plain method name "NAME" (order 0: the scene's).  name gets NAME;
  * -1 if SPEC is neither. */
 int bench_method_split(const char *spec, char *name, size_t namesz, int *order);
-
-/* small shared helpers (bench.c) */
 int bench_path(char *out, size_t sz, const char *dir, const char *a, const char *b);
 void bench_fmt(char *buf, size_t sz, double v); /* shortest %g that reads back exactly */
 int bench_atoi(const char *s);                  /* strtol clamped to +-1e9 (0 if none) */

@@ -20,45 +20,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-static const char *const mode_names[BM_NMODE] = {"work_precision", "stability", "scaling"};
 static const char *const role_names[] = {"reference", "confirm", "run"};
-
-const char *bench_mode_name(int mode) { return mode_names[mode]; }
-
-int bench_path(char *out, size_t sz, const char *dir, const char *a, const char *b) {
-  int n = snprintf(out, sz, "%s/%s%s%s", dir, a, b ? "/" : "", b ? b : "");
-  return n < 0 || (size_t)n >= sz ? -1 : 0;
-}
-
-FILE *bench_create(const char *path, char *tmp, size_t sz) {
-  int n = snprintf(tmp, sz, "%s.tmp", path);
-  FILE *f = n < 0 || (size_t)n >= sz ? NULL : fopen(tmp, "w");
-  if (!f) fprintf(stderr, "sinew: bench: cannot write %s: %s\n", path, strerror(errno));
-  return f;
-}
-
-int bench_commit(FILE *f, const char *tmp) {
-  char final[SW_PATHSZ + 256];
-  snprintf(final, sizeof final, "%.*s", (int)(strlen(tmp) - 4), tmp);
-  int bad = ferror(f);
-  if (fclose(f) || bad || rename(tmp, final)) {
-    unlink(tmp);
-    return fprintf(stderr, "sinew: bench: cannot write %s\n", final), -1;
-  }
-  return 0;
-}
-
-int bench_atoi(const char *s) {
-  long v = strtol(s, NULL, 10); /* saturates, unlike atoi */
-  return v > 1000000000L ? 1000000000 : v < -1000000000L ? -1000000000 : (int)v;
-}
-
-void bench_fmt(char *buf, size_t sz, double v) {
-  for (int p = 1; p <= 17; p++) {
-    snprintf(buf, sz, "%.*g", p, v);
-    if (strtod(buf, NULL) == v) return;
-  }
-}
 
 /* ------------------------------------------------------------------ options */
 
@@ -134,19 +96,6 @@ static int parse_list(const char *opt, const char *s, double *out, int *n) {
     p = *end ? end + 1 : end;
   }
   if (*n == 0) return fprintf(stderr, "sinew: %s expects a list of numbers\n", opt), -1;
-  return 0;
-}
-
-int bench_method_split(const char *spec, char *name, size_t namesz, int *order) {
-  const char *colon = strchr(spec, ':');
-  size_t len = colon ? (size_t)(colon - spec) : strlen(spec);
-  *order = 0;
-  if (len == 0 || len >= namesz) return -1;
-  memcpy(name, spec, len);
-  name[len] = '\0';
-  if (!colon) return 0;
-  if (colon[1] != 'q' || colon[2] < '1' || colon[2] > '5' || colon[3]) return -1;
-  *order = colon[2] - '0';
   return 0;
 }
 
@@ -494,11 +443,11 @@ static void num(FILE *f, const char *key, double v) {
 
 static int write_cfg(const bench_cfg *g) {
   char path[SW_PATHSZ + 64], tmp[SW_PATHSZ + 96];
-  snprintf(path, sizeof path, "%s/bench_%s.cfg", g->dir, mode_names[g->mode]);
+  snprintf(path, sizeof path, "%s/bench_%s.cfg", g->dir, bench_mode_name(g->mode));
   FILE *f = bench_create(path, tmp, sizeof tmp);
   if (!f) return -1;
   fprintf(f, "# sinew bench settings (read by sinew bench --merge)\nmode = %s\nscene = %s\n"
-          "exe = %s\nreference = %s\nconfirm = %s\n", mode_names[g->mode], g->scene, g->exe,
+          "exe = %s\nreference = %s\nconfirm = %s\n", bench_mode_name(g->mode), g->scene, g->exe,
           g->ref_method, g->confirm_method);
   num(f, "duration", g->duration), num(f, "sample", g->sample), num(f, "size", g->size);
   num(f, "reference_rtol", g->ref_rtol), num(f, "confirm_tol", g->confirm_tol);
@@ -512,7 +461,7 @@ static int write_cfg(const bench_cfg *g) {
 static int write_plan(const bench_plan *p) {
   char path[SW_PATHSZ + 64], tmp[SW_PATHSZ + 96];
   if (write_cfg(&p->cfg)) return -1;
-  snprintf(path, sizeof path, "%s/plan_%s.csv", p->cfg.dir, mode_names[p->cfg.mode]);
+  snprintf(path, sizeof path, "%s/plan_%s.csv", p->cfg.dir, bench_mode_name(p->cfg.mode));
   FILE *f = bench_create(path, tmp, sizeof tmp);
   if (!f) return -1;
   fprintf(f, "id,role,method,adaptive,dt,rtol,atol,scale,grid,rep\n");
@@ -532,7 +481,7 @@ static int write_plan(const bench_plan *p) {
 static int cfg_line(bench_cfg *g, const char *key, const char *val) {
   if (!strcmp(key, "mode")) {
     for (int k = 0; k < BM_NMODE; k++)
-      if (!strcmp(val, mode_names[k])) return g->mode = k, 0;
+      if (!strcmp(val, bench_mode_name(k))) return g->mode = k, 0;
     return -1;
   }
   struct { const char *k; char *s; size_t sz; } str[] = {{"scene", g->scene, SW_PATHSZ},
@@ -554,7 +503,7 @@ static int cfg_line(bench_cfg *g, const char *key, const char *val) {
 
 static int read_cfg(const char *dir, int mode, bench_cfg *g) {
   char path[SW_PATHSZ + 64], line[SW_PATHSZ + 64];
-  snprintf(path, sizeof path, "%s/bench_%s.cfg", dir, mode_names[mode]);
+  snprintf(path, sizeof path, "%s/bench_%s.cfg", dir, bench_mode_name(mode));
   FILE *f = fopen(path, "r");
   if (!f) return 1; /* this mode was not run here */
   int rc = 0;
@@ -596,12 +545,12 @@ int bench_plan_read(const char *dir, int mode, bench_plan *p, char *err, size_t 
   memset(p, 0, sizeof *p);
   int rc = read_cfg(dir, mode, &p->cfg);
   if (rc) {
-    if (rc < 0) snprintf(err, errsz, "%s/bench_%s.cfg: unreadable settings", dir, mode_names[mode]);
+    if (rc < 0) snprintf(err, errsz, "%s/bench_%s.cfg: unreadable settings", dir, bench_mode_name(mode));
     return rc;
   }
   snprintf(p->cfg.dir, sizeof p->cfg.dir, "%s", dir);
   char path[SW_PATHSZ + 64], line[512];
-  snprintf(path, sizeof path, "%s/plan_%s.csv", dir, mode_names[mode]);
+  snprintf(path, sizeof path, "%s/plan_%s.csv", dir, bench_mode_name(mode));
   FILE *f = fopen(path, "r");
   if (!f) return snprintf(err, errsz, "%s: %s", path, strerror(errno)), -1;
   int cap = 0, lineno = 0;

@@ -1,4 +1,4 @@
-/* scene_yaml.h — internal to the scene loader (sim/scene*.c): the YAML tree with positions
+/* scene_yaml.h — internal to the scene loader (sim/input/scene*.c): the YAML tree with positions
  * (libfyaml's event parser, scene_yaml.c), the loader's context and the schema getters that
  * check one node and report "file:line:column: what was found; expected what". */
 #ifndef SW_SCENE_YAML_H
@@ -60,8 +60,8 @@ const char *sy_clip(const ynode *y, char *t, size_t sz);
 const char *sy_join(const char *const *names, int n, char *buf, size_t sz);
 int sy_scalar_number(const ynode *y, double *v);
 
-/* Selections (scene.c): mark in c->sel the vertices y picks ({vertices: [...]}, {box: ...} or
- * {grid: [[i, j], ...]}). */
+/* Selections (scene_select.c): mark in c->sel the vertices y picks ({vertices: [...]},
+ * {box: ...} or {grid: [[i, j], ...]}). */
 int sy_select(const ctx *c, const ynode *y, const char *what);
 /* Note y as a selection by vertex index (the first one is kept for the --grid warning). */
 void sy_note_index(const ctx *c, const ynode *y);

@@ -17,7 +17,8 @@ static void usage(FILE *fp) {
           "                 [--threads N] [--quiet]\n"
           "                 [--frames-every S | --no-frames] [--positions-every S]\n"
           "                 [--grid NXxNY] [--stiffness-scale S]\n"
-          "                 [--newton-tol V] [--hessian MODE] [--newton-reuse on|off]\n"
+          "                 [--newton-tol V] [--newton-norm rms|max] [--hessian MODE]\n"
+          "                 [--newton-reuse on|off]\n"
           "       sinew check SCENE [--grid NXxNY] [--stiffness-scale S]\n"
           "       sinew inverse SCENE --targets FILE [--out SCENE_OUT]\n"
           "       sinew bench SCENE [options]   (sinew bench --help)\n"
@@ -50,8 +51,12 @@ static void usage(FILE *fp) {
           "                  integrator.max_order; auto: cvode 2 at rtol > 1e-4, else 5)\n"
           "  --max-halvings N  a failed step is retried with half the step at most N times\n"
           "                  (overrides integrator.max_halvings; 0: a failed step fails the run)\n"
-          "  --newton-tol V  Newton's tolerance, m/s: a step converges when max |dx| <= V dt\n"
-          "                  (overrides integrator.newton.tol; e.g. 1e-9 for a reference run)\n"
+          "  --newton-tol V  Newton's tolerance, m/s: a step converges when its update dx\n"
+          "                  is at most V dt in the norm below (overrides integrator.newton.tol;\n"
+          "                  e.g. 1e-9 for a reference run)\n"
+          "  --newton-norm rms|max\n"
+          "                  rms: mass-weighted RMS of dx, each coordinate at most 10 V dt\n"
+          "                  (default); max: every coordinate (overrides integrator.newton.norm)\n"
           "  --hessian MODE  Newton's matrix: projected, exact, auto, abs or progressive\n"
           "                  (overrides integrator.hessian)\n"
           "  --newton-reuse on|off\n"
@@ -112,7 +117,7 @@ typedef struct cli {
   int quiet, threads, no_frames;
   int max_halvings;            /* < 0: not given */
   double newton_tol;           /* m/s; < 0: not given */
-  int hessian, reuse;          /* < 0: not given */
+  int hessian, reuse, norm;    /* < 0: not given */
   int max_order;               /* -1: not given; 0: auto */
 } cli;
 
@@ -166,6 +171,8 @@ static int parse_run_args(int argc, char **argv, cli *c) {
       if (cli_int(a, argv[++i], 0, 60, &c->max_halvings)) return -1;
     } else if (!strcmp(a, "--newton-tol") && has_val) {
       if (cli_number(a, argv[++i], 0, &c->newton_tol)) return -1;
+    } else if (!strcmp(a, "--newton-norm") && has_val) {
+      if (cli_choice(a, argv[++i], sw_norm_names(), &c->norm)) return -1;
     } else if (!strcmp(a, "--hessian") && has_val) {
       if (cli_choice(a, argv[++i], sw_hessian_names(), &c->hessian)) return -1;
     } else if (!strcmp(a, "--newton-reuse") && has_val) {
@@ -191,7 +198,7 @@ static int parse_run_args(int argc, char **argv, cli *c) {
 
 static int cmd_run(int argc, char **argv) {
   cli c = {.dt = -1, .duration = -1, .frames_every = -1, .positions_every = -1,
-           .max_halvings = -1, .newton_tol = -1, .hessian = -1, .reuse = -1,
+           .max_halvings = -1, .newton_tol = -1, .hessian = -1, .reuse = -1, .norm = -1,
            .max_order = -1};
   if (parse_run_args(argc, argv, &c)) return 2;
   char err[SW_ERRSZ];
@@ -207,6 +214,7 @@ static int cmd_run(int argc, char **argv) {
   if (c.rtol > 0) m->opt.rtol = c.rtol;
   if (c.newton_tol > 0) m->opt.newton_tol = c.newton_tol;
   if (c.hessian >= 0) m->opt.hessian = c.hessian;
+  if (c.norm >= 0) m->opt.newton_norm = c.norm;
   if (c.reuse >= 0) m->opt.newton_reuse = c.reuse;
   if (c.atol > 0) m->opt.atol = c.atol;
   if (c.max_order >= 0) m->opt.max_order = c.max_order;

@@ -1,0 +1,229 @@
+/* file.c — the file helpers of the output formats (writer.h): text files written to NAME.tmp
+ * and renamed when whole, logs appended in whole lines (or records) to NAME.part and renamed
+ * when the run closes, numbers that read back exactly, folders.  Every write is checked;
+ * errors read "PATH: what failed: strerror(errno)". */
+#include "writer.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "util.h"
+
+/* ------------------------------------------------------------ checked writes */
+
+static void w_fail(out_file *w) {
+  if (!w->err) w->err = errno ? errno : EIO;
+}
+
+void out_puts(out_file *w, const char *s) {
+  if (w->err) return;
+  errno = 0;
+  if (fputs(s, w->f) == EOF) w_fail(w);
+}
+
+void out_printf(out_file *w, const char *fmt, ...) {
+  if (w->err) return;
+  va_list ap;
+  va_start(ap, fmt);
+  errno = 0;
+  if (vfprintf(w->f, fmt, ap) < 0) w_fail(w);
+  va_end(ap);
+}
+
+/* The shortest of %.15g, %.16g, %.17g that reads back as exactly v (so 0.03 is written "0.03",
+ * and every number still round-trips); "nan", "inf", "-inf" otherwise (pandas reads all). */
+int out_fmt_num(char *buf, size_t sz, double v) {
+  if (isnan(v)) return snprintf(buf, sz, "nan");
+  if (isinf(v)) return snprintf(buf, sz, v > 0 ? "inf" : "-inf");
+  for (int prec = 15; prec < 17; prec++) {
+    int n = snprintf(buf, sz, "%.*g", prec, v);
+    if (strtod(buf, NULL) == v) return n;
+  }
+  return snprintf(buf, sz, "%.17g", v);
+}
+
+void out_num(out_file *w, double v, const char *after) {
+  char buf[SW_OUT_NUMSZ];
+  out_fmt_num(buf, sizeof buf, v);
+  out_puts(w, buf);
+  out_puts(w, after);
+}
+
+int out_join(char *buf, const char *dir, const char *name, char *err, size_t errsz) {
+  int n = snprintf(buf, SW_OUT_PATHMAX, "%s/%s", dir, name);
+  if (n >= 0 && n < SW_OUT_PATHMAX) return 0;
+  sw_errf(err, errsz, "%s: path of %s is too long", dir, name);
+  return -1;
+}
+
+int out_tmp_open(out_file *w, const char *tmp, char *err, size_t errsz) {
+  w->err = 0;
+  w->f = fopen(tmp, "w");
+  if (w->f) return 0;
+  sw_errf(err, errsz, "%s: cannot open for writing: %s", tmp, strerror(errno));
+  return -1;
+}
+
+int out_tmp_commit(out_file *w, const char *tmp, const char *path, char *err, size_t errsz) {
+  errno = 0;
+  if (!w->err && fflush(w->f) == EOF) w_fail(w);
+  errno = 0;
+  if (fclose(w->f) == EOF) w_fail(w);
+  w->f = NULL;
+  if (w->err) {
+    sw_errf(err, errsz, "%s: cannot write: %s", tmp, strerror(w->err));
+    remove(tmp);
+    return -1;
+  }
+  if (rename(tmp, path) == 0) return 0;
+  sw_errf(err, errsz, "%s: cannot rename to %s: %s", tmp, path, strerror(errno));
+  remove(tmp);
+  return -1;
+}
+
+/* ------------------------------------------------------------------ folders */
+
+#define ELIDE 160 /* a path longer than 2 ELIDE bytes is shown as its ends around "..." */
+
+/* p, or its first and last ELIDE bytes around "...", so that a message with a very long path
+ * still fits an error buffer and ends with the reason. */
+static const char *elide(const char *p, char buf[2 * ELIDE + 4]) {
+  size_t n = strlen(p);
+  if (n <= 2 * ELIDE) return p;
+  memcpy(buf, p, ELIDE);
+  memcpy(buf + ELIDE, "...", 3);
+  memcpy(buf + ELIDE + 3, p + n - ELIDE, ELIDE + 1);
+  return buf;
+}
+
+int out_make_dir(const char *path, const char *dir, char *err, size_t errsz) {
+  if (mkdir(path, 0777) == 0) return 0;
+  int e = errno;
+  struct stat st;
+  if (e == EEXIST && stat(path, &st) == 0 && S_ISDIR(st.st_mode)) return 0;
+  if (e == EEXIST) e = ENOTDIR;
+  char b1[2 * ELIDE + 4], b2[2 * ELIDE + 4];
+  sw_errf(err, errsz, "%s: cannot create the output folder: mkdir %s: %s", elide(dir, b1),
+          elide(path, b2), strerror(e));
+  return -1;
+}
+
+/* mkdir -p dir, then check that it can be written (output.c). */
+int out_make_dirs(const char *dir, char *scratch, char *err, size_t errsz) {
+  snprintf(scratch, SW_OUT_PATHMAX, "%s", dir);
+  for (char *s = scratch + 1; *s; s++) {
+    if (*s != '/') continue;
+    *s = '\0';
+    int rc = out_make_dir(scratch, dir, err, errsz);
+    *s = '/';
+    if (rc) return rc;
+  }
+  if (out_make_dir(scratch, dir, err, errsz)) return -1;
+  if (access(dir, W_OK | X_OK) == 0) return 0;
+  char b[2 * ELIDE + 4];
+  sw_errf(err, errsz, "%s: the output folder is not writable: %s", elide(dir, b), strerror(errno));
+  return -1;
+}
+
+int out_remove_path(const char *path, char *err, size_t errsz) {
+  if (unlink(path) == 0 || errno == ENOENT) return 0;
+  sw_errf(err, errsz, "%s: cannot remove the file of an earlier run: %s", path, strerror(errno));
+  return -1;
+}
+
+int out_remove(sw_output *o, const char *name, char *err, size_t errsz) {
+  if (out_join(o->path, o->dir, name, err, errsz)) return -1;
+  return out_remove_path(o->path, err, errsz);
+}
+
+/* -------------------------------------------------------------------- logs */
+
+/* The log's NAME.part is open (a zeroed out_log is not). */
+static int live(const out_log *l) { return l->opened && l->fd >= 0; }
+
+int out_log_put(out_log *l, const sw_output *o, const char *s, size_t n, char *err,
+                size_t errsz) {
+  int e = l->werr;
+  size_t done = 0;
+  l->mark = l->size;
+  while (!e && done < n) {
+    ssize_t w = write(l->fd, s + done, n - done);
+    if (w > 0) done += (size_t)w;
+    else if (w < 0 && errno == EINTR) continue;
+    else e = w < 0 ? errno : EIO;
+  }
+  if (!e) {
+    l->size += (off_t)n;
+    return 0;
+  }
+  l->werr = e;
+  sw_errf(err, errsz, "%s/%s.part: cannot write: %s", o->dir, l->name, strerror(e));
+  return -1;
+}
+
+void out_log_undo(void *self) {
+  out_log *l = self;
+  if (!live(l)) return;
+  l->size = l->mark;
+  if (ftruncate(l->fd, l->size) != 0 && !l->werr) l->werr = errno ? errno : EIO;
+}
+
+int out_log_open(out_log *l, const char *name, sw_output *o, const char *head, size_t n,
+                 char *err, size_t errsz) {
+  char part[32];
+  l->name = name;
+  snprintf(part, sizeof part, "%s.part", name);
+  if (out_join(o->path, o->dir, part, err, errsz)) return -1;
+  /* O_APPEND: after a cut, the next line (if any) goes to the new end */
+  l->fd = open(o->path, O_WRONLY | O_CREAT | O_TRUNC | O_APPEND | O_CLOEXEC, 0666);
+  if (l->fd < 0) {
+    sw_errf(err, errsz, "%s: cannot open for writing: %s", o->path, strerror(errno));
+    return -1;
+  }
+  l->size = 0;
+  l->opened = 1;
+  if (out_log_put(l, o, head, n, err, errsz) == 0) return 0;
+  out_log_undo(l);
+  return -1;
+}
+
+int out_log_close(void *self, sw_output *o, char *err, size_t errsz) {
+  out_log *l = self;
+  if (!live(l)) return 0;
+  int e = l->werr; /* a write failed: the log keeps its .part name */
+  if (close(l->fd) != 0 && !e) e = errno ? errno : EIO;
+  l->fd = -1;
+  char part[32];
+  snprintf(part, sizeof part, "%s.part", l->name);
+  if (out_join(o->tmp, o->dir, part, err, errsz) || out_join(o->path, o->dir, l->name, err, errsz))
+    return -1;
+  if (e) {
+    sw_errf(err, errsz, "%s: cannot write: %s", o->tmp, strerror(e));
+    return -1;
+  }
+  if (rename(o->tmp, o->path)) {
+    sw_errf(err, errsz, "%s: cannot rename to %s: %s", o->tmp, o->path, strerror(errno));
+    return -1;
+  }
+  l->final = 1;
+  return 0;
+}
+
+void out_log_files(const void *self, void (*add)(void *ctx, const char *name), void *ctx) {
+  const out_log *l = self;
+  char name[40];
+  if (!l->opened) return;
+  snprintf(name, sizeof name, "%s%s", l->name, l->final ? "" : ".part");
+  add(ctx, name);
+}
+
+void out_log_free(out_log *l) {
+  if (live(l)) close(l->fd);
+  l->fd = -1;
+}

@@ -1,0 +1,206 @@
+/* output.c — the writers of a run's folder (output.h): the folder, and the formats it holds,
+ * each behind the operations of writer.h.
+ *
+ * Folder layout (relative to m->opt.out_dir), in the order of the formats below:
+ *   tension.csv    csv.c: time, max/mean/p95 of tension XY, max warp/weft stretch, max shear
+ *   energy.csv     csv.c: time, kinetic and per-term energies, step size and solver counts
+ *   tendons.csv    csv.c: a scene with tendons: time, tendon, length, delta, tension
+ *   positions.bin  positions.c: with opt.positions_every > 0, every vertex position at sampled
+ *                  times, binary
+ *   frames.pvd     vtu.c: ParaView collection of the complete frames
+ *   frames/frame_NNNNNN.vtu
+ *   summary.json   summary.c: scene, method, counters, wall time, status, the files above
+ * Logs (and positions.bin) live as NAME.part until sw_output_close; every other file is written
+ * to NAME.tmp and renamed, so a reader never sees a half-written file under a final name.  A log
+ * line (a record of positions.bin) goes out in one write(2) (no stdio buffer), so a killed run
+ * leaves whole lines; a logged state whose lines fail part-way (disk full, file size limit) is
+ * taken back from every log, which then ends at the previous one.  Every write is checked;
+ * errors read "PATH: what failed: strerror(errno)".  sw_output_record allocates nothing.
+ */
+#include "output.h"
+
+#include <stdio.h>
+#include <string.h>
+
+#include "util.h"
+#include "writer.h"
+
+/* Every format, in the order of the summary's file list (the summary last: it lists the others'
+ * files as they are when it is written). */
+static const sw_out_ops *const formats[] = {&sw_out_tension, &sw_out_energy, &sw_out_tendons,
+                                            &sw_out_positions, &sw_out_vtu, &sw_out_summary};
+#define NFORMAT ((int)(sizeof formats / sizeof formats[0]))
+
+/* ------------------------------------------------------------ the folder */
+
+static int prepare_folder(sw_output *o, const sw_model *m, char *err, size_t errsz) {
+  size_t n = strnlen(m->opt.out_dir, SW_PATHSZ);
+  if (n == 0 || n == SW_PATHSZ) {
+    sw_errf(err, errsz, "output folder: %s", n ? "path too long" : "no folder given");
+    return -1;
+  }
+  memcpy(o->dir, m->opt.out_dir, n);
+  while (n > 1 && o->dir[n - 1] == '/') n--;
+  o->dir[n] = '\0';
+  if (out_make_dirs(o->dir, o->tmp, err, errsz)) return -1;
+  for (int k = 0; k < o->nw; k++) {
+    const sw_out_ops *f = o->w[k].ops;
+    if (f->prepare && f->prepare(o->w[k].self, o, m, err, errsz)) return -1;
+  }
+  /* files of an earlier run in the same folder, so that results never mix */
+  for (int k = 0; k < o->nw; k++)
+    for (const char *const *s = o->w[k].ops->stale; s && *s; s++)
+      if (out_remove(o, *s, err, errsz)) return -1;
+  return 0;
+}
+
+/* ------------------------------------------------------------ the formats */
+
+/* The formats this run writes, their private state allocated; -1 when out of memory. */
+static int output_alloc(sw_output *o, const sw_model *m) {
+  for (int k = 0; k < NFORMAT; k++) {
+    const sw_out_ops *f = formats[k];
+    sw_writer *w = &o->w[o->nw++];
+    w->ops = f;
+    w->on = !f->wanted || f->wanted(m);
+    if (!w->on || !f->size) continue;
+    if (!(w->self = sw_calloc(1, f->size))) return -1;
+    if (f->init && f->init(w->self, m)) return -1;
+  }
+  return 0;
+}
+
+static void output_free(sw_output *o) {
+  for (int k = 0; k < o->nw; k++)
+    if (o->w[k].self) {
+      if (o->w[k].ops->free) o->w[k].ops->free(o->w[k].self);
+      sw_free(o->w[k].self);
+    }
+  sw_free(o);
+}
+
+/* The number of formats of this run that write at event. */
+static int count(const sw_output *o, int event) {
+  int n = 0;
+  for (int k = 0; k < o->nw; k++) n += o->w[k].on && o->w[k].ops->event == event;
+  return n;
+}
+
+/* Write d to every format of event; each one tried (the failed one too) is marked. */
+static int write_event(sw_output *o, int event, const sw_model *m, const sw_data *d, char *err,
+                       size_t errsz) {
+  for (int k = 0; k < o->nw; k++) {
+    sw_writer *w = &o->w[k];
+    if (!w->on || w->ops->event != event || !w->ops->write) continue;
+    w->tried = 1;
+    if (w->ops->write(w->self, o, m, d, err, errsz)) return -1;
+  }
+  return 0;
+}
+
+/* Take back the last write of every format marked by write_event. */
+static void undo_tried(sw_output *o) {
+  for (int k = 0; k < o->nw; k++)
+    if (o->w[k].tried && o->w[k].ops->undo) o->w[k].ops->undo(o->w[k].self);
+}
+
+/* ---------------------------------------------------------------- output.h */
+
+int sw_output_record(sw_output *o, const sw_model *m, const sw_data *d, int positions, char *err,
+                     size_t errsz) {
+  if (!o || (positions && count(o, SW_OUT_POSITIONS) == 0)) {
+    sw_errf(err, errsz, "output: the logs are not open");
+    return -1;
+  }
+  for (int k = 0; k < o->nw; k++) o->w[k].tried = 0;
+  if (write_event(o, SW_OUT_STEP, m, d, err, errsz) == 0 &&
+      (!positions || write_event(o, SW_OUT_POSITIONS, m, d, err, errsz) == 0))
+    return 0;
+  /* Failed part-way: every log ends at the previous logged state again, whole lines only. */
+  undo_tried(o);
+  return -1;
+}
+
+int sw_output_step(sw_output *o, const sw_model *m, const sw_data *d, char *err, size_t errsz) {
+  return sw_output_record(o, m, d, 0, err, errsz);
+}
+
+int sw_output_frame(sw_output *o, const sw_model *m, const sw_data *d, char *err, size_t errsz) {
+  if (!o) {
+    sw_errf(err, errsz, "output: not open");
+    return -1;
+  }
+  return write_event(o, SW_OUT_FRAME, m, d, err, errsz);
+}
+
+int sw_output_summary(sw_output *o, const sw_model *m, const sw_data *d, const char *status,
+                      const char *message, double wall, char *err, size_t errsz) {
+  if (!o) {
+    sw_errf(err, errsz, "output: not open");
+    return -1;
+  }
+  o->status = status;
+  o->message = message;
+  o->wall = wall;
+  return write_event(o, SW_OUT_STATUS, m, d, err, errsz);
+}
+
+/* Every format's files, headers written. */
+static int open_formats(sw_output *o, const sw_model *m, char *err, size_t errsz) {
+  for (int k = 0; k < o->nw; k++) {
+    sw_writer *w = &o->w[k];
+    if (w->on && w->ops->open && w->ops->open(w->self, o, m, err, errsz)) return -1;
+  }
+  return 0;
+}
+
+sw_output *sw_output_open(const sw_model *m, char *err, size_t errsz) {
+  sw_output *o = sw_calloc(1, sizeof *o);
+  if (!o || output_alloc(o, m)) {
+    sw_errf(err, errsz, "%s: out of memory for the output writers", m->opt.out_dir);
+    if (o) output_free(o);
+    return NULL;
+  }
+  if (prepare_folder(o, m, err, errsz) || open_formats(o, m, err, errsz) ||
+      sw_output_summary(o, m, NULL, "running", "", 0.0, err, errsz)) {
+    output_free(o);
+    return NULL;
+  }
+  return o;
+}
+
+/* Close every format (the logs get their final names); the first failure's message into err. */
+static int close_formats(sw_output *o, char *err, size_t errsz) {
+  int rc = 0;
+  for (int k = 0; k < o->nw; k++) {
+    sw_writer *w = &o->w[k];
+    if (w->on && w->ops->close && w->ops->close(w->self, o, rc ? NULL : err, errsz)) rc = -1;
+  }
+  return rc;
+}
+
+int sw_output_close(sw_output *o, const sw_model *m, const sw_data *d, const char *status,
+                    const char *message, double wall, char *err, size_t errsz) {
+  if (!o) {
+    sw_errf(err, errsz, "output: not open");
+    return -1;
+  }
+  char logerr[SW_ERRSZ] = "", msg[3 * SW_ERRSZ];
+  int rc = close_formats(o, logerr, sizeof logerr);
+  if (rc) { /* the logs are incomplete: the run must not look like a success */
+    int failed = status && strcmp(status, "failed") == 0 && message && *message;
+    int said = failed && strstr(message, logerr); /* the run's message already says why */
+    snprintf(msg, sizeof msg, "%s%s%s", failed ? message : "", failed && !said ? "; " : "",
+             said ? "" : logerr);
+    status = "failed";
+    message = msg;
+    sw_errf(err, errsz, "%s", logerr);
+  }
+  char sumerr[SW_ERRSZ] = "";
+  if (sw_output_summary(o, m, d, status, message, wall, sumerr, sizeof sumerr) && !rc) {
+    sw_errf(err, errsz, "%s", sumerr);
+    rc = -1;
+  }
+  output_free(o);
+  return rc;
+}
