@@ -56,10 +56,14 @@ static int is_due(double every, double next, double t) {
   return every > 0.0 && t >= next - 1e-9 * fmax(every, 1.0);
 }
 
-/* After a sample at t: the next one is the first multiple of every past t. */
+/* After a sample at t: the next one is the first multiple of every past t, k every with the
+ * index k = floor(t / every) + 1 computed at once (adding every to next until it passes t
+ * spins forever once every is below half an ulp of t).  An interval below the step makes every
+ * step a sample; one so small that t / every overflows gives next = t (the next step is due). */
 static void advance(double every, double *next, double t) {
-  if (every > 0.0)
-    while (*next <= t + 1e-9 * fmax(every, 1.0)) *next += every;
+  if (!(every > 0.0)) return;
+  double k = floor((t + 1e-9 * fmax(every, 1.0)) / every) + 1.0;
+  *next = isfinite(k) ? k * every : t;
 }
 
 /* Diagnostics of the current state, one log line, a record of positions.bin and a frame when
