@@ -48,5 +48,50 @@ for every in 1e-300 1e-12; do
     fail "scene frames_every $every: expected 4 frames"
 done
 
+# 2. Byte limits and memory budgets, each refused at once with the file, the position and the
+# limit: 30 million pin indices (60 MB, under the 64 MB scene limit), 2.1 million values in
+# block style, /dev/zero and a 300 MB (sparse) file as OBJ and as targets, a 5000-byte CSV
+# line, /etc/passwd as OBJ (not quoted: "not an OBJ file").
+/usr/bin/python3 - "$tmp" <<'PY' || fail "python3 could not write the large scenes"
+import sys
+d = sys.argv[1]
+head = 'mesh: {grid: {size: [1, 1], vertices: [3, 3]}}\nmaterial: {density: 0.1}\n'
+with open(d + '/pins30m.yaml', 'w') as f:
+    f.write(head + 'pins: [{select: {vertices: [' + '0,' * 29999999 + '0]}}]\n')
+with open(d + '/pins2m.yaml', 'w') as f:
+    f.write(head + 'pins:\n  - select:\n      vertices:\n' + '        - 0\n' * 2100000)
+PY
+start=$(date +%s)
+expect_error "30 million pin indices" \
+  'pins30m.yaml:3:4000024: more than 2000000 YAML values .*expected a smaller scene' \
+  "$sinew" check "$tmp/pins30m.yaml"
+[ $(($(date +%s) - start)) -le 5 ] || fail "30 million pin indices took more than 5 s to refuse"
+expect_error "2.1 million values, block style" \
+  'pins2m.yaml:1999982:11: more than 2000000 YAML values' "$sinew" check "$tmp/pins2m.yaml"
+rm -f "$tmp/pins30m.yaml" "$tmp/pins2m.yaml"
+ln -s /dev/zero "$tmp/zero.obj"
+truncate -s 300M "$tmp/big.obj"
+cp /etc/passwd "$tmp/passwd.obj"
+for obj in zero big passwd; do
+  printf 'mesh: {obj: %s.obj}\n%s\n' "$obj" "$MAT" >"$tmp/obj_$obj.yaml"
+done
+expect_error "/dev/zero as OBJ" 'obj_zero.yaml:1:13: in mesh obj: .*zero.obj:1:1: found a NUL byte' \
+  "$sinew" check "$tmp/obj_zero.yaml"
+expect_error "a 300 MB OBJ" 'big.obj: larger than 268435456 bytes, expected an OBJ file of at most 256 MB' \
+  "$sinew" check "$tmp/obj_big.yaml"
+expect_error "/etc/passwd as OBJ" 'passwd.obj:1:1: not an OBJ file: the first statement is not an OBJ keyword' \
+  "$sinew" check "$tmp/obj_passwd.yaml"
+grep -q root "$tmp/err" && fail "/etc/passwd as OBJ: the message quotes the file"
+expect_error "/dev/zero as targets" '^sinew: /dev/zero:1:1: a NUL byte; expected text' \
+  "$sinew" inverse scenes/tendon_inverse_2d.yaml --targets /dev/zero --out "$tmp/inv.yaml"
+truncate -s 100M "$tmp/big.csv"
+expect_error "a 100 MB targets file" 'big.csv: 104857600 bytes; expected a targets file of at most 64 MB' \
+  "$sinew" inverse scenes/tendon_inverse_2d.yaml --targets "$tmp/big.csv" --out "$tmp/inv.yaml"
+{ echo vertex,fx,fy; printf '1,%05000d,0\n' 0; } >"$tmp/long.csv"
+expect_error "a 5000-byte targets line" 'long.csv:2:4097: a line longer than 4096 bytes' \
+  "$sinew" inverse scenes/tendon_inverse_2d.yaml --targets "$tmp/long.csv" --out "$tmp/inv.yaml"
+rm -f "$tmp/big.obj" "$tmp/big.csv"
+[ -e "$tmp/inv.yaml" ] && fail "inverse wrote its output after refusing its targets"
+
 [ $fails -eq 0 ] && echo "limits: all passed"
 exit $((fails > 0))
