@@ -93,5 +93,21 @@ expect_error "a 5000-byte targets line" 'long.csv:2:4097: a line longer than 409
 rm -f "$tmp/big.obj" "$tmp/big.csv"
 [ -e "$tmp/inv.yaml" ] && fail "inverse wrote its output after refusing its targets"
 
+# 3. `inverse --out` naming an input (also by a symlink or another path) is refused before
+# anything is written: both inputs stay byte for byte as they were.
+cp scenes/tendon_inverse_2d.yaml "$tmp/inv_scene.yaml"
+cp scenes/tendon_inverse_2d_targets.csv "$tmp/inv_targets.csv"
+ln -s inv_scene.yaml "$tmp/inv_link.yaml"
+sums=$(cat "$tmp/inv_scene.yaml" "$tmp/inv_targets.csv" | cksum)
+for out in "$tmp/inv_scene.yaml" "$tmp/inv_link.yaml" "$tmp/../$(basename "$tmp")/inv_scene.yaml"; do
+  expect_error "inverse --out $out" "--out .* is the scene .*inv_scene.yaml; expected another file" \
+    "$sinew" inverse "$tmp/inv_scene.yaml" --targets "$tmp/inv_targets.csv" --out "$out"
+done
+expect_error "inverse --out the targets" "--out .* is the targets file .*inv_targets.csv" \
+  "$sinew" inverse "$tmp/inv_scene.yaml" --targets "$tmp/inv_targets.csv" --out "$tmp/inv_targets.csv"
+[ "$(cat "$tmp/inv_scene.yaml" "$tmp/inv_targets.csv" | cksum)" = "$sums" ] ||
+  fail "inverse --out changed an input"
+[ -L "$tmp/inv_link.yaml" ] || fail "inverse --out replaced the symlink"
+
 [ $fails -eq 0 ] && echo "limits: all passed"
 exit $((fails > 0))
