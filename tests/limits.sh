@@ -109,5 +109,26 @@ expect_error "inverse --out the targets" "--out .* is the targets file .*inv_tar
   fail "inverse --out changed an input"
 [ -L "$tmp/inv_link.yaml" ] || fail "inverse --out replaced the symlink"
 
+# 4. `bench --merge` of damaged run folders: NaN positions and a log line cut to 2 fields make
+# the run "damaged" with the file and line, and no error value; the intact run keeps its value.
+b=$tmp/bench
+"$sinew" bench tests/data/bench_tiny.yaml --out "$b" --methods backward-euler --dts 0.02,0.01 \
+  --no-charts >"$tmp/bench.out" 2>&1 || fail "bench: $(tail -3 "$tmp/bench.out")"
+r1=$b/runs/wp_backward-euler_dt0.02_r1 r2=$b/runs/wp_backward-euler_dt0.01_r1
+# record 2 (t = 0.02 s) of the 36-vertex 3D file: 8 + 36 x 3 x 8 = 872 bytes each; its 4th value
+printf '\x00\x00\x00\x00\x00\x00\xf8\x7f' | dd of="$r1/positions.bin" bs=1 seek=$((16 + 872 + 32)) \
+  conv=notrunc status=none
+sed -i '4s/^\([^,]*,[^,]*\),.*/\1/' "$r2/tension.csv"
+"$sinew" bench --merge "$b" --no-charts >"$tmp/merge.out" 2>&1
+csv=$b/work_precision.csv
+row1=$(grep '^backward-euler,fixed,dt,0.02,' "$csv") row2=$(grep '^backward-euler,fixed,dt,0.01,' "$csv")
+grep -q ',damaged,damaged data,runs/wp_backward-euler_dt0.02_r1/positions.bin:2: record 2 (t = 0.02 s): a position is not finite,' <<<"$row1" ||
+  fail "NaN positions not damaged: $row1"
+grep -q ',damaged,damaged data,runs/wp_backward-euler_dt0.01_r1/tension.csv:4: 2 fields; expected 7' <<<"$row2" ||
+  fail "a cut row not damaged: $row2"
+for row in "$row1" "$row2"; do
+  [ -z "$(cut -d, -f18-23 <<<"$row" | tr -d ,)" ] || fail "a damaged run has error values: $row"
+done
+
 [ $fails -eq 0 ] && echo "limits: all passed"
 exit $((fails > 0))
