@@ -130,5 +130,26 @@ for row in "$row1" "$row2"; do
   [ -z "$(cut -d, -f18-23 <<<"$row" | tr -d ,)" ] || fail "a damaged run has error values: $row"
 done
 
+# 5. Messages that say what was found and what was expected, with line:column in a scene.
+printf 'mesh: {grid: {size: [1e300, 1e300], vertices: [3, 3]}}\n%s\n' "$MAT" >"$tmp/area_big.yaml"
+expect_error "a rest area that overflows" \
+  'area_big.yaml:1:7: mesh: face 0 has a rest area that overflows in its \(u,v\) layout \(2 x area = inf m\^2\)' \
+  "$sinew" check "$tmp/area_big.yaml"
+printf 'mesh: {grid: {size: [1e-300, 1e-300], vertices: [3, 3]}}\n%s\n' "$MAT" >"$tmp/area_tiny.yaml"
+expect_error "a zero rest area" 'area_tiny.yaml:1:7: mesh: face 0 has zero rest area' \
+  "$sinew" check "$tmp/area_tiny.yaml"
+printf 'mesh: {grid: {size: [1, 1], vertices: [3, 2147483648]}}\n%s\n' "$MAT" >"$tmp/int.yaml"
+expect_error "2^31 vertices" 'int.yaml:1:43: mesh grid vertices\[1\] is 2147483648; expected an integer in \[2, 2147483647\]' \
+  "$sinew" check "$tmp/int.yaml"
+printf '%s\n%s\nintegrator: {dt: 1e-320}\n' "$GRID" "$MAT" >"$tmp/dt_sub.yaml"
+expect_error "dt: 1e-320" 'dt_sub.yaml:3:18: integrator dt is 1e-320, too small to compute with \(below 2.22507e-308\); expected a number > 0 \(s\)' \
+  "$sinew" check "$tmp/dt_sub.yaml"
+expect_error "--dt 1e-320" '^sinew: --dt is 1e-320, too small to compute with \(below 2.22507e-308\); expected a positive number' \
+  "$sinew" run scenes/hanging_cloth.yaml --dt 1e-320 --out "$tmp/never"
+printf '%s\nmaterial: {density: 0.1, membrane: {model: bw98, k_u: 1e308, k_v: 1, k_shear: 1, b_u: 100, b_v: 1}}\nduration: 0.02\n' \
+  "$GRID" >"$tmp/bw_inf.yaml"
+expect_error "an infinite bw98 energy" 'term bw98 failed at t = 0 s: face 0 \(vertices 0 1 4\): energy inf J' \
+  "$sinew" run "$tmp/bw_inf.yaml" --out "$tmp/bw_inf" --quiet
+
 [ $fails -eq 0 ] && echo "limits: all passed"
 exit $((fails > 0))

@@ -9,6 +9,7 @@
 #include "util.h"
 
 #include <errno.h>
+#include <float.h>
 #include <libfyaml.h>
 #include <limits.h>
 #include <math.h>
@@ -481,11 +482,24 @@ static const char *num_expect(char *buf, size_t sz, double lo, int strict, const
   return buf;
 }
 
-/* A finite number >= lo (> lo when strict; lo = -HUGE_VAL: any). */
+/* A number written nonzero that is zero or subnormal as a double (strtod: ERANGE). */
+static int underflows(const ynode *y) {
+  errno = 0;
+  double v = strtod(y->text, NULL);
+  return errno == ERANGE && fabs(v) < DBL_MIN;
+}
+
+/* A finite number >= lo (> lo when strict; lo = -HUGE_VAL: any), not below the smallest normal
+ * double in magnitude unless it is 0 (1e-320 would silently lose digits or become 0; the
+ * command line refuses it the same way, sim/cli/cli.c). */
 int sy_num(const ctx *c, const ynode *y, const char *what, double lo, int strict,
                    const char *unit, double *out) {
   double v = 0;
-  char exp[96];
+  char exp[96], t[48];
+  if (!sy_scalar_number(y, &v) && underflows(y))
+    return sy_fail(c, y, "%s is %s, too small to compute with (below %g); expected %s", what,
+                   sy_clip(y, t, sizeof t), DBL_MIN,
+                   num_expect(exp, sizeof exp, lo, strict, unit));
   if (sy_scalar_number(y, &v) || (strict ? !(v > lo) : !(v >= lo)))
     return sy_type_error(c, y, what, num_expect(exp, sizeof exp, lo, strict, unit));
   *out = v;
@@ -495,8 +509,7 @@ int sy_num(const ctx *c, const ynode *y, const char *what, double lo, int strict
 /* A decimal integer in [lo, hi]. */
 int sy_int(const ctx *c, const ynode *y, const char *what, long lo, long hi, int *out) {
   char exp[96];
-  if (hi == INT_MAX) snprintf(exp, sizeof exp, "an integer >= %ld", lo);
-  else snprintf(exp, sizeof exp, "an integer in [%ld, %ld]", lo, hi);
+  snprintf(exp, sizeof exp, "an integer in [%ld, %ld]", lo, hi);
   const char *s = y->text;
   if (y->kind != Y_SCALAR || !y->plain || strlen(s) != y->len) return sy_type_error(c, y, what, exp);
   const char *d = s + (*s == '+' || *s == '-');

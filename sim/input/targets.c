@@ -149,6 +149,7 @@ static int read_lines(FILE *fp, csv_line *l, const sw_model *m, unsigned char *s
   while (!rc) {
     l->line++;
     if ((got = next_line(fp, l, buf, &total, err, errsz)) <= 0) {
+      if (got == 0) l->line--; /* the end of the file: messages name the last line */
       rc = got;
       break;
     }
