@@ -7,7 +7,8 @@
 set -u
 sinew=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
 tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
+pid=
+trap '[ -n "$pid" ] && kill -9 "$pid" 2>/dev/null; rm -rf "$tmp"' EXIT
 fails=0
 fail() { echo "FAIL: $*"; fails=$((fails + 1)); }
 GRID='mesh: {grid: {size: [1, 1], vertices: [3, 3]}}'
@@ -150,6 +151,39 @@ printf '%s\nmaterial: {density: 0.1, membrane: {model: bw98, k_u: 1e308, k_v: 1,
   "$GRID" >"$tmp/bw_inf.yaml"
 expect_error "an infinite bw98 energy" 'term bw98 failed at t = 0 s: face 0 \(vertices 0 1 4\): energy inf J' \
   "$sinew" run "$tmp/bw_inf.yaml" --out "$tmp/bw_inf" --quiet
+
+# 6. One run at a time in a folder: a second run into a folder in use is refused with the first
+# one's process id and removes nothing; the lock of a killed run (kill -9) is stale and taken
+# over; so is a sinew.lock holding a dead process's id; the lock is gone after a run.
+lk=$tmp/locked
+"$sinew" run scenes/hanging_cloth.yaml --out "$lk" --duration 5 --quiet 2>/dev/null &
+pid=$!
+for _ in $(seq 1 600); do [ -s "$lk/tension.csv.part" ] && break; sleep 0.05; done
+[ "$(cat "$lk/sinew.lock" 2>/dev/null)" = "$pid" ] || fail "sinew.lock does not hold the run's id $pid"
+expect_error "a second run into a folder in use" \
+  "$lk: the folder is in use by another run \\(process $pid, .*sinew.lock\\)" \
+  "$sinew" run scenes/hanging_cloth.yaml --out "$lk" --duration 0.02 --quiet
+[ -e "$lk/tension.csv.part" ] && [ -e "$lk/summary.json" ] || fail "the refused run removed the first one's files"
+kill -9 "$pid"
+wait "$pid" 2>/dev/null
+pid=
+[ -e "$lk/sinew.lock" ] || fail "a killed run left no sinew.lock (nothing to take over: test void)"
+"$sinew" run scenes/hanging_cloth.yaml --out "$lk" --duration 0.02 --quiet 2>"$tmp/err" ||
+  fail "the lock of a killed run was not taken over: $(cat "$tmp/err")"
+[ -e "$lk/sinew.lock" ] && fail "sinew.lock left after a run"
+sh -c 'echo $$ >"$1"' sh "$lk/sinew.lock" # the id of a process that has ended
+"$sinew" run scenes/hanging_cloth.yaml --out "$lk" --duration 0.02 --quiet 2>"$tmp/err" ||
+  fail "a stale sinew.lock (dead process) was not taken over: $(cat "$tmp/err")"
+if command -v flock >/dev/null; then # a lock held by any process counts
+  echo 4242 >"$lk/sinew.lock"
+  flock "$lk/sinew.lock" sleep 3 &
+  fpid=$!
+  sleep 0.3
+  expect_error "a folder locked by another process" "in use by another run \\(process 4242," \
+    "$sinew" run scenes/hanging_cloth.yaml --out "$lk" --duration 0.02 --quiet
+  kill "$fpid" 2>/dev/null
+  wait "$fpid" 2>/dev/null
+fi
 
 [ $fails -eq 0 ] && echo "limits: all passed"
 exit $((fails > 0))
