@@ -19,7 +19,7 @@ static int chol_failed(const sw_chol *ch, const char *what, char *err, size_t er
   char size[96] = "";
   long n = ch->A ? (long)ch->A->nrow : 0;
   if (ch->c.lnz > 0)
-    snprintf(size, sizeof size, " (a %ld x %ld system; %.0f nonzeros in its factor, %.0f MB)", n,
+    snprintf(size, sizeof size, " (a %ld x %ld system; %.0f nonzeros in its factor, %.3g MB)", n,
              n, ch->c.lnz, ch->c.lnz * 8.0 / (1 << 20));
   else snprintf(size, sizeof size, " (a %ld x %ld system)", n, n);
   if (ch->c.status == CHOLMOD_OUT_OF_MEMORY)

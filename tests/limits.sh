@@ -91,7 +91,11 @@ expect_error "a 100 MB targets file" 'big.csv: 104857600 bytes; expected a targe
 { echo vertex,fx,fy; printf '1,%05000d,0\n' 0; } >"$tmp/long.csv"
 expect_error "a 5000-byte targets line" 'long.csv:2:4097: a line longer than 4096 bytes' \
   "$sinew" inverse scenes/tendon_inverse_2d.yaml --targets "$tmp/long.csv" --out "$tmp/inv.yaml"
-rm -f "$tmp/big.obj" "$tmp/big.csv"
+{ yes 'v 0 0 0' | head -n 4000001; } >"$tmp/many.obj"
+printf 'mesh: {obj: many.obj}\n%s\n' "$MAT" >"$tmp/obj_many.yaml"
+expect_error "4000001 OBJ positions" 'many.obj:4000001:1: found more than 4000000 positions, expected fewer' \
+  "$sinew" check "$tmp/obj_many.yaml"
+rm -f "$tmp/big.obj" "$tmp/big.csv" "$tmp/many.obj"
 [ -e "$tmp/inv.yaml" ] && fail "inverse wrote its output after refusing its targets"
 
 # 3. `inverse --out` naming an input (also by a symlink or another path) is refused before

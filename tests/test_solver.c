@@ -126,6 +126,7 @@ static void cholmod_out_of_memory(void **st) {
   assert_int_equal(factor_diagonal(1.0, 1, err, sizeof err, &n), SW_FATAL);
   snprintf(want, sizeof want, "CHOLMOD ran out of memory in factorize (a %d x %d system; ", n, n);
   if (!strstr(err, want) || !strstr(err, "nonzeros in its factor")) fail_msg("message: %s", err);
+  print_message("%s\n", err);
 }
 
 /* Newton's answer for one backward Euler step, with each Hessian mode: grad Phi = 0, the same

@@ -60,7 +60,8 @@ static void damaged(bench_result *r, const bench_job *j, const char *file, long 
   va_end(ap);
   snprintf(r->status, sizeof r->status, "damaged");
   snprintf(r->how, sizeof r->how, "damaged data");
-  if (line > 0) snprintf(r->message, sizeof r->message, "runs/%s/%s:%ld: %s", j->id, file, line, why);
+  if (line > 0)
+    snprintf(r->message, sizeof r->message, "runs/%s/%s:%ld: %s", j->id, file, line, why);
   else snprintf(r->message, sizeof r->message, "runs/%s/%s: %s", j->id, file, why);
 }
 
