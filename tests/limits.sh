@@ -131,6 +131,12 @@ grep -q ',damaged,damaged data,runs/wp_backward-euler_dt0.02_r1/positions.bin:2:
   fail "NaN positions not damaged: $row1"
 grep -q ',damaged,damaged data,runs/wp_backward-euler_dt0.01_r1/tension.csv:4: 2 fields; expected 7' <<<"$row2" ||
   fail "a cut row not damaged: $row2"
+mkdir "$tmp/bigplan" && cp "$b/bench_work_precision.cfg" "$tmp/bigplan/"
+{ head -1 "$b/plan_work_precision.csv"; yes 'x,run,bdf2,0,0.01,0,0,1,0,1' | head -n 1000001; } \
+  >"$tmp/bigplan/plan_work_precision.csv"
+expect_error "a plan of 1000001 runs" 'plan_work_precision.csv:1000002: more than 1000000 runs in the plan' \
+  "$sinew" bench --merge "$tmp/bigplan" --no-charts
+rm -rf "$tmp/bigplan"
 for row in "$row1" "$row2"; do
   [ -z "$(cut -d, -f18-23 <<<"$row" | tr -d ,)" ] || fail "a damaged run has error values: $row"
 done
