@@ -83,6 +83,10 @@ expect_error "a 300 MB OBJ" 'big.obj: larger than 268435456 bytes, expected an O
 expect_error "/etc/passwd as OBJ" 'passwd.obj:1:1: not an OBJ file: the first statement is not an OBJ keyword' \
   "$sinew" check "$tmp/obj_passwd.yaml"
 grep -q root "$tmp/err" && fail "/etc/passwd as OBJ: the message quotes the file"
+{ printf 'v 0 0 0\n'; printf 'x%.0s' $(seq 1 100); echo; } >"$tmp/longword.obj"
+printf 'mesh: {obj: longword.obj}\n%s\n' "$MAT" >"$tmp/obj_longword.yaml"
+expect_error "a 100-byte unknown statement" "longword.obj:2:1: found unknown statement '$(printf 'x%.0s' $(seq 1 40))\\.\\.\\.'," \
+  "$sinew" check "$tmp/obj_longword.yaml"
 expect_error "/dev/zero as targets" '^sinew: /dev/zero:1:1: a NUL byte; expected text' \
   "$sinew" inverse scenes/tendon_inverse_2d.yaml --targets /dev/zero --out "$tmp/inv.yaml"
 truncate -s 100M "$tmp/big.csv"

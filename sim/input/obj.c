@@ -13,7 +13,7 @@
  *
  * The input is untrusted (it is fuzzed): the file by SW_OBJ_MAX_BYTES, every count by
  * OBJ_MAX_COUNT, every array grows with overflow-checked sizes, the text is never assumed to be
- * NUL-terminated, and a message quotes at most 41 bytes of it, non-printable ones as '?'; a
+ * NUL-terminated, and a message quotes at most 40 bytes of it, non-printable ones as '?'; a
  * file whose first statement is no OBJ keyword is "not an OBJ file", without a quote (it may
  * be any file: a line of /etc/passwd has no place in a message). */
 #include "obj.h"
@@ -81,9 +81,11 @@ static void *reserve(void *p, size_t *cap, size_t need, size_t size) {
 
 static int is_blank(char c) { return c == ' ' || c == '\t' || c == '\v' || c == '\f'; }
 
-/* A token of n bytes as a short printable quoted string, for messages. */
+/* A token of n bytes as a short printable quoted string, for messages: at most OBJ_QUOTE_MAX
+ * bytes of it (fewer if bufsz is smaller), non-printable ones as '?', then "..." if cut. */
+#define OBJ_QUOTE_MAX 40
 static const char *quote(char *buf, size_t bufsz, const char *s, size_t n) {
-  size_t k = 0, max = bufsz - 6; /* room for the quotes, "..." and the NUL */
+  size_t k = 0, max = SW_MIN(bufsz - 6, OBJ_QUOTE_MAX + 1); /* quotes, "...", NUL */
   buf[k++] = '\'';
   for (size_t i = 0; i < n && k < max; i++)
     buf[k++] = (s[i] >= 0x20 && s[i] < 0x7f) ? s[i] : '?';
