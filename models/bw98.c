@@ -1,4 +1,5 @@
-/* bw98.c — Baraff–Witkin stretch and shear membrane (seed 002; DESIGN.md "Energy terms").
+/* bw98.c — Baraff–Witkin stretch and shear membrane (Baraff and Witkin, "Large Steps in Cloth
+ * Simulation", SIGGRAPH 1998; docs/models.md).
  *
  * Per face whose material uses bw98, with that material's constants and F = Ds Dm^-1 = [wu wv]
  * (warp and weft directions after deformation):

@@ -1,4 +1,4 @@
-/* corotated.c — corotated membrane k/2 |U - I|^2 (DESIGN.md "Energy terms"; seed 001 eqs.
+/* corotated.c — corotated membrane k/2 |U - I|^2 (docs/models.md; Yan 2019 eqs.
  * 14-20: F = R U, C = F^T F = U^2, U = sqrt(C) from C's eigen-decomposition; docs/models.md).
  *
  * Per face whose material uses corotated, F = [wu wv] (d x 2), C = F^T F (2 x 2) with the

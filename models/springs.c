@@ -1,4 +1,4 @@
-/* springs.c — a mass-spring network on the mesh (DESIGN.md "Energy terms", docs/models.md).
+/* springs.c — a mass-spring network on the mesh (docs/models.md).
  *
  *   E = sum_s k_s/2 (|x_i - x_j| - L_s)^2        (k in N/m, lengths in m, E in J)
  *

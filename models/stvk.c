@@ -1,4 +1,4 @@
-/* stvk.c — orthotropic Saint Venant–Kirchhoff membrane (DESIGN.md "Energy terms"; seed 001 for
+/* stvk.c — orthotropic Saint Venant–Kirchhoff membrane (docs/models.md; Yan 2019 for
  * F and C; docs/models.md "stvk").
  *
  * Per face whose material uses stvk, F = [wu wv] (d x 2), C = F^T F, the Green strain

@@ -1,7 +1,8 @@
-/* tension_xy.c — the per-face "tension XY" diagnostic of seed 000 (Optitex), and the warp and
+/* tension_xy.c — the per-face "tension XY" diagnostic of Optitex's tension map
+ * (Optitex, "Tension XY calculations explanation"), and the warp and
  * weft stretch and shear angle logged beside it.
  *
- * With F = [wu wv] (seed 000): lu = |wu|, lv = |wv|; ampU = max((lu - rlu) min(clip, k_u), 0),
+ * With F = [wu wv] (Optitex): lu = |wu|, lv = |wv|; ampU = max((lu - rlu) min(clip, k_u), 0),
  * ampV likewise; wu and wv are rescaled to lengths ampU and ampV and the face value is
  * |wu + wv|, or |wu - wv| when wu.wv < 0 (N/m).  rlu, rlv: the stretch in the initial
  * configuration, or 1 when the scene chooses the (u,v) layout as reference. */

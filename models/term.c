@@ -37,7 +37,7 @@ void sw_term_free(sw_term *t) {
 }
 
 void sw_face_coeffs(const sw_model *m, int f, double cu[3], double cv[3]) {
-  /* wu = (x1-x0) Dinv00 + (x2-x0) Dinv10, wv = (x1-x0) Dinv01 + (x2-x0) Dinv11 (seed 000). */
+  /* wu = (x1-x0) Dinv00 + (x2-x0) Dinv10, wv = (x1-x0) Dinv01 + (x2-x0) Dinv11 (Optitex). */
   const double *di = m->dminv + 4 * f;
   cu[0] = -(di[0] + di[2]);
   cu[1] = di[0];
@@ -63,7 +63,7 @@ void sw_face_F(const sw_model *m, int f, const double *x, double *wu, double *wv
 /* ------------------------------------------------------------- membranes */
 
 /* Every membrane energy is a^f psi(wu, wv) per face with wu = sum_i cu_i x_i, wv = sum_i cv_i
- * x_i (DESIGN.md "Energy terms", seeds 000/001).  By the chain rule dE/dx_i = a (cu_i gu + cv_i
+ * x_i (docs/models.md, Optitex; Yan 2019).  By the chain rule dE/dx_i = a (cu_i gu + cv_i
  * gv) with gu, gv = dpsi/dwu, dpsi/dwv, and the Hessian block (i, j) is the congruence
  *   a (cu_i cu_j Puu + cu_i cv_j Puv + cv_i cu_j Pvu + cv_i cv_j Pvv),  P = d2psi/d(wu,wv)^2,
  * so a positive semi-definite P gives a PSD block: every membrane projects P, not the block. */

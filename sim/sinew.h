@@ -379,6 +379,90 @@ SW_API void sw_set_threads(int blas_threads);
 /* Simulate the model and write the output folder.  0 on success; nonzero with err on failure
  * (the logs are flushed up to the failure and summary.json says "failed"). */
 SW_API int sw_run(const sw_model *m, int progress, char *err, size_t errsz);
+/* ------------------------------------------------------------ stepping */
+
+/* A simulation stepped by its caller (sim/sim.c): the loop sw_run is made of, one step at a
+ * time, with the state and the diagnostics readable after every step and the tendons' rest
+ * lengths, the pins' positions, the point loads and the state itself writable between steps.
+ * Each step (sw_sim_step) goes from d->t to the next point of the grid t0 + n dt (t0: the start
+ * time, 0 or the t of the last sw_sim_set_state), halving on recoverable failures as sw_run
+ * does; after it the diagnostics (tension XY and strains per face, tendon lengths and
+ * tensions, term energies) belong to the new state.  A change between steps makes the
+ * integrator restart where its history no longer holds: CVODE and IDA are reinitialised at the
+ * current state, Newmark re-evaluates its acceleration, BDF2 restarts with a backward Euler
+ * step after a change of the state (not after a change of the model: its history is still the
+ * solution's), and a kept Newton factorisation is dropped.  The setters change the model m the
+ * sim was made from (a tendon's keyframes, m->load): m must outlive the sim and is not const. */
+typedef struct sw_sim sw_sim;
+
+enum { SW_SIM_OUTPUT = 1,   /* write the run folder m->opt.out_dir as sw_run does */
+       SW_SIM_PROGRESS = 2  /* a progress line on stderr when it is a terminal */ };
+
+/* A simulation of m at its initial state (t = 0, x0, v0; with SW_SIM_OUTPUT the folder is
+ * opened and the first state logged).  NULL with err on failure (unknown method, output). */
+SW_API sw_sim *sw_sim_new(sw_model *m, int flags, char *err, size_t errsz);
+/* One step of m->opt.dt (static: one static solve from the current positions).  0, or nonzero
+ * with err naming the time, the method and the reason; the state is then the last good one,
+ * and the sim can go on (after a change, say). */
+SW_API int sw_sim_step(sw_sim *s, char *err, size_t errsz);
+/* Steps until t = until (the last one shortened to land on it; a frame and a record of
+ * positions.bin at until when the folder is written).  0 or nonzero with err. */
+SW_API int sw_sim_run(sw_sim *s, double until, char *err, size_t errsz);
+/* Finish the run folder (summary.json "ok", or "failed" with the message of the last step
+ * when it failed, after a frame of the last good state).  0 without a folder. */
+SW_API int sw_sim_close(sw_sim *s, char *err, size_t errsz);
+/* sw_sim_close (errors dropped) and free; the model is the caller's. */
+SW_API void sw_sim_free(sw_sim *s);
+/* The state: d->t, d->x, d->v, the diagnostics and the counters (read only). */
+SW_API const sw_data *sw_sim_data(const sw_sim *s);
+SW_API const sw_model *sw_sim_model(const sw_sim *s);
+/* Kinetic and potential energy of the current state, and what damping dissipated so far, J. */
+SW_API void sw_sim_energy(const sw_sim *s, double *kinetic, double *potential,
+                          double *dissipated);
+/* Set the state: time t (s), positions x (nv x dim, m; pinned components move the pins) and
+ * velocities v (nv x dim, m/s; pinned components are taken as 0); x or v NULL: unchanged.
+ * The step grid goes on from t (n dt when t is one of its points, else t + n dt).  0, or
+ * nonzero with err (a value not finite). */
+SW_API int sw_sim_set_state(sw_sim *s, double t, const double *x, const double *v, char *err,
+                            size_t errsz);
+/* Tendon k's rest length from now on (m, >= 0; its keyframes are replaced by this one). */
+SW_API int sw_sim_set_rest(sw_sim *s, int k, double rest, char *err, size_t errsz);
+/* Move pinned vertex i to x (dim values, m): its pinned components only. */
+SW_API int sw_sim_set_pin(sw_sim *s, int i, const double *x, char *err, size_t errsz);
+/* The point load on vertex i (dim values, N).  The scene must have `loads` (zero is fine). */
+SW_API int sw_sim_set_load(sw_sim *s, int i, const double *f, char *err, size_t errsz);
+/* The index of the tendon or term called name, or -1. */
+SW_API int sw_tendon_find(const sw_model *m, const char *name);
+SW_API int sw_term_find(const sw_model *m, const char *name);
+
+/* For bindings that do not read C structs (Python's ctypes, python/sinew): the sim's arrays
+ * by name, their shape in *rows x *cols (may be NULL); NULL for an unknown name.  Doubles:
+ * "x", "v" (nv x dim), "x0" (nv x dim), "mass" (nv x 1), "tension_xy", "stretch_u",
+ * "stretch_v", "shear", "area" (nf x 1), "uv" (nf x 6), "tendon_length", "tendon_tension",
+ * "tendon_delta" (ntendon x 1), "term_energy" (nterm x 1), "load" (nv x dim, or NULL without
+ * loads).  Ints: "face" (nf x 3), "dof" (nv x dim: the free DOF of each component, -1 where
+ * pinned).  The memory is the sim's (valid until sw_sim_free; x and v change as it steps). */
+SW_API double *sw_sim_array(sw_sim *s, const char *name, int *rows, int *cols);
+SW_API int *sw_sim_iarray(sw_sim *s, const char *name, int *rows, int *cols);
+/* A counter of sw_data by its field name ("nstep", "nnewton", "nfactor", "nassemble",
+ * "nforce", "nretry", "nlinesearch", "nerrfail", "nsetup"), or -1. */
+SW_API long sw_sim_counter(const sw_sim *s, const char *name);
+/* Sizes and names: "nv", "dim", "nf", "ntendon", "nterm", "ndof"; names of tendon or term k. */
+SW_API int sw_sim_size(const sw_sim *s, const char *name);
+SW_API const char *sw_sim_name(const sw_sim *s, const char *kind, int k);
+/* The current time d->t, s. */
+SW_API double sw_sim_time(const sw_sim *s);
+/* Tendon k's rest length at the current time, m; its waypoints (vertex indices) and their
+ * number in *n. */
+SW_API double sw_sim_rest(const sw_sim *s, int k);
+SW_API const int *sw_sim_waypoints(const sw_sim *s, int k, int *n);
+/* An option of m before sw_sim_new, by its scene or command-line name: "method", "dt",
+ * "duration", "rtol", "atol", "max_order", "max_step", "newton_tol", "newton_max",
+ * "max_halvings", "frames_every", "positions_every", "out" (the output folder), "hessian".
+ * 0, or nonzero with err (unknown key, a value out of range). */
+SW_API int sw_model_set_option(sw_model *m, const char *key, const char *value, char *err,
+                               size_t errsz);
+
 /* Static equilibrium from x0: minimise the total potential.  Fills x (nv x dim) and the sum of
  * the pin reactions (3, N).  0 on success. */
 SW_API int sw_static_solve(const sw_model *m, sw_data *d, double reaction[3], char *err,

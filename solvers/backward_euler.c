@@ -43,6 +43,11 @@ static int bw_init(void **state, const sw_model *m, sw_data *d, char *err, size_
   return init_common(state, m, 1, err, errsz);
 }
 
+static void be_reset(void *p, const sw_model *m, sw_data *d, int what) {
+  (void)m, (void)d, (void)what;
+  sw_ipstep_reset(&((be_state *)p)->ip);
+}
+
 static int be_step(void *p, const sw_model *m, sw_data *d, double h) {
   be_state *s = p;
   sw_ipstep *ip = &s->ip;
@@ -70,6 +75,7 @@ const sw_integrator_ops sw_backward_euler_ops = {
     .init = be_init,
     .step = be_step,
     .free = be_free,
+    .reset = be_reset,
 };
 
 const sw_integrator_ops sw_baraff_witkin_ops = {
@@ -78,4 +84,5 @@ const sw_integrator_ops sw_baraff_witkin_ops = {
     .init = bw_init,
     .step = be_step,
     .free = be_free,
+    .reset = be_reset,
 };

@@ -56,6 +56,15 @@ static int bdf2_init(void **state, const sw_model *m, sw_data *d, char *err, siz
   return SW_OK;
 }
 
+/* A changed state has no past a step behind: the next step is a backward Euler start.  A
+ * changed model keeps the history (it is still the solution's, as at a keyframe). */
+static void bdf2_reset(void *p, const sw_model *m, sw_data *d, int what) {
+  (void)m, (void)d;
+  bdf2_state *s = p;
+  sw_ipstep_reset(&s->ip);
+  if (what & SW_CHANGED_STATE) s->have_prev = 0;
+}
+
 static int bdf2_step(void *p, const sw_model *m, sw_data *d, double h) {
   bdf2_state *s = p;
   sw_ipstep *ip = &s->ip;
@@ -101,4 +110,5 @@ const sw_integrator_ops sw_bdf2_ops = {
     .init = bdf2_init,
     .step = bdf2_step,
     .free = bdf2_free,
+    .reset = bdf2_reset,
 };

@@ -193,6 +193,15 @@ static int cv_advance(cv_state *s, sw_data *d, double tout, sw_real *tret) {
   return CVodeGetDky(s->mem, tout, 0, s->y);
 }
 
+/* Any change between steps: restart from d (pinned positions too) at the next step. */
+static void cv_reset(void *p, const sw_model *m, sw_data *d, int what) {
+  (void)m, (void)what;
+  cv_state *s = p;
+  if (s->sys.n == 0) return;
+  sw_sunls_pins(&s->sys, d->x);
+  s->stale = 1;
+}
+
 static int cv_step(void *p, const sw_model *m, sw_data *d, double h) {
   cv_state *s = p;
   if (s->sys.n == 0) {
@@ -242,4 +251,5 @@ const sw_integrator_ops sw_cvode_ops = {
     .init = cv_init,
     .step = cv_step,
     .free = cv_free,
+    .reset = cv_reset,
 };

@@ -1,5 +1,5 @@
 /* damping.c — the damping matrix D = alpha M + beta K(x) + sum_t c_t grad l_t grad l_t^T
- * (DESIGN.md "Integrators"): Rayleigh damping, K the PSD-projected Hessian of the terms, and
+ * (docs/integrators.md): Rayleigh damping, K the PSD-projected Hessian of the terms, and
  * tendon damping, the force -c_t (dl_t/dt) grad l_t along each tendon.  v.D v >= 0: damping
  * only dissipates.  The Newton-based
  * methods hold D on the system pattern, frozen per step at a predictor of the stage state

@@ -193,6 +193,15 @@ static int ida_advance(ida_state *s, sw_data *d, double tout, sw_real *tret) {
   return flag ? flag : IDAGetDky(s->mem, tout, 1, s->yp);
 }
 
+/* Any change between steps: restart from d (pinned positions too) at the next step. */
+static void ida_reset(void *p, const sw_model *m, sw_data *d, int what) {
+  (void)m, (void)what;
+  ida_state *s = p;
+  if (s->sys.n == 0) return;
+  sw_sunls_pins(&s->sys, d->x);
+  s->stale = 1;
+}
+
 static int ida_step(void *p, const sw_model *m, sw_data *d, double h) {
   ida_state *s = p;
   if (s->sys.n == 0) {
@@ -244,4 +253,5 @@ const sw_integrator_ops sw_ida_ops = {
     .init = ida_init,
     .step = ida_step,
     .free = ida_free,
+    .reset = ida_reset,
 };

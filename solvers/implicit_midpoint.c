@@ -41,6 +41,11 @@ static int mid_init(void **state, const sw_model *m, sw_data *d, char *err, size
   return SW_OK;
 }
 
+static void mid_reset(void *p, const sw_model *m, sw_data *d, int what) {
+  (void)m, (void)d, (void)what;
+  sw_ipstep_reset(&((mid_state *)p)->ip);
+}
+
 static int mid_step(void *p, const sw_model *m, sw_data *d, double h) {
   sw_ipstep *ip = &((mid_state *)p)->ip;
   const int nd = m->nv * m->dim;
@@ -72,4 +77,5 @@ const sw_integrator_ops sw_implicit_midpoint_ops = {
     .init = mid_init,
     .step = mid_step,
     .free = mid_free,
+    .reset = mid_reset,
 };

@@ -1,9 +1,10 @@
-/* inverse.c — the tendon inverse problem (seed 003 §2–3, DESIGN.md "Tendons", docs/inverse.md).
+/* inverse.c — the tendon inverse problem (tendon model §2–3, docs/tendons.md,
+ * docs/inverse.md).
  *
- * At a configuration x the tendons exert the nodal forces f = A tau (seed 003 §2): column t of
+ * At a configuration x the tendons exert the nodal forces f = A tau (tendon model §2): column t of
  * A is tendon t's force per unit tension, sum over its segments (i, j) of eps_ij = +e^_ij at
  * node i, -e^_ij at node j, e^_ij the unit vector from node i to node j.  That is -grad l_t:
- * with s_k = x_{w_k} - x_{w_{k+1}} (seed 003 §1.2), the force at waypoint a is
+ * with s_k = x_{w_k} - x_{w_{k+1}} (the tendon model §1.2), the force at waypoint a is
  * s^_{a-1} - s^_a (a tension pulls each waypoint towards its neighbours; an end point keeps one
  * term).  Only the rows of the target vertices are kept.  Seed 003 §3 minimises
  * U = 1/2 |A tau - f|^2 over tau >= 0 (NNLS, nnls.c), then (§3.1, the "todo") maps tensions to
@@ -70,7 +71,7 @@ void sw_inverse_free(sw_inverse *inv) {
   memset(inv, 0, sizeof *inv);
 }
 
-/* alpha_t = l_t - tau_t / K_t (seed 003 §3.1); a tendon with K = 0 keeps its scene rest length. */
+/* alpha_t = l_t - tau_t / K_t (tendon model §3.1); a tendon with K = 0 keeps its scene rest length. */
 static void rest_lengths(const sw_model *m, const double *x, sw_inverse *inv) {
   for (int t = 0; t < m->ntendon; t++) {
     const sw_tendon *td = &m->tendon[t];

@@ -1,5 +1,5 @@
-/* inverse.h — internal pieces of the tendon inverse problem (solvers/inverse.c, DESIGN.md
- * "Tendons", seed 003 §2–3, docs/inverse.md): the force matrix A (inverse.c) and
+/* inverse.h — internal pieces of the tendon inverse problem (solvers/inverse.c,
+ * docs/tendons.md, docs/inverse.md): the force matrix A (inverse.c) and
  * non-negative least squares (nnls.c).
  * The public entry points (sw_inverse_solve, sw_inverse_check, sw_targets_read) are in sinew.h. */
 #ifndef SW_INVERSE_H
@@ -10,7 +10,7 @@
 #include "sinew.h"
 
 /* A (column-major, (nt*dim) x ntendon, leading dimension nt*dim) at x (nv x dim, m): column t
- * holds the nodal force of tendon t per unit tension, -grad l_t (seed 003 §2: the sum of its
+ * holds the nodal force of tendon t per unit tension, -grad l_t (tendon model §2: the sum of its
  * segments' eps_ij, +e^_ij at node i and -e^_ij at node j), on the rows of the nt target
  * vertices target[] (target k, component c: row k*dim + c).  Unitless.  A tendon with
  * K = 0 gets a zero column (no rest length makes it pull).  Nonzero when out of memory. */

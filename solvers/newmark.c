@@ -26,6 +26,7 @@ typedef struct nm_state {
   sw_ipstep ip;
   double *acc, *anew; /* (nv x dim) a_n and a_{n+1} */
   double tacc;        /* time of the state acc belongs to */
+  int stale;          /* acc must be re-evaluated (a change between steps) */
 } nm_state;
 
 static void nm_free(void *p) {
@@ -72,15 +73,24 @@ static int nm_init(void **state, const sw_model *m, sw_data *d, char *err, size_
   return SW_OK;
 }
 
+/* a_n = M^-1 f(x_n, t_n) no longer holds after any change: evaluated again at the next step. */
+static void nm_reset(void *p, const sw_model *m, sw_data *d, int what) {
+  (void)m, (void)d, (void)what;
+  nm_state *s = p;
+  sw_ipstep_reset(&s->ip);
+  s->stale = 1;
+}
+
 static int nm_step(void *p, const sw_model *m, sw_data *d, double h) {
   nm_state *s = p;
   sw_ipstep *ip = &s->ip;
   const int nd = m->nv * m->dim;
   /* a_n belongs to the state it was computed at; the run loop resets d->t to the interval end
    * (round-off), anything more means the state was changed from outside. */
-  if (fabs(d->t - s->tacc) > 1e-9 * h) {
+  if (s->stale || fabs(d->t - s->tacc) > 1e-9 * h) {
     int rc = eval_acc(s, m, d);
     if (rc) return rc;
+    s->stale = 0;
   }
   const double bh2 = BETA * h * h;
   /* damping: v_{n+1} = v_n + h/2 (a_n + a_{n+1}) = (2/h) (x - xd) with
@@ -113,4 +123,5 @@ const sw_integrator_ops sw_newmark_ops = {
     .init = nm_init,
     .step = nm_step,
     .free = nm_free,
+    .reset = nm_reset,
 };

@@ -1,6 +1,6 @@
 /* nnls.c — non-negative least squares min 1/2 |A x - b|^2, x >= 0, by the active-set method of
  * Lawson and Hanson ("Solving Least Squares Problems", 1974, ch. 23), the tendon inverse
- * problem's optimiser (seed 003 §3: U = 1/2 (A tau - f)^T (A tau - f), tau >= 0).
+ * problem's optimiser (the tendon model §3: U = 1/2 (A tau - f)^T (A tau - f), tau >= 0).
  *
  * x starts at 0 with every component active (held at 0).  Each outer iteration frees the active
  * component with the largest gradient w_j = [A^T (b - A x)]_j > tol and solves the unconstrained

@@ -1,4 +1,4 @@
-/* solver.h — the shared linear-algebra path of every implicit method (DESIGN.md "Integrators"):
+/* solver.h — the shared linear-algebra path of every implicit method (docs/integrators.md):
  * a fixed upper-triangle CSC pattern on the free DOFs built once from the terms' stencils,
  * CHOLMOD analysed once and refactorised per Newton iteration, Newton's method on an
  * incremental potential, and the table of operations every integrator fills. */
@@ -37,7 +37,7 @@ void sw_pattern_symv(const sw_pattern *p, const double *values, const double *x,
 
 /* ---------------------------------------------------------------- damping.c */
 /* Rayleigh damping D = alpha M + beta K(x), K the PSD-projected Hessian of the terms
- * (DESIGN.md "Integrators": S = c^2 M + c D + H); sw_damped (sinew.h) says if there is any. */
+ * (docs/integrators.md: S = c^2 M + c D + H); sw_damped (sinew.h) says if there is any. */
 /* values += sum_t c_t grad l_t grad l_t^T at x on the pattern (tendons of at most
  * tendon_dense_max waypoints: their dense stencil holds every slot). */
 void sw_damping_tendons_fill(const sw_pattern *p, const sw_model *m, const double *x,
@@ -185,6 +185,9 @@ sw_newton_opts sw_ipstep_opts(const sw_model *m, const sw_ipstep *s, double a, d
  * DOFs (the pinned components from d->x) into s->xnew. */
 int sw_ipstep_solve(sw_ipstep *s, const sw_model *m, sw_data *d, const sw_newton_opts *o,
                     const double *y0);
+/* After a change between steps (SW_CHANGED_*): a kept factorisation is dropped (the Hessian it
+ * was built from changed). */
+void sw_ipstep_reset(sw_ipstep *s);
 /* Accept xnew, vnew as the state at d->t + h, after the energy check when check_energy. */
 int sw_ipstep_commit(sw_ipstep *s, const sw_model *m, sw_data *d, double h, int check_energy);
 
@@ -199,7 +202,15 @@ typedef struct sw_integrator_ops {
    * says why (positive: a smaller step may succeed). */
   int (*step)(void *state, const sw_model *m, sw_data *d, double dt);
   void (*free)(void *state);
+  /* Between steps the caller (sim.c) changed what SW_CHANGED_* says: forget what no longer
+   * holds and restart from d at the next step.  NULL: the method keeps nothing that could. */
+  void (*reset)(void *state, const sw_model *m, sw_data *d, int what);
 } sw_integrator_ops;
+
+/* What changed between two steps: the state (d->t, d->x, d->v: a history of past states no
+ * longer leads to it), or the model (rest lengths, pin positions, loads: the equations of
+ * motion changed at d->t, a history of states still holds). */
+enum { SW_CHANGED_STATE = 1, SW_CHANGED_MODEL = 2 };
 
 /* SW_OK, or SW_RECOVER (with d->err) when K(v) + U(x, t) exceeds d->energy_bound (> 0) or is
  * not finite: an explicit method blowing up fails the step instead of producing garbage. */

@@ -9,6 +9,12 @@
 
 /* ------------------------------------------------------------ state and forces */
 
+void sw_sunls_pins(sw_sunls *sys, const double *x) {
+  const sw_model *m = sys->m;
+  for (int i = 0; i < m->nv * m->dim; i++)
+    if (m->dof[i] < 0) sys->xfull[i] = x[i];
+}
+
 void sw_sunls_gather(const sw_sunls *sys, const double *x, const double *v, double *y) {
   const sw_model *m = sys->m;
   for (int i = 0; i < m->nv * m->dim; i++) {

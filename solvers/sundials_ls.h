@@ -2,7 +2,7 @@
  * DOFs, force evaluation, the Hessian kept on the fixed pattern, and a custom SUNLinearSolver
  * that solves SUNDIALS' 2n x 2n Newton systems through the n x n Schur complement
  *   S = cm M + cd D + ch H    (CVODE: cm = 1, ch = gamma^2;  IDA: cm = cj^2, ch = 1)
- * factorised by CHOLMOD (DESIGN.md "Integrators").  D is the damping matrix: there is none yet
+ * factorised by CHOLMOD (docs/integrators.md).  D is the damping matrix: there is none yet
  * D = alpha M + beta K is Rayleigh damping (damping.c): the forces use D at the current
  * state; the Newton matrices use alpha M + beta H with the H they hold (an approximate
  * Jacobian, as for every term's dD/dx, which is left out).
@@ -60,6 +60,8 @@ struct sw_sunls {
 int sw_sunls_init(sw_sunls *sys, const sw_model *m, sw_data *d, sw_sunls_reduce_fn reduce,
                   char *err, size_t errsz);
 void sw_sunls_free(sw_sunls *sys);
+/* The pinned positions of the evaluations (sys->xfull) from x (nv x dim), after they moved. */
+void sw_sunls_pins(sw_sunls *sys, const double *x);
 
 /* y (2n) <- the free components of x and v (nv x dim each); and back (pinned: v = 0). */
 void sw_sunls_gather(const sw_sunls *sys, const double *x, const double *v, double *y);

@@ -204,7 +204,7 @@ static void free_targets(sw_targets *tg) {
   free(tg->f);
 }
 
-/* A's columns are -grad l (seed 003 §2) by central differences of sw_tendon_length. */
+/* A's columns are -grad l (the tendon model §2) by central differences of sw_tendon_length. */
 static void matrix_is_minus_grad_length(void **st) {
   (void)st;
   sw_model *m = load(net3d);

@@ -1,4 +1,4 @@
-/* test_tendons.c — the tendon term (models/tendon.c, seed 003) and its low-rank path:
+/* test_tendons.c — the tendon term (models/tendon.c, the tendon model) and its low-rank path:
  *   - conformance (gradient, Hessian, symmetry, PSD projection, rigid motions) on tendons of
  *     2, 3 and 20 waypoints in 2D and 3D, spring and taut cable, dense and low-rank storage;
  *   - a slack cable exerts nothing; a straight two-waypoint tendon pulls with K (l - alpha)

@@ -1,4 +1,4 @@
-/* test_tension.c — tension XY (seed 000) against its worked example and analytic cases. */
+/* test_tension.c — tension XY (Optitex) against its worked example and analytic cases. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -59,7 +59,7 @@ static void worked_example(void **st) {
   }
 }
 
-/* The stiffness is clipped at 5e4 N/m (seed 000). */
+/* The stiffness is clipped at 5e4 N/m (Optitex). */
 static void clipped(void **st) {
   (void)st;
   sw_model *m = seed_triangle(2e5, 800.0, 1);

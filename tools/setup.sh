@@ -5,7 +5,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 packages=(libsuitesparse-dev libsundials-dev libopenblas-dev libfyaml-dev libcmocka-dev
-          meson ninja-build pkg-config gcc python3-matplotlib python3-numpy)
+          meson ninja-build pkg-config gcc python3-matplotlib python3-numpy python3-pytest
+          python3-pandas)
 
 missing=()
 for p in "${packages[@]}"; do

@@ -1,4 +1,4 @@
-/* output.h — the writers of a run's folder, as the run loop (sim/run.c) calls them.  Each
+/* output.h — the writers of a run's folder, as the run loop (sim/sim.c) calls them.  Each
  * format is one file of sim/output/ behind the operations of writer.h; output.c drives them.
  *
  * While a run is going, the CSV logs (and positions.bin) are written as NAME.part, each line

@@ -1,0 +1,412 @@
+"""sinew from Python: load a scene, step it, read its state and diagnostics, change tendons,
+pins and loads between steps.
+
+A thin layer (ctypes) over libsinew's stepping API (sinew.h, "stepping"); the arrays it hands
+out are numpy views of sinew's own memory (no copies), read-only: write through the setters
+(``sim.positions = ...``, ``tendon.rest_length = ...``), which tell the integrator to restart
+where its history no longer holds.  Units are SI: m, s, kg, N.  docs/python.md has the guide.
+
+The library is found at $SINEW_LIB (a path to libsinew.so), else where ``meson install`` put
+it (``_libpath.py``, written at install), else on the loader's path.
+"""
+import ctypes
+import ctypes.util
+import os
+from collections.abc import Mapping
+
+import numpy as np
+
+__all__ = ["load", "Simulation", "Tendon", "SinewError", "methods"]
+
+_ERRSZ = 1024
+
+
+class SinewError(Exception):
+    """An error of libsinew, with its message (file:line:column for a bad scene)."""
+
+
+class _Overrides(ctypes.Structure):
+    _fields_ = [("grid", ctypes.c_int * 2), ("stiffness_scale", ctypes.c_double)]
+
+
+def _find_library():
+    path = os.environ.get("SINEW_LIB")
+    if not path:
+        try:
+            from . import _libpath  # written by meson install
+            path = _libpath.LIBRARY
+        except ImportError:
+            path = ctypes.util.find_library("sinew")
+    if not path:
+        raise SinewError("libsinew not found: set SINEW_LIB to the path of libsinew.so "
+                         "(in a build tree: build/libsinew.so)")
+    try:
+        return ctypes.CDLL(path)
+    except OSError as e:
+        raise SinewError("cannot load libsinew from %s: %s" % (path, e)) from None
+
+
+_P = ctypes.c_void_p
+_D = ctypes.c_double
+_I = ctypes.c_int
+_S = ctypes.c_char_p
+_Z = ctypes.c_size_t
+_DP = ctypes.POINTER(ctypes.c_double)
+_IP = ctypes.POINTER(ctypes.c_int)
+
+_SIGNATURES = {
+    "sw_scene_load_ex": (_P, [_S, ctypes.POINTER(_Overrides), _S, _Z]),
+    "sw_model_free": (None, [_P]),
+    "sw_model_set_option": (_I, [_P, _S, _S, _S, _Z]),
+    "sw_sim_new": (_P, [_P, _I, _S, _Z]),
+    "sw_sim_step": (_I, [_P, _S, _Z]),
+    "sw_sim_run": (_I, [_P, _D, _S, _Z]),
+    "sw_sim_close": (_I, [_P, _S, _Z]),
+    "sw_sim_free": (None, [_P]),
+    "sw_sim_energy": (None, [_P, _DP, _DP, _DP]),
+    "sw_sim_set_state": (_I, [_P, _D, _DP, _DP, _S, _Z]),
+    "sw_sim_set_rest": (_I, [_P, _I, _D, _S, _Z]),
+    "sw_sim_set_pin": (_I, [_P, _I, _DP, _S, _Z]),
+    "sw_sim_set_load": (_I, [_P, _I, _DP, _S, _Z]),
+    "sw_sim_array": (_DP, [_P, _S, _IP, _IP]),
+    "sw_sim_iarray": (_IP, [_P, _S, _IP, _IP]),
+    "sw_sim_counter": (ctypes.c_long, [_P, _S]),
+    "sw_sim_size": (_I, [_P, _S]),
+    "sw_sim_name": (_S, [_P, _S, _I]),
+    "sw_sim_rest": (_D, [_P, _I]),
+    "sw_sim_time": (_D, [_P]),
+    "sw_sim_waypoints": (_IP, [_P, _I, _IP]),
+    "sw_method_names": (ctypes.POINTER(_S), []),
+}
+
+_lib = None
+
+
+def _library():
+    global _lib
+    if _lib is None:
+        lib = _find_library()
+        for name, (res, args) in _SIGNATURES.items():
+            f = getattr(lib, name)
+            f.restype = res
+            f.argtypes = args
+        _lib = lib
+    return _lib
+
+
+def _call(fn, *args):
+    """fn(*args, err, errsz); a SinewError with sinew's message when it returns nonzero."""
+    err = ctypes.create_string_buffer(_ERRSZ)
+    rc = fn(*args, err, _ERRSZ)
+    if rc:
+        raise SinewError(err.value.decode(errors="replace"))
+
+
+def methods():
+    """The names of the integrators (and "static")."""
+    names, k, out = _library().sw_method_names(), 0, []
+    while names[k]:
+        out.append(names[k].decode())
+        k += 1
+    return out
+
+
+def _view(owner, ptr, shape, ctype, dtype):
+    """A read-only numpy array over sinew's memory at ptr that keeps owner alive."""
+    n = int(np.prod(shape))
+    if n == 0 or not ptr:
+        return np.zeros(shape, dtype=dtype)
+    buf = (ctype * n).from_address(ctypes.addressof(ptr.contents))
+    buf._owner = owner
+    a = np.frombuffer(buf, dtype=dtype).reshape(shape)
+    a.flags.writeable = False
+    return a
+
+
+def _vector(values, n, what):
+    a = np.ascontiguousarray(values, dtype=np.float64).reshape(-1)
+    if a.size != n:
+        raise ValueError("%s: %d values; expected %d" % (what, a.size, n))
+    return a
+
+
+class Tendon:
+    """One tendon of a simulation: its length (m), tension (N) and rest length (m, settable:
+    from then on the rest length is constant, its keyframes replaced)."""
+
+    def __init__(self, sim, index, name):
+        self._sim, self.index, self.name = sim, index, name
+
+    @property
+    def rest_length(self):
+        return _library().sw_sim_rest(self._sim._ptr, self.index)
+
+    @rest_length.setter
+    def rest_length(self, value):
+        _call(_library().sw_sim_set_rest, self._sim._ptr, self.index, float(value))
+
+    @property
+    def length(self):
+        return float(self._sim._array("tendon_length")[self.index])
+
+    @property
+    def tension(self):
+        return float(self._sim._array("tendon_tension")[self.index])
+
+    @property
+    def waypoints(self):
+        n = ctypes.c_int()
+        p = _library().sw_sim_waypoints(self._sim._ptr, self.index, ctypes.byref(n))
+        return _view(self._sim, p, (n.value,), ctypes.c_int, np.intc)
+
+    def __repr__(self):
+        return "<Tendon %r: length %.6g m, rest %.6g m, tension %.6g N>" % (
+            self.name, self.length, self.rest_length, self.tension)
+
+
+class _Tendons(Mapping):
+    def __init__(self, sim):
+        lib = _library()
+        n = lib.sw_sim_size(sim._ptr, b"ntendon")
+        self._items = {}
+        for k in range(n):
+            name = lib.sw_sim_name(sim._ptr, b"tendon", k).decode()
+            self._items[name] = Tendon(sim, k, name)
+
+    def __getitem__(self, name):
+        try:
+            return self._items[name]
+        except KeyError:
+            raise KeyError("no tendon %r (the scene has: %s)" %
+                           (name, ", ".join(self._items) or "none")) from None
+
+    def __iter__(self):
+        return iter(self._items)
+
+    def __len__(self):
+        return len(self._items)
+
+    def __repr__(self):
+        return "<tendons: %s>" % ", ".join(repr(t) for t in self._items.values())
+
+
+class Simulation:
+    """A scene being simulated, one step at a time (sinew.h: sw_sim).  Made by sinew.load."""
+
+    def __init__(self, model, flags):
+        lib = _library()
+        self._model, self._ptr = model, None
+        err = ctypes.create_string_buffer(_ERRSZ)
+        ptr = lib.sw_sim_new(model, flags, err, _ERRSZ)
+        if not ptr:
+            lib.sw_model_free(model)
+            self._model = None
+            raise SinewError(err.value.decode(errors="replace"))
+        self._ptr = ptr
+        self.tendons = _Tendons(self)
+        """The tendons by name: each with .length, .tension, settable .rest_length."""
+
+    # ---------------------------------------------------------------- lifetime
+    def close(self):
+        """Finish the run folder (summary.json; nothing without one).  Arrays stay valid."""
+        if self._ptr:
+            _call(_library().sw_sim_close, self._ptr)
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    def __del__(self):
+        lib = _lib
+        if lib is None:
+            return
+        if getattr(self, "_ptr", None):
+            lib.sw_sim_free(self._ptr)
+            self._ptr = None
+        if getattr(self, "_model", None):
+            lib.sw_model_free(self._model)
+            self._model = None
+
+    # ---------------------------------------------------------------- stepping
+    def step(self, n=1):
+        """n steps of dt (the static method: an equilibrium solve from the current positions)."""
+        for _ in range(n):
+            _call(_library().sw_sim_step, self._ptr)
+
+    def run(self, until):
+        """Step until the time `until` (s); the last step is shortened to land on it."""
+        _call(_library().sw_sim_run, self._ptr, float(until))
+
+    # ---------------------------------------------------------------- reading
+    def _size(self, name):
+        return _library().sw_sim_size(self._ptr, name.encode())
+
+    def _array(self, name):
+        rows, cols = ctypes.c_int(), ctypes.c_int()
+        p = _library().sw_sim_array(self._ptr, name.encode(), ctypes.byref(rows),
+                                    ctypes.byref(cols))
+        shape = (rows.value,) if cols.value == 1 else (rows.value, cols.value)
+        return _view(self, p, shape, ctypes.c_double, np.float64)
+
+    @property
+    def time(self):
+        """The current time, s."""
+        return _library().sw_sim_time(self._ptr)
+
+    @property
+    def nv(self):
+        return self._size("nv")
+
+    @property
+    def dim(self):
+        return self._size("dim")
+
+    @property
+    def nfaces(self):
+        return self._size("nf")
+
+    @property
+    def method(self):
+        return _library().sw_sim_name(self._ptr, b"method", 0).decode()
+
+    @property
+    def positions(self):
+        """(nv, dim) positions, m: a read-only view that follows the simulation."""
+        return self._array("x")
+
+    @positions.setter
+    def positions(self, x):
+        self.set_state(positions=x)
+
+    @property
+    def velocities(self):
+        """(nv, dim) velocities, m/s: a read-only view."""
+        return self._array("v")
+
+    @velocities.setter
+    def velocities(self, v):
+        self.set_state(velocities=v)
+
+    @property
+    def initial_positions(self):
+        return self._array("x0")
+
+    @property
+    def faces(self):
+        rows, cols = ctypes.c_int(), ctypes.c_int()
+        p = _library().sw_sim_iarray(self._ptr, b"face", ctypes.byref(rows), ctypes.byref(cols))
+        return _view(self, p, (rows.value, cols.value), ctypes.c_int, np.intc)
+
+    @property
+    def pinned(self):
+        """(nv,) bool: the vertices with a pinned component."""
+        rows, cols = ctypes.c_int(), ctypes.c_int()
+        p = _library().sw_sim_iarray(self._ptr, b"dof", ctypes.byref(rows), ctypes.byref(cols))
+        return (_view(self, p, (rows.value, cols.value), ctypes.c_int, np.intc) < 0).any(axis=1)
+
+    @property
+    def masses(self):
+        """(nv,) lumped masses, kg."""
+        return self._array("mass")
+
+    @property
+    def tension_xy(self):
+        """(nfaces,) tension XY of each face, N/m."""
+        return self._array("tension_xy")
+
+    @property
+    def stretch_u(self):
+        """(nfaces,) warp stretch |w_u| of each face (1: unstretched)."""
+        return self._array("stretch_u")
+
+    @property
+    def stretch_v(self):
+        """(nfaces,) weft stretch |w_v| of each face."""
+        return self._array("stretch_v")
+
+    @property
+    def shear(self):
+        """(nfaces,) shear angle between the warp and weft directions, rad."""
+        return self._array("shear")
+
+    @property
+    def energy(self):
+        """Energies of the current state, J: kinetic, potential, total, dissipated (by damping,
+        so far) and one entry per term ("E_" + its name)."""
+        k, u, dis = _D(), _D(), _D()
+        _library().sw_sim_energy(self._ptr, ctypes.byref(k), ctypes.byref(u), ctypes.byref(dis))
+        out = {"kinetic": k.value, "potential": u.value, "total": k.value + u.value,
+               "dissipated": dis.value}
+        te = self._array("term_energy")
+        for i in range(self._size("nterm")):
+            out["E_" + _library().sw_sim_name(self._ptr, b"term", i).decode()] = float(te[i])
+        return out
+
+    @property
+    def counters(self):
+        """The solver's counters since the start: steps, Newton iterations, factorisations..."""
+        names = ["nstep", "nnewton", "nfactor", "nassemble", "nforce", "nretry",
+                 "nlinesearch", "nerrfail", "nsetup"]
+        return {n: _library().sw_sim_counter(self._ptr, n.encode()) for n in names}
+
+    # ---------------------------------------------------------------- changing
+    def set_state(self, time=None, positions=None, velocities=None):
+        """Set the time (s), positions ((nv, dim), m: pinned rows move the pins) and velocities
+        ((nv, dim), m/s); None keeps one."""
+        nd = self.nv * self.dim
+        t = self.time if time is None else float(time)
+        x = None if positions is None else _vector(positions, nd, "positions")
+        v = None if velocities is None else _vector(velocities, nd, "velocities")
+        as_ptr = (lambda a: None if a is None else a.ctypes.data_as(_DP))
+        _call(_library().sw_sim_set_state, self._ptr, t, as_ptr(x), as_ptr(v))
+
+    def set_pin(self, vertex, position):
+        """Move pinned vertex `vertex` to position (dim values, m)."""
+        p = _vector(position, self.dim, "position")
+        _call(_library().sw_sim_set_pin, self._ptr, int(vertex), p.ctypes.data_as(_DP))
+
+    def set_load(self, vertex, force):
+        """The point load on `vertex` (dim values, N); the scene must have `loads`."""
+        f = _vector(force, self.dim, "force")
+        _call(_library().sw_sim_set_load, self._ptr, int(vertex), f.ctypes.data_as(_DP))
+
+    def __repr__(self):
+        return "<sinew.Simulation %s: %d vertices, %d faces, t = %.6g s>" % (
+            self.method, self.nv, self.nfaces, self.time)
+
+
+def load(scene, method=None, dt=None, out=None, grid=None, stiffness_scale=None, **options):
+    """Load a scene file and start a simulation of it at t = 0.
+
+    method, dt: the integrator and its step (s), overriding the scene's; out: a folder to
+    write the usual run folder to (True: the scene's output.dir; None: none); grid (nx, ny) and
+    stiffness_scale as `sinew run --grid/--stiffness-scale`; any other option of the scene's
+    integrator by name (duration, rtol, atol, max_order, max_step, newton_tol, newton_max,
+    max_halvings, frames_every, positions_every, hessian).  Raises SinewError with sinew's
+    message (file:line:column for a bad scene)."""
+    lib = _library()
+    ov = _Overrides()
+    if grid is not None:
+        ov.grid[0], ov.grid[1] = int(grid[0]), int(grid[1])
+    if stiffness_scale is not None:
+        ov.stiffness_scale = float(stiffness_scale)
+    err = ctypes.create_string_buffer(_ERRSZ)
+    model = lib.sw_scene_load_ex(os.fsencode(scene), ctypes.byref(ov), err, _ERRSZ)
+    if not model:
+        raise SinewError(err.value.decode(errors="replace"))
+    settings = dict(options)
+    if method is not None:
+        settings["method"] = method
+    if dt is not None:
+        settings["dt"] = dt
+    if out is not None and out is not True:
+        settings["out"] = os.fspath(out)
+    try:
+        for key, value in settings.items():
+            _call(lib.sw_model_set_option, model, key.encode(), str(value).encode())
+    except SinewError:
+        lib.sw_model_free(model)
+        raise
+    return Simulation(model, 1 if out is not None and out is not False else 0)

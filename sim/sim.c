@@ -1,0 +1,432 @@
+/* sim.c — the stepping API (sinew.h, "stepping"): state -> integrator step -> diagnostics ->
+ * logs, one step at a time.  sw_run (run.c) is sw_sim_run to the scene's duration.
+ * A failed step is retried with half the step up to opt.max_halvings times; a step that cannot
+ * be made fails with a message naming the time, the method and the reason and leaves the last
+ * good state.  With a run folder: frames (every opt.frames_every s, the first state and the
+ * end of each sw_sim_run; none when it is < 0) and records of positions.bin (every
+ * opt.positions_every s > 0, and the same first and last) are taken at logged states, and
+ * sw_sim_close writes the last good state as a frame and a summary.json "failed" when the last
+ * step failed. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "output.h"
+#include "solver.h"
+#include "util.h"
+
+struct sw_sim {
+  sw_model *m;
+  sw_data *d;
+  sw_output *out;              /* the run folder, or NULL */
+  const sw_integrator_ops *ops; /* NULL: the static solve */
+  void *st;                    /* the integrator's state */
+  double t0;                   /* s: the origin of the step grid t0 + n dt */
+  long n;                      /* grid steps taken since t0 */
+  double next_frame;           /* s */
+  double next_positions;       /* s: when the next record of positions.bin is due */
+  double wall0, last_progress;
+  int progress;
+  double t_logged;             /* s: time of the previous log line (damping's trapezoid) */
+  int logged;                  /* a line was logged since the start or the last set_state */
+  int changed;                 /* SW_CHANGED_* since the last step */
+  int failed;                  /* the last step failed, with msg */
+  char msg[SW_ERRSZ];
+  int finished;                /* the run folder was closed (finish ran) */
+};
+
+/* The power damping dissipates at the current state (d->grad as scratch for D v) and its
+ * integral by the trapezoid rule between log lines. */
+static int damping_power(sw_sim *s) {
+  sw_data *d = s->d;
+  double p;
+  int rc = sw_damping_force(s->m, d, d->x, d->t, d->v, d->grad, &p);
+  if (rc) return rc;
+  if (s->logged) d->dissipated += 0.5 * (d->damp_power + p) * (d->t - s->t_logged); /* J */
+  d->damp_power = p; /* W */
+  return SW_OK;
+}
+
+/* Prefix err (an output failure) with the time it happened at; returns SW_FATAL. */
+static int output_failed(const sw_data *d, char *err, size_t errsz) {
+  if (err && errsz) {
+    char why[SW_ERRSZ];
+    snprintf(why, sizeof why, "%s", err);
+    sw_errf(err, errsz, "t = %.9g s: %s", d->t, why);
+  }
+  return SW_FATAL;
+}
+
+/* A sample taken every `every` s (> 0) is due at t when t reached next (up to round-off). */
+static int is_due(double every, double next, double t) {
+  return every > 0.0 && t >= next - 1e-9 * fmax(every, 1.0);
+}
+
+/* After a sample at t: the next one is next + k every, the first past t, with the count k of
+ * intervals computed at once (adding every until next passes t spins forever once every is
+ * below half an ulp of next).  An interval below the step makes every step a sample; when
+ * next + k every overflows or does not move, next = t (the next step is due). */
+static void advance(double every, double *next, double t) {
+  double tol = 1e-9 * fmax(every, 1.0);
+  if (!(every > 0.0) || *next > t + tol) return;
+  double k = floor((t + tol - *next) / every) + 1.0, n = *next + k * every;
+  *next = isfinite(n) && n > *next ? n : t;
+}
+
+/* The diagnostics of the current state: term energies (into *u, J), tension XY, tendons. */
+static int diagnose(sw_sim *s, double *u) {
+  int rc = sw_eval_terms(s->m, s->d, s->d->x, s->d->t, 0, 0, 0, u);
+  if (rc) return rc;
+  sw_tension_xy(s->m, s->d);
+  sw_tendon_state(s->m, s->d);
+  return SW_OK;
+}
+
+/* Diagnostics of the current state and, with a run folder, one log line, a record of
+ * positions.bin and a frame when they are due (force: the first and last state, due anyway
+ * when they are on). */
+static int record(sw_sim *s, int force, char *err, size_t errsz) {
+  const sw_model *m = s->m;
+  sw_data *d = s->d;
+  double u;
+  int rc = sw_damped(m) ? damping_power(s) : SW_OK;
+  if (!rc) rc = diagnose(s, &u);
+  if (rc) /* e.g. a step accepted a state whose energy is not finite */
+    return sw_errf(err, errsz, "t = %.9g s: %s: cannot evaluate the state to log it: %s", d->t,
+                   m->opt.method, d->err),
+           SW_FATAL;
+  s->t_logged = d->t;
+  s->logged = 1;
+  if (!s->out) return SW_OK;
+  double pe = m->opt.positions_every, fe = m->opt.frames_every; /* s */
+  int pos = pe > 0.0 && (force || is_due(pe, s->next_positions, d->t));
+  if (sw_output_record(s->out, m, d, pos, err, errsz)) return output_failed(d, err, errsz);
+  if (pos) advance(pe, &s->next_positions, d->t);
+  if (fe >= 0.0 && (force || is_due(fe, s->next_frame, d->t))) {
+    if (sw_output_frame(s->out, m, d, err, errsz)) return output_failed(d, err, errsz);
+    advance(fe, &s->next_frame, d->t);
+  }
+  return SW_OK;
+}
+
+static void show_progress(sw_sim *s, int final) {
+  if (!s->progress) return;
+  double now = sw_now();
+  if (!final && now - s->last_progress < 0.25) return;
+  s->last_progress = now;
+  const sw_data *d = s->d;
+  fprintf(stderr, "\r  t = %9.4f / %g s  steps %ld  newton %ld  factorizations %ld  %6.1f s%s",
+          d->t, s->m->opt.duration, d->nstep, d->nnewton, d->nfactor, now - s->wall0,
+          final ? "\n" : "");
+  fflush(stderr);
+}
+
+/* One attempt of the integrator's step of size h (timed). */
+static int try_step(sw_sim *s, double h) {
+  double t0 = sw_now();
+  int rc = s->ops->step(s->st, s->m, s->d, h);
+  s->d->time_step += sw_now() - t0;
+  return rc;
+}
+
+/* One step from d->t to end, halving it on recoverable failures.  Returns the last error code. */
+static int step_with_retries(sw_sim *s, double end, char *err, size_t errsz) {
+  const sw_model *m = s->m;
+  sw_data *d = s->d;
+  const double dt = end - d->t;
+  double h = dt;
+  int k = 0, rc = SW_OK;
+  for (; k <= m->opt.max_halvings; k++, h *= 0.5) {
+    rc = try_step(s, fmin(h, end - d->t));
+    /* After a success with a reduced step, finish [t, t + dt] with it, logging each one. */
+    while (rc == SW_OK && d->t < end - 1e-12 * dt) {
+      if (record(s, 0, err, errsz)) return SW_FATAL;
+      rc = try_step(s, fmin(h, end - d->t));
+    }
+    if (rc == SW_OK) {
+      d->t = end; /* no drift from summing steps */
+      return SW_OK;
+    }
+    if (rc < 0) break;
+    d->nretry++;
+  }
+  sw_errf(err, errsz, "t = %.9g s: %s: %s (step %g s, halved %d times)", d->t, m->opt.method,
+          d->err, dt, SW_MIN(k, m->opt.max_halvings));
+  return SW_FATAL;
+}
+
+/* n dt, snapped to the nearest 12-digit decimal when that is within 1e-9 dt of it, so that step
+ * times read 0.57 rather than 0.5700000000000001 (57 * 0.01) in the logs. */
+static double tidy_time(double t, double dt) {
+  char buf[32];
+  snprintf(buf, sizeof buf, "%.12g", t);
+  double v = strtod(buf, NULL);
+  return fabs(v - t) <= 1e-9 * dt ? v : t;
+}
+
+/* The result of a step: remembered for sw_sim_close (msg: the failure). */
+static int outcome(sw_sim *s, int rc, const char *err) {
+  s->failed = rc != SW_OK;
+  snprintf(s->msg, sizeof s->msg, "%s", rc && err ? err : "");
+  show_progress(s, 0);
+  return rc;
+}
+
+static int static_step(sw_sim *s, char *err, size_t errsz) {
+  double reaction[3];
+  int rc = sw_static_solve(s->m, s->d, reaction, err, errsz);
+  if (rc) return outcome(s, rc, err);
+  s->d->nstep++;
+  if (s->progress)
+    fprintf(stderr, "static equilibrium: pin reactions sum to (%.9g, %.9g, %.9g) N\n",
+            reaction[0], reaction[1], reaction[2]);
+  return outcome(s, record(s, 1, err, errsz), err);
+}
+
+/* The step to end (a point of the grid, or the end of a sw_sim_run), logged; force: a frame
+ * and a positions record however due.  The integrator first forgets what a change made
+ * stale. */
+static int step_to(sw_sim *s, double end, int force, char *err, size_t errsz) {
+  if (s->changed && s->ops->reset) s->ops->reset(s->st, s->m, s->d, s->changed);
+  s->changed = 0;
+  int rc = step_with_retries(s, end, err, errsz);
+  if (rc == SW_OK) rc = record(s, force, err, errsz);
+  return outcome(s, rc, err);
+}
+
+/* The next point of the step grid, s. */
+static double grid_next(const sw_sim *s) {
+  const double dt = s->m->opt.dt;
+  return s->t0 + tidy_time((double)(s->n + 1) * dt, dt);
+}
+
+int sw_sim_step(sw_sim *s, char *err, size_t errsz) {
+  if (!s->ops) return static_step(s, err, errsz);
+  int rc = step_to(s, grid_next(s), 0, err, errsz);
+  if (rc == SW_OK) s->n++;
+  return rc;
+}
+
+int sw_sim_run(sw_sim *s, double until, char *err, size_t errsz) {
+  if (!s->ops) return static_step(s, err, errsz);
+  const double dt = s->m->opt.dt;
+  int rc = SW_OK;
+  while (rc == SW_OK && s->d->t < until) {
+    /* a step ends on the grid (not a running sum), and a last sliver below dt/1e6 is merged */
+    double grid = grid_next(s), end = fmin(grid, until);
+    if (until - end < 1e-6 * dt) end = until;
+    rc = step_to(s, end, end == until, err, errsz);
+    if (rc == SW_OK && grid <= until + 1e-6 * dt) s->n++;
+  }
+  return rc;
+}
+
+/* Write the folder's end: the last good state as a frame after a failure, the summary. */
+static int finish(sw_sim *s, char *err, size_t errsz) {
+  if (s->finished) return SW_OK;
+  s->finished = 1;
+  show_progress(s, 1);
+  if (!s->out) return SW_OK;
+  if (s->failed) {
+    char ferr[SW_ERRSZ]; /* the last good state, as a frame */
+    sw_tension_xy(s->m, s->d);
+    sw_output_frame(s->out, s->m, s->d, ferr, sizeof ferr);
+  }
+  int rc = sw_output_close(s->out, s->m, s->d, s->failed ? "failed" : "ok", s->msg,
+                           sw_now() - s->wall0, err, errsz);
+  s->out = NULL;
+  return rc;
+}
+
+int sw_sim_close(sw_sim *s, char *err, size_t errsz) { return s ? finish(s, err, errsz) : 0; }
+
+void sw_sim_free(sw_sim *s) {
+  if (!s) return;
+  char err[SW_ERRSZ];
+  finish(s, err, sizeof err);
+  if (s->ops && s->st) s->ops->free(s->st);
+  sw_data_free(s->d);
+  sw_free(s);
+}
+
+/* The integrator (none for static) and its state, started at d; "METHOD: cannot start: why". */
+static int start_method(sw_sim *s, char *err, size_t errsz) {
+  const sw_model *m = s->m;
+  if (!strcmp(m->opt.method, "static")) return SW_OK;
+  s->ops = sw_integrator_find(m->opt.method);
+  if (!s->ops) return sw_errf(err, errsz, "unknown method '%s'", m->opt.method), SW_FATAL;
+  int rc = s->ops->init(&s->st, m, s->d, err, errsz);
+  if (rc) { /* name the method that could not start */
+    char why[SW_ERRSZ];
+    snprintf(why, sizeof why, "%s", err ? err : "");
+    sw_errf(err, errsz, "%s: cannot start: %s", m->opt.method, why);
+    s->st = NULL;
+  }
+  return rc;
+}
+
+sw_sim *sw_sim_new(sw_model *m, int flags, char *err, size_t errsz) {
+  sw_set_threads(m->opt.blas_threads);
+  sw_sim *s = sw_calloc(1, sizeof *s);
+  if (!s) return sw_errf(err, errsz, "out of memory"), NULL;
+  s->m = m;
+  s->wall0 = sw_now();
+  s->progress = (flags & SW_SIM_PROGRESS) && isatty(2);
+  s->d = sw_data_new(m);
+  if (!s->d)
+    return sw_errf(err, errsz, "out of memory allocating the state (%d vertices, %d faces)",
+                   m->nv, m->nf),
+           sw_free(s), NULL;
+  if (flags & SW_SIM_OUTPUT) {
+    s->out = sw_output_open(m, err, errsz);
+    if (!s->out) return s->finished = 1, sw_sim_free(s), NULL; /* nothing to close */
+  }
+  s->next_frame = m->opt.frames_every;
+  s->next_positions = 0.0; /* a record at t = 0 */
+  s->d->energy_bound = m->opt.energy_bound > 0.0 ? m->opt.energy_bound : sw_energy_bound(m, s->d);
+  /* the first state is logged (the static solve logs only its answer), then the method starts;
+   * a failure of either is the run's: the folder says so */
+  int is_static = !strcmp(m->opt.method, "static");
+  int rc = is_static ? SW_OK : record(s, 1, err, errsz);
+  if (!rc) rc = start_method(s, err, errsz);
+  if (rc) {
+    outcome(s, rc, err);
+    char cerr[SW_ERRSZ];
+    finish(s, cerr, sizeof cerr);
+    return sw_sim_free(s), NULL;
+  }
+  return s;
+}
+
+/* ------------------------------------------------------ changes between steps */
+
+/* K + U at the current state (U from the last evaluation), J. */
+static double total_energy(const sw_sim *s) {
+  double k, u, dis;
+  sw_sim_energy(s, &k, &u, &dis);
+  return k + u;
+}
+
+/* After a change (SW_CHANGED_*) that moved the total energy from e_before: the diagnostics of
+ * the new state, and an automatic energy bound raised to admit it (1e3 x the energy the change
+ * put in above the new total, as sw_energy_bound allows at the start). */
+static int changed(sw_sim *s, int what, double e_before, char *err, size_t errsz) {
+  s->changed |= what;
+  double u;
+  if (diagnose(s, &u))
+    return sw_errf(err, errsz, "t = %.9g s: cannot evaluate the changed state: %s", s->d->t,
+                   s->d->err),
+           SW_FATAL;
+  double e = total_energy(s);
+  if (s->m->opt.energy_bound <= 0.0 && s->d->energy_bound > 0.0)
+    s->d->energy_bound = fmax(s->d->energy_bound, e + 1e3 * fabs(e - e_before));
+  return SW_OK;
+}
+
+static int all_finite(const double *a, long n) {
+  for (long i = 0; i < n; i++)
+    if (!isfinite(a[i])) return 0;
+  return 1;
+}
+
+/* The step grid after the state was set at t: n dt from 0 when t is on it (to 1e-9 dt), else
+ * a new grid from t. */
+static void set_grid(sw_sim *s, double t) {
+  const double dt = s->m->opt.dt, k = dt > 0.0 ? round(t / dt) : 0.0;
+  int on = dt > 0.0 && fabs(k) < 1e15 && fabs(tidy_time(k * dt, dt) - t) <= 1e-9 * dt;
+  s->t0 = on ? 0.0 : t;
+  s->n = on ? (long)k : 0;
+}
+
+int sw_sim_set_state(sw_sim *s, double t, const double *x, const double *v, char *err,
+                     size_t errsz) {
+  const sw_model *m = s->m;
+  sw_data *d = s->d;
+  const long nd = (long)m->nv * m->dim;
+  if (!isfinite(t) || (x && !all_finite(x, nd)) || (v && !all_finite(v, nd)))
+    return sw_errf(err, errsz, "set_state: a value is not finite"), SW_FATAL;
+  double e0 = total_energy(s);
+  d->t = t;
+  if (x) memcpy(d->x, x, (size_t)nd * sizeof(double));
+  for (long i = 0; v && i < nd; i++) d->v[i] = m->pinned[i / m->dim] ? 0.0 : v[i];
+  set_grid(s, t);
+  s->logged = 0; /* no damping trapezoid across the jump */
+  s->next_frame = m->opt.frames_every > 0 ? t + m->opt.frames_every : m->opt.frames_every;
+  s->next_positions = m->opt.positions_every > 0 ? t + m->opt.positions_every : 0.0;
+  return changed(s, SW_CHANGED_STATE, e0, err, errsz);
+}
+
+int sw_sim_set_rest(sw_sim *s, int k, double rest, char *err, size_t errsz) {
+  if (k < 0 || k >= s->m->ntendon)
+    return sw_errf(err, errsz, "set_rest: no tendon %d (the scene has %d)", k, s->m->ntendon),
+           SW_FATAL;
+  if (!isfinite(rest) || rest < 0.0)
+    return sw_errf(err, errsz, "set_rest: tendon '%s': rest length %g m; expected a finite "
+                   "value >= 0", s->m->tendon[k].name, rest), SW_FATAL;
+  double e0 = total_energy(s);
+  sw_tendon *td = &s->m->tendon[k];
+  td->nkey = 1; /* constant from now on */
+  td->key_t[0] = 0.0;
+  td->key_rest[0] = rest;
+  return changed(s, SW_CHANGED_MODEL, e0, err, errsz);
+}
+
+/* Vertex i in range, and the dim values at p finite; else err naming what (set_pin ...). */
+static int check_vertex(const sw_sim *s, const char *what, int i, const double *p, char *err,
+                        size_t errsz) {
+  if (i < 0 || i >= s->m->nv)
+    return sw_errf(err, errsz, "%s: no vertex %d (the model has %d)", what, i, s->m->nv),
+           SW_FATAL;
+  if (!all_finite(p, s->m->dim))
+    return sw_errf(err, errsz, "%s: vertex %d: a value is not finite", what, i), SW_FATAL;
+  return SW_OK;
+}
+
+int sw_sim_set_pin(sw_sim *s, int i, const double *x, char *err, size_t errsz) {
+  const sw_model *m = s->m;
+  if (check_vertex(s, "set_pin", i, x, err, errsz)) return SW_FATAL;
+  if (!m->pinned[i])
+    return sw_errf(err, errsz, "set_pin: vertex %d is not pinned", i), SW_FATAL;
+  double e0 = total_energy(s);
+  for (int a = 0; a < m->dim; a++)
+    if (m->dof[i * m->dim + a] < 0) s->d->x[i * m->dim + a] = x[a];
+  return changed(s, SW_CHANGED_MODEL, e0, err, errsz);
+}
+
+int sw_sim_set_load(sw_sim *s, int i, const double *f, char *err, size_t errsz) {
+  sw_model *m = s->m;
+  if (check_vertex(s, "set_load", i, f, err, errsz)) return SW_FATAL;
+  if (!m->load)
+    return sw_errf(err, errsz, "set_load: the scene has no `loads` (give one, a zero force is "
+                   "fine, to change loads between steps)"), SW_FATAL;
+  double e0 = total_energy(s);
+  memcpy(m->load + (size_t)i * m->dim, f, (size_t)m->dim * sizeof(double));
+  return changed(s, SW_CHANGED_MODEL, e0, err, errsz);
+}
+
+/* ------------------------------------------------------------------ reading */
+
+const sw_data *sw_sim_data(const sw_sim *s) { return s->d; }
+const sw_model *sw_sim_model(const sw_sim *s) { return s->m; }
+
+void sw_sim_energy(const sw_sim *s, double *kinetic, double *potential, double *dissipated) {
+  double u = 0.0;
+  for (int k = 0; k < s->m->nterm; k++) u += s->d->term_energy[k];
+  *kinetic = sw_kinetic(s->m, s->d->v);
+  *potential = u;
+  *dissipated = s->d->dissipated;
+}
+
+double sw_sim_time(const sw_sim *s) { return s->d->t; }
+
+double sw_sim_rest(const sw_sim *s, int k) {
+  return k >= 0 && k < s->m->ntendon ? sw_tendon_rest(&s->m->tendon[k], s->d->t) : NAN;
+}
+
+const int *sw_sim_waypoints(const sw_sim *s, int k, int *n) {
+  if (k < 0 || k >= s->m->ntendon) return *n = 0, NULL;
+  *n = s->m->tendon[k].nway;
+  return s->m->tendon[k].way;
+}
