@@ -1,14 +1,14 @@
-/* tendon.c — tendons through mesh-node waypoints (seed 003; DESIGN.md "Tendons";
+/* tendon.c — tendons through mesh-node waypoints (the waypoint tendon model;
  * docs/tendons.md).
  *
- * A tendon with waypoints w_0 .. w_{n-1} has segments s_k = x_{w_k} - x_{w_{k+1}} (seed 003
+ * A tendon with waypoints w_0 .. w_{n-1} has segments s_k = x_{w_k} - x_{w_{k+1}} (the tendon model
  * §1.2), length l = sum |s_k|, rest length alpha(t) (keyframes), Delta = l - alpha and energy
  * E(Delta; K):  spring E = K/2 Delta^2;  cable E = K/2 max(Delta, 0)^2.  With s^_k = s_k/|s_k|:
- *   grad Delta at waypoint a = s^_a - s^_{a-1}            (seed 003 "first partials"; the end
+ *   grad Delta at waypoint a = s^_a - s^_{a-1}            (its "first partials"; the end
  *                                                          points keep one term)
  *   d2 Delta: (a,a) = zeta_a + zeta_{a-1}, (a,a+1) = (a+1,a) = -zeta_a,
- *             zeta_k = (I - s^_k s^_k^T) / |s_k|          (seed 003 "second partials")
- *   g = E' grad Delta,  H = E'' grad Delta grad Delta^T + E' d2 Delta   (seed 003 §1.2)
+ *             zeta_k = (I - s^_k s^_k^T) / |s_k|          (its "second partials")
+ *   g = E' grad Delta,  H = E'' grad Delta grad Delta^T + E' d2 Delta   (its §1.2)
  * in 2D and 3D alike.  Both parts of H are PSD when E'' >= 0 (always) and E' >= 0: d2 Delta is
  * PSD, so the eigenvalues of E' d2 Delta are those of d2 Delta times E'.  Where E' < 0 (a
  * compressed spring) the filtered Hessian (SW_FILTER_*) drops that part (clamp) or takes
@@ -67,7 +67,7 @@ double sw_tendon_length(const sw_tendon *td, const double *x, int dim) {
   return len;
 }
 
-/* grad Delta at waypoint a (seed 003): s^_a - s^_{a-1}, the end points keeping one term. */
+/* grad Delta at waypoint a (the tendon model): s^_a - s^_{a-1}, the end points keeping one term. */
 void sw_tendon_grad(const sw_tendon *td, const double *x, int d, int a, double *g) {
   double sh[3];
   for (int c = 0; c < d; c++) g[c] = 0.0;
@@ -104,7 +104,7 @@ static void add_zeta(double *B, int ld, int d, const double *sh, double len, dou
     for (int b = 0; b < d; b++) B[a * ld + b] += c * ((a == b) - sh[a] * sh[b]) / len;
 }
 
-/* c d2 Delta of segment k (seed 003: +zeta_k on the diagonal blocks of its two ends,
+/* c d2 Delta of segment k (the tendon model: +zeta_k on the diagonal blocks of its two ends,
  * -zeta_k off it) into a block where the ends are local vertices i0 and i1. */
 static void add_segment_band(const sw_tendon *td, const double *x, int d, int k, double c,
                              double *blk, int ld, int i0, int i1) {
@@ -260,7 +260,7 @@ double sw_tendon_tension(const sw_tendon *td, double delta) {
   return e1; /* N */
 }
 
-/* What tendons.csv logs after every step (DESIGN.md "Outputs"). */
+/* What tendons.csv logs after every step (README, "What a run writes"). */
 void sw_tendon_state(const sw_model *m, sw_data *d) {
   for (int k = 0; k < m->ntendon; k++) {
     const sw_tendon *td = &m->tendon[k];

@@ -53,18 +53,18 @@ int sw_psd_project(double *A, int n, int mode);
  * corotated), from the filtered in-plane and out-of-plane blocks (sw_psd_project).  0 or -1. */
 int sw_membrane_project(double *P, const double *wu, const double *wv, int d, int mode);
 
-/* models/bw98.c: Baraff-Witkin stretch and shear (seed 002, DESIGN.md). */
+/* models/bw98.c: Baraff-Witkin stretch and shear (Baraff and Witkin, "Large Steps in Cloth Simulation", 1998). */
 int sw_bw98_build(sw_term *t, const sw_model *m, char *err, size_t errsz);
-/* models/stvk.c: orthotropic Saint Venant-Kirchhoff on the Green strain (seed 001). */
+/* models/stvk.c: orthotropic Saint Venant-Kirchhoff on the Green strain (docs/models.md). */
 int sw_stvk_build(sw_term *t, const sw_model *m, char *err, size_t errsz);
-/* models/corotated.c: k/2 |U - I|^2, U = sqrt(F^T F) (seed 001). */
+/* models/corotated.c: k/2 |U - I|^2, U = sqrt(F^T F) (docs/models.md). */
 int sw_corotated_build(sw_term *t, const sw_model *m, char *err, size_t errsz);
-/* models/tendon.c: every tendon of the model in one term "tendons" (seed 003, DESIGN.md
+/* models/tendon.c: every tendon of the model in one term "tendons" (docs/tendons.md
  * "Tendons", docs/tendons.md): tendons of at most m->opt.tendon_dense_max waypoints as one
  * dense stencil each; longer ones as one 2-vertex stencil per segment (E' d2Delta) and one
  * low-rank vector sqrt(E'') grad(Delta). */
 int sw_tendon_build(sw_term *t, const sw_model *m, char *err, size_t errsz);
-/* grad l (= grad Delta) of a tendon at its waypoint a (0..nway-1), d components (seed 003). */
+/* grad l (= grad Delta) of a tendon at its waypoint a (0..nway-1), d components (docs/tendons.md). */
 void sw_tendon_grad(const sw_tendon *td, const double *x, int d, int a, double *g);
 /* models/gravity.c: E = -sum_i m_i g.x_i (no Hessian, no stencils). */
 int sw_gravity_build(sw_term *t, const sw_model *m, char *err, size_t errsz);
@@ -122,10 +122,10 @@ int sw_bend_alloc_stencils(sw_term *t, const sw_bend_tri *tri, int n, int dim);
 /* models/point_load.c: E = -sum_i f_i . x_i with f = m->load (no Hessian, no stencils). */
 int sw_point_load_build(sw_term *t, const sw_model *m, char *err, size_t errsz);
 
-/* models/tension_xy.c: the reference stretch rlu, rlv of every face (seed 000). */
+/* models/tension_xy.c: the reference stretch rlu, rlv of every face (Optitex, "Tension XY calculations explanation"). */
 void sw_tension_xy_reference(const sw_model *m, sw_data *d);
 
-/* The deformation gradient F = Ds Dm^-1 = [wu wv] of face f at positions x (seeds 000/001),
+/* The deformation gradient F = Ds Dm^-1 = [wu wv] of face f at positions x (Optitex; Yan 2019),
  * with the coefficients that make it linear in the corners: wu = sum_i cu[i] x_i,
  * wv = sum_i cv[i] x_i.  wu, wv have m->dim components. */
 void sw_face_coeffs(const sw_model *m, int f, double cu[3], double cv[3]);

@@ -17,6 +17,12 @@ const char *const *sw_norm_names(void) {
   return names;
 }
 
+const char *const *sw_frames_format_names(void) {
+  static const char *const names[SW_FRAMES_N + 1] = {"binary", "binary32", "ascii",
+                                                            NULL};
+  return names;
+}
+
 sw_model *sw_model_new(void) {
   sw_model *m = sw_calloc(1, sizeof *m);
   if (!m) return NULL;
@@ -40,6 +46,7 @@ sw_model *sw_model_new(void) {
   o->energy_bound = 0.0;
   o->frames_every = 0.0;
   o->positions_every = 0.0;
+  o->frames_format = SW_FRAMES_BINARY32; /* docs/scenes.md, "Frames" (measured) */
   o->tx_clip = 5e4;
   o->tx_reference_uv = 0;
   o->tx_k_u = o->tx_k_v = -1.0;
@@ -95,7 +102,7 @@ static int check_faces(const sw_model *m, char *err, size_t errsz) {
   return 0;
 }
 
-/* Dm = [uv1-uv0, uv2-uv0] (seed 000/001), its inverse and the rest area |det Dm|/2. */
+/* Dm = [uv1-uv0, uv2-uv0] (Optitex, "Tension XY calculations explanation"; the 2D deformation gradient), its inverse and the rest area |det Dm|/2. */
 static int rest_shapes(sw_model *m, int need_area, char *err, size_t errsz) {
   for (int f = 0; f < m->nf; f++) {
     const double *uv = m->uv + 6 * f;
@@ -126,7 +133,7 @@ static int rest_shapes(sw_model *m, int need_area, char *err, size_t errsz) {
 }
 
 /* Lumped mass: each triangle gives a third of density * area to each corner, each tendon
- * segment half of its linear density * initial length to each end (DESIGN.md). */
+ * segment half of its linear density * initial length to each end (docs/tendons.md). */
 static void lumped_mass(sw_model *m) {
   m->total_mass = 0.0;
   for (int f = 0; f < m->nf; f++) {
@@ -164,7 +171,7 @@ static int dof_map(sw_model *m, char *err, size_t errsz) {
 }
 
 /* The terms a scene can hold, in the order they are built: each builder is called only when
- * the model uses it (DESIGN.md: model no more than a scene needs). */
+ * the model uses it (no more model than the scene names). */
 typedef int (*term_builder)(sw_term *t, const sw_model *m, char *err, size_t errsz);
 
 static int uses_membrane(const sw_model *m, int model) {

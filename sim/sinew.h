@@ -1,6 +1,6 @@
 /* sinew.h — the one public header of libsinew, an implicit cloth-plus-tendon simulator.
  *
- * Data flows one way (DESIGN.md): scene file -> sw_model (immutable after load) -> sw_data
+ * Data flows one way: scene file -> sw_model (immutable after load) -> sw_data
  * (t, x, v, workspaces, counters) -> integrator step -> terms -> sparse system -> CHOLMOD ->
  * new state -> diagnostics -> logs.  Every numeric callback returns SW_OK (0), a positive
  * code (recoverable: the caller may retry with a smaller step) or a negative code (fatal).
@@ -117,7 +117,7 @@ struct sw_term {
 /* ----------------------------------------------------------------- model */
 
 /* Membrane models (models/bw98.c, stvk.c, corotated.c, springs.c) and bending models
- * (models/dihedral.c, quadratic_bending.c).  DESIGN.md "Energy terms". */
+ * (models/dihedral.c, quadratic_bending.c; docs/models.md). */
 enum { SW_MEMBRANE_NONE = 0, SW_MEMBRANE_BW98, SW_MEMBRANE_STVK, SW_MEMBRANE_COROTATED,
        SW_MEMBRANE_SPRINGS };
 enum { SW_BENDING_NONE = 0, SW_BENDING_DIHEDRAL, SW_BENDING_QUADRATIC };
@@ -145,7 +145,7 @@ typedef struct sw_material {
                                   sw_model_finish from the membrane unless the scene sets it) */
 } sw_material;
 
-/* Tendons (models/tendon.c, seed 003; DESIGN.md "Tendons"). */
+/* Tendons (models/tendon.c, docs/tendons.md). */
 enum { SW_LAW_SPRING = 0, SW_LAW_CABLE = 1 };
 
 typedef struct sw_tendon {
@@ -187,6 +187,13 @@ enum { SW_NORM_RMS = 0, SW_NORM_MAX = 1, SW_NORM_N = 2 };
 #define SW_NEWTON_RMS_CAP 10.0
 SW_API const char *const *sw_norm_names(void);
 
+/* The encoding of the frames (sim/output/vtu.c, docs/scenes.md "Frames"): VTK XML with its
+ * arrays appended raw and zlib-compressed (as ParaView writes), every real exact (Float64) or
+ * as Float32 (about half the size), or inline ascii (exact). */
+enum { SW_FRAMES_BINARY = 0, SW_FRAMES_BINARY32 = 1, SW_FRAMES_ASCII = 2, SW_FRAMES_N = 3 };
+/* Their names ("binary", "binary32", "ascii"), NULL-terminated. */
+SW_API const char *const *sw_frames_format_names(void);
+
 typedef struct sw_options {
   char method[SW_NAMESZ];      /* integrator name, see sw_method_names() */
   double dt;                   /* step, s */
@@ -216,7 +223,8 @@ typedef struct sw_options {
                                   all, no frames.pvd, except the last good state of a failed
                                   run) */
   double positions_every;      /* s between records of positions.bin (0: no positions.bin) */
-  double tx_clip;              /* tension XY stiffness clip, N/m (seed 000: 5e4) */
+  int frames_format;           /* SW_FRAMES_*: how the frames are encoded */
+  double tx_clip;              /* tension XY stiffness clip, N/m (Optitex's: 5e4) */
   int tx_reference_uv;         /* 1: rlu = rlv = 1 (uv layout); 0: the initial configuration */
   double tx_k_u, tx_k_v;       /* stiffness used by tension XY, N/m (defaults: the membrane's) */
   int tendon_dense_max;        /* tendons of at most this many waypoints put their whole
@@ -354,7 +362,7 @@ SW_API int sw_eval_terms(const sw_model *m, sw_data *d, const double *x, double 
 SW_API double sw_kinetic(const sw_model *m, const double *v);
 /* Nonzero when the model has Rayleigh damping (damping: {mass, stiffness}). */
 SW_API int sw_damped(const sw_model *m);
-/* Tension XY of seed 000 and the strain diagnostics of every face at d->x. */
+/* Tension XY (Optitex, "Tension XY calculations explanation"; docs/models.md) and the strain diagnostics of every face at d->x. */
 SW_API void sw_tension_xy(const sw_model *m, sw_data *d);
 /* Length, delta and tension of every tendon at d->x, d->t (d->tendon_*). */
 SW_API void sw_tendon_state(const sw_model *m, sw_data *d);
@@ -470,7 +478,7 @@ SW_API int sw_static_solve(const sw_model *m, sw_data *d, double reaction[3], ch
 
 /* --------------------------------------------------------------- inverse */
 
-/* The tendon inverse problem (solvers/inverse.c, seed 003 §2–3, docs/inverse.md): which
+/* The tendon inverse problem (solvers/inverse.c, docs/inverse.md): which
  * tensions tau >= 0 make the tendons exert the target forces f on chosen vertices at a
  * configuration x, and which rest lengths give those tensions. */
 typedef struct sw_targets {

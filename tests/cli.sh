@@ -12,6 +12,12 @@ fail() { echo "FAIL: $*"; fails=$((fails + 1)); }
 "$sinew" --version | grep -q '^sinew [0-9]' || fail "--version"
 "$sinew" --help | grep -q 'backward-euler' || fail "--help lists the methods"
 "$sinew" run --help | grep -q -- '--duration' || fail "run --help"
+# every subcommand has its own help page, exit 0
+for cmd in run check inverse bench render; do
+  "$sinew" $cmd --help >"$tmp/help" 2>&1 || fail "$cmd --help exits $?"
+  grep -q "^usage: sinew $cmd" "$tmp/help" || fail "$cmd --help: $(head -1 "$tmp/help")"
+done
+"$sinew" check --help | grep -q -- '--duration' && fail "check --help shows run's options"
 "$sinew" frobnicate >/dev/null 2>&1 && fail "unknown command accepted"
 
 out=$("$sinew" check scenes/hanging_cloth.yaml) || fail "check of the default scene"
@@ -131,6 +137,10 @@ done
   >/dev/null && fail "--positions-every abc"
 grep -q -- "--positions-every expects a non-negative number, got 'abc'" "$tmp/err" ||
   fail "--positions-every message: $(cat "$tmp/err")"
+"$sinew" run scenes/hanging_cloth.yaml --frames-format vtk --out "$tmp/x" 2>"$tmp/err" \
+  >/dev/null && fail "--frames-format vtk"
+grep -q -- "--frames-format expects one of: binary binary32 ascii; got 'vtk'" "$tmp/err" ||
+  fail "--frames-format message: $(cat "$tmp/err")"
 "$sinew" run scenes/hanging_cloth.yaml --no-frames --frames-every 1 --out "$tmp/x" 2>"$tmp/err" \
   >/dev/null && fail "--no-frames with --frames-every"
 grep -q -- "--no-frames and --frames-every" "$tmp/err" || fail "--no-frames conflict message"

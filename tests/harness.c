@@ -230,7 +230,9 @@ int th_static(const sw_model *m, sw_data *d, double r[3]) {
 
 /* ---------------------------------------------------------------- files */
 
-char *th_slurp(const char *path) {
+char *th_slurp(const char *path) { return th_slurp_n(path, NULL); }
+
+char *th_slurp_n(const char *path, size_t *size) {
   FILE *f = fopen(path, "rb");
   if (!f) return NULL;
   size_t cap = 4096, n = 0, got;
@@ -241,6 +243,7 @@ char *th_slurp(const char *path) {
   }
   fclose(f);
   if (s) s[n] = '\0';
+  if (size) *size = n;
   return s;
 }
 

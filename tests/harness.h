@@ -44,6 +44,8 @@ int th_static(const sw_model *m, sw_data *d, double r[3]);
 
 /* Files: the whole of path (NUL-terminated, malloc'ed), or NULL; the same for dir/name. */
 char *th_slurp(const char *path);
+/* The same for a file that may hold NUL bytes (a binary frame): its size in *size. */
+char *th_slurp_n(const char *path, size_t *size);
 char *th_slurp_in(const char *dir, const char *name);
 /* 1 if dir/name exists. */
 int th_exists_in(const char *dir, const char *name);

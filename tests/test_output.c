@@ -15,6 +15,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <zlib.h>
+
 #include "harness.h"
 #include "output.h"
 #include "sinew.h"
@@ -274,8 +276,9 @@ static void check_frames(const fixture *fx) {
   assert_non_null(pvd);
   assert_non_null(strstr(pvd, "<VTKFile type=\"Collection\""));
   assert_int_equal(count_str(pvd, "<DataSet "), 2);
-  assert_non_null(strstr(pvd, "timestep=\"0.01\" group=\"\" part=\"0\" "
+  assert_non_null(strstr(pvd, "timestep=\"0.01\" group=\"\" part=\"0\" name=\"cloth\" "
                               "file=\"frames/frame_000000.vtu\"/>"));
+  assert_null(strstr(pvd, "tendons")); /* a scene without tendons */
   assert_non_null(strstr(pvd, "file=\"frames/frame_000001.vtu\""));
   free(pvd);
   char *vtu = slurp_in(fx, "frames/frame_000001.vtu");
@@ -283,7 +286,7 @@ static void check_frames(const fixture *fx) {
   assert_non_null(strstr(vtu, "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" "
                               "byte_order=\"LittleEndian\">"));
   assert_non_null(strstr(vtu, "NumberOfPoints=\"4\" NumberOfCells=\"2\""));
-  assert_non_null(strstr(vtu, "0 1 2\n0 2 3\n"));      /* connectivity */
+  assert_non_null(strstr(vtu, "ascii\">\n0\n1\n2\n0\n2\n3\n")); /* connectivity */
   assert_non_null(strstr(vtu, "ascii\">\n3\n6\n"));    /* offsets */
   assert_non_null(strstr(vtu, "ascii\">\n5\n5\n"));    /* types */
   assert_non_null(strstr(vtu, "Name=\"pinned\" format=\"ascii\">\n1\n0\n0\n0\n"));
@@ -297,10 +300,11 @@ static void check_frames(const fixture *fx) {
   assert_false(exists_in(fx, "frames.pvd.tmp"));
 }
 
-/* Open (creating nested folders), 3 steps, 2 frames, close "ok". */
+/* Open (creating nested folders), 3 steps, 2 frames (ascii), close "ok". */
 static void test_full_run(void **state) {
   (void)state;
   fixture *fx = fixture_new(2);
+  fx->m.opt.frames_format = SW_FRAMES_ASCII;
   char err[SW_ERRSZ] = "";
   sw_output *o = sw_output_open(&fx->m, err, sizeof err);
   assert_non_null(o);
@@ -318,14 +322,96 @@ static void test_full_run(void **state) {
   fixture_free(fx);
 }
 
+/* --------------------------------------------------------- binary frames */
+
+/* The bytes of the appended array `name` of a binary frame (vtu, n bytes in all), read as VTK
+ * reads them: the offset after the '_' marker, the UInt64 header [blocks, block size, last
+ * partial block, compressed sizes], each block through zlib.  Their number in *len. */
+static unsigned char *appended_array(const char *vtu, size_t n, const char *name, size_t *len) {
+  char key[96];
+  snprintf(key, sizeof key, "Name=\"%s\"", name);
+  const char *a = strstr(vtu, key), *app = strstr(vtu, "<AppendedData encoding=\"raw\">");
+  assert_non_null(a);
+  assert_non_null(app);
+  const char *off = strstr(a, "format=\"appended\" offset=\"");
+  assert_true(off && off < strchr(a, '>'));
+  const unsigned char *blob = (const unsigned char *)strchr(app, '_') + 1;
+  blob += strtoull(off + strlen("format=\"appended\" offset=\""), NULL, 10);
+  uint64_t h[3];
+  memcpy(h, blob, sizeof h);
+  assert_true(h[1] == 32768);
+  size_t total = h[0] ? (h[0] - 1) * h[1] + (h[2] ? h[2] : h[1]) : 0, done = 0;
+  unsigned char *out = malloc(total + 1);
+  assert_non_null(out);
+  const unsigned char *z = blob + 8 * (3 + h[0]);
+  for (uint64_t b = 0; b < h[0]; b++) {
+    uint64_t zs;
+    memcpy(&zs, blob + 8 * (3 + b), 8);
+    assert_true(z + zs <= (const unsigned char *)vtu + n);
+    uLongf got = (uLongf)(total - done);
+    assert_int_equal(uncompress(out + done, &got, z, (uLong)zs), Z_OK);
+    done += got, z += zs;
+  }
+  assert_true(done == total);
+  *len = total;
+  return out;
+}
+
+/* The folder of fx opened and step 1 logged. */
+static sw_output *open_and_step(fixture *fx) {
+  char err[SW_ERRSZ] = "";
+  sw_output *o = sw_output_open(&fx->m, err, sizeof err);
+  assert_non_null(o);
+  assert_int_equal(step_and_check(o, fx, 1), 0);
+  return o;
+}
+
+/* Array `name` of the binary frame equals the n bytes at want, to the bit. */
+static void check_array(const char *vtu, size_t n, const char *name, const void *want,
+                        size_t bytes) {
+  size_t len = 0;
+  unsigned char *got = appended_array(vtu, n, name, &len);
+  assert_int_equal(len, bytes);
+  assert_memory_equal(got, want, bytes);
+  free(got);
+}
+
+/* A binary frame (the default) decodes to the state it was written from, bit for bit: time,
+ * positions, velocities, tension XY, connectivity, pins; ParaView's header. */
+static void test_binary_frames(void **state) {
+  (void)state;
+  fixture *fx = fixture_new(2);
+  char err[SW_ERRSZ] = "";
+  sw_output *o = open_and_step(fx);
+  assert_int_equal(sw_output_frame(o, &fx->m, &fx->d, err, sizeof err), 0);
+  assert_int_equal(sw_output_close(o, &fx->m, &fx->d, "ok", "", 1.0, err, sizeof err), 0);
+  char path[SW_PATHSZ + 64];
+  snprintf(path, sizeof path, "%s/frames/frame_000000.vtu", fx->m.opt.out_dir);
+  size_t n = 0;
+  char *vtu = th_slurp_n(path, &n);
+  assert_non_null(vtu);
+  assert_non_null(strstr(vtu, "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" "
+                              "byte_order=\"LittleEndian\" header_type=\"UInt64\" "
+                              "compressor=\"vtkZLibDataCompressor\">"));
+  assert_string_equal(vtu + n - 11, "</VTKFile>\n");
+  check_array(vtu, n, "TimeValue", &fx->d.t, sizeof(double));
+  check_array(vtu, n, "Points", fx->d.x, 12 * sizeof(double));
+  check_array(vtu, n, "velocity", fx->d.v, 12 * sizeof(double));
+  check_array(vtu, n, "tension_xy", fx->d.txy, 2 * sizeof(double));
+  check_array(vtu, n, "connectivity", fx->m.face, 6 * sizeof(int));
+  check_array(vtu, n, "pinned", fx->m.pinned, 4);
+  const int64_t offsets[2] = {3, 6};
+  check_array(vtu, n, "offsets", offsets, sizeof offsets);
+  free(vtu);
+  fixture_free(fx);
+}
+
 /* A run that stops without close (killed) leaves .part logs and a "running" summary. */
 static void test_killed_run(void **state) {
   (void)state;
   fixture *fx = fixture_new(2);
   char err[SW_ERRSZ] = "";
-  sw_output *o = sw_output_open(&fx->m, err, sizeof err);
-  assert_non_null(o);
-  assert_int_equal(step_and_check(o, fx, 1), 0);
+  sw_output *o = open_and_step(fx);
   assert_true(exists_in(fx, "tension.csv.part") && exists_in(fx, "energy.csv.part"));
   assert_false(exists_in(fx, "tension.csv") || exists_in(fx, "energy.csv"));
   char *part = slurp_in(fx, "tension.csv.part"), *sum = slurp_in(fx, "summary.json");
@@ -519,6 +605,7 @@ static void test_positions_run(void **state) {
   m->opt.dt = 0.01;
   m->opt.duration = 0.1;
   m->opt.frames_every = 0.0; /* first and last */
+  m->opt.frames_format = SW_FRAMES_BINARY; /* exact, to compare with positions.bin */
   m->opt.positions_every = 0.03;
   if (sw_run(m, 0, err, sizeof err)) fail_msg("sw_run: %s", err);
   positions p = read_positions(m->opt.out_dir, "positions.bin");
@@ -529,24 +616,21 @@ static void test_positions_run(void **state) {
   const double want_t[5] = {0.0, 0.03, 0.06, 0.09, 0.1};
   for (int r = 0; r < 5; r++) assert_float_equal(p.rec[r * rs], want_t[r], 1e-12);
   assert_memory_equal(p.rec + 1, m->x0, (size_t)nd * sizeof(double));
-  /* the final frame: its <Points> block, nv lines of x y z */
+  /* the final frame's positions */
   char path[SW_PATHSZ + 64];
   snprintf(path, sizeof path, "%s/frames/frame_000001.vtu", m->opt.out_dir);
-  char *vtu = th_slurp(path);
+  size_t n = 0, len = 0;
+  char *vtu = th_slurp_n(path, &n);
   assert_non_null(vtu);
-  const char *pt = strstr(vtu, "<Points>");
-  assert_non_null(pt);
-  pt = strchr(strchr(pt, '\n') + 1, '\n') + 1; /* past the DataArray line */
+  double *pts = (double *)appended_array(vtu, n, "Points", &len);
+  assert_int_equal(len, (size_t)nd * sizeof(double));
   const double *last = p.rec + 4 * rs + 1;
   double moved = 0.0;
   for (int k = 0; k < nd; k++) {
-    char *end;
-    double v = strtod(pt, &end);
-    assert_true(end != pt);
-    assert_true(v == last[k]);
+    assert_true(pts[k] == last[k]);
     moved = fmax(moved, fabs(last[k] - m->x0[k]));
-    pt = end;
   }
+  free(pts);
   assert_true(moved > 1e-3); /* the cloth fell: the records are not all x0 */
   for (int k = 0; k < nd; k++) /* pinned vertices stay */
     if (m->pinned[k / 3]) assert_true(last[k] == m->x0[k]);
@@ -621,7 +705,7 @@ int main(void) {
       cmocka_unit_test(test_stale_files),   cmocka_unit_test(test_percentile),
       cmocka_unit_test(test_alloc_failure),
       cmocka_unit_test(test_positions_writer), cmocka_unit_test(test_positions_off),
-      cmocka_unit_test(test_positions_run),
+      cmocka_unit_test(test_positions_run),   cmocka_unit_test(test_binary_frames),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -74,7 +74,7 @@ static const char good_scene[] =
     "integrator: {method: backward-euler, dt: 0.005, max_halvings: 4, hessian: projected,\n"
     "             newton: {max_iterations: 20, tol: 1e-8, force_tol: 1e-7, norm: max}, setup_every: 50}\n"
     "duration: 3\n"
-    "output: {dir: out/here, frames_every: 0.1, positions_every: 0.25}\n"
+    "output: {dir: out/here, frames_every: 0.1, positions_every: 0.25, frames_format: ascii}\n"
     "tension_xy: {clip: 1e4, reference: uv, k_v: 300}\n";
 
 static void test_good_scene(void **state) {
@@ -120,6 +120,7 @@ static void test_good_scene(void **state) {
   assert_string_equal(m->opt.out_dir, "out/here");
   assert_float_equal(m->opt.frames_every, 0.1, 0.0);
   assert_float_equal(m->opt.positions_every, 0.25, 0.0);
+  assert_int_equal(m->opt.frames_format, SW_FRAMES_ASCII);
   assert_float_equal(m->opt.tx_clip, 1e4, 0.0);
   assert_int_equal(m->opt.tx_reference_uv, 1);
   assert_float_equal(m->mat[0].tx_k_u, 1000, 0.0); /* the membrane's */
@@ -522,6 +523,8 @@ static const bad_case bad[] = {
     {"reference.yaml", GRID MAT "tension_xy: {reference: rest}\n", 3, 25, "initial, uv"},
     {"duration.yaml", GRID MAT "duration: -1\n", 3, 11, ">= 0"},
     {"frames.yaml", GRID MAT "output: {frames_every: [1]}\n", 3, 24, "a sequence"},
+    {"format.yaml", GRID MAT "output: {frames_format: vtk}\n", 3, 25,
+     "binary, binary32, ascii"},
     {"positions.yaml", GRID MAT "output: {positions_every: -0.1}\n", 3, 27,
      "output positions_every is -0.1; expected a number >= 0 (s)"},
     {"name.yaml", "name: {a: 1}\n" GRID MAT, 1, 7, "a string"},

@@ -9,5 +9,8 @@ int cli_number(const char *opt, const char *s, int allow_zero, double *out);
 int cli_int(const char *opt, const char *s, int lo, int hi, int *out);
 /* 1 if name is a method of sw_method_names(). */
 int cli_known_method(const char *name);
+/* `sinew render ARGS` (render.c): runs Python's sinew.render in this process; returns only on
+ * failure (2). */
+int cli_render(int argc, char **argv);
 
 #endif

@@ -12,29 +12,72 @@
 
 static void usage(FILE *fp) {
   fprintf(fp,
-          "usage: sinew run SCENE [--out DIR] [--method M] [--dt DT] [--duration T]\n"
-          "                 [--rtol R] [--atol A] [--max-order N|auto] [--max-halvings N]\n"
-          "                 [--threads N] [--quiet]\n"
-          "                 [--frames-every S | --no-frames] [--positions-every S]\n"
-          "                 [--grid NXxNY] [--stiffness-scale S]\n"
-          "                 [--newton-tol V] [--newton-norm rms|max] [--hessian MODE]\n"
-          "                 [--newton-reuse on|off]\n"
-          "       sinew check SCENE [--grid NXxNY] [--stiffness-scale S]\n"
-          "       sinew inverse SCENE --targets FILE [--out SCENE_OUT]\n"
-          "       sinew bench SCENE [options]   (sinew bench --help)\n"
+          "usage: sinew run SCENE [options]        (sinew run --help)\n"
+          "       sinew check SCENE [options]      (sinew check --help)\n"
+          "       sinew inverse SCENE --targets FILE [--out SCENE_OUT]  (sinew inverse --help)\n"
+          "       sinew bench SCENE [options]      (sinew bench --help)\n"
+          "       sinew render RUN_DIR [options]   (sinew render --help)\n"
           "       sinew --help | --version\n"
           "\n"
           "  run     simulate SCENE (YAML) headless and write its logs and frames to the output\n"
-          "          folder (the scene's output.dir, or DIR): tension.csv, energy.csv,\n"
-          "          summary.json, frames/*.vtu and frames.pvd\n"
+          "          folder (the scene's output.dir, or --out DIR): tension.csv, energy.csv,\n"
+          "          summary.json, frames/*.vtu, frames/*.vtp and frames.pvd\n"
           "  check   validate SCENE and print the model it describes\n"
-          "  inverse tendon tensions (N) that exert the target forces of FILE (CSV:\n"
-          "          vertex,fx,fy[,fz]) at SCENE's initial positions, the rest lengths that\n"
-          "          give them, written into a copy of SCENE (default: <scene stem>_inverse.yaml\n"
-          "          beside FILE), and a forward static check; exit 0 when it passes, 1 when\n"
-          "          the targets are unreachable or the check fails, 2 on bad input\n"
+          "  inverse tendon tensions (N) that exert target forces at SCENE's initial positions,\n"
+          "          and the rest lengths that give them\n"
           "  bench   every method and setting on SCENE, each its own run: errors against a\n"
           "          reference, costs, stability and scaling sweeps, CSV files and charts\n"
+          "  render  pictures of a run folder: the tension XY map of each frame on the flat\n"
+          "          pattern and the 3D shape, tendons with their tension, and an animation\n"
+          "\n"
+          "  methods:");
+  for (const char *const *n = sw_method_names(); *n; n++) fprintf(fp, " %s", *n);
+  fprintf(fp, "\n");
+}
+
+static void usage_check(FILE *fp) {
+  fprintf(fp,
+          "usage: sinew check SCENE [--grid NXxNY] [--stiffness-scale S]\n"
+          "\n"
+          "Validate SCENE (YAML; errors as file:line:column) and print the model it describes:\n"
+          "vertices, pins, faces, rest area, mass, free DOFs, panels, tendons, terms and the\n"
+          "nonzeros of the system.  Exit 0 when the scene is valid, 1 when it is not, 2 on bad\n"
+          "arguments.\n"
+          "\n"
+          "  --grid NXxNY    vertices of the scene's grid (replaces mesh.grid.vertices)\n"
+          "  --stiffness-scale S\n"
+          "                  multiply every elastic stiffness by S > 0\n");
+}
+
+static void usage_inverse(FILE *fp) {
+  fprintf(fp,
+          "usage: sinew inverse SCENE --targets FILE [--out SCENE_OUT]\n"
+          "\n"
+          "The tendon tensions (N) that exert the target forces of FILE (CSV: a header\n"
+          "vertex,fx,fy or vertex,fx,fy,fz, then a line per vertex) at SCENE's initial\n"
+          "positions, by non-negative least squares; the rest lengths that give them, written\n"
+          "into a copy of SCENE; and a forward static check of that copy (docs/inverse.md).\n"
+          "\n"
+          "  --targets FILE  the target forces (required)\n"
+          "  --out SCENE_OUT the scene written (default: <scene stem>_inverse.yaml beside FILE)\n"
+          "\n"
+          "Exit 0 when the check passes, 1 when the targets are unreachable or the check fails,\n"
+          "2 on bad input.\n");
+}
+
+static void usage_run(FILE *fp) {
+  fprintf(fp,
+          "usage: sinew run SCENE [--out DIR] [--method M] [--dt DT] [--duration T]\n"
+          "                 [--rtol R] [--atol A] [--max-order N|auto] [--max-halvings N]\n"
+          "                 [--threads N] [--quiet]\n"
+          "                 [--frames-every S | --no-frames] [--frames-format F]\n"
+          "                 [--positions-every S] [--grid NXxNY] [--stiffness-scale S]\n"
+          "                 [--newton-tol V] [--newton-norm rms|max] [--hessian MODE]\n"
+          "                 [--newton-reuse on|off]\n"
+          "\n"
+          "Simulate SCENE (YAML) headless and write its logs and frames to the output folder\n"
+          "(docs/scenes.md).  Exit 0 on success, 1 when the scene or the run fails, 2 on bad\n"
+          "arguments.\n"
           "\n"
           "  --out DIR       output folder (overrides output.dir)\n"
           "  --method M      integrator (overrides integrator.method); one of:\n");
@@ -69,6 +112,9 @@ static void usage(FILE *fp) {
           "                  output.frames_every)\n"
           "  --no-frames     no VTU frames and no frames.pvd (a failed run still writes its last\n"
           "                  good state as a frame)\n"
+          "  --frames-format binary|binary32|ascii\n"
+          "                  frames zlib-compressed and exact (default), zlib-compressed in\n"
+          "                  Float32, or ascii (overrides output.frames_format)\n"
           "  --positions-every S\n"
           "                  s between records of positions.bin (every vertex position, binary;\n"
           "                  docs/scenes.md); 0: no file (overrides output.positions_every)\n"
@@ -118,6 +164,7 @@ typedef struct cli {
   int max_halvings;            /* < 0: not given */
   double newton_tol;           /* m/s; < 0: not given */
   int hessian, reuse, norm;    /* < 0: not given */
+  int frames_format;           /* SW_FRAMES_*; < 0: not given */
   int max_order;               /* -1: not given; 0: auto */
 } cli;
 
@@ -141,6 +188,8 @@ static int parse_run_args(int argc, char **argv, cli *c) {
     else if (!strcmp(a, "--no-frames")) c->no_frames = 1;
     else if (!strcmp(a, "--frames-every") && has_val) {
       if (cli_number(a, argv[++i], 1, &c->frames_every)) return -1;
+    } else if (!strcmp(a, "--frames-format") && has_val) {
+      if (cli_choice(a, argv[++i], sw_frames_format_names(), &c->frames_format)) return -1;
     } else if (!strcmp(a, "--positions-every") && has_val) {
       if (cli_number(a, argv[++i], 1, &c->positions_every)) return -1;
     }
@@ -181,16 +230,16 @@ static int parse_run_args(int argc, char **argv, cli *c) {
     } else if (!strcmp(a, "--threads") && has_val) {
       if (cli_int(a, argv[++i], 1, 1024, &c->threads)) return -1;
     } else if (a[0] == '-' && a[1]) {
-      fprintf(stderr, "sinew: unknown option or missing value: %s (see sinew --help)\n", a);
+      fprintf(stderr, "sinew: unknown option or missing value: %s (see sinew run --help)\n", a);
       return -1;
     } else if (!c->scene) c->scene = a;
     else return fprintf(stderr, "sinew: more than one scene given: %s\n", a), -1;
   }
-  if (!c->scene) return fprintf(stderr, "sinew: no scene file given (see sinew --help)\n"), -1;
+  if (!c->scene) return fprintf(stderr, "sinew: no scene file given (see sinew run --help)\n"), -1;
   if (c->no_frames && c->frames_every >= 0)
     return fprintf(stderr, "sinew: --no-frames and --frames-every exclude each other\n"), -1;
   if (c->method && !cli_known_method(c->method)) {
-    fprintf(stderr, "sinew: unknown method '%s' (see sinew --help)\n", c->method);
+    fprintf(stderr, "sinew: unknown method '%s' (see sinew run --help)\n", c->method);
     return -1;
   }
   return 0;
@@ -199,7 +248,7 @@ static int parse_run_args(int argc, char **argv, cli *c) {
 static int cmd_run(int argc, char **argv) {
   cli c = {.dt = -1, .duration = -1, .frames_every = -1, .positions_every = -1,
            .max_halvings = -1, .newton_tol = -1, .hessian = -1, .reuse = -1, .norm = -1,
-           .max_order = -1};
+           .max_order = -1, .frames_format = -1};
   if (parse_run_args(argc, argv, &c)) return 2;
   char err[SW_ERRSZ];
   sw_model *m = sw_scene_load_ex(c.scene, &c.ov, err, sizeof err);
@@ -219,6 +268,7 @@ static int cmd_run(int argc, char **argv) {
   if (c.max_order >= 0) m->opt.max_order = c.max_order;
   if (c.frames_every >= 0) m->opt.frames_every = c.frames_every;
   if (c.no_frames) m->opt.frames_every = -1.0; /* none */
+  if (c.frames_format >= 0) m->opt.frames_format = c.frames_format;
   if (c.positions_every >= 0) m->opt.positions_every = c.positions_every;
   if (!c.quiet)
     fprintf(stderr, "sinew: %s: %d vertices, %d free DOFs, %s, dt = %g s, to t = %g s\n",
@@ -237,12 +287,12 @@ static int cmd_run(int argc, char **argv) {
 
 static int cmd_check(int argc, char **argv) {
   sw_scene_overrides ov = {{0, 0}, 0.0};
-  if (argc < 3 || argv[2][0] == '-') return usage(stderr), 2;
+  if (argc < 3 || argv[2][0] == '-') return usage_check(stderr), 2;
   for (int i = 3; i < argc; i++) {
     int rc = parse_override(argc, argv, &i, &ov);
     if (rc < 0) return 2;
     if (rc == 0)
-      return fprintf(stderr, "sinew: unknown option or missing value: %s (see sinew --help)\n",
+      return fprintf(stderr, "sinew: unknown option or missing value: %s (see sinew check --help)\n",
                      argv[i]), 2;
   }
   char err[SW_ERRSZ];
@@ -267,12 +317,12 @@ static int parse_inverse_args(int argc, char **argv, inv_cli *c) {
     if (!strcmp(a, "--targets") && has_val) c->targets = argv[++i];
     else if (!strcmp(a, "--out") && has_val) c->out = argv[++i];
     else if (a[0] == '-' && a[1])
-      return fprintf(stderr, "sinew: unknown option or missing value: %s (see sinew --help)\n",
+      return fprintf(stderr, "sinew: unknown option or missing value: %s (see sinew inverse --help)\n",
                      a), -1;
     else if (!c->scene) c->scene = a;
     else return fprintf(stderr, "sinew: more than one scene given: %s\n", a), -1;
   }
-  if (!c->scene) return fprintf(stderr, "sinew: no scene file given (see sinew --help)\n"), -1;
+  if (!c->scene) return fprintf(stderr, "sinew: no scene file given (see sinew inverse --help)\n"), -1;
   if (!c->targets) return fprintf(stderr, "sinew: inverse needs --targets FILE\n"), -1;
   if (c->out && (!*c->out || strlen(c->out) >= SW_PATHSZ))
     return fprintf(stderr, "sinew: --out expects a file path of 1..%d bytes\n", SW_PATHSZ - 1),
@@ -392,18 +442,24 @@ static int cmd_inverse(int argc, char **argv) {
   return rc;
 }
 
+/* --help or -h among a subcommand's arguments. */
+static int wants_help(int argc, char **argv) {
+  for (int i = 2; i < argc; i++)
+    if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) return 1;
+  return 0;
+}
+
 int main(int argc, char **argv) {
   if (argc < 2) return usage(stderr), 2;
   const char *cmd = argv[1];
   if (!strcmp(cmd, "--help") || !strcmp(cmd, "-h") || !strcmp(cmd, "help")) return usage(stdout), 0;
   if (!strcmp(cmd, "--version")) return printf("sinew %s\n", SW_VERSION), 0;
-  if (!strcmp(cmd, "run")) {
-    for (int i = 2; i < argc; i++)
-      if (!strcmp(argv[i], "--help")) return usage(stdout), 0;
-    return cmd_run(argc, argv);
-  }
-  if (!strcmp(cmd, "check")) return cmd_check(argc, argv);
-  if (!strcmp(cmd, "inverse")) return cmd_inverse(argc, argv);
+  if (!strcmp(cmd, "run")) return wants_help(argc, argv) ? usage_run(stdout), 0 : cmd_run(argc, argv);
+  if (!strcmp(cmd, "check"))
+    return wants_help(argc, argv) ? usage_check(stdout), 0 : cmd_check(argc, argv);
+  if (!strcmp(cmd, "inverse"))
+    return wants_help(argc, argv) ? usage_inverse(stdout), 0 : cmd_inverse(argc, argv);
+  if (!strcmp(cmd, "render")) return cli_render(argc, argv);
   if (!strcmp(cmd, "bench")) return sw_bench_main(argc, argv);
   fprintf(stderr, "sinew: unknown command '%s' (see sinew --help)\n", cmd);
   return 2;

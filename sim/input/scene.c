@@ -3,7 +3,7 @@
  * Two stages.  First the YAML text is parsed with libfyaml's event parser into a small tree of
  * our own (ynode) that keeps the 1-based line and column of every node (the libfyaml of
  * Debian 12 has no public node positions); libfyaml's own diagnostics are collected, never
- * printed.  Then the tree is checked against the schema (DESIGN.md, "Scene files") and the
+ * printed.  Then the tree is checked against the schema (docs/scenes.md) and the
  * model is filled.  Every error is "file:line:column: what was found; what was expected".
  * Units are SI: m, s, kg, N. */
 #include "scene.h"
@@ -387,19 +387,23 @@ static int load_integrator(const ctx *c, const ynode *y) {
   return 0;
 }
 
-static const char *const out_keys[] = {"dir", "frames_every", "positions_every"};
+static const char *const out_keys[] = {"dir", "frames_every", "positions_every",
+                                       "frames_format"};
 
 static int load_output(const ctx *c, const ynode *y) {
   sw_options *o = &c->m->opt;
-  const ynode *v[3];
+  const ynode *v[4];
   const char *dir;
-  if (sy_map(c, y, "output", out_keys, 3, v)) return -1;
+  if (sy_map(c, y, "output", out_keys, 4, v)) return -1;
   if (v[0]) {
     if (sy_str(c, v[0], "output dir", sizeof o->out_dir, &dir)) return -1;
     snprintf(o->out_dir, sizeof o->out_dir, "%s", dir);
   }
   if (v[1] && sy_num(c, v[1], "output frames_every", 0, 0, "s", &o->frames_every)) return -1;
   if (v[2] && sy_num(c, v[2], "output positions_every", 0, 0, "s", &o->positions_every))
+    return -1;
+  if (v[3] && sy_choice(c, v[3], "output frames_format", sw_frames_format_names(), SW_FRAMES_N,
+                        &o->frames_format))
     return -1;
   return 0;
 }

@@ -1,5 +1,5 @@
-/* scene_material.c — a scene's `material`, `panels` and `damping` (DESIGN.md "Scene files",
- * docs/scenes.md).  The material is mat[0]; each panel (an OBJ usemtl/g group) is a copy of it
+/* scene_material.c — a scene's `material`, `panels` and `damping`
+ * (docs/scenes.md).  The material is mat[0]; each panel (an OBJ usemtl/g group) is a copy of it
  * with the keys the panel gives.  A membrane or bending block replaces the whole block. */
 #include "scene_material.h"
 

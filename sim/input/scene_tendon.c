@@ -1,4 +1,4 @@
-/* scene_tendon.c — a scene's `tendons` (DESIGN.md "Tendons", docs/scenes.md):
+/* scene_tendon.c — a scene's `tendons` (docs/scenes.md, docs/tendons.md):
  *   - {name: s1, waypoints: [0, 41, 82] | {box: [[lo], [hi]], along: x} | {vertices: [...]},
  *      law: cable | spring, stiffness: K (N/m), rest_length: L (m) | {relative: r} |
  *      {keyframes: [[t, L], ...], relative: false}, density: kg/m, damping: N s/m}

@@ -3,7 +3,8 @@
  *
  * Each format is one file holding one or more `const sw_out_ops` tables (SUNDIALS' table of
  * operations, dav1d's muxers): csv.c (tension.csv, energy.csv, tendons.csv), positions.c
- * (positions.bin), vtu.c (frames/frame_NNNNNN.vtu and frames.pvd), summary.c
+ * (positions.bin), vtu.c (frames/frame_NNNNNN.vtu, tendons_NNNNNN.vtp and frames.pvd, through
+ * vtkxml.c), summary.c
  * (summary.json).  output.c lists them and drives them: it is the only caller of the
  * operations.  A new format is one new
  * file with its table, and its name in output.c's list.  Dependencies point down:
