@@ -1,5 +1,6 @@
-/* gravity.c — uniform gravity on the lumped masses: E = -sum_i m_i g.x_i (J).
- * Linear in x: no Hessian, so it declares no stencils. */
+/* gravity.c — uniform gravity on the lumped masses: E = -r(t) sum_i m_i g.x_i (J), r(t) the
+ * ramp sw_ramp(t, m->gravity_ramp) (1 without one).  Linear in x: no Hessian, so it declares
+ * no stencils. */
 #include <stdio.h>
 
 #include "terms.h"
@@ -7,11 +8,13 @@
 static int gravity_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, double *energy) {
   (void)t;
   const int d = m->dim;
+  const double r = sw_ramp(ev->t, m->gravity_ramp);
   double e = 0.0;
   for (int i = 0; i < m->nv; i++)
     for (int a = 0; a < d; a++) {
-      e -= m->mass[i] * m->gravity[a] * ev->x[i * d + a];
-      if (ev->grad) ev->grad[i * d + a] -= m->mass[i] * m->gravity[a];
+      double f = r * m->mass[i] * m->gravity[a]; /* N */
+      e -= f * ev->x[i * d + a];
+      if (ev->grad) ev->grad[i * d + a] -= f;
     }
   *energy = e;
   return SW_OK;

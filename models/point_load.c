@@ -1,5 +1,6 @@
 /* point_load.c — external point loads on vertices (scene key `loads`): E = -sum_i f_i . x_i (J),
- * f_i = m->load (N).  Linear in x: no Hessian, so it declares no stencils. */
+ * f_i = r_i(t) m->load (N), r_i = sw_ramp(t, m->load_ramp[i]) (1 without ramps).  Linear in
+ * x: no Hessian, so it declares no stencils. */
 #include <stdio.h>
 
 #include "terms.h"
@@ -9,8 +10,9 @@ static int load_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, dou
   const long n = (long)m->nv * m->dim;
   double e = 0.0;
   for (long i = 0; i < n; i++) {
-    e -= m->load[i] * ev->x[i];
-    if (ev->grad) ev->grad[i] -= m->load[i];
+    double f = m->load[i] * (m->load_ramp ? sw_ramp(ev->t, m->load_ramp[i / m->dim]) : 1.0);
+    e -= f * ev->x[i];
+    if (ev->grad) ev->grad[i] -= f;
   }
   *energy = e;
   return SW_OK;

@@ -1,8 +1,9 @@
 /* tendon.c — tendons through mesh-node waypoints (the waypoint tendon model;
  * docs/tendons.md).
  *
- * A tendon with waypoints w_0 .. w_{n-1} has segments s_k = x_{w_k} - x_{w_{k+1}} (the tendon model
- * §1.2), length l = sum |s_k|, rest length alpha(t) (keyframes), Delta = l - alpha and energy
+ * A tendon with waypoints w_0 .. w_{n-1} has segments s_k = x_{w_k} - x_{w_{k+1}} (the tendon
+ * model §1.2), length l = sum |s_k|, rest length alpha(t) (keyframes, models/forcing.c),
+ * Delta = l - alpha and energy
  * E(Delta; K):  spring E = K/2 Delta^2;  cable E = K/2 max(Delta, 0)^2.  With s^_k = s_k/|s_k|:
  *   grad Delta at waypoint a = s^_a - s^_{a-1}            (its "first partials"; the end
  *                                                          points keep one term)
@@ -37,13 +38,11 @@ typedef struct tendon_param {
 } tendon_param;
 
 double sw_tendon_rest(const sw_tendon *td, double t) {
-  const double *kt = td->key_t, *kr = td->key_rest;
-  if (td->nkey == 1 || t <= kt[0]) return kr[0];
-  if (t >= kt[td->nkey - 1]) return kr[td->nkey - 1];
-  int k = 0;
-  while (t > kt[k + 1]) k++;
-  double s = (t - kt[k]) / (kt[k + 1] - kt[k]); /* in [0, 1] */
-  return kr[k] + s * (kr[k + 1] - kr[k]);
+  return sw_keyframe_value(td->key_t, td->key_rest, td->nkey, td->interp, t); /* m */
+}
+
+double sw_tendon_rest_rate(const sw_tendon *td, double t) {
+  return sw_keyframe_rate(td->key_t, td->key_rest, td->nkey, td->interp, t); /* m/s */
 }
 
 /* s_k = x_{w_k} - x_{w_{k+1}}: its length |s_k| (m) and, into sh, s^_k (0 if degenerate). */

@@ -71,6 +71,7 @@ void sw_model_free(sw_model *m) {
   sw_free(m->dminv);
   sw_free(m->area);
   sw_free(m->mass);
+  sw_free(m->point_mass);
   sw_free(m->pinned);
   sw_free(m->dof);
   sw_free(m->mat);
@@ -83,6 +84,7 @@ void sw_model_free(sw_model *m) {
   }
   sw_free(m->tendon);
   sw_free(m->load);
+  sw_free(m->load_ramp);
   sw_free(m);
 }
 
@@ -133,7 +135,8 @@ static int rest_shapes(sw_model *m, int need_area, char *err, size_t errsz) {
 }
 
 /* Lumped mass: each triangle gives a third of density * area to each corner, each tendon
- * segment half of its linear density * initial length to each end (docs/tendons.md). */
+ * segment half of its linear density * initial length to each end (docs/tendons.md), and each
+ * point mass (`masses`) goes to its vertex. */
 static void lumped_mass(sw_model *m) {
   m->total_mass = 0.0;
   for (int f = 0; f < m->nf; f++) {
@@ -154,6 +157,10 @@ static void lumped_mass(sw_model *m) {
       m->total_mass += 2.0 * share;
     }
   }
+  for (int i = 0; m->point_mass && i < m->nv; i++) {
+    m->mass[i] += m->point_mass[i]; /* kg */
+    m->total_mass += m->point_mass[i];
+  }
 }
 
 static int dof_map(sw_model *m, char *err, size_t errsz) {
@@ -161,7 +168,7 @@ static int dof_map(sw_model *m, char *err, size_t errsz) {
   for (int i = 0; i < m->nv; i++) {
     if (!m->pinned[i] && !(m->mass[i] > 0.0)) {
       sw_errf(err, errsz, "vertex %d is free but has no mass (in no face with area and density, "
-              "on no tendon with density); pin it or give it mass", i);
+              "on no tendon with density, no point mass); pin it or give it mass", i);
       return -1;
     }
     for (int a = 0; a < m->dim; a++) m->dof[i * m->dim + a] = m->pinned[i] ? -1 : n++;
@@ -273,6 +280,102 @@ static int check_tendons(const sw_model *m, char *err, size_t errsz) {
   return 0;
 }
 
+/* splitmix64 (G. Steele, D. Lea, C. Flood, "Fast Splittable Pseudorandom Number Generators",
+ * OOPSLA 2014): a uniform number in [-1, 1) from the state. */
+static double uniform(unsigned long long *state) {
+  unsigned long long z = (*state += 0x9e3779b97f4a7c15ULL);
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  z ^= z >> 31;
+  return (double)(z >> 11) * 0x1.0p-52 - 1.0;
+}
+
+/* The area-weighted normal of every vertex at x0 into n (nv x 3, unit; 0 for a vertex in no
+ * face or whose faces cancel). */
+static void vertex_normals(const sw_model *m, double *n) {
+  for (int f = 0; f < m->nf; f++) {
+    const int *v = m->face + 3 * f;
+    const double *a = m->x0 + 3 * v[0], *b = m->x0 + 3 * v[1], *c = m->x0 + 3 * v[2];
+    double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    double e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    double fn[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                    e1[0] * e2[1] - e1[1] * e2[0]};
+    for (int i = 0; i < 3; i++)
+      for (int k = 0; k < 3; k++) n[3 * v[i] + k] += fn[k];
+  }
+  for (int i = 0; i < m->nv; i++) {
+    double *ni = n + 3 * i, l = sqrt(ni[0] * ni[0] + ni[1] * ni[1] + ni[2] * ni[2]);
+    for (int k = 0; k < 3; k++) ni[k] = l > 0.0 ? ni[k] / l : 0.0;
+  }
+}
+
+#define PERTURB_WAVES 6 /* plane waves in the perturbation field */
+#define PERTURB_PI 3.14159265358979323846
+
+/* The bounding-box diagonal of x0 (m) and its lower corner. */
+static double bbox(const sw_model *m, double lo[3]) {
+  double hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL}, d2 = 0.0;
+  lo[0] = lo[1] = lo[2] = HUGE_VAL;
+  for (int i = 0; i < m->nv; i++)
+    for (int a = 0; a < 3; a++) {
+      lo[a] = fmin(lo[a], m->x0[3 * i + a]);
+      hi[a] = fmax(hi[a], m->x0[3 * i + a]);
+    }
+  for (int a = 0; a < 3; a++) d2 += (hi[a] - lo[a]) * (hi[a] - lo[a]);
+  return sqrt(d2);
+}
+
+/* The smooth field w(x) = sum_k a_k sin(k_k . x + phi_k), PERTURB_WAVES waves of random
+ * direction, wavelength D/2 .. D (D the diagonal), amplitude a_k and phase phi_k, times a taper
+ * from 0 at the pinned vertices to 1 at D/4 from them (the quintic ramp): one value per
+ * vertex into w.  Smooth in space and defined by position, not by index. */
+static void smooth_field(const sw_model *m, unsigned long long *state, double *w) {
+  double lo[3], D = bbox(m, lo), k[PERTURB_WAVES][3], a[PERTURB_WAVES], ph[PERTURB_WAVES];
+  for (int q = 0; q < PERTURB_WAVES; q++) {
+    double dir[3] = {uniform(state), uniform(state), uniform(state)}, l = 0.0;
+    for (int c = 0; c < 3; c++) l += dir[c] * dir[c];
+    double kk = 2.0 * PERTURB_PI / D * (1.5 + 0.5 * uniform(state)) / (l > 0.0 ? sqrt(l) : 1.0);
+    for (int c = 0; c < 3; c++) k[q][c] = l > 0.0 ? kk * dir[c] : 0.0; /* 1/m */
+    a[q] = uniform(state);
+    ph[q] = PERTURB_PI * uniform(state);
+  }
+  for (int i = 0; i < m->nv; i++) {
+    const double *x = m->x0 + 3 * i;
+    double v = 0.0, dmin = HUGE_VAL;
+    for (int q = 0; q < PERTURB_WAVES; q++)
+      v += a[q] * sin(k[q][0] * (x[0] - lo[0]) + k[q][1] * (x[1] - lo[1]) +
+                      k[q][2] * (x[2] - lo[2]) + ph[q]);
+    for (int j = 0; j < m->nv; j++) {
+      if (!m->pinned[j]) continue;
+      double d2 = 0.0;
+      for (int c = 0; c < 3; c++) d2 += (x[c] - m->x0[3 * j + c]) * (x[c] - m->x0[3 * j + c]);
+      dmin = fmin(dmin, d2);
+    }
+    w[i] = v * sw_ramp(sqrt(dmin), 0.25 * D);
+  }
+}
+
+/* `perturb` (docs/scenes.md): each free vertex of a 3D model moves along its normal by the
+ * smooth field of smooth_field, scaled so that its largest value is the amplitude; a vertex in
+ * no face does not move.  After the terms are built, so rest angles and lengths are those of
+ * the mesh. */
+static int perturb(sw_model *m, char *err, size_t errsz) {
+  if (!(m->perturb_amplitude > 0.0)) return 0;
+  if (m->dim != 3) return sw_errf(err, errsz, "perturb needs dimension 3"), -1;
+  double *n = sw_calloc((size_t)m->nv * 4, sizeof *n), *w = n + 3 * (size_t)m->nv, wmax = 0.0;
+  if (!n) return sw_errf(err, errsz, "out of memory"), -1;
+  vertex_normals(m, n);
+  unsigned long long state = m->perturb_seed;
+  smooth_field(m, &state, w);
+  for (int i = 0; i < m->nv; i++) wmax = fmax(wmax, fabs(w[i]));
+  for (int i = 0; wmax > 0.0 && i < m->nv; i++) {
+    double s = m->pinned[i] ? 0.0 : m->perturb_amplitude * w[i] / wmax; /* m */
+    for (int c = 0; c < 3; c++) m->x0[3 * i + c] += s * n[3 * i + c];
+  }
+  sw_free(n);
+  return 0;
+}
+
 int sw_model_finish(sw_model *m, char *err, size_t errsz) {
   if (m->dim != 2 && m->dim != 3) return sw_errf(err, errsz, "dimension must be 2 or 3"), -1;
   if (m->nv <= 0) return sw_errf(err, errsz, "the model has no vertices"), -1;
@@ -306,7 +409,8 @@ int sw_model_finish(sw_model *m, char *err, size_t errsz) {
   lumped_mass(m);
   if (dof_map(m, err, errsz)) return -1;
   tension_stiffness(m);
-  return build_terms(m, err, errsz);
+  if (build_terms(m, err, errsz)) return -1;
+  return perturb(m, err, errsz);
 }
 
 void sw_model_print(const sw_model *m, void *file) {

@@ -49,6 +49,15 @@ static int damping_power(sw_sim *s) {
   return SW_OK;
 }
 
+/* The power the forcing puts in at the current state and its integral, the work in, by the
+ * trapezoid rule between log lines (as damping_power). */
+static void actuation_power(sw_sim *s) {
+  sw_data *d = s->d;
+  double p = sw_actuation_power(s->m, d->x, d->t); /* W */
+  if (s->logged) d->work_in += 0.5 * (d->actuation_power + p) * (d->t - s->t_logged); /* J */
+  d->actuation_power = p;
+}
+
 /* Prefix err (an output failure) with the time it happened at; returns SW_FATAL. */
 static int output_failed(const sw_data *d, char *err, size_t errsz) {
   if (err && errsz) {
@@ -92,6 +101,7 @@ static int record(sw_sim *s, int force, char *err, size_t errsz) {
   sw_data *d = s->d;
   double u;
   int rc = sw_damped(m) ? damping_power(s) : SW_OK;
+  if (sw_actuated(m)) actuation_power(s);
   if (!rc) rc = diagnose(s, &u);
   if (rc) /* e.g. a step accepted a state whose energy is not finite */
     return sw_errf(err, errsz, "t = %.9g s: %s: cannot evaluate the state to log it: %s", d->t,

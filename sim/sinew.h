@@ -157,13 +157,40 @@ typedef struct sw_tendon {
   int nkey;                    /* rest-length keyframes, >= 1 (1: constant) */
   double *key_t;               /* (nkey) s, increasing */
   double *key_rest;            /* (nkey) rest length, m (relative ones resolved at load) */
+  int interp;                  /* SW_INTERP_*: how the rest length goes between keyframes */
   double density;              /* kg/m: linear density, lumped onto the waypoints */
   double damping;              /* N s/m: force -c (dl/dt) grad l along the tendon */
 } sw_tendon;
 
-/* The rest length of a tendon at time t: piecewise linear in its keyframes, constant
- * outside them (m). */
+/* Forcing (models/forcing.c, docs/scenes.md "Forcing").  Keyframes are interpolated linearly
+ * (the slope jumps at each keyframe) or smoothly: the quintic blend 6u^5 - 15u^4 + 10u^3
+ * between consecutive keyframes, C^2 everywhere and never outside the keyframes' range.
+ * Scenes default to smooth; a zeroed sw_tendon is linear. */
+enum { SW_INTERP_LINEAR = 0, SW_INTERP_SMOOTH = 1 };
+/* The value at time t (s) of keyframes (kt[k], kv[k]), k < n, kt increasing; constant outside
+ * them. */
+SW_API double sw_keyframe_value(const double *kt, const double *kv, int n, int interp,
+                                double t);
+/* Its time derivative at t (units of kv per s; 0 outside the keyframes). */
+SW_API double sw_keyframe_rate(const double *kt, const double *kv, int n, int interp,
+                               double t);
+/* A smooth ramp from 0 at t = 0 to 1 at t = T (the quintic blend of t/T), 1 when T <= 0; and
+ * its rate (1/s). */
+SW_API double sw_ramp(double t, double T);
+SW_API double sw_ramp_rate(double t, double T);
+
+/* Nonzero when the model's potential depends on time (keyframed tendons, ramped gravity or
+ * loads): energy.csv then logs the work the forcing does. */
+SW_API int sw_actuated(const sw_model *m);
+/* The power the forcing puts in at positions x (nv x dim) and time t: dU/dt at fixed x, W
+ * (docs/integrators.md, "Energy"): -sum tension alpha'(t) over tendons, -r'(t) sum m g.x for
+ * ramped gravity, -sum r_i'(t) f_i.x_i for ramped loads. */
+SW_API double sw_actuation_power(const sw_model *m, const double *x, double t);
+
+/* The rest length of a tendon at time t: its keyframes interpolated as td->interp says,
+ * constant outside them (m); and its rate (m/s). */
 SW_API double sw_tendon_rest(const sw_tendon *td, double t);
+SW_API double sw_tendon_rest_rate(const sw_tendon *td, double t);
 /* The current length sum |x_{w_k} - x_{w_k+1}| of a tendon at x (nv x dim), m. */
 SW_API double sw_tendon_length(const sw_tendon *td, const double *x, int dim);
 /* Its tension E'(delta) for delta = length - rest, N (cable: 0 when slack). */
@@ -243,17 +270,23 @@ struct sw_model {
   int nv, nf;                  /* vertices, triangles */
   double *x0;                  /* (nv x dim) initial positions, m */
   double *v0;                  /* (nv x dim) initial velocities, m/s */
+  double perturb_amplitude;    /* m: sw_model_finish moves each free vertex of x0 along its
+                                  normal by a smooth random field of this largest value, after
+                                  the rest shapes are taken (0: none; docs/scenes.md) */
+  unsigned long perturb_seed;  /* the seed of that perturbation (the same seed, the same x0) */
   int *face;                   /* (nf x 3) vertex indices */
   double *uv;                  /* (nf x 6) rest (u,v) of each corner, m */
   double *dminv;               /* (nf x 4) Dm^-1 row-major, Dm = [uv1-uv0, uv2-uv0], 1/m */
   double *area;                /* (nf) rest area |det Dm|/2, m^2 */
   double *mass;                /* (nv) lumped mass, kg */
+  double *point_mass;          /* (nv) point masses the scene adds (`masses`), kg, or NULL */
   double total_mass;           /* kg */
   unsigned char *pinned;       /* (nv) 1 if the vertex is pinned */
   int *dof;                    /* (nv x dim) free DOF index, or -1 for a pinned component */
   int ndof;                    /* free DOFs */
   double gravity[3];           /* m/s^2 */
   int has_gravity;
+  double gravity_ramp;         /* s: gravity grows as sw_ramp(t, gravity_ramp) (0: on at t = 0) */
   int nmat;                    /* materials, >= 1 */
   sw_material *mat;            /* (nmat) mat[0]: the scene's material; others: panels */
   int *face_mat;               /* (nf) material of each face */
@@ -265,18 +298,23 @@ struct sw_model {
   sw_tendon *tendon;           /* (ntendon) */
   double *load;                /* (nv x dim) external point load on each vertex, N (scene key
                                   `loads`, term "loads", models/point_load.c), or NULL */
+  double *load_ramp;           /* (nv) s: vertex i's load grows as sw_ramp(t, load_ramp[i]);
+                                  NULL: every load on at t = 0 */
   int nterm;
   sw_term *term;               /* (nterm) energy terms, only those the scene names */
   sw_options opt;
   double stiffness_scale;      /* the factor every elastic stiffness of the scene was multiplied
                                   by at load (sw_scene_overrides; 1: none, 0 read as 1) */
+  char warning[SW_ERRSZ];      /* what the loader warns of ("" when nothing): a grid override
+                                  on a scene that selects vertices by index */
 };
 
 /* Allocate an empty model with default options. */
 SW_API sw_model *sw_model_new(void);
 /* After a loader filled dim, nv, nf, x0, v0, face, uv, pinned, gravity, mat (face_mat: NULL
  * for all faces on mat[0]), tendons and opt: rotate each panel's layout by its bias, compute
- * rest shapes, lumped masses, the DOF map and build the terms.  Nonzero on error. */
+ * rest shapes, lumped masses, the DOF map and build the terms; then perturb x0 when
+ * perturb_amplitude > 0.  Nonzero on error. */
 SW_API int sw_model_finish(sw_model *m, char *err, size_t errsz);
 SW_API void sw_model_free(sw_model *m);
 /* Load and validate a scene file (YAML).  NULL on error, with "file:line:column: message". */
@@ -285,7 +323,8 @@ SW_API sw_model *sw_scene_load(const char *path, char *err, size_t errsz);
 /* What sw_scene_load_ex changes in a scene as it loads it (sinew run --grid, --stiffness-scale).
  * grid replaces mesh.grid.vertices (the scene's mesh must be a grid; both >= 2, at most the
  * scene key's total); vertex indices in selections and tendons stay indices (and may then be
- * out of range: the usual error), boxes select on the new grid.  stiffness_scale multiplies
+ * out of range: the usual error; m->warning says where the scene selects by index), boxes and
+ * grid selections ({grid: [[i, j], ...]}) select on the new grid.  stiffness_scale multiplies
  * every elastic stiffness before the terms are built: the membrane's (bw98 k_u, k_v, k_shear;
  * stvk e_u, e_v, shear_modulus; corotated k; springs stretch, shear, bend), bending stiffness,
  * every tendon's stiffness and the stiffness tension XY uses (derived or explicit); not
@@ -337,6 +376,8 @@ struct sw_data {
   double *tendon_tension;      /* (ntendon) E'(delta), N */
   double damp_power;           /* W: v.D v dissipated by damping at the last diagnostics */
   double dissipated;           /* J: its integral over the run so far (trapezoid on the logs) */
+  double actuation_power;      /* W: dU/dt at fixed x (sw_actuation_power) at the last log */
+  double work_in;              /* J: its integral over the run so far (trapezoid on the logs) */
   /* counters (cumulative over the run) */
   long nstep, nnewton, nfactor, nassemble, nforce, nretry, nlinesearch;
   long nerrfail;               /* error-test failures of adaptive methods */

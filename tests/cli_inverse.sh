@@ -53,6 +53,16 @@ grep -q 'tendon bottom needs tension .* expected a stiffness of at least' "$tmp/
   fail "negative rest length message: $(cat "$tmp/err")"
 [ -e "$tmp/soft_out.yaml" ] && fail "a negative rest length was written"
 
+# A target on a pinned vertex (0, anchor A): refused with file:line:column naming the vertex.
+printf 'vertex,fx,fy\n4,0,0\n0,1,0\n' >"$tmp/pinned.csv"
+"$sinew" inverse "$scene" --targets "$tmp/pinned.csv" --out "$tmp/pinned.yaml" >/dev/null \
+  2>"$tmp/err"
+rc=$?
+[ $rc -eq 2 ] || fail "pinned target exit $rc"
+grep -q "pinned.csv:3:1: vertex 0 is pinned by the scene; expected a free vertex" "$tmp/err" ||
+  fail "pinned target message: $(cat "$tmp/err")"
+[ -e "$tmp/pinned.yaml" ] && fail "a target on a pin was written"
+
 # Bad targets: file:line:column, exit 2, nothing written.
 printf 'vertex,fx,fy\n4,0,0\n5,x,-3\n' >"$tmp/bad.csv"
 "$sinew" inverse "$scene" --targets "$tmp/bad.csv" --out "$tmp/bad.yaml" >/dev/null 2>"$tmp/err"

@@ -578,6 +578,13 @@ static const bad_case bad[] = {
     {"dense_max.yaml", GRID MAT "integrator: {tendon_dense_max: -1}\n", 3, 32,
      "tendon_dense_max"},
     {"points_dim.yaml", "mesh: {points: [[0, 0, 0], [1, 0]]}\n", 1, 28, "components"},
+    /* grid selections */
+    {"grid_range.yaml", GRID MAT "pins: [{select: {grid: [[0, 3]]}}]\n", 3, 29, "[-3, 2]"},
+    {"grid_pair.yaml", GRID MAT "pins: [{select: {grid: [[0, 1, 2]]}}]\n", 3, 25, "[i, j]"},
+    {"grid_two.yaml", GRID MAT "pins: [{select: {grid: [[0, 0]], box: [[0, 0, 0], [1, 1, 1]]}}]\n",
+     3, 17, "more than one"},
+    {"grid_points.yaml", "mesh: {points: [[0, 0, 0], [1, 0, 0]]}\n"
+     "pins: [{select: {grid: [[0, 0]]}}]\n", 2, 24, "not a grid"},
 };
 
 static void write_meshes(void) {
@@ -748,6 +755,21 @@ static void test_grid_override(void **state) {
   m = sw_scene_parse_ex("idx.yaml", idx, strlen(idx), &ov, err, sizeof err);
   if (!m) fail_msg("%s", err);
   assert_true(m->nv == 16 && m->pinned[0] && m->pinned[8] && count_pinned(m) == 2);
+  /* 8 is no longer the far corner: the model says where the scene selects by index */
+  assert_non_null(strstr(m->warning, "idx.yaml:3:28: the scene selects vertices by index"));
+  sw_model_free(m);
+  /* the same pins by grid position: the far corner on every grid, and no warning */
+  const char *gp = GRID MAT "pins: [{select: {grid: [[0, 0], [-1, -1]]}}]\n";
+  for (int n = 2; n <= 5; n++) {
+    ov = (sw_scene_overrides){{n, n + 1}, 0.0};
+    m = sw_scene_parse_ex("gp.yaml", gp, strlen(gp), &ov, err, sizeof err);
+    if (!m) fail_msg("%s", err);
+    assert_true(m->pinned[0] && m->pinned[n * (n + 1) - 1] && count_pinned(m) == 2);
+    assert_string_equal(m->warning, "");
+    sw_model_free(m);
+  }
+  m = sw_scene_parse("gp.yaml", gp, strlen(gp), err, sizeof err);
+  assert_true(m && m->pinned[8] && count_pinned(m) == 2 && !m->warning[0]);
   sw_model_free(m);
   /* not a grid: the mesh node, and what is expected */
   const char *obj = "mesh:\n  obj: nothere.obj\n" MAT;

@@ -14,7 +14,8 @@ import sinew
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 SCENE = os.path.join(ROOT, "scenes", "cloth_drawstring.yaml")
 SINEW = os.environ.get("SINEW_EXE", os.path.join(ROOT, "build", "sinew"))
-REST_LINE = "    rest_length: {keyframes: [[0, 1.0], [1.5, 0.5]], relative: true}"
+REST_LINE = ("    rest_length: {keyframes: [[0, 1.0], [1.5, 0.5]], relative: true, "
+             "interpolation: smooth}")
 
 
 def scene_with_rest(tmp_path, rest):

@@ -253,6 +253,7 @@ static int cmd_run(int argc, char **argv) {
   char err[SW_ERRSZ];
   sw_model *m = sw_scene_load_ex(c.scene, &c.ov, err, sizeof err);
   if (!m) return fprintf(stderr, "sinew: %s\n", err), 1;
+  if (m->warning[0]) fprintf(stderr, "sinew: warning: %s\n", m->warning);
   if (c.out) snprintf(m->opt.out_dir, sizeof m->opt.out_dir, "%s", c.out);
   if (c.method) snprintf(m->opt.method, sizeof m->opt.method, "%s", c.method);
   if (c.dt > 0) m->opt.dt = c.dt;
@@ -298,6 +299,7 @@ static int cmd_check(int argc, char **argv) {
   char err[SW_ERRSZ];
   sw_model *m = sw_scene_load_ex(argv[2], &ov, err, sizeof err);
   if (!m) return fprintf(stderr, "sinew: %s\n", err), 1;
+  if (m->warning[0]) fprintf(stderr, "sinew: warning: %s\n", m->warning);
   sw_model_print(m, stdout);
   sw_model_free(m);
   return 0;

@@ -37,6 +37,7 @@ static void file_stem(const char *path, char *out, size_t sz) {
 typedef struct mesh_in {
   sw_mesh mesh;
   const ynode *at;        /* the grid or obj value, for messages */
+  int grid[2];            /* a grid's vertices nx, ny (0: not a grid) */
   char obj[SW_PATHSZ];    /* the OBJ file as opened */
 } mesh_in;
 
@@ -72,6 +73,8 @@ static int load_grid(const ctx *c, const ynode *y, mesh_in *mi) {
   char e[SW_ERRSZ];
   if (sw_mesh_grid(&mi->mesh, size, nvert[0], nvert[1], planes[plane], e, sizeof e))
     return sy_fail(c, y, "in mesh grid: %s", e);
+  mi->grid[0] = nvert[0];
+  mi->grid[1] = nvert[1];
   return 0;
 }
 
@@ -194,9 +197,10 @@ static int fill_geometry(const ctx *c, const mesh_in *mi, double uv_scale) {
 static const char *const top_keys[] = {"name",     "dimension", "mesh",     "material",
                                        "gravity",  "pins",      "initial_velocity",
                                        "integrator", "duration", "output",  "tension_xy",
-                                       "panels",   "damping",   "tendons",  "loads"};
+                                       "panels",   "damping",   "tendons",  "loads",
+                                       "masses",   "perturb"};
 enum { K_NAME, K_DIM, K_MESH, K_MAT, K_GRAV, K_PINS, K_IV, K_INT, K_DUR, K_OUT, K_TXY, K_PANELS,
-       K_DAMP, K_TENDONS, K_LOADS, K_N };
+       K_DAMP, K_TENDONS, K_LOADS, K_MASSES, K_PERTURB, K_N };
 
 static int load_name_dim(const ctx *c, const ynode **v) {
   sw_model *m = c->m;
@@ -230,6 +234,7 @@ static int load_geometry(ctx *c, const ynode **v) {
                  "expected material: {...} that the panels start from");
   if (!rc && v[K_MAT]) rc = sc_load_material(c, v[K_MAT], &mi.mesh, mi.obj);
   if (!rc) rc = fill_geometry(c, &mi, uv_scale);
+  memcpy(c->grid, mi.grid, sizeof c->grid);
   if (!rc && v[K_PANELS]) rc = sc_load_panels(c, v[K_PANELS], &mi.mesh, mi.obj, uv_scale);
   sw_mesh_free(&mi.mesh);
   if (!rc && !(c->sel = sw_calloc((size_t)c->m->nv, 1))) rc = sy_oom(c, c->root);
@@ -284,38 +289,127 @@ static int load_velocities(const ctx *c, const ynode *y) {
   return 0;
 }
 
-static const char *const load_keys[] = {"select", "force"};
+/* One item {select: SEL, <keys[1]>: value, ...} of a list of per-vertex quantities: its keys
+ * into v, the two first required (hint: how to write the second). */
+static int vertex_item(const ctx *c, const ynode *item, const char *w, const char *const *keys,
+                       int nkeys, const ynode **v, const char *hint) {
+  return sy_map(c, item, w, keys, nkeys, v) ||
+                 sy_need(c, item, v[0], w, "select", "select: {vertices: [...]} or {box: [...]}") ||
+                 sy_need(c, item, v[1], w, keys[1], hint)
+             ? -1
+             : 0;
+}
 
-/* loads: [{select: SEL, force: [fx, fy(, fz)]}]: force (N) on each selected vertex; the items
- * add up (models/point_load.c). */
+static const char *const load_keys[] = {"select", "force", "ramp"};
+
+/* A ramp time (s >= 0) into *T. */
+static int load_ramp_time(const ctx *c, const ynode *y, const char *what, double *T) {
+  return sy_num(c, y, what, 0, 0, "s", T);
+}
+
+/* loads[p] ramp T on the selected vertices: one ramp per vertex. */
+static int set_load_ramp(const ctx *c, const ynode *at, const char *w, double T) {
+  sw_model *m = c->m;
+  if (!m->load_ramp && T == 0.0) return 0;
+  if (!m->load_ramp && !(m->load_ramp = sw_calloc((size_t)m->nv, sizeof *m->load_ramp)))
+    return sy_oom(c, at);
+  for (int i = 0; i < m->nv; i++) {
+    if (!c->sel[i]) continue;
+    int loaded = 0;
+    for (int a = 0; a < m->dim; a++) loaded |= m->load[i * m->dim + a] != 0.0;
+    if (loaded && m->load_ramp[i] != T)
+      return sy_fail(c, at, "%s ramp is %g s on vertex %d, which an earlier load ramps over "
+                     "%g s; expected one ramp time per vertex", w, T, i, m->load_ramp[i]);
+    m->load_ramp[i] = T; /* s */
+  }
+  return 0;
+}
+
+/* loads: [{select: SEL, force: [fx, fy(, fz)], ramp: T}]: force (N) on each selected vertex,
+ * grown from 0 over T s (sw_ramp; default 0: on at t = 0); the items add up
+ * (models/point_load.c). */
 static int load_loads(const ctx *c, const ynode *y) {
   sw_model *m = c->m;
   char w[64], lab[96];
-  const ynode *v[2];
+  const ynode *v[3];
   double f[3];
   if (sy_seq(c, y, "loads", "a sequence of {select: ..., force: [...]}")) return -1;
   if (!(m->load = sw_calloc((size_t)m->nv * (size_t)m->dim, sizeof *m->load)))
     return sy_oom(c, y);
   for (int p = 0; p < y->n; p++) {
     snprintf(w, sizeof w, "loads[%d]", p);
-    if (sy_map(c, y->kid[p], w, load_keys, 2, v) ||
-        sy_need(c, y->kid[p], v[0], w, "select", "select: {vertices: [...]} or {box: [...]}") ||
-        sy_need(c, y->kid[p], v[1], w, "force", "force: [fx, fy(, fz)] in N"))
-      return -1;
+    if (vertex_item(c, y->kid[p], w, load_keys, 3, v, "force: [fx, fy(, fz)] in N")) return -1;
     snprintf(lab, sizeof lab, "%s force", w);
     if (sy_vec(c, v[1], lab, m->dim, -HUGE_VAL, 0, "N", f)) return -1;
     snprintf(lab, sizeof lab, "%s select", w);
     if (sy_select(c, v[0], lab)) return -1;
+    double T = 0.0; /* s */
+    snprintf(lab, sizeof lab, "%s ramp", w);
+    if ((v[2] && load_ramp_time(c, v[2], lab, &T)) ||
+        set_load_ramp(c, v[2] ? v[2] : y->kid[p], w, T))
+      return -1;
     for (int i = 0; i < m->nv; i++)
       for (int a = 0; c->sel[i] && a < m->dim; a++) m->load[i * m->dim + a] += f[a]; /* N */
   }
   return 0;
 }
 
+static const char *const mass_keys[] = {"select", "mass"};
+
+/* masses: [{select: SEL, mass: kg}]: a point mass on each selected vertex, added to its lumped
+ * mass (not shared out); the items add up. */
+static int load_masses(const ctx *c, const ynode *y) {
+  sw_model *m = c->m;
+  char w[64], lab[96];
+  const ynode *v[2];
+  if (sy_seq(c, y, "masses", "a sequence of {select: ..., mass: kg}")) return -1;
+  if (!(m->point_mass = sw_calloc((size_t)m->nv, sizeof *m->point_mass))) return sy_oom(c, y);
+  for (int p = 0; p < y->n; p++) {
+    double mass;
+    snprintf(w, sizeof w, "masses[%d]", p);
+    if (vertex_item(c, y->kid[p], w, mass_keys, 2, v, "mass: kg >= 0")) return -1;
+    snprintf(lab, sizeof lab, "%s mass", w);
+    if (sy_num(c, v[1], lab, 0, 0, "kg", &mass)) return -1;
+    snprintf(lab, sizeof lab, "%s select", w);
+    if (sy_select(c, v[0], lab)) return -1;
+    for (int i = 0; i < m->nv; i++) m->point_mass[i] += c->sel[i] ? mass : 0.0; /* kg */
+  }
+  return 0;
+}
+
+static const char *const perturb_keys[] = {"amplitude", "seed"};
+
+/* perturb: {amplitude: m, seed: n}: sw_model_finish moves the free vertices of x0 along their
+ * normals by a smooth random field of that largest value (3D only). */
+static int load_perturb(const ctx *c, const ynode *y) {
+  sw_model *m = c->m;
+  const ynode *v[2];
+  int seed = 0;
+  if (sy_map(c, y, "perturb", perturb_keys, 2, v) ||
+      sy_need(c, y, v[0], "perturb", "amplitude", "amplitude: m > 0"))
+    return -1;
+  if (m->dim != 3)
+    return sy_fail(c, y, "perturb is given in a 2D scene; expected it only with dimension: 3 "
+                   "(it moves vertices out of their surface)");
+  if (sy_num(c, v[0], "perturb amplitude", 0, 1, "m", &m->perturb_amplitude)) return -1;
+  if (v[1] && sy_int(c, v[1], "perturb seed", 0, INT_MAX, &seed)) return -1;
+  m->perturb_seed = (unsigned long)seed;
+  return 0;
+}
+
+static const char *const gravity_keys[] = {"vector", "ramp"};
+
+/* gravity: [gx, gy(, gz)] or {vector: [...], ramp: T} (grown from 0 over T s, sw_ramp). */
 static int load_gravity(const ctx *c, const ynode *y) {
   sw_model *m = c->m;
   if (!y) return 0;
-  if (sy_vec(c, y, "gravity", m->dim, -HUGE_VAL, 0, "m/s^2", m->gravity)) return -1;
+  const ynode *v[2] = {y, NULL};
+  if (y->kind == Y_MAP &&
+      (sy_map(c, y, "gravity", gravity_keys, 2, v) ||
+       sy_need(c, y, v[0], "gravity", "vector", "vector: [gx, gy(, gz)] in m/s^2")))
+    return -1;
+  if (sy_vec(c, v[0], "gravity", m->dim, -HUGE_VAL, 0, "m/s^2", m->gravity)) return -1;
+  if (v[1] && load_ramp_time(c, v[1], "gravity ramp", &m->gravity_ramp)) return -1;
   m->has_gravity = 1;
   return 0;
 }
@@ -444,6 +538,8 @@ static int load_scene(ctx *c) {
   if (v[K_DAMP] && sc_load_damping(c, v[K_DAMP])) return -1;
   if (v[K_TENDONS] && sc_load_tendons(c, v[K_TENDONS])) return -1;
   if (v[K_LOADS] && load_loads(c, v[K_LOADS])) return -1;
+  if (v[K_MASSES] && load_masses(c, v[K_MASSES])) return -1;
+  if (v[K_PERTURB] && load_perturb(c, v[K_PERTURB])) return -1;
   return load_options(c, v);
 }
 
@@ -466,6 +562,15 @@ static int check_overrides(const char *name, const sw_scene_overrides *ov, char 
   return 0;
 }
 
+/* --grid on a scene that selects by vertex index: where, and what to use instead. */
+static void grid_warning(const ctx *c, const ynode *at) {
+  snprintf(c->m->warning, sizeof c->m->warning,
+           "%s:%d:%d: the scene selects vertices by index, and the grid override (--grid "
+           "%dx%d) keeps indices, not places: the same indices are other vertices on the new "
+           "grid; select by box or grid: [[i, j], ...] to keep their meaning", c->name, at->line,
+           at->col, c->ov->grid[0], c->ov->grid[1]);
+}
+
 sw_model *sw_scene_parse(const char *name, const char *buf, size_t len, char *err,
                          size_t errsz) {
   return sw_scene_parse_ex(name, buf, len, NULL, err, errsz);
@@ -479,9 +584,12 @@ sw_model *sw_scene_parse_ex(const char *name, const char *buf, size_t len,
   if (ov && check_overrides(name, ov, err, errsz)) return NULL;
   ynode *root = sy_parse(name, buf, len, err, errsz);
   if (!root) return NULL;
-  ctx c = {.name = name, .err = err, .errsz = errsz, .root = root, .ov = ov};
+  const ynode *by_index = NULL;
+  ctx c = {.name = name, .err = err, .errsz = errsz, .root = root, .ov = ov,
+           .by_index = &by_index};
   c.m = sw_model_new();
   int rc = c.m ? load_scene(&c) : sy_oom(&c, root);
+  if (!rc && by_index && ov && ov->grid[0] > 0) grid_warning(&c, by_index);
   int at[2] = {0, 0}; /* line and column of the mesh, for the model's own checks */
   for (int k = 0; root->kind == Y_MAP && k + 1 < root->n; k += 2)
     if (root->kid[k]->kind == Y_SCALAR && !strcmp(root->kid[k]->text, "mesh"))

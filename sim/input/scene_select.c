@@ -1,5 +1,5 @@
-/* scene_select.c — vertex selections of a scene, {vertices: [...]} or {box: [[lo], [hi]]}
- * (docs/scenes.md), shared by pins, velocities and loads (scene.c) and tendon waypoints
+/* scene_select.c — vertex selections of a scene, {vertices: [...]}, {box: [[lo], [hi]]} or
+ * {grid: [[i, j], ...]} (docs/scenes.md), shared by pins, velocities and loads (scene.c) and tendon waypoints
  * (scene_tendon.c); it sits below both and calls only the schema getters (scene_yaml.c). */
 #include "scene_yaml.h"
 
@@ -7,11 +7,16 @@
 #include <stdio.h>
 #include <string.h>
 
-static const char *const sel_keys[] = {"vertices", "box"};
+static const char *const sel_keys[] = {"vertices", "box", "grid"};
+
+void sy_note_index(const ctx *c, const ynode *y) {
+  if (c->by_index && !*c->by_index) *c->by_index = y;
+}
 
 static int select_list(const ctx *c, const ynode *y, const char *what) {
   char lab[176];
   if (sy_seq(c, y, what, "a sequence of vertex indices")) return -1;
+  sy_note_index(c, y);
   for (int i = 0; i < y->n; i++) {
     int k;
     snprintf(lab, sizeof lab, "%s[%d]", what, i);
@@ -46,17 +51,49 @@ static int select_box(const ctx *c, const ynode *y, const char *what) {
   return 0;
 }
 
+/* grid: [[i, j], ...]: grid vertex (i, j), index j nx + i; a negative i or j counts from the
+ * far end (-1: the last), so [-1, -1] stays the far corner on any grid (--grid). */
+static int select_grid(const ctx *c, const ynode *y, const char *what) {
+  char lab[192];
+  const int *g = c->grid;
+  if (!g[0])
+    return sy_fail(c, y, "%s is given but the mesh is not a grid; expected vertices or box",
+                   what);
+  if (sy_seq(c, y, what, "a sequence of [i, j] grid positions")) return -1;
+  for (int k = 0; k < y->n; k++) {
+    int ij[2];
+    snprintf(lab, sizeof lab, "%s[%d]", what, k);
+    if (sy_seq(c, y->kid[k], lab, "[i, j]: column and row, negative from the far end"))
+      return -1;
+    if (y->kid[k]->n != 2)
+      return sy_fail(c, y->kid[k], "%s has %d numbers; expected [i, j]", lab, y->kid[k]->n);
+    for (int a = 0; a < 2; a++) {
+      snprintf(lab, sizeof lab, "%s[%d][%d]", what, k, a);
+      if (sy_int(c, y->kid[k]->kid[a], lab, -(long)g[a], g[a] - 1L, &ij[a])) return -1;
+      if (ij[a] < 0) ij[a] += g[a];
+    }
+    c->sel[ij[1] * g[0] + ij[0]] = 1;
+  }
+  return 0;
+}
+
 /* Mark the vertices that the selection y picks in c->sel. */
 int sy_select(const ctx *c, const ynode *y, const char *what) {
-  const ynode *v[2];
+  static const char *const kind[] = {"vertices", "box", "grid"};
+  const ynode *v[3];
   char lab[128];
   memset(c->sel, 0, (size_t)c->m->nv);
-  if (sy_map(c, y, what, sel_keys, 2, v)) return -1;
-  if (!v[0] == !v[1])
-    return sy_fail(c, y, "%s has %s; expected exactly one of vertices or box", what,
-                v[0] ? "both vertices and box" : "neither vertices nor box");
-  snprintf(lab, sizeof lab, "%s %s", what, v[0] ? "vertices" : "box");
-  if (v[0] ? select_list(c, v[0], lab) : select_box(c, v[1], lab)) return -1;
+  if (sy_map(c, y, what, sel_keys, 3, v)) return -1;
+  int given = !!v[0] + !!v[1] + !!v[2], k = v[0] ? 0 : v[1] ? 1 : 2;
+  if (given != 1)
+    return sy_fail(c, y, "%s has %s; expected exactly one of vertices, box or grid", what,
+                   given ? "more than one of vertices, box and grid" : "none of vertices, box, "
+                   "grid");
+  snprintf(lab, sizeof lab, "%s %s", what, kind[k]);
+  int rc = k == 0 ? select_list(c, v[0], lab)
+           : k == 1 ? select_box(c, v[1], lab)
+                    : select_grid(c, v[2], lab);
+  if (rc) return -1;
   for (int i = 0; i < c->m->nv; i++)
     if (c->sel[i]) return 0;
   return sy_fail(c, y, "%s selects no vertex; expected a selection of at least one vertex", what);

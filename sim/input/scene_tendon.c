@@ -1,7 +1,8 @@
 /* scene_tendon.c — a scene's `tendons` (docs/scenes.md, docs/tendons.md):
  *   - {name: s1, waypoints: [0, 41, 82] | {box: [[lo], [hi]], along: x} | {vertices: [...]},
  *      law: cable | spring, stiffness: K (N/m), rest_length: L (m) | {relative: r} |
- *      {keyframes: [[t, L], ...], relative: false}, density: kg/m, damping: N s/m}
+ *      {keyframes: [[t, L], ...], relative: false, interpolation: smooth | linear},
+ *      density: kg/m, damping: N s/m}
  * A selection's vertices are ordered along an axis (`along`, default: the axis on which they
  * spread most).  Rest length default: the initial length (relative 1). */
 #include "scene_material.h"
@@ -21,12 +22,13 @@ static const char *const tendon_keys[] = {"name", "waypoints", "law", "stiffness
 enum { TK_NAME, TK_WAY, TK_LAW, TK_K, TK_REST, TK_DENSITY, TK_DAMP, TK_N };
 static const char *const laws[] = {"spring", "cable"}; /* SW_LAW_* order */
 static const char *const axes[] = {"x", "y", "z"};
-static const char *const way_keys[] = {"vertices", "box", "along"};
+static const char *const way_keys[] = {"vertices", "box", "grid", "along"};
 
 /* Listed waypoints: each index in the mesh, none repeated. */
 static int waypoint_list(const ctx *c, const ynode *y, const char *w, sw_tendon *td) {
   char lab[256];
   if (!(td->way = sw_calloc((size_t)y->n + 1, sizeof *td->way))) return sy_oom(c, y);
+  sy_note_index(c, y);
   memset(c->sel, 0, (size_t)c->m->nv);
   for (int i = 0; i < y->n; i++) {
     snprintf(lab, sizeof lab, "%s waypoints[%d]", w, i);
@@ -61,22 +63,22 @@ static int sort_along(const sw_model *m, int axis, int *way, int n) {
 /* A selection's vertices (c->sel) ordered along an axis. */
 static int waypoint_selection(const ctx *c, const ynode *y, const char *w, sw_tendon *td) {
   const sw_model *m = c->m;
-  const ynode *v[3];
+  const ynode *v[4];
   char lab[256];
-  if (sy_map(c, y, w, way_keys, 3, v)) return -1;
-  /* the pin selection reads a map of only vertices or box: hand it one without along */
+  if (sy_map(c, y, w, way_keys, 4, v)) return -1;
+  /* the pin selection reads a map of only vertices, box or grid: hand it one without along */
   ynode sub = *y;
-  const ynode *kids[4];
+  const ynode *kids[6];
   int n = 0;
   for (int p = 0; p < y->n / 2; p++)
-    if (y->kid[2 * p + 1] != v[2]) kids[n++] = y->kid[2 * p], kids[n++] = y->kid[2 * p + 1];
+    if (y->kid[2 * p + 1] != v[3]) kids[n++] = y->kid[2 * p], kids[n++] = y->kid[2 * p + 1];
   sub.kid = (ynode **)kids;
   sub.n = n;
   if (sy_select(c, &sub, w)) return -1;
   int axis = -1;
-  if (v[2]) {
+  if (v[3]) {
     snprintf(lab, sizeof lab, "%s along", w);
-    if (sy_choice(c, v[2], lab, axes, m->dim, &axis)) return -1;
+    if (sy_choice(c, v[3], lab, axes, m->dim, &axis)) return -1;
   }
   int cnt = 0;
   for (int i = 0; i < m->nv; i++) cnt += c->sel[i];
@@ -109,7 +111,8 @@ static int load_waypoints(const ctx *c, const ynode *y, const char *w, sw_tendon
   return 0;
 }
 
-static const char *const rest_keys[] = {"relative", "keyframes"};
+static const char *const rest_keys[] = {"relative", "keyframes", "interpolation"};
+static const char *const interps[] = {"linear", "smooth"}; /* SW_INTERP_* order */
 
 /* Keyframes [[t, L], ...] with increasing t; L relative to l0 when relative. */
 static int load_keyframes(const ctx *c, const ynode *y, const char *w, double scale,
@@ -151,11 +154,17 @@ static int load_rest(const ctx *c, const ynode *y, const char *w, double l0, sw_
     td->key_rest[0] = r; /* m */
     return 0;
   }
-  const ynode *v[2];
-  if (sy_map(c, y, lab, rest_keys, 2, v)) return -1;
+  const ynode *v[3];
+  if (sy_map(c, y, lab, rest_keys, 3, v)) return -1;
   double rel = 1.0;
   int by_ratio = 0;
   char l2[320];
+  snprintf(l2, sizeof l2, "%s interpolation", lab);
+  if (v[2] && !v[1])
+    return sy_fail(c, v[2], "%s is given without keyframes; expected interpolation only with "
+                   "keyframes: [...]", l2);
+  td->interp = SW_INTERP_SMOOTH; /* the default: docs/scenes.md "Forcing" (measured) */
+  if (v[2] && sy_choice(c, v[2], l2, interps, 2, &td->interp)) return -1;
   snprintf(l2, sizeof l2, "%s relative", lab);
   if (v[1]) { /* relative: true/false (default false: keyframes in m) */
     if (v[0]) {

@@ -29,6 +29,9 @@ typedef struct ctx {
   const ynode *root;
   unsigned char *sel;      /* (nv) scratch of the vertex selections */
   const sw_scene_overrides *ov; /* or NULL (sw_scene_load_ex) */
+  int grid[2];             /* a grid mesh's vertices nx, ny (0: not a grid) */
+  const ynode **by_index;  /* where *by_index is the first selection by vertex index (for the
+                              --grid warning), NULL until one is seen */
 } ctx;
 
 ynode *sy_parse(const char *name, const char *buf, size_t len, char *err, size_t errsz);
@@ -57,7 +60,10 @@ const char *sy_clip(const ynode *y, char *t, size_t sz);
 const char *sy_join(const char *const *names, int n, char *buf, size_t sz);
 int sy_scalar_number(const ynode *y, double *v);
 
-/* Selections (scene_select.c): mark in c->sel the vertices y picks ({vertices: [...]} or {box: ...}). */
+/* Selections (scene_select.c): mark in c->sel the vertices y picks ({vertices: [...]},
+ * {box: ...} or {grid: [[i, j], ...]}). */
 int sy_select(const ctx *c, const ynode *y, const char *what);
+/* Note y as a selection by vertex index (the first one is kept for the --grid warning). */
+void sy_note_index(const ctx *c, const ynode *y);
 
 #endif

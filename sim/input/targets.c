@@ -79,8 +79,9 @@ static int check_header(const csv_line *l, int dim, char *err, size_t errsz) {
   return 0;
 }
 
-static int parse_vertex(const csv_line *l, int nv, const unsigned char *seen, int *out,
-                        char *err, size_t errsz) {
+static int parse_vertex(const csv_line *l, const sw_model *m, const unsigned char *seen,
+                        int *out, char *err, size_t errsz) {
+  const int nv = m->nv;
   char *end;
   errno = 0;
   long v = strtol(l->f[0], &end, 10);
@@ -90,6 +91,9 @@ static int parse_vertex(const csv_line *l, int nv, const unsigned char *seen, in
   if (seen[v])
     return fail(l, l->col[0], err, errsz, "vertex %ld is repeated; expected one line per "
                 "target vertex", v);
+  if (m->pinned[v]) /* the forward check would free it and move it */
+    return fail(l, l->col[0], err, errsz, "vertex %ld is pinned by the scene; expected a free "
+                "vertex (a pin takes any force, so a target on it means nothing)", v);
   *out = (int)v;
   return 0;
 }
@@ -102,7 +106,7 @@ static int parse_line(const csv_line *l, const sw_model *m, unsigned char *seen,
                 err, errsz, "the line has %d fields; expected %d (vertex and %d force "
                 "components in N)", l->nf, m->dim + 1, m->dim);
   int v = -1;
-  if (parse_vertex(l, m->nv, seen, &v, err, errsz)) return -1;
+  if (parse_vertex(l, m, seen, &v, err, errsz)) return -1;
   double *f = tg->f + (size_t)tg->n * m->dim;
   for (int a = 0; a < m->dim; a++) {
     char *end;

@@ -1,6 +1,7 @@
 /* csv.c — the CSV logs of a run (writer.h), one line per logged state:
  *   tension.csv  time, max/mean/p95 of tension XY, max warp/weft stretch, max shear
- *   energy.csv   time, kinetic and per-term energies, step size and per-step solver counts
+ *   energy.csv   time, kinetic and per-term energies, step size and per-step solver counts;
+ *                damping power and dissipated energy; actuation power and work in
  *   tendons.csv  a scene with tendons only: per tendon time, name, length, delta, tension
  * Each is a log (file.c): NAME.part until the run closes, a line in one write(2).  Numbers are
  * the shortest that read back exactly; "nan", "inf", "-inf" as such. */
@@ -174,6 +175,7 @@ static void energy_header(csv_log *o, const sw_model *m) {
   line_str(o, &len, ",potential,total,dt,steps,newton_iterations,factorizations,"
                     "force_evaluations,error_test_failures,linesearch_backtracks,step_wall_s");
   if (sw_damped(m)) line_str(o, &len, ",damping_power,dissipated");
+  if (sw_actuated(m)) line_str(o, &len, ",actuation_power,work_in");
   line_end(o, len);
 }
 
@@ -205,6 +207,10 @@ static int energy_write(void *self, sw_output *out, const sw_model *m, const sw_
   if (sw_damped(m)) {
     line_num(o, &len, d->damp_power); /* W */
     line_num(o, &len, d->dissipated); /* J */
+  }
+  if (sw_actuated(m)) {
+    line_num(o, &len, d->actuation_power); /* W */
+    line_num(o, &len, d->work_in);         /* J */
   }
   line_end(o, len);
   if (put_line(o, out, err, errsz)) return -1;
@@ -249,7 +255,7 @@ static int tendons_write(void *self, sw_output *out, const sw_model *m, const sw
 static int csv_init(void *self, const sw_model *m) {
   csv_log *o = self;
   /* the energy line or header is the longest: at most NUMSZ per field, or a term name */
-  o->linesz = ((size_t)m->nterm + 16) * (NUMSZ + SW_NAMESZ);
+  o->linesz = ((size_t)m->nterm + 18) * (NUMSZ + SW_NAMESZ);
   size_t tendon_lines = (size_t)m->ntendon * (4 * NUMSZ + SW_NAMESZ + 4) + 64;
   if (tendon_lines > o->linesz) o->linesz = tendon_lines;
   o->line = sw_calloc(o->linesz, 1);
