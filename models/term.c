@@ -2,6 +2,7 @@
  * (bw98, stvk, corotated): per-face corner coefficients, the evaluation loop, the congruence
  * from P = d2psi/d(wu,wv)^2 to the face block and the PSD projection of P. */
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -120,6 +121,14 @@ static void membrane_block(const double *cu, const double *cv, double area, cons
     }
 }
 
+void sw_eval_why(const sw_eval *ev, const char *fmt, ...) {
+  if (!ev->why || !ev->whysz || ev->why[0]) return; /* none asked, or the first one kept */
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(ev->why, ev->whysz, fmt, ap);
+  va_end(ap);
+}
+
 int sw_membrane_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, double *energy) {
   const sw_membrane *mb = t->param;
   const int d = m->dim;
@@ -135,7 +144,13 @@ int sw_membrane_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, dou
         wv[a] += cv[i] * ev->x[c[i] * d + a];
       }
     double area = m->area[f]; /* m^2 */
-    total += area * mb->density(law, wu, wv, d, ev->project, gu, gv, ev->hess ? P : NULL);
+    double e = area * mb->density(law, wu, wv, d, ev->project, gu, gv, ev->hess ? P : NULL);
+    if (!isfinite(e))
+      sw_eval_why(ev, "face %d (vertices %d %d %d): energy %g J (rest area %g m^2, stretch "
+                  "|w_u| = %g, |w_v| = %g)", f, c[0], c[1], c[2], e, area,
+                  sqrt(wu[0] * wu[0] + wu[1] * wu[1] + wu[2] * wu[2]),
+                  sqrt(wv[0] * wv[0] + wv[1] * wv[1] + wv[2] * wv[2]));
+    total += e;
     if (ev->grad)
       for (int i = 0; i < 3; i++)
         for (int a = 0; a < d; a++)

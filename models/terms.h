@@ -40,6 +40,8 @@ typedef struct sw_membrane {
  * when out of memory. */
 sw_membrane *sw_membrane_new(sw_term *t, const sw_model *m, const sw_term_ops *ops, int model,
                              size_t lawsz, sw_membrane_density density, char *err, size_t errsz);
+/* Say in ev->why (when asked for and still empty) which element made eval fail and why. */
+void sw_eval_why(const sw_eval *ev, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 int sw_membrane_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, double *energy);
 void sw_membrane_free(void *param);
 /* Filter the eigenvalues of the symmetric n x n matrix A (row-major, n <= 6) by `mode`

@@ -85,9 +85,12 @@ int sw_eval_terms(const sw_model *m, sw_data *d, const double *x, double t, int 
                   .hess = want_hess ? d->hess + d->hoff[k] : NULL,
                   .lowrank = want_hess ? d->lowrank + d->loff[k] : NULL, .project = project};
     double e = 0.0;
+    char why[192] = "";
+    ev.why = why, ev.whysz = sizeof why;
     int rc = m->term[k].ops->eval(&m->term[k], m, &ev, &e);
     if (rc) {
-      sw_errf(d->err, sizeof d->err, "term %s failed at t = %g s", m->term[k].name, t);
+      sw_errf(d->err, sizeof d->err, "term %s failed at t = %g s: %s", m->term[k].name, t,
+              why[0] ? why : "its energy is not finite (no element named)");
       return rc;
     }
     if (!isfinite(e)) {

@@ -113,10 +113,13 @@ static int rest_shapes(sw_model *m, int need_area, char *err, size_t errsz) {
     double det = a * e - b * c;
     double scale = fabs(a * e) + fabs(b * c);
     if (!(fabs(det) > 1e-12 * scale) || !isfinite(det)) {
-      if (need_area) {
-        sw_errf(err, errsz, "face %d has zero rest area in its (u,v) layout", f);
-        return -1;
-      }
+      if (need_area && !isfinite(det)) /* e.g. a grid of 1e300 m: the product overflows */
+        return sw_errf(err, errsz, "face %d has a rest area that overflows in its (u,v) layout "
+                       "(2 x area = %g m^2); expected a smaller (u,v) extent", f, det), -1;
+      if (need_area)
+        return sw_errf(err, errsz, "face %d has zero rest area in its (u,v) layout (2 x area = "
+                       "%g m^2 for edges of %g and %g m); expected a triangle of nonzero area",
+                       f, det, hypot(a, c), hypot(b, e)), -1;
       memset(m->dminv + 4 * f, 0, 4 * sizeof(double));
       m->area[f] = 0.0;
       continue;

@@ -73,10 +73,15 @@ static int is_due(double every, double next, double t) {
   return every > 0.0 && t >= next - 1e-9 * fmax(every, 1.0);
 }
 
-/* After a sample at t: the next one is the first multiple of every past t. */
+/* After a sample at t: the next one is next + k every, the first past t, with the count k of
+ * intervals computed at once (adding every until next passes t spins forever once every is
+ * below half an ulp of next).  An interval below the step makes every step a sample; when
+ * next + k every overflows or does not move, next = t (the next step is due). */
 static void advance(double every, double *next, double t) {
-  if (every > 0.0)
-    while (*next <= t + 1e-9 * fmax(every, 1.0)) *next += every;
+  double tol = 1e-9 * fmax(every, 1.0);
+  if (!(every > 0.0) || *next > t + tol) return;
+  double k = floor((t + tol - *next) / every) + 1.0, n = *next + k * every;
+  *next = isfinite(n) && n > *next ? n : t;
 }
 
 /* The diagnostics of the current state: term energies (into *u, J), tension XY, tendons. */

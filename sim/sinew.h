@@ -78,6 +78,10 @@ typedef struct sw_eval {
                                   for; never NULL then for a term with nlowrank > 0 */
   int project;                 /* SW_FILTER_*: how each block is made positive semi-definite
                                   (SW_FILTER_NONE: the exact Hessian) */
+  char *why;                   /* or NULL: when eval fails, a term may say which element and
+                                  why here (whysz bytes, e.g. "face 3 (vertices 0 1 4): energy
+                                  inf J"); the first failure is kept */
+  size_t whysz;
 } sw_eval;
 
 /* The table of operations of one energy term (models/). */

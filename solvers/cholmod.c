@@ -2,6 +2,7 @@
  * SUNDIALS' sunindextype is 64-bit here).  Analysed once per run (fill-reducing ordering and
  * symbolic factor), refactorised numerically per Newton iteration, solved with persistent
  * workspaces so a solve allocates nothing. */
+#include <stdio.h>
 #include <string.h>
 
 #include "solver.h"
@@ -10,6 +11,24 @@
 extern void dpotrf_(const char *uplo, const int *n, double *a, const int *lda, int *info);
 extern void dpotrs_(const char *uplo, const int *n, const int *nrhs, const double *a,
                     const int *lda, double *b, const int *ldb, int *info);
+
+/* A failed CHOLMOD call (what: "analyze", "factorize", "solve", ...) as what went wrong: out of
+ * memory and too large say so, with the size of the system and of its factor; returns
+ * SW_FATAL. */
+static int chol_failed(const sw_chol *ch, const char *what, char *err, size_t errsz) {
+  char size[96] = "";
+  long n = ch->A ? (long)ch->A->nrow : 0;
+  if (ch->c.lnz > 0)
+    snprintf(size, sizeof size, " (a %ld x %ld system; %.0f nonzeros in its factor, %.3g MB)", n,
+             n, ch->c.lnz, ch->c.lnz * 8.0 / (1 << 20));
+  else snprintf(size, sizeof size, " (a %ld x %ld system)", n, n);
+  if (ch->c.status == CHOLMOD_OUT_OF_MEMORY)
+    sw_errf(err, errsz, "CHOLMOD ran out of memory in %s%s", what, size);
+  else if (ch->c.status == CHOLMOD_TOO_LARGE)
+    sw_errf(err, errsz, "CHOLMOD: the problem is too large for %s%s", what, size);
+  else sw_errf(err, errsz, "CHOLMOD %s failed (status %d)%s", what, ch->c.status, size);
+  return SW_FATAL;
+}
 
 /* The Woodbury workspaces for the pattern's low-rank vectors (none when p->nlr = 0). */
 static int lowrank_init(sw_chol *ch, const sw_pattern *p) {
@@ -51,10 +70,7 @@ int sw_chol_init(sw_chol *ch, const sw_pattern *p, char *err, size_t errsz) {
   memset(v, 0, (size_t)p->nnz * sizeof(double));
   for (size_t c = 0; c < n; c++) v[p->diag[c]] = 1.0;
   ch->L = cholmod_l_analyze(ch->A, &ch->c);
-  if (!ch->L || ch->c.status < CHOLMOD_OK) {
-    sw_errf(err, errsz, "CHOLMOD analyze failed (status %d)", ch->c.status);
-    return SW_FATAL;
-  }
+  if (!ch->L || ch->c.status < CHOLMOD_OK) return chol_failed(ch, "analyze", err, errsz);
   return SW_OK;
 }
 
@@ -73,10 +89,8 @@ static int lowrank_factor(sw_chol *ch, char *err, size_t errsz) {
   memset(V, 0, (size_t)(n * r) * sizeof(double));
   for (int k = 0; k < r; k++)
     for (long q = ch->lrptr[k]; q < ch->lrptr[k + 1]; q++) V[k * n + ch->lrrow[q]] += ch->lrval[q];
-  if (!cholmod_l_solve2(CHOLMOD_A, ch->L, ch->V, NULL, &ch->W, NULL, &ch->Y2, &ch->E2, &ch->c)) {
-    sw_errf(err, errsz, "CHOLMOD solve for the low-rank part failed (status %d)", ch->c.status);
-    return SW_FATAL;
-  }
+  if (!cholmod_l_solve2(CHOLMOD_A, ch->L, ch->V, NULL, &ch->W, NULL, &ch->Y2, &ch->E2, &ch->c))
+    return chol_failed(ch, "the solve for the low-rank part", err, errsz);
   const double *W = ch->W->x;
   for (int k = 0; k < r; k++)
     for (int j = 0; j <= k; j++) {
@@ -101,10 +115,7 @@ int sw_chol_factor(sw_chol *ch, char *err, size_t errsz) {
             (long)ch->L->minor);
     return SW_RECOVER;
   }
-  if (!ok || ch->c.status < CHOLMOD_OK) {
-    sw_errf(err, errsz, "CHOLMOD factorize failed (status %d)", ch->c.status);
-    return SW_FATAL;
-  }
+  if (!ok || ch->c.status < CHOLMOD_OK) return chol_failed(ch, "factorize", err, errsz);
   return ch->nlr ? lowrank_factor(ch, err, errsz) : SW_OK;
 }
 
@@ -133,10 +144,8 @@ static void lowrank_correct(sw_chol *ch, double *sol) {
 int sw_chol_solve(sw_chol *ch, const double *rhs, double *sol, char *err, size_t errsz) {
   size_t n = ch->A->nrow;
   memcpy(ch->b->x, rhs, n * sizeof(double));
-  if (!cholmod_l_solve2(CHOLMOD_A, ch->L, ch->b, NULL, &ch->x, NULL, &ch->Y, &ch->E, &ch->c)) {
-    sw_errf(err, errsz, "CHOLMOD solve failed (status %d)", ch->c.status);
-    return SW_FATAL;
-  }
+  if (!cholmod_l_solve2(CHOLMOD_A, ch->L, ch->b, NULL, &ch->x, NULL, &ch->Y, &ch->E, &ch->c))
+    return chol_failed(ch, "solve", err, errsz);
   memcpy(sol, ch->x->x, n * sizeof(double));
   if (ch->nlr) lowrank_correct(ch, sol);
   return SW_OK;

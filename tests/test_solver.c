@@ -5,6 +5,7 @@
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -76,23 +77,56 @@ static void fill_matches_dense(int dim) {
 static void fill_3d(void **st) { (void)st, fill_matches_dense(3); }
 static void fill_2d(void **st) { (void)st, fill_matches_dense(2); }
 
-/* A negative-definite system is reported as recoverable, not a crash. */
-static void not_positive_definite(void **st) {
-  (void)st;
+static void *no_memory(size_t n) { (void)n; return NULL; }
+static void *no_memory2(size_t n, size_t k) { (void)n, (void)k; return NULL; }
+static void *no_memory_re(void *p, size_t n) { (void)p, (void)n; return NULL; }
+
+/* Factor the diagonal system of small_model(3) with diagonal entry `neg` in column 3 (1 else);
+ * with oom, every SuiteSparse allocation fails during the factorisation.  Its return code, the
+ * message in err and the system's size in *n. */
+static int factor_diagonal(double neg, int oom, char *err, size_t errsz, int *n) {
   sw_model *m = small_model(3);
   sw_pattern p;
   sw_chol ch;
-  char err[SW_ERRSZ];
-  assert_int_equal(sw_pattern_build(&p, m, err, sizeof err), 0);
-  assert_int_equal(sw_chol_init(&ch, &p, err, sizeof err), 0);
+  assert_int_equal(sw_pattern_build(&p, m, err, errsz), 0);
+  assert_int_equal(sw_chol_init(&ch, &p, err, errsz), 0);
   double *v = sw_chol_values(&ch);
   memset(v, 0, sizeof(double) * (size_t)p.nnz);
-  for (int c = 0; c < p.n; c++) v[p.diag[c]] = c == 3 ? -1.0 : 1.0;
-  assert_int_equal(sw_chol_factor(&ch, err, sizeof err), SW_RECOVER);
-  assert_non_null(strstr(err, "not positive definite"));
+  for (int c = 0; c < p.n; c++) v[p.diag[c]] = c == 3 ? neg : 1.0;
+  struct SuiteSparse_config_struct saved = SuiteSparse_config;
+  if (oom) {
+    SuiteSparse_config.malloc_func = no_memory;
+    SuiteSparse_config.calloc_func = no_memory2;
+    SuiteSparse_config.realloc_func = no_memory_re;
+  }
+  int rc = sw_chol_factor(&ch, err, errsz);
+  SuiteSparse_config = saved;
+  *n = p.n;
   sw_chol_free(&ch);
   sw_pattern_free(&p, m->nterm);
   sw_model_free(m);
+  return rc;
+}
+
+/* A negative-definite system is reported as recoverable, not a crash. */
+static void not_positive_definite(void **st) {
+  (void)st;
+  char err[SW_ERRSZ];
+  int n;
+  assert_int_equal(factor_diagonal(-1.0, 0, err, sizeof err, &n), SW_RECOVER);
+  assert_non_null(strstr(err, "not positive definite"));
+}
+
+/* CHOLMOD out of memory in the factorisation is reported as such, with the size of the system
+ * and the factor's nonzeros, and is fatal. */
+static void cholmod_out_of_memory(void **st) {
+  (void)st;
+  char err[SW_ERRSZ], want[96];
+  int n;
+  assert_int_equal(factor_diagonal(1.0, 1, err, sizeof err, &n), SW_FATAL);
+  snprintf(want, sizeof want, "CHOLMOD ran out of memory in factorize (a %d x %d system; ", n, n);
+  if (!strstr(err, want) || !strstr(err, "nonzeros in its factor")) fail_msg("message: %s", err);
+  print_message("%s\n", err);
 }
 
 /* Newton's answer for one backward Euler step, with each Hessian mode: grad Phi = 0, the same
@@ -193,7 +227,7 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(fill_3d),
       cmocka_unit_test(fill_2d),
-      cmocka_unit_test(not_positive_definite),
+      cmocka_unit_test(not_positive_definite), cmocka_unit_test(cholmod_out_of_memory),
       cmocka_unit_test(newton_minimises),
       cmocka_unit_test(every_mode_descends),
   };

@@ -21,7 +21,7 @@ work_precision.png (work_precision.csv, optional reference.csv)
     errors below it are not resolved.
 stability.png (stability.csv, optional stability_limits.csv)
     The stability map: one panel per stiffness scale, one row per method, one cell per time
-    step (sorted), coloured by status: stable, over-damped, failed, crashed, missing. With
+    step (sorted), coloured by status: stable, over-damped, failed, crashed, damaged, missing. With
     stability_limits.csv, the largest stable dt of each method and scale is outlined.
 scaling.png (scaling.csv; also writes scaling_fit.csv)
     (a) time per step against DOFs, log-log, with the least-squares exponent p of
@@ -66,7 +66,7 @@ MARKERS = ["o", "s", "^", "D", "v", "P", "X", "h", "<", ">", "p", "*", "d", "H",
 ORDER = list(KNOWN)  # unknown methods are appended (sorted) by prime_styles
 
 STATUS = [("stable", "#2ca02c"), ("over-damped", "#ff9f1c"), ("failed", "#d62728"),
-          ("crashed", "#3b0000"), ("missing", "#c8c8c8")]
+          ("crashed", "#3b0000"), ("damaged", "#6a3d9a"), ("missing", "#c8c8c8")]
 
 WP_REQ = ["method", "setting", "value", "status", "wall_s", "pos_err_max", "txy_max_l2"]
 REF_REQ = ["method", "pos_err", "txy_err", "run_dir"]

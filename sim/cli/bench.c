@@ -557,10 +557,18 @@ int bench_plan_read(const char *dir, int mode, bench_plan *p, char *err, size_t 
   while (fgets(line, sizeof line, f)) {
     line[strcspn(line, "\r\n")] = '\0';
     if (lineno++ == 0) continue;
+    if (p->njob == BENCH_MAX_JOBS) { /* a memory budget: each job takes 320 bytes */
+      snprintf(err, errsz, "%s:%d: more than %d runs in the plan; expected fewer", path, lineno,
+               BENCH_MAX_JOBS);
+      return fclose(f), -1;
+    }
     if (p->njob == cap) {
       cap = cap ? 2 * cap : 64;
       bench_job *nj = realloc(p->job, (size_t)cap * sizeof *nj);
-      if (!nj) break;
+      if (!nj) {
+        snprintf(err, errsz, "%s:%d: out of memory for %d runs", path, lineno, cap);
+        return fclose(f), -1;
+      }
       p->job = nj;
     }
     if (parse_job(line, &p->job[p->njob])) {

@@ -22,6 +22,7 @@ enum { BR_REFERENCE = 0, BR_CONFIRM, BR_RUN };
 
 #define BENCH_IDSZ 192
 #define BENCH_MAXLIST 64
+#define BENCH_MAX_JOBS 1000000 /* runs in a plan read by --merge, at most */
 
 typedef struct bench_job {
   char id[BENCH_IDSZ];         /* folder under DIR/runs and log name under DIR/logs */

@@ -1,10 +1,15 @@
 /* bench_read.c — what one run left in DIR/runs/ID: summary.json (status, counters, wall time),
  * its logs at the common sample times (tension.csv, energy.csv, tendons.csv) and positions.bin,
- * and what its process did (DIR/logs/ID.exit).  Anything missing or malformed makes the run
- * "crashed" or leaves a value NaN; nothing here trusts the files. */
+ * and what its process did (DIR/logs/ID.exit).  Nothing here trusts the files: a run without a
+ * final summary is "crashed"; a run whose summary says ok but whose data are damaged (a log
+ * line cut short or with a field that is not a number, a value the bench uses that is not
+ * finite, a positions.bin that is not whole records of finite numbers, a log above
+ * BENCH_LOG_MAX bytes, positions above BENCH_POS_BUDGET bytes) is "damaged", with the file and
+ * line in its message, and none of its numbers is used. */
 #include "bench.h"
 
 #include <math.h>
+#include <stdarg.h>
 #include <signal.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -35,6 +40,29 @@ static int sample_of(const bench_cfg *c, double t) {
   if (ns > last_regular(c) + 1 && fabs(t - c->duration) < 1e-9 * fmax(c->duration, c->sample))
     return ns - 1;
   return -1;
+}
+
+#define BENCH_LOG_MAX (1L << 30)    /* bytes of one log read by --merge */
+#define BENCH_POS_BUDGET (1L << 30) /* bytes of positions held for one run */
+
+/* ------------------------------------------------------------ damage */
+
+/* Mark an ok run damaged: "runs/ID/FILE:LINE: why" (line 0: no line) in its message. */
+static void damaged(bench_result *r, const bench_job *j, const char *file, long line,
+                    const char *fmt, ...) __attribute__((format(printf, 5, 6)));
+static void damaged(bench_result *r, const bench_job *j, const char *file, long line,
+                    const char *fmt, ...) {
+  if (!strcmp(r->status, "damaged")) return; /* the first damage found is reported */
+  char why[256];
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(why, sizeof why, fmt, ap);
+  va_end(ap);
+  snprintf(r->status, sizeof r->status, "damaged");
+  snprintf(r->how, sizeof r->how, "damaged data");
+  if (line > 0)
+    snprintf(r->message, sizeof r->message, "runs/%s/%s:%ld: %s", j->id, file, line, why);
+  else snprintf(r->message, sizeof r->message, "runs/%s/%s: %s", j->id, file, why);
 }
 
 /* ------------------------------------------------------------ whole files */
@@ -198,6 +226,47 @@ static double field(const char *line, int col) {
   return end == p ? NAN : v;
 }
 
+/* Fields of a CSV line (up to its newline). */
+static int nfields(const char *line) {
+  int n = 1;
+  for (const char *p = line; *p && *p != '\n'; p++) n += *p == ',';
+  return n;
+}
+
+/* Field col of a line is a whole number (strtod: "nan" and "inf" too), finite when `finite`. */
+static int field_ok(const char *line, int col, int finite) {
+  const char *p = line;
+  for (int k = 0; k < col; k++) p = strchr(p, ',') + 1; /* col < nfields(line) */
+  char *end;
+  double v = strtod(p, &end);
+  return end != p && (*end == ',' || *end == '\n') && (!finite || isfinite(v));
+}
+
+/* A log of a run that says ok: every line whole (a newline at its end, the header's number of
+ * fields), every field a number but column `text_col` (-1: none), and the columns in used[]
+ * (nused of them, -1 entries skipped) finite.  0, or -1 with the run marked damaged. */
+static int check_log(bench_result *r, const bench_job *j, const char *file, const char *text,
+                     int text_col, const int *used, int nused) {
+  const char *p = strchr(text, '\n');
+  if (!p) return damaged(r, j, file, 1, "no whole header line"), -1;
+  int nh = nfields(text);
+  for (long line = 2; p[1]; line++) {
+    const char *s = p + 1;
+    p = strchr(s, '\n');
+    if (!p) return damaged(r, j, file, line, "the line is cut short (no end of line)"), -1;
+    int nf = nfields(s);
+    if (nf != nh)
+      return damaged(r, j, file, line, "%d fields; expected %d (the header's)", nf, nh), -1;
+    for (int c = 0; c < nf; c++)
+      if (c != text_col && !field_ok(s, c, 0))
+        return damaged(r, j, file, line, "field %d is not a number", c + 1), -1;
+    for (int u = 0; u < nused; u++)
+      if (used[u] >= 0 && !field_ok(s, used[u], 1))
+        return damaged(r, j, file, line, "field %d is not finite", used[u] + 1), -1;
+  }
+  return 0;
+}
+
 static double *nan_array(size_t n) {
   double *a = malloc((n ? n : 1) * sizeof *a);
   for (size_t k = 0; a && k < n; k++) a[k] = NAN;
@@ -312,57 +381,101 @@ static void read_tendons(const bench_cfg *c, const char *text, bench_result *r) 
   if (r->tendon && r->ntendon) each_sample(c, text, take_tendon, &q);
 }
 
-static void read_logs(const bench_cfg *c, const bench_job *j, bench_result *r) {
+/* A log of the run, checked (check_log with the columns named in used[], NULL-terminated);
+ * NULL when it is damaged, or absent and optional. */
+static char *read_log(const bench_cfg *c, const bench_job *j, bench_result *r, const char *file,
+                      int optional, int text_col, const char *const *used) {
   char path[SW_PATHSZ + BENCH_IDSZ + 32];
+  struct stat st;
+  if (run_file(path, sizeof path, c, j, file) || stat(path, &st))
+    return optional ? NULL : (damaged(r, j, file, 0, "missing"), NULL);
+  if (st.st_size > BENCH_LOG_MAX)
+    return damaged(r, j, file, 0, "%lld bytes; expected at most %ld", (long long)st.st_size,
+                   BENCH_LOG_MAX), NULL;
+  char *text = slurp(path, (size_t)BENCH_LOG_MAX + 1);
+  if (!text) return damaged(r, j, file, 0, "cannot be read"), NULL;
+  int cols[8], n = 0;
+  for (; used[n] && n < 8; n++) cols[n] = column(text, used[n]);
+  if (check_log(r, j, file, text, text_col, cols, n)) return free(text), NULL;
+  return text;
+}
+
+static void read_logs(const bench_cfg *c, const bench_job *j, bench_result *r) {
+  static const char *const t_used[] = {"time", "txy_max", "txy_mean", NULL};
+  static const char *const e_used[] = {"time", "total", "kinetic", "step_wall_s", NULL};
+  static const char *const d_used[] = {"time", "tension", NULL};
   size_t n = (size_t)r->ns;
   r->t = nan_array(n), r->txy_max = nan_array(n), r->txy_mean = nan_array(n);
   r->energy = nan_array(n), r->kinetic = nan_array(n);
   if (!r->t || !r->txy_max || !r->txy_mean || !r->energy || !r->kinetic) return;
   for (int k = 0; k < r->ns; k++) r->t[k] = bench_sample_time(c, k);
-  char *text = run_file(path, sizeof path, c, j, "tension.csv") ? NULL : slurp(path, 1ul << 31);
+  char *text = read_log(c, j, r, "tension.csv", 0, -1, t_used);
   if (text) read_pair(c, text, "txy_max", "txy_mean", r->txy_max, r->txy_mean);
   free(text);
-  text = run_file(path, sizeof path, c, j, "energy.csv") ? NULL : slurp(path, 1ul << 31);
+  text = read_log(c, j, r, "energy.csv", 0, -1, e_used);
   if (text) {
     read_pair(c, text, "total", "kinetic", r->energy, r->kinetic);
     r->step_median = step_median(text);
   }
   free(text);
-  text = run_file(path, sizeof path, c, j, "tendons.csv") ? NULL : slurp(path, 1ul << 31);
+  text = read_log(c, j, r, "tendons.csv", 1, 1, d_used);
   if (text) read_tendons(c, text, r);
   free(text);
 }
 
 /* ------------------------------------------------------------ positions.bin */
 
-static void read_positions(const bench_cfg *c, const bench_job *j, bench_result *r) {
-  char path[SW_PATHSZ + BENCH_IDSZ + 32], magic[8];
+/* The header of positions.bin: the record size in values (1 + nv dim), or 0 with the run
+ * marked damaged (a bad header, a size that is not whole records, more than the budget). */
+static size_t positions_header(const bench_job *j, bench_result *r, FILE *f) {
+  const char *file = "positions.bin";
+  char magic[8];
   int32_t head[2];
+  struct stat st;
+  if (fread(magic, 1, 8, f) != 8 || memcmp(magic, "SWPOS001", 8) || fread(head, 4, 2, f) != 2 ||
+      head[0] < 1 || head[1] < 2 || head[1] > 3 || head[0] > (1 << 26))
+    return damaged(r, j, file, 0, "not a positions file (header SWPOS001, nv, dim 2 or 3)"), 0;
+  if (r->nv > 0 && head[0] != r->nv)
+    return damaged(r, j, file, 0, "%d vertices; the summary says %ld", head[0], r->nv), 0;
+  size_t rec = 1 + (size_t)head[0] * (size_t)head[1], bytes = rec * sizeof(double);
+  if (fstat(fileno(f), &st) || st.st_size < 16 || ((size_t)st.st_size - 16) % bytes ||
+      (size_t)st.st_size == 16)
+    return damaged(r, j, file, 0, "%lld bytes: not whole records of %zu bytes after the "
+                   "16-byte header", (long long)st.st_size, bytes), 0;
+  if ((double)r->ns * (double)(rec - 1) * sizeof(double) > (double)BENCH_POS_BUDGET)
+    return damaged(r, j, file, 0, "%d samples of %zu values need more than the %ld-byte memory "
+                   "budget of --merge", r->ns, rec - 1, BENCH_POS_BUDGET), 0;
+  r->pnv = head[0], r->dim = head[1];
+  return rec;
+}
+
+/* positions.bin: the records at sample times, every number finite (record N: line N of the
+ * message's "file:N"). */
+static void read_positions(const bench_cfg *c, const bench_job *j, bench_result *r) {
+  char path[SW_PATHSZ + BENCH_IDSZ + 32];
   if (run_file(path, sizeof path, c, j, "positions.bin")) return;
   FILE *f = fopen(path, "rb");
-  if (!f) return;
-  if (fread(magic, 1, 8, f) != 8 || memcmp(magic, "SWPOS001", 8) || fread(head, 4, 2, f) != 2 ||
-      head[0] < 1 || head[1] < 2 || head[1] > 3 || head[0] > (1 << 26)) {
-    fclose(f);
+  if (!f) {
+    damaged(r, j, "positions.bin", 0, "missing");
     return;
   }
-  r->pnv = head[0], r->dim = head[1];
-  size_t rec = (size_t)r->pnv * (size_t)r->dim;
-  struct stat st; /* a header that promises more than the file holds is not believed */
-  if (fstat(fileno(f), &st) || (size_t)st.st_size < 16 + (rec + 1) * sizeof(double)) {
-    r->pnv = r->dim = 0;
-    fclose(f);
-    return;
+  size_t rec = positions_header(j, r, f);
+  double *buf = rec ? malloc(rec * sizeof *buf) : NULL;
+  r->pos = buf ? nan_array((size_t)r->ns * (rec - 1)) : NULL;
+  for (long n = 1; r->pos && fread(buf, sizeof *buf, rec, f) == rec; n++) {
+    for (size_t i = 0; i < rec; i++)
+      if (!isfinite(buf[i])) {
+        damaged(r, j, "positions.bin", n, "record %ld (t = %g s): %s is not finite", n, buf[0],
+                i ? "a position" : "the time");
+        free(buf), fclose(f);
+        free(r->pos), r->pos = NULL, r->npos = 0;
+        return;
+      }
+    int k = sample_of(c, buf[0]);
+    if (k >= 0) memcpy(r->pos + (size_t)k * (rec - 1), buf + 1, (rec - 1) * sizeof *buf);
+    r->npos += k >= 0;
   }
-  r->pos = nan_array((size_t)r->ns * rec);
-  double t;
-  while (r->pos && fread(&t, sizeof t, 1, f) == 1) {
-    int k = sample_of(c, t);
-    double *dst = k >= 0 ? r->pos + (size_t)k * rec : NULL;
-    if (dst ? fread(dst, sizeof *dst, rec, f) != rec : fseek(f, (long)(rec * sizeof t), SEEK_CUR))
-      break;
-    r->npos += dst != NULL;
-  }
+  free(buf);
   fclose(f);
 }
 

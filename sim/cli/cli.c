@@ -2,6 +2,7 @@
 #include "cli.h"
 
 #include <errno.h>
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -13,6 +14,11 @@ int cli_number(const char *opt, const char *s, int allow_zero, double *out) {
   char *end;
   errno = 0;
   double v = strtod(s, &end);
+  if (errno == ERANGE && end != s && !*end && fabs(v) < DBL_MIN) { /* as the scene loader */
+    fprintf(stderr, "sinew: %s is %s, too small to compute with (below %g); expected a %s "
+            "number\n", opt, s, DBL_MIN, allow_zero ? "non-negative" : "positive");
+    return -1;
+  }
   if (errno || end == s || *end || !isfinite(v) || v < 0 || (!allow_zero && v == 0)) {
     fprintf(stderr, "sinew: %s expects a %s number, got '%s'\n", opt,
             allow_zero ? "non-negative" : "positive", s);

@@ -309,6 +309,7 @@ static int cmd_check(int argc, char **argv) {
 
 typedef struct inv_cli {
   const char *scene, *targets, *out;
+  char out_default[SW_PATHSZ]; /* out when --out is not given */
 } inv_cli;
 
 static int parse_inverse_args(int argc, char **argv, inv_cli *c) {
@@ -395,9 +396,7 @@ static int inverse_run(const inv_cli *c, const sw_model *m, const sw_targets *tg
   if (!rc && !inv.reachable)
     printf("targets unreachable: the residual is above %g |f|; the tensions above are the "
            "least-squares answer with tau >= 0\n", SW_INVERSE_RTOL);
-  if (!rc && c->out) snprintf(out, sizeof out, "%s", c->out);
-  if (!rc && !c->out && default_out(c, out, sizeof out))
-    rc = 2, fprintf(stderr, "sinew: the output path is too long; give --out\n");
+  if (!rc) snprintf(out, sizeof out, "%s", c->out);
   if (!rc && sw_scene_write_rest(c->scene, out, m, inv.rest, err, sizeof err))
     rc = 2, fprintf(stderr, "sinew: %s\n", err);
   if (!rc) printf("wrote %s\n", out);
@@ -409,9 +408,26 @@ static int inverse_run(const inv_cli *c, const sw_model *m, const sw_targets *tg
   return rc;
 }
 
+/* The output must not be an input: the same file (device and inode, so also through a
+ * symlink, a hard link or another path) as the scene or the targets is refused. */
+static int out_is_input(const inv_cli *c) {
+  struct stat o, in;
+  if (stat(c->out, &o)) return 0; /* a new file */
+  const char *inputs[2] = {c->scene, c->targets}, *what[2] = {"scene", "targets file"};
+  for (int k = 0; k < 2; k++)
+    if (!stat(inputs[k], &in) && in.st_dev == o.st_dev && in.st_ino == o.st_ino)
+      return fprintf(stderr, "sinew: --out %s is the %s %s; expected another file (the "
+                     "inputs are never overwritten)\n", c->out, what[k], inputs[k]), 1;
+  return 0;
+}
+
 static int cmd_inverse(int argc, char **argv) {
   inv_cli c = {0};
   if (parse_inverse_args(argc, argv, &c)) return 2;
+  if (!c.out && default_out(&c, c.out_default, sizeof c.out_default))
+    return fprintf(stderr, "sinew: the output path is too long; give --out\n"), 2;
+  if (!c.out) c.out = c.out_default;
+  if (out_is_input(&c)) return 2;
   char err[SW_ERRSZ];
   sw_model *m = sw_scene_load(c.scene, err, sizeof err);
   if (!m) return fprintf(stderr, "sinew: %s\n", err), 2;

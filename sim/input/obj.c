@@ -11,8 +11,11 @@
  * in bytes).  Positions are in the file's units (m for sinew); (u,v) are copied as written.
  * Numbers are read with strtod, so the C locale (decimal point '.') is assumed.
  *
- * The input is untrusted (it is fuzzed): every count is bounded by OBJ_MAX_COUNT, every array
- * grows with overflow-checked sizes, and the text is never assumed to be NUL-terminated. */
+ * The input is untrusted (it is fuzzed): the file by SW_OBJ_MAX_BYTES, every count by
+ * OBJ_MAX_COUNT, every array grows with overflow-checked sizes, the text is never assumed to be
+ * NUL-terminated, and a message quotes at most 40 bytes of it, non-printable ones as '?'; a
+ * file whose first statement is no OBJ keyword is "not an OBJ file", without a quote (it may
+ * be any file: a line of /etc/passwd has no place in a message). */
 #include "obj.h"
 #include "util.h"
 
@@ -23,8 +26,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
-#define OBJ_MAX_COUNT 100000000 /* positions, uvs, normals or triangles in one file */
+#define OBJ_MAX_COUNT SW_OBJ_MAX_COUNT /* positions, uvs, normals or triangles in one file */
 #define OBJ_MAX_GROUPS 65536
 #define OBJ_NUMBER_MAX 127      /* longest accepted number token, bytes */
 
@@ -57,6 +61,7 @@ typedef struct obj_state {
   size_t cappoly;
   size_t *seen;             /* (nv) serial of the last face that used each position */
   size_t capseen, nseen, nface; /* nface: f statements so far (the serial) */
+  size_t nstatement;        /* statements read so far (not blank lines and comments) */
 } obj_state;
 
 /* ------------------------------------------------------------------ helpers */
@@ -76,9 +81,11 @@ static void *reserve(void *p, size_t *cap, size_t need, size_t size) {
 
 static int is_blank(char c) { return c == ' ' || c == '\t' || c == '\v' || c == '\f'; }
 
-/* A token of n bytes as a short printable quoted string, for messages. */
+/* A token of n bytes as a short printable quoted string, for messages: at most OBJ_QUOTE_MAX
+ * bytes of it (fewer if bufsz is smaller), non-printable ones as '?', then "..." if cut. */
+#define OBJ_QUOTE_MAX 40
 static const char *quote(char *buf, size_t bufsz, const char *s, size_t n) {
-  size_t k = 0, max = bufsz - 6; /* room for the quotes, "..." and the NUL */
+  size_t k = 0, max = SW_MIN(bufsz - 6, OBJ_QUOTE_MAX + 1); /* quotes, "...", NUL */
   buf[k++] = '\'';
   for (size_t i = 0; i < n && k < max; i++)
     buf[k++] = (s[i] >= 0x20 && s[i] < 0x7f) ? s[i] : '?';
@@ -416,6 +423,7 @@ static int read_statement(obj_state *st) {
   char q[48];
   const char *k = next_token(st, &n);
   if (!n) return 0; /* blank line or comment */
+  int first = !st->nstatement++;
   if (keyword_is(k, n, "v")) return read_position(st);
   if (keyword_is(k, n, "vt")) return read_texcoord(st);
   if (keyword_is(k, n, "vn")) return read_normal(st);
@@ -425,6 +433,9 @@ static int read_statement(obj_state *st) {
   if (keyword_is(k, n, "o") || keyword_is(k, n, "s") || keyword_is(k, n, "mtllib") ||
       keyword_is(k, n, "l") || keyword_is(k, n, "p"))
     return 0;
+  if (first)
+    return fail_at(st, k, "not an OBJ file: the first statement is not an OBJ keyword; expected "
+                   "v, vt, vn, f, g, usemtl, o, s, mtllib, l, p or #");
   return fail_at(st, k, "found unknown statement %s, expected v, vt, vn, f, g, usemtl, o, s, "
                  "mtllib, l, p or #", quote(q, sizeof q, k, n));
 }
@@ -526,9 +537,21 @@ int sw_obj_parse(const char *name, const char *buf, size_t len, sw_mesh *mesh, c
   return SW_OK;
 }
 
-/* The whole file into a new buffer (*len bytes); nonzero with a message on error. */
+static int too_large(const char *path, char *err, size_t errsz) {
+  sw_errf(err, errsz, "%s: larger than %ld bytes, expected an OBJ file of at most %ld MB", path,
+          SW_OBJ_MAX_BYTES, SW_OBJ_MAX_BYTES >> 20);
+  return -1;
+}
+
+/* The whole file into a new buffer (*len bytes); nonzero with a message on error.  A regular
+ * file above SW_OBJ_MAX_BYTES is refused before it is read, anything else (a pipe, a device)
+ * once it passes the limit.  Reading stops at the first chunk holding a NUL byte: the parser
+ * refuses the NUL with its line and column, and /dev/zero is not read for seconds first. */
 static int read_all(const char *path, FILE *fp, char **out, size_t *len, char *err,
                     size_t errsz) {
+  struct stat sb;
+  if (fstat(fileno(fp), &sb) == 0 && S_ISREG(sb.st_mode) && sb.st_size > SW_OBJ_MAX_BYTES)
+    return too_large(path, err, errsz);
   char *buf = NULL;
   size_t n = 0, cap = 0;
   for (;;) {
@@ -539,9 +562,15 @@ static int read_all(const char *path, FILE *fp, char **out, size_t *len, char *e
       return -1;
     }
     buf = b;
-    size_t want = cap - n, got = fread(buf + n, 1, want, fp);
+    size_t want = SW_MIN(cap - n, (size_t)SW_OBJ_MAX_BYTES + 1 - n);
+    size_t got = fread(buf + n, 1, want, fp);
+    int nul = memchr(buf + n, '\0', got) != NULL;
     n += got;
-    if (got < want) break; /* end of file or error */
+    if (n > (size_t)SW_OBJ_MAX_BYTES) {
+      sw_free(buf);
+      return too_large(path, err, errsz);
+    }
+    if (got < want || nul) break; /* end of file, error, or text the parser refuses */
   }
   if (ferror(fp)) {
     int e = errno;

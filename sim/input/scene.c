@@ -590,6 +590,10 @@ sw_model *sw_scene_parse_ex(const char *name, const char *buf, size_t len,
   c.m = sw_model_new();
   int rc = c.m ? load_scene(&c) : sy_oom(&c, root);
   if (!rc && by_index && ov && ov->grid[0] > 0) grid_warning(&c, by_index);
+  int at[2] = {0, 0}; /* line and column of the mesh, for the model's own checks */
+  for (int k = 0; root->kind == Y_MAP && k + 1 < root->n; k += 2)
+    if (root->kid[k]->kind == Y_SCALAR && !strcmp(root->kid[k]->text, "mesh"))
+      at[0] = root->kid[k + 1]->line, at[1] = root->kid[k + 1]->col;
   sw_free(c.sel);
   sy_free(root);
   if (!rc && ov && ov->stiffness_scale > 0.0) sc_scale_stiffness(c.m, ov->stiffness_scale);
@@ -598,8 +602,9 @@ sw_model *sw_scene_parse_ex(const char *name, const char *buf, size_t len,
     return NULL;
   }
   char e[SW_ERRSZ];
-  if (sw_model_finish(c.m, e, sizeof e)) {
-    sw_errf(err, errsz, "%s: %s", name, e);
+  if (sw_model_finish(c.m, e, sizeof e)) { /* e.g. a face of zero rest area: at the mesh */
+    if (at[0] > 0) sw_errf(err, errsz, "%s:%d:%d: mesh: %s", name, at[0], at[1], e);
+    else sw_errf(err, errsz, "%s: %s", name, e);
     sw_model_free(c.m);
     return NULL;
   }

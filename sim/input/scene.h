@@ -13,6 +13,12 @@
 #endif
 #define SW_SCENE_MAX_BYTES (64L << 20) /* a larger scene file is refused, bytes */
 #define SW_SCENE_MAX_DEPTH 32          /* deeper YAML nesting is refused */
+/* More YAML values (scalars, sequences, mappings) than this are refused as they are read: each
+ * costs up to about 520 bytes while the scene is parsed (our node, its text, and libfyaml's
+ * tokens of a flow sequence), so the loader stays below about 1 GB. */
+#ifndef SW_SCENE_MAX_VALUES
+#define SW_SCENE_MAX_VALUES 2000000L
+#endif
 
 /* Parse len bytes of YAML (need not be NUL-terminated; a NUL byte is an error) as the scene
  * file `name`: name is used in messages ("name:line:column: ..."), gives the default scene

@@ -9,6 +9,7 @@
 #include "util.h"
 
 #include <errno.h>
+#include <float.h>
 #include <libfyaml.h>
 #include <limits.h>
 #include <math.h>
@@ -29,6 +30,7 @@ typedef struct yparser {
   char *err;
   size_t errsz;
   int line, col;     /* position of the last event that had one, 1-based */
+  long nodes;        /* nodes made so far (at most SW_SCENE_MAX_VALUES) */
 } yparser;
 
 void sy_free(ynode *y) {
@@ -77,7 +79,10 @@ static struct fy_event *next_event(yparser *p) {
   return e;
 }
 
+static void *too_many_values(yparser *p);
+
 static ynode *node_new(yparser *p, int kind) {
+  if (++p->nodes > SW_SCENE_MAX_VALUES) return too_many_values(p);
   ynode *y = sw_calloc(1, sizeof *y);
   if (!y) return yerr(p, "out of memory");
   y->kind = kind;
@@ -262,10 +267,21 @@ static size_t utf8_len(const unsigned char *s, size_t n) {
   return k;
 }
 
+static void *too_many_values(yparser *p) {
+  return yerr(p, "more than %ld YAML values (numbers, strings, lists); expected a smaller "
+              "scene (the loader's memory budget: each value may take 0.5 kB)",
+              (long)SW_SCENE_MAX_VALUES);
+}
+
 /* Refuse a NUL byte (it ends libfyaml's input silently) and invalid UTF-8 (libfyaml 0.7.12
- * loops forever on some, e.g. "%r\xff"), with the position of the offending byte. */
+ * loops forever on some, e.g. "%r\xff"), with the position of the offending byte.  Also
+ * refuse more commas than SW_SCENE_MAX_VALUES outside comments: libfyaml scans a whole flow
+ * sequence before it yields its first item (30 million indices took 12 GB and 74 s), and in a
+ * flow collection each comma follows a value, so the values are at least the commas. */
 static int check_text(yparser *p, const char *buf, size_t len) {
   const unsigned char *s = (const unsigned char *)buf;
+  long commas = 0;
+  int comment = 0;
   p->line = p->col = 1;
   for (size_t i = 0; i < len;) {
     size_t k = s[i] ? utf8_len(s + i, len - i) : 0;
@@ -273,7 +289,11 @@ static int check_text(yparser *p, const char *buf, size_t len) {
       yerr(p, "%s; expected UTF-8 text", s[i] ? "a byte that is not valid UTF-8" : "a NUL byte");
       return -1;
     }
-    if (s[i] == '\n') p->line++, p->col = 1;
+    if (s[i] == '#' && (i == 0 || s[i - 1] == ' ' || s[i - 1] == '\t' || s[i - 1] == '\n'))
+      comment = 1;
+    if (s[i] == ',' && !comment && ++commas > SW_SCENE_MAX_VALUES)
+      return too_many_values(p), -1;
+    if (s[i] == '\n') p->line++, p->col = 1, comment = 0;
     else p->col++;
     i += k;
   }
@@ -462,11 +482,24 @@ static const char *num_expect(char *buf, size_t sz, double lo, int strict, const
   return buf;
 }
 
-/* A finite number >= lo (> lo when strict; lo = -HUGE_VAL: any). */
+/* A number written nonzero that is zero or subnormal as a double (strtod: ERANGE). */
+static int underflows(const ynode *y) {
+  errno = 0;
+  double v = strtod(y->text, NULL);
+  return errno == ERANGE && fabs(v) < DBL_MIN;
+}
+
+/* A finite number >= lo (> lo when strict; lo = -HUGE_VAL: any), not below the smallest normal
+ * double in magnitude unless it is 0 (1e-320 would silently lose digits or become 0; the
+ * command line refuses it the same way, sim/cli/cli.c). */
 int sy_num(const ctx *c, const ynode *y, const char *what, double lo, int strict,
                    const char *unit, double *out) {
   double v = 0;
-  char exp[96];
+  char exp[96], t[48];
+  if (!sy_scalar_number(y, &v) && underflows(y))
+    return sy_fail(c, y, "%s is %s, too small to compute with (below %g); expected %s", what,
+                   sy_clip(y, t, sizeof t), DBL_MIN,
+                   num_expect(exp, sizeof exp, lo, strict, unit));
   if (sy_scalar_number(y, &v) || (strict ? !(v > lo) : !(v >= lo)))
     return sy_type_error(c, y, what, num_expect(exp, sizeof exp, lo, strict, unit));
   *out = v;
@@ -476,8 +509,7 @@ int sy_num(const ctx *c, const ynode *y, const char *what, double lo, int strict
 /* A decimal integer in [lo, hi]. */
 int sy_int(const ctx *c, const ynode *y, const char *what, long lo, long hi, int *out) {
   char exp[96];
-  if (hi == INT_MAX) snprintf(exp, sizeof exp, "an integer >= %ld", lo);
-  else snprintf(exp, sizeof exp, "an integer in [%ld, %ld]", lo, hi);
+  snprintf(exp, sizeof exp, "an integer in [%ld, %ld]", lo, hi);
   const char *s = y->text;
   if (y->kind != Y_SCALAR || !y->plain || strlen(s) != y->len) return sy_type_error(c, y, what, exp);
   const char *d = s + (*s == '+' || *s == '-');

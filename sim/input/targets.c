@@ -2,19 +2,24 @@
  *   vertex,fx,fy[,fz]        header: the scene's dimension many force components
  *   4,0,-2.5                 one line per target vertex: index in [0, nv), force in N
  * Spaces around fields, CRLF line ends and blank lines are allowed.  Every error is
- * "file:line:column: what was found; expected what" (1-based, the column of the field). */
+ * "file:line:column: what was found; expected what" (1-based, the column of the field).
+ * Limits: lines of at most TG_LINE_MAX bytes, files of at most TG_MAX_BYTES, no NUL byte (so
+ * /dev/zero or a binary file is refused at its first line, not read into memory). */
 #include <errno.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "sinew.h"
 #include "util.h"
 
 #define TG_MAXF 8     /* fields kept per line; more are counted */
 #define TG_FIELDSZ 64 /* bytes of a field quoted in a message */
+#define TG_LINE_MAX 4096              /* a longer line is refused, bytes */
+#define TG_MAX_BYTES (64L << 20)      /* a larger file is refused, bytes */
 
 typedef struct csv_line {
   const char *path;
@@ -116,15 +121,42 @@ static int parse_line(const csv_line *l, const sw_model *m, unsigned char *seen,
   return 0;
 }
 
+/* The next line of fp into buf (TG_LINE_MAX + 2 bytes), NUL-terminated: 1, 0 at the end of
+ * the file, -1 with a message for a line too long, a NUL byte or a file too large (*total:
+ * bytes read so far). */
+static int next_line(FILE *fp, csv_line *l, char *buf, size_t *total, char *err, size_t errsz) {
+  size_t n = 0;
+  int ch = EOF;
+  while (n <= TG_LINE_MAX && (ch = getc(fp)) != EOF) {
+    if (ch == '\0')
+      return fail(l, (int)n + 1, err, errsz, "a NUL byte; expected text (a CSV file)");
+    buf[n++] = (char)ch;
+    if (ch == '\n') break;
+  }
+  buf[n] = '\0';
+  if (n > TG_LINE_MAX && buf[n - 1] != '\n')
+    return fail(l, TG_LINE_MAX + 1, err, errsz, "a line longer than %d bytes; expected "
+                "vertex,fx,fy[,fz]", TG_LINE_MAX);
+  if ((*total += n) > (size_t)TG_MAX_BYTES)
+    return fail(l, 1, err, errsz, "the file passes %ld bytes; expected a targets file of at "
+                "most %ld MB", TG_MAX_BYTES, TG_MAX_BYTES >> 20);
+  return n > 0;
+}
+
 /* The lines of an open file: header first, then targets. */
 static int read_lines(FILE *fp, csv_line *l, const sw_model *m, unsigned char *seen,
                       sw_targets *tg, char *err, size_t errsz) {
-  char *buf = NULL;
-  size_t cap = 0;
-  int have_header = 0, rc = 0;
+  char buf[TG_LINE_MAX + 2];
+  size_t total = 0;
+  int have_header = 0, rc = 0, got;
   errno = 0;
-  while (!rc && getline(&buf, &cap, fp) >= 0) {
+  while (!rc) {
     l->line++;
+    if ((got = next_line(fp, l, buf, &total, err, errsz)) <= 0) {
+      if (got == 0) l->line--; /* the end of the file: messages name the last line */
+      rc = got;
+      break;
+    }
     if (!split(buf, l)) continue;
     if (!have_header) rc = check_header(l, m->dim, err, errsz), have_header = 1;
     else if (tg->n >= m->nv) rc = fail(l, 1, err, errsz, "more target lines than the %d "
@@ -134,7 +166,6 @@ static int read_lines(FILE *fp, csv_line *l, const sw_model *m, unsigned char *s
   if (!rc && ferror(fp))
     rc = -1, sw_errf(err, errsz, "%s: cannot read the targets file: %s", l->path,
                      strerror(errno ? errno : EIO));
-  free(buf);
   if (!rc && tg->n == 0)
     rc = fail(l, 1, err, errsz, "%s; expected the header vertex,fx,fy%s and at least one "
               "target line", have_header ? "no target line" : "the file is empty",
@@ -156,6 +187,10 @@ int sw_targets_read(const char *path, const sw_model *m, sw_targets *tg, char *e
   FILE *fp = fopen(path, "r");
   if (!fp) return sw_errf(err, errsz, "%s: cannot open the targets file: %s", path,
                           strerror(errno)), -1;
+  struct stat sb;
+  if (fstat(fileno(fp), &sb) == 0 && S_ISREG(sb.st_mode) && sb.st_size > TG_MAX_BYTES)
+    return fclose(fp), sw_errf(err, errsz, "%s: %lld bytes; expected a targets file of at most "
+                               "%ld MB", path, (long long)sb.st_size, TG_MAX_BYTES >> 20), -1;
   csv_line l = {.path = path};
   unsigned char *seen = sw_calloc((size_t)m->nv, 1);
   tg->vertex = sw_calloc((size_t)m->nv, sizeof(int));

@@ -10,6 +10,7 @@
  *   frames.pvd     vtu.c: ParaView collection of the complete frames
  *   frames/frame_NNNNNN.vtu
  *   summary.json   summary.c: scene, method, counters, wall time, status, the files above
+ *   sinew.lock     lock.c: the id of the process writing the folder, while it runs
  * Logs (and positions.bin) live as NAME.part until sw_output_close; every other file is written
  * to NAME.tmp and renamed, so a reader never sees a half-written file under a final name.  A log
  * line (a record of positions.bin) goes out in one write(2) (no stdio buffer), so a killed run
@@ -26,9 +27,11 @@
 #include "writer.h"
 
 /* Every format, in the order of the summary's file list (the summary last: it lists the others'
- * files as they are when it is written). */
-static const sw_out_ops *const formats[] = {&sw_out_tension, &sw_out_energy, &sw_out_tendons,
-                                            &sw_out_positions, &sw_out_vtu, &sw_out_summary};
+ * files as they are when it is written); the lock first, so that its prepare refuses a folder
+ * in use before any other removes a file. */
+static const sw_out_ops *const formats[] = {&sw_out_lock,      &sw_out_tension, &sw_out_energy,
+                                            &sw_out_tendons,   &sw_out_positions, &sw_out_vtu,
+                                            &sw_out_summary};
 #define NFORMAT ((int)(sizeof formats / sizeof formats[0]))
 
 /* ------------------------------------------------------------ the folder */

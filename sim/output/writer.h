@@ -82,6 +82,7 @@ extern const sw_out_ops sw_out_tension, sw_out_energy, sw_out_tendons; /* csv.c 
 extern const sw_out_ops sw_out_positions;                              /* positions.c */
 extern const sw_out_ops sw_out_vtu;                                    /* vtu.c */
 extern const sw_out_ops sw_out_summary;                                /* summary.c */
+extern const sw_out_ops sw_out_lock;                                   /* lock.c */
 
 /* ------------------------------------------------ file.c: text files written whole */
 

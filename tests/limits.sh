@@ -1,0 +1,203 @@
+#!/usr/bin/env bash
+# tests/limits.sh SINEW — hostile inputs that must not hang, exhaust memory or destroy a file
+# (docs/reliability.md, "Limits"): sampling intervals far below the step, oversized and endless
+# input files, counts beyond the memory budget, `inverse --out` naming an input, damaged run
+# folders in `bench --merge`, and the messages of values out of range.  Each case is bounded by
+# `timeout` so that a regression fails instead of hanging the suite.
+set -u
+sinew=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
+tmp=$(mktemp -d)
+pid=
+trap '[ -n "$pid" ] && kill -9 "$pid" 2>/dev/null; rm -rf "$tmp"' EXIT
+fails=0
+fail() { echo "FAIL: $*"; fails=$((fails + 1)); }
+GRID='mesh: {grid: {size: [1, 1], vertices: [3, 3]}}'
+MAT='material: {density: 0.1}'
+
+# expect_error WHAT PATTERN CMD...: CMD exits non-zero within 20 s and its stderr matches PATTERN.
+expect_error() {
+  local what=$1 pat=$2
+  shift 2
+  timeout 20 "$@" >"$tmp/out" 2>"$tmp/err"
+  local rc=$?
+  [ $rc -eq 124 ] && { fail "$what: still running after 20 s"; return; }
+  [ $rc -ne 0 ] || fail "$what: accepted (exit 0)"
+  grep -Eq -- "$pat" "$tmp/err" || fail "$what: message '$(head -c 400 "$tmp/err")', expected /$pat/"
+}
+
+# 1. A sampling interval far below dt (and below half an ulp of t) samples every step, at once.
+for every in 1e-300 1e-12; do
+  for opt in --frames-every --positions-every; do
+    rm -rf "$tmp/tiny"
+    timeout 20 "$sinew" run scenes/hanging_cloth.yaml --duration 0.05 "$opt" "$every" \
+      --out "$tmp/tiny" --quiet 2>"$tmp/err"
+    rc=$?
+    [ $rc -eq 0 ] || { fail "$opt $every: exit $rc $(cat "$tmp/err")"; continue; }
+    if [ "$opt" = --frames-every ]; then
+      n=$(grep -c '<DataSet ' "$tmp/tiny/frames.pvd")
+      [ "$n" -eq 6 ] || fail "$opt $every: $n frames, expected 6 (every step)"
+    else # 6 records of 8 + 1600 x 3 x 8 bytes after the 16-byte header
+      n=$(stat -c %s "$tmp/tiny/positions.bin")
+      [ "$n" -eq $((16 + 6 * 38408)) ] || fail "$opt $every: positions.bin $n bytes, expected 6 records"
+    fi
+  done
+  printf '%s\n%s\nintegrator: {dt: 0.01}\nduration: 0.05\noutput: {frames_every: %s, positions_every: %s}\n' \
+    "$GRID" "$MAT" "$every" "$every" >"$tmp/tiny.yaml"
+  timeout 20 "$sinew" run "$tmp/tiny.yaml" --out "$tmp/tiny_scene" --quiet 2>"$tmp/err" ||
+    fail "scene frames_every $every: $(cat "$tmp/err")"
+  [ "$(grep -c '<DataSet ' "$tmp/tiny_scene/frames.pvd" 2>/dev/null)" = 6 ] ||
+    fail "scene frames_every $every: expected 6 frames"
+done
+
+# 2. Byte limits and memory budgets, each refused at once with the file, the position and the
+# limit: 30 million pin indices (60 MB, under the 64 MB scene limit), 2.1 million values in
+# block style, /dev/zero and a 300 MB (sparse) file as OBJ and as targets, a 5000-byte CSV
+# line, /etc/passwd as OBJ (not quoted: "not an OBJ file").
+/usr/bin/python3 - "$tmp" <<'PY' || fail "python3 could not write the large scenes"
+import sys
+d = sys.argv[1]
+head = 'mesh: {grid: {size: [1, 1], vertices: [3, 3]}}\nmaterial: {density: 0.1}\n'
+with open(d + '/pins30m.yaml', 'w') as f:
+    f.write(head + 'pins: [{select: {vertices: [' + '0,' * 29999999 + '0]}}]\n')
+with open(d + '/pins2m.yaml', 'w') as f:
+    f.write(head + 'pins:\n  - select:\n      vertices:\n' + '        - 0\n' * 2100000)
+PY
+start=$(date +%s)
+expect_error "30 million pin indices" \
+  'pins30m.yaml:3:4000024: more than 2000000 YAML values .*expected a smaller scene' \
+  "$sinew" check "$tmp/pins30m.yaml"
+[ $(($(date +%s) - start)) -le 5 ] || fail "30 million pin indices took more than 5 s to refuse"
+expect_error "2.1 million values, block style" \
+  'pins2m.yaml:1999982:11: more than 2000000 YAML values' "$sinew" check "$tmp/pins2m.yaml"
+rm -f "$tmp/pins30m.yaml" "$tmp/pins2m.yaml"
+ln -s /dev/zero "$tmp/zero.obj"
+truncate -s 300M "$tmp/big.obj"
+cp /etc/passwd "$tmp/passwd.obj"
+for obj in zero big passwd; do
+  printf 'mesh: {obj: %s.obj}\n%s\n' "$obj" "$MAT" >"$tmp/obj_$obj.yaml"
+done
+expect_error "/dev/zero as OBJ" 'obj_zero.yaml:1:13: in mesh obj: .*zero.obj:1:1: found a NUL byte' \
+  "$sinew" check "$tmp/obj_zero.yaml"
+expect_error "a 300 MB OBJ" 'big.obj: larger than 268435456 bytes, expected an OBJ file of at most 256 MB' \
+  "$sinew" check "$tmp/obj_big.yaml"
+expect_error "/etc/passwd as OBJ" 'passwd.obj:1:1: not an OBJ file: the first statement is not an OBJ keyword' \
+  "$sinew" check "$tmp/obj_passwd.yaml"
+grep -q root "$tmp/err" && fail "/etc/passwd as OBJ: the message quotes the file"
+{ printf 'v 0 0 0\n'; printf 'x%.0s' $(seq 1 100); echo; } >"$tmp/longword.obj"
+printf 'mesh: {obj: longword.obj}\n%s\n' "$MAT" >"$tmp/obj_longword.yaml"
+expect_error "a 100-byte unknown statement" "longword.obj:2:1: found unknown statement '$(printf 'x%.0s' $(seq 1 40))\\.\\.\\.'," \
+  "$sinew" check "$tmp/obj_longword.yaml"
+expect_error "/dev/zero as targets" '^sinew: /dev/zero:1:1: a NUL byte; expected text' \
+  "$sinew" inverse scenes/tendon_inverse_2d.yaml --targets /dev/zero --out "$tmp/inv.yaml"
+truncate -s 100M "$tmp/big.csv"
+expect_error "a 100 MB targets file" 'big.csv: 104857600 bytes; expected a targets file of at most 64 MB' \
+  "$sinew" inverse scenes/tendon_inverse_2d.yaml --targets "$tmp/big.csv" --out "$tmp/inv.yaml"
+{ echo vertex,fx,fy; printf '1,%05000d,0\n' 0; } >"$tmp/long.csv"
+expect_error "a 5000-byte targets line" 'long.csv:2:4097: a line longer than 4096 bytes' \
+  "$sinew" inverse scenes/tendon_inverse_2d.yaml --targets "$tmp/long.csv" --out "$tmp/inv.yaml"
+{ yes 'v 0 0 0' | head -n 4000001; } >"$tmp/many.obj"
+printf 'mesh: {obj: many.obj}\n%s\n' "$MAT" >"$tmp/obj_many.yaml"
+expect_error "4000001 OBJ positions" 'many.obj:4000001:1: found more than 4000000 positions, expected fewer' \
+  "$sinew" check "$tmp/obj_many.yaml"
+rm -f "$tmp/big.obj" "$tmp/big.csv" "$tmp/many.obj"
+[ -e "$tmp/inv.yaml" ] && fail "inverse wrote its output after refusing its targets"
+
+# 3. `inverse --out` naming an input (also by a symlink or another path) is refused before
+# anything is written: both inputs stay byte for byte as they were.
+cp scenes/tendon_inverse_2d.yaml "$tmp/inv_scene.yaml"
+cp scenes/tendon_inverse_2d_targets.csv "$tmp/inv_targets.csv"
+ln -s inv_scene.yaml "$tmp/inv_link.yaml"
+sums=$(cat "$tmp/inv_scene.yaml" "$tmp/inv_targets.csv" | cksum)
+for out in "$tmp/inv_scene.yaml" "$tmp/inv_link.yaml" "$tmp/../$(basename "$tmp")/inv_scene.yaml"; do
+  expect_error "inverse --out $out" "--out .* is the scene .*inv_scene.yaml; expected another file" \
+    "$sinew" inverse "$tmp/inv_scene.yaml" --targets "$tmp/inv_targets.csv" --out "$out"
+done
+expect_error "inverse --out the targets" "--out .* is the targets file .*inv_targets.csv" \
+  "$sinew" inverse "$tmp/inv_scene.yaml" --targets "$tmp/inv_targets.csv" --out "$tmp/inv_targets.csv"
+[ "$(cat "$tmp/inv_scene.yaml" "$tmp/inv_targets.csv" | cksum)" = "$sums" ] ||
+  fail "inverse --out changed an input"
+[ -L "$tmp/inv_link.yaml" ] || fail "inverse --out replaced the symlink"
+
+# 4. `bench --merge` of damaged run folders: NaN positions and a log line cut to 2 fields make
+# the run "damaged" with the file and line, and no error value; the intact run keeps its value.
+b=$tmp/bench
+"$sinew" bench tests/data/bench_tiny.yaml --out "$b" --methods backward-euler --dts 0.02,0.01 \
+  --no-charts >"$tmp/bench.out" 2>&1 || fail "bench: $(tail -3 "$tmp/bench.out")"
+r1=$b/runs/wp_backward-euler_dt0.02_r1 r2=$b/runs/wp_backward-euler_dt0.01_r1
+# record 2 (t = 0.02 s) of the 36-vertex 3D file: 8 + 36 x 3 x 8 = 872 bytes each; its 4th value
+printf '\x00\x00\x00\x00\x00\x00\xf8\x7f' | dd of="$r1/positions.bin" bs=1 seek=$((16 + 872 + 32)) \
+  conv=notrunc status=none
+sed -i '4s/^\([^,]*,[^,]*\),.*/\1/' "$r2/tension.csv"
+"$sinew" bench --merge "$b" --no-charts >"$tmp/merge.out" 2>&1
+csv=$b/work_precision.csv
+row1=$(grep '^backward-euler,fixed,dt,0.02,' "$csv") row2=$(grep '^backward-euler,fixed,dt,0.01,' "$csv")
+grep -q ',damaged,damaged data,runs/wp_backward-euler_dt0.02_r1/positions.bin:2: record 2 (t = 0.02 s): a position is not finite,' <<<"$row1" ||
+  fail "NaN positions not damaged: $row1"
+grep -q ',damaged,damaged data,runs/wp_backward-euler_dt0.01_r1/tension.csv:4: 2 fields; expected 7' <<<"$row2" ||
+  fail "a cut row not damaged: $row2"
+mkdir "$tmp/bigplan" && cp "$b/bench_work_precision.cfg" "$tmp/bigplan/"
+{ head -1 "$b/plan_work_precision.csv"; yes 'x,run,bdf2,0,0.01,0,0,1,0,1' | head -n 1000001; } \
+  >"$tmp/bigplan/plan_work_precision.csv"
+expect_error "a plan of 1000001 runs" 'plan_work_precision.csv:1000002: more than 1000000 runs in the plan' \
+  "$sinew" bench --merge "$tmp/bigplan" --no-charts
+rm -rf "$tmp/bigplan"
+for row in "$row1" "$row2"; do
+  [ -z "$(cut -d, -f18-23 <<<"$row" | tr -d ,)" ] || fail "a damaged run has error values: $row"
+done
+
+# 5. Messages that say what was found and what was expected, with line:column in a scene.
+printf 'mesh: {grid: {size: [1e300, 1e300], vertices: [3, 3]}}\n%s\n' "$MAT" >"$tmp/area_big.yaml"
+expect_error "a rest area that overflows" \
+  'area_big.yaml:1:7: mesh: face 0 has a rest area that overflows in its \(u,v\) layout \(2 x area = inf m\^2\)' \
+  "$sinew" check "$tmp/area_big.yaml"
+printf 'mesh: {grid: {size: [1e-300, 1e-300], vertices: [3, 3]}}\n%s\n' "$MAT" >"$tmp/area_tiny.yaml"
+expect_error "a zero rest area" 'area_tiny.yaml:1:7: mesh: face 0 has zero rest area' \
+  "$sinew" check "$tmp/area_tiny.yaml"
+printf 'mesh: {grid: {size: [1, 1], vertices: [3, 2147483648]}}\n%s\n' "$MAT" >"$tmp/int.yaml"
+expect_error "2^31 vertices" 'int.yaml:1:43: mesh grid vertices\[1\] is 2147483648; expected an integer in \[2, 2147483647\]' \
+  "$sinew" check "$tmp/int.yaml"
+printf '%s\n%s\nintegrator: {dt: 1e-320}\n' "$GRID" "$MAT" >"$tmp/dt_sub.yaml"
+expect_error "dt: 1e-320" 'dt_sub.yaml:3:18: integrator dt is 1e-320, too small to compute with \(below 2.22507e-308\); expected a number > 0 \(s\)' \
+  "$sinew" check "$tmp/dt_sub.yaml"
+expect_error "--dt 1e-320" '^sinew: --dt is 1e-320, too small to compute with \(below 2.22507e-308\); expected a positive number' \
+  "$sinew" run scenes/hanging_cloth.yaml --dt 1e-320 --out "$tmp/never"
+printf '%s\nmaterial: {density: 0.1, membrane: {model: bw98, k_u: 1e308, k_v: 1, k_shear: 1, b_u: 100, b_v: 1}}\nduration: 0.02\n' \
+  "$GRID" >"$tmp/bw_inf.yaml"
+expect_error "an infinite bw98 energy" 'term bw98 failed at t = 0 s: face 0 \(vertices 0 1 4\): energy inf J' \
+  "$sinew" run "$tmp/bw_inf.yaml" --out "$tmp/bw_inf" --quiet
+
+# 6. One run at a time in a folder: a second run into a folder in use is refused with the first
+# one's process id and removes nothing; the lock of a killed run (kill -9) is stale and taken
+# over; so is a sinew.lock holding a dead process's id; the lock is gone after a run.
+lk=$tmp/locked
+"$sinew" run scenes/hanging_cloth.yaml --out "$lk" --duration 5 --quiet 2>/dev/null &
+pid=$!
+for _ in $(seq 1 600); do [ -s "$lk/tension.csv.part" ] && break; sleep 0.05; done
+[ "$(cat "$lk/sinew.lock" 2>/dev/null)" = "$pid" ] || fail "sinew.lock does not hold the run's id $pid"
+expect_error "a second run into a folder in use" \
+  "$lk: the folder is in use by another run \\(process $pid, .*sinew.lock\\)" \
+  "$sinew" run scenes/hanging_cloth.yaml --out "$lk" --duration 0.02 --quiet
+[ -e "$lk/tension.csv.part" ] && [ -e "$lk/summary.json" ] || fail "the refused run removed the first one's files"
+kill -9 "$pid"
+wait "$pid" 2>/dev/null
+pid=
+[ -e "$lk/sinew.lock" ] || fail "a killed run left no sinew.lock (nothing to take over: test void)"
+"$sinew" run scenes/hanging_cloth.yaml --out "$lk" --duration 0.02 --quiet 2>"$tmp/err" ||
+  fail "the lock of a killed run was not taken over: $(cat "$tmp/err")"
+[ -e "$lk/sinew.lock" ] && fail "sinew.lock left after a run"
+sh -c 'echo $$ >"$1"' sh "$lk/sinew.lock" # the id of a process that has ended
+"$sinew" run scenes/hanging_cloth.yaml --out "$lk" --duration 0.02 --quiet 2>"$tmp/err" ||
+  fail "a stale sinew.lock (dead process) was not taken over: $(cat "$tmp/err")"
+if command -v flock >/dev/null; then # a lock held by any process counts
+  echo 4242 >"$lk/sinew.lock"
+  flock "$lk/sinew.lock" sleep 3 &
+  fpid=$!
+  sleep 0.3
+  expect_error "a folder locked by another process" "in use by another run \\(process 4242," \
+    "$sinew" run scenes/hanging_cloth.yaml --out "$lk" --duration 0.02 --quiet
+  kill "$fpid" 2>/dev/null
+  wait "$fpid" 2>/dev/null
+fi
+
+[ $fails -eq 0 ] && echo "limits: all passed"
+exit $((fails > 0))
