@@ -171,6 +171,10 @@ int sw_model_set_option(sw_model *m, const char *key, const char *value, char *e
     int h = choice(sw_hessian_names(), value);
     if (h < 0) return sw_errf(err, errsz, "unknown hessian mode '%s'", value), SW_FATAL;
     o->hessian = h;
+  } else if (!strcmp(key, "newton_norm")) {
+    int n = choice(sw_norm_names(), value);
+    if (n < 0) return sw_errf(err, errsz, "unknown Newton norm '%s'", value), SW_FATAL;
+    o->newton_norm = n;
   } else if (!strcmp(key, "frames_format")) {
     int f = choice(sw_frames_format_names(), value);
     if (f < 0) return sw_errf(err, errsz, "unknown frames format '%s'", value), SW_FATAL;

@@ -137,6 +137,8 @@ def test_errors_carry_sinews_message(tmp_path):
         sinew.load(SCENE, method="euler")
     with pytest.raises(sinew.SinewError, match="option dt"):
         sinew.load(SCENE, dt=-1)
+    with pytest.raises(sinew.SinewError, match="unknown Newton norm 'l2'"):
+        sinew.load(SCENE, newton_norm="l2")
     sim = sinew.load(SCENE)
     with pytest.raises(KeyError, match="drawstring"):
         sim.tendons["hem"]
