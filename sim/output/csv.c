@@ -271,12 +271,11 @@ static void csv_free(void *self) {
 
 /* The three logs differ in name, open and write only. */
 #define CSV_OPS(NAME)                                                                         \
-  .name = #NAME ".csv", .stale = (const char *const[]){#NAME ".csv", NULL},                  \
+  .name = #NAME ".csv",                                                                      \
   .event = SW_OUT_STEP, .size = sizeof(csv_log), .init = csv_init, .open = NAME##_open,      \
   .write = NAME##_write, .undo = out_log_undo, .close = out_log_close,                      \
   .files = out_log_files, .free = csv_free
 
 const sw_out_ops sw_out_tension = {CSV_OPS(tension)};
 const sw_out_ops sw_out_energy = {CSV_OPS(energy)};
-/* removed (stale) even when this run has no tendons: it would survive next to the new logs */
 const sw_out_ops sw_out_tendons = {CSV_OPS(tendons), .wanted = tendons_wanted};

@@ -11,6 +11,7 @@
  *   frames/frame_NNNNNN.vtu
  *   summary.json   summary.c: scene, method, counters, wall time, status, the files above
  *   sinew.lock     lock.c: the id of the process writing the folder, while it runs
+ *   sinew.manifest manifest.c: the files this run wrote (the next run removes those only)
  * Logs (and positions.bin) live as NAME.part until sw_output_close; every other file is written
  * to NAME.tmp and renamed, so a reader never sees a half-written file under a final name.  A log
  * line (a record of positions.bin) goes out in one write(2) (no stdio buffer), so a killed run
@@ -46,15 +47,13 @@ static int prepare_folder(sw_output *o, const sw_model *m, char *err, size_t err
   while (n > 1 && o->dir[n - 1] == '/') n--;
   o->dir[n] = '\0';
   if (out_make_dirs(o->dir, o->tmp, err, errsz)) return -1;
+  if (out_manifest_read(o, err, errsz)) return -1;
   for (int k = 0; k < o->nw; k++) {
     const sw_out_ops *f = o->w[k].ops;
     if (f->prepare && f->prepare(o->w[k].self, o, m, err, errsz)) return -1;
   }
-  /* files of an earlier run in the same folder, so that results never mix */
-  for (int k = 0; k < o->nw; k++)
-    for (const char *const *s = o->w[k].ops->stale; s && *s; s++)
-      if (out_remove(o, *s, err, errsz)) return -1;
-  return 0;
+  /* the run can start: the files of an earlier run in the folder go, so results never mix */
+  return out_manifest_commit(o, err, errsz);
 }
 
 /* ------------------------------------------------------------ the formats */
@@ -74,6 +73,7 @@ static int output_alloc(sw_output *o, const sw_model *m) {
 }
 
 static void output_free(sw_output *o) {
+  out_manifest_free(o);
   for (int k = 0; k < o->nw; k++)
     if (o->w[k].self) {
       if (o->w[k].ops->free) o->w[k].ops->free(o->w[k].self);
@@ -159,6 +159,7 @@ static int open_formats(sw_output *o, const sw_model *m, char *err, size_t errsz
 
 sw_output *sw_output_open(const sw_model *m, char *err, size_t errsz) {
   sw_output *o = sw_calloc(1, sizeof *o);
+  if (o) o->mfd = -1;
   if (!o || output_alloc(o, m)) {
     sw_errf(err, errsz, "%s: out of memory for the output writers", m->opt.out_dir);
     if (o) output_free(o);

@@ -62,7 +62,6 @@ static void pos_free(void *self) {
 
 const sw_out_ops sw_out_positions = {
     .name = "positions.bin",
-    .stale = (const char *const[]){"positions.bin", "positions.bin.part", NULL},
     .event = SW_OUT_POSITIONS,
     .size = sizeof(positions),
     .wanted = pos_wanted,
