@@ -37,8 +37,9 @@ void sw_set_threads(int blas_threads) {
  * none of. */
 int sw_run(const sw_model *m, int progress, char *err, size_t errsz) {
   int flags = SW_SIM_OUTPUT | (progress ? SW_SIM_PROGRESS : 0);
-  sw_sim *s = sw_sim_new((sw_model *)m, flags, err, errsz);
-  if (!s) return SW_FATAL;
+  int start = SW_OK;
+  sw_sim *s = sw_sim_start((sw_model *)m, flags, &start, err, errsz);
+  if (!s) return start;
   int rc = sw_sim_run(s, m->opt.duration, err, errsz);
   char cerr[SW_ERRSZ];
   int crc = sw_sim_close(s, cerr, sizeof cerr);

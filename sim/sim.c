@@ -278,6 +278,11 @@ static int start_method(sw_sim *s, char *err, size_t errsz) {
 }
 
 sw_sim *sw_sim_new(sw_model *m, int flags, char *err, size_t errsz) {
+  return sw_sim_start(m, flags, NULL, err, errsz);
+}
+
+sw_sim *sw_sim_start(sw_model *m, int flags, int *status, char *err, size_t errsz) {
+  if (status) *status = SW_FATAL;
   sw_set_threads(m->opt.blas_threads);
   sw_sim *s = sw_calloc(1, sizeof *s);
   if (!s) return sw_errf(err, errsz, "out of memory"), NULL;
@@ -291,7 +296,10 @@ sw_sim *sw_sim_new(sw_model *m, int flags, char *err, size_t errsz) {
            sw_free(s), NULL;
   if (flags & SW_SIM_OUTPUT) {
     s->out = sw_output_open(m, err, errsz);
-    if (!s->out) return s->finished = 1, sw_sim_free(s), NULL; /* nothing to close */
+    if (!s->out) { /* nothing to close */
+      if (status) *status = SW_NOSTART;
+      return s->finished = 1, sw_sim_free(s), NULL;
+    }
   }
   s->next_frame = m->opt.frames_every;
   s->next_positions = 0.0; /* a record at t = 0 */

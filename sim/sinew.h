@@ -26,7 +26,10 @@ extern "C" {
 #define SW_NAMESZ 64
 #define SW_PATHSZ 4096
 
-enum { SW_OK = 0, SW_RECOVER = 1, SW_FATAL = -1 };
+/* SW_NOSTART: a run that could not start (its output folder could not be taken: locked, not
+ * writable, files of another origin); nothing was written and an earlier run's files are as
+ * they were. */
+enum { SW_OK = 0, SW_RECOVER = 1, SW_FATAL = -1, SW_NOSTART = -2 };
 
 typedef struct sw_model sw_model;
 typedef struct sw_data sw_data;
@@ -426,7 +429,8 @@ SW_API int sw_max_order(const sw_model *m);
  * $OPENBLAS_NUM_THREADS if set, else 1. */
 SW_API void sw_set_threads(int blas_threads);
 /* Simulate the model and write the output folder.  0 on success; nonzero with err on failure
- * (the logs are flushed up to the failure and summary.json says "failed"). */
+ * (the logs are flushed up to the failure and summary.json says "failed"); SW_NOSTART when
+ * the folder could not be taken (nothing written). */
 SW_API int sw_run(const sw_model *m, int progress, char *err, size_t errsz);
 /* ------------------------------------------------------------ stepping */
 

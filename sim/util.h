@@ -21,4 +21,10 @@ double sw_now(void); /* monotonic wall clock, s */
 #define SW_MIN(a, b) ((a) < (b) ? (a) : (b))
 #define SW_MAX(a, b) ((a) > (b) ? (a) : (b))
 
+/* sim.c: sw_sim_new, and in *rc (if not NULL) SW_NOSTART when the output folder could not be
+ * opened, SW_FATAL on another failure (run.c). */
+typedef struct sw_sim sw_sim;
+typedef struct sw_model sw_model;
+sw_sim *sw_sim_start(sw_model *m, int flags, int *rc, char *err, size_t errsz);
+
 #endif

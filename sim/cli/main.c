@@ -275,9 +275,12 @@ static int cmd_run(int argc, char **argv) {
     fprintf(stderr, "sinew: %s: %d vertices, %d free DOFs, %s, dt = %g s, to t = %g s\n",
             m->name, m->nv, m->ndof, m->opt.method, m->opt.dt, m->opt.duration);
   int rc = sw_run(m, !c.quiet, err, sizeof err);
-  if (rc) fprintf(stderr, "sinew: run failed: %s\n", err);
+  if (rc == SW_NOSTART)
+    fprintf(stderr, "sinew: run not started: %s\nsinew: nothing written; the files of an "
+            "earlier run in %s/ are as they were\n", err, m->opt.out_dir);
+  else if (rc) fprintf(stderr, "sinew: run failed: %s\n", err);
   struct stat st;
-  if (stat(m->opt.out_dir, &st) == 0 && S_ISDIR(st.st_mode))
+  if (rc != SW_NOSTART && stat(m->opt.out_dir, &st) == 0 && S_ISDIR(st.st_mode))
     fprintf(stderr, "sinew: results in %s/ (summary.json, tension.csv, energy.csv%s%s%s)\n",
             m->opt.out_dir, m->ntendon ? ", tendons.csv" : "",
             m->opt.positions_every > 0 ? ", positions.bin" : "",

@@ -1,0 +1,60 @@
+#!/usr/bin/env bash
+# tests/runfolder.sh SINEW — a run folder holds sinew's files and the user's side by side
+# (docs/reliability.md, "The run folder"):
+#   1. sinew.manifest names the files a run wrote; the next run removes those only: a user's
+#      ParaView export among the frames and a positions.bin it did not write stay.
+#   2. No symbolic link is followed: frames/ as a link is refused, tension.csv.part as a link
+#      is replaced, not written through.
+#   3. A run that cannot start (a link as frames/, a frame file sinew did not write) leaves the
+#      earlier run's files as they were and does not say "results in".
+set -u
+sinew=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+fails=0
+fail() { echo "FAIL: $*"; fails=$((fails + 1)); }
+run() { "$sinew" run scenes/hanging_cloth.yaml --duration 0.02 --frames-every 0.01 --quiet "$@"; }
+
+# 1. manifest: what sinew wrote goes, the rest stays
+d=$tmp/one
+run --out "$d" --positions-every 0.01 2>"$tmp/err" || fail "first run: $(cat "$tmp/err")"
+grep -qx 'positions.bin' "$d/sinew.manifest" || fail "manifest lacks positions.bin"
+grep -qx 'frames/frame_000002.vtu' "$d/sinew.manifest" || fail "manifest lacks the last frame"
+cp "$d/frames/frame_000000.vtu" "$d/frames/export.vtu"
+echo mine >"$d/notes.txt"
+run --out "$d" 2>"$tmp/err" || fail "second run: $(cat "$tmp/err")"
+[ -e "$d/positions.bin" ] && fail "the earlier run's positions.bin was left beside the new logs"
+[ -f "$d/frames/export.vtu" ] && [ -f "$d/notes.txt" ] || fail "a user's file was removed"
+echo 'user data' >"$d/positions.bin"
+run --out "$d" 2>"$tmp/err" || fail "third run: $(cat "$tmp/err")"
+[ "$(cat "$d/positions.bin" 2>/dev/null)" = 'user data' ] || fail "a positions.bin sinew did not write was removed"
+
+# 2. symbolic links: never followed
+echo precious >"$tmp/target"
+ln -s "$tmp/target" "$d/tension.csv.part"
+run --out "$d" 2>"$tmp/err" || fail "run beside a linked .part: $(cat "$tmp/err")"
+[ "$(cat "$tmp/target")" = precious ] || fail "written through the link tension.csv.part"
+[ -L "$d/tension.csv" ] && fail "tension.csv is a link"
+
+# 3. runs that cannot start leave the earlier run as it was
+mkdir -p "$tmp/elsewhere"
+cp "$d/frames/frame_000000.vtu" "$tmp/elsewhere/frame_000000.vtu"
+e=$tmp/linked
+run --out "$e" 2>/dev/null || fail "run into $e"
+cp "$e/summary.json" "$tmp/summary.before"
+rm -rf "$e/frames" && ln -s "$tmp/elsewhere" "$e/frames"
+run --out "$e" 2>"$tmp/err" && fail "a link as frames/ accepted"
+grep -q 'frames: is a symbolic link; expected a folder' "$tmp/err" || fail "link message: $(cat "$tmp/err")"
+grep -q 'run not started' "$tmp/err" || fail "not said that the run did not start: $(cat "$tmp/err")"
+grep -q 'results in' "$tmp/err" && fail "'results in' printed for a run that did not start"
+[ -f "$tmp/elsewhere/frame_000000.vtu" ] || fail "a frame outside the folder removed through the link"
+cmp -s "$e/summary.json" "$tmp/summary.before" || fail "the earlier summary changed by a run that did not start"
+[ -f "$e/tension.csv" ] && [ -f "$e/energy.csv" ] || fail "the earlier logs removed by a run that did not start"
+rm "$e/frames" && mkdir "$e/frames" && cp "$tmp/elsewhere/frame_000000.vtu" "$e/frames/frame_000009.vtu"
+run --out "$e" 2>"$tmp/err" && fail "a frame file sinew did not write accepted"
+grep -q 'frames/frame_000009.vtu: a frame file that no earlier sinew run here wrote' "$tmp/err" ||
+  fail "foreign frame message: $(cat "$tmp/err")"
+cmp -s "$e/summary.json" "$tmp/summary.before" || fail "summary changed by a refused run"
+
+[ "$fails" = 0 ] && echo "runfolder: all checks passed"
+exit $((fails > 0))
