@@ -8,6 +8,7 @@
  * sw_sim_close writes the last good state as a frame and a summary.json "failed" when the last
  * step failed. */
 #include <math.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -33,6 +34,7 @@ struct sw_sim {
   int logged;                  /* a line was logged since the start or the last set_state */
   int changed;                 /* SW_CHANGED_* since the last step */
   int failed;                  /* the last step failed, with msg */
+  int stopped;                 /* sw_sim_run stopped at sw_interrupt's request, with msg */
   char msg[SW_ERRSZ];
   int finished;                /* the run folder was closed (finish ran) */
 };
@@ -179,6 +181,7 @@ static double tidy_time(double t, double dt) {
 /* The result of a step: remembered for sw_sim_close (msg: the failure). */
 static int outcome(sw_sim *s, int rc, const char *err) {
   s->failed = rc != SW_OK;
+  s->stopped = 0;
   snprintf(s->msg, sizeof s->msg, "%s", rc && err ? err : "");
   show_progress(s, 0);
   return rc;
@@ -219,11 +222,27 @@ int sw_sim_step(sw_sim *s, char *err, size_t errsz) {
   return rc;
 }
 
+static volatile sig_atomic_t stop_signal; /* sw_interrupt's request */
+
+void sw_interrupt(int sig) { stop_signal = sig; }
+int sw_interrupted(void) { return stop_signal; }
+
+/* Stop at sw_interrupt's request: the state is that of the last step, whole. */
+static int stop(sw_sim *s, char *err, size_t errsz) {
+  int sig = stop_signal;
+  s->stopped = 1;
+  snprintf(s->msg, sizeof s->msg, "interrupted by signal %d (%s) at t = %.9g s", sig,
+           sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : "signal", s->d->t);
+  sw_errf(err, errsz, "%s", s->msg);
+  return SW_INTERRUPTED;
+}
+
 int sw_sim_run(sw_sim *s, double until, char *err, size_t errsz) {
   if (!s->ops) return static_step(s, err, errsz);
   const double dt = s->m->opt.dt;
   int rc = SW_OK;
   while (rc == SW_OK && s->d->t < until) {
+    if (stop_signal) return stop(s, err, errsz);
     /* a step ends on the grid (not a running sum), and a last sliver below dt/1e6 is merged */
     double grid = grid_next(s), end = fmin(grid, until);
     if (until - end < 1e-6 * dt) end = until;
@@ -239,13 +258,13 @@ static int finish(sw_sim *s, char *err, size_t errsz) {
   s->finished = 1;
   show_progress(s, 1);
   if (!s->out) return SW_OK;
-  if (s->failed) {
+  if (s->failed || s->stopped) {
     char ferr[SW_ERRSZ]; /* the last good state, as a frame */
     sw_tension_xy(s->m, s->d);
     sw_output_frame(s->out, s->m, s->d, ferr, sizeof ferr);
   }
-  int rc = sw_output_close(s->out, s->m, s->d, s->failed ? "failed" : "ok", s->msg,
-                           sw_now() - s->wall0, err, errsz);
+  const char *status = s->failed ? "failed" : s->stopped ? "interrupted" : "ok";
+  int rc = sw_output_close(s->out, s->m, s->d, status, s->msg, sw_now() - s->wall0, err, errsz);
   s->out = NULL;
   return rc;
 }

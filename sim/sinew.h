@@ -29,7 +29,8 @@ extern "C" {
 /* SW_NOSTART: a run that could not start (its output folder could not be taken: locked, not
  * writable, files of another origin); nothing was written and an earlier run's files are as
  * they were. */
-enum { SW_OK = 0, SW_RECOVER = 1, SW_FATAL = -1, SW_NOSTART = -2 };
+/* SW_INTERRUPTED: a run stopped by sw_interrupt (SIGINT, SIGTERM) after a step. */
+enum { SW_OK = 0, SW_RECOVER = 1, SW_FATAL = -1, SW_NOSTART = -2, SW_INTERRUPTED = -3 };
 
 typedef struct sw_model sw_model;
 typedef struct sw_data sw_data;
@@ -461,6 +462,13 @@ SW_API int sw_sim_step(sw_sim *s, char *err, size_t errsz);
 /* Steps until t = until (the last one shortened to land on it; a frame and a record of
  * positions.bin at until when the folder is written).  0 or nonzero with err. */
 SW_API int sw_sim_run(sw_sim *s, double until, char *err, size_t errsz);
+/* Ask every sw_sim_run going to stop after its current step, as for signal sig (async-signal
+ * safe: for a SIGINT or SIGTERM handler; 0 withdraws the request).  The run then returns
+ * SW_INTERRUPTED, and sw_sim_close writes the state reached as a frame and summary.json with
+ * status "interrupted", its time_reached and the signal. */
+SW_API void sw_interrupt(int sig);
+/* The signal of the pending sw_interrupt request, 0 if none. */
+SW_API int sw_interrupted(void);
 /* Finish the run folder (summary.json "ok", or "failed" with the message of the last step
  * when it failed, after a frame of the last good state).  0 without a folder. */
 SW_API int sw_sim_close(sw_sim *s, char *err, size_t errsz);

@@ -5,6 +5,9 @@
 #      ParaView export among the frames and a positions.bin it did not write stay.
 #   2. No symbolic link is followed: frames/ as a link is refused, tension.csv.part as a link
 #      is replaced, not written through.
+#   4. SIGINT / SIGTERM part-way: exit 130 / 143, summary "interrupted" with time_reached the
+#      last logged time, the logs renamed (whole lines), the last state a frame; `sinew bench`
+#      forwards SIGTERM to its run and waits for it (no orphan).
 #   3. A run that cannot start (a link as frames/, a frame file sinew did not write) leaves the
 #      earlier run's files as they were and does not say "results in".
 set -u
@@ -55,6 +58,48 @@ run --out "$e" 2>"$tmp/err" && fail "a frame file sinew did not write accepted"
 grep -q 'frames/frame_000009.vtu: a frame file that no earlier sinew run here wrote' "$tmp/err" ||
   fail "foreign frame message: $(cat "$tmp/err")"
 cmp -s "$e/summary.json" "$tmp/summary.before" || fail "summary changed by a refused run"
+
+# 4. signals
+# wait_lines FILE N: until FILE has N lines (at most 60 s)
+wait_lines() {
+  local i
+  for i in $(seq 600); do
+    [ -f "$1" ] && [ "$(wc -l <"$1")" -ge "$2" ] && return 0
+    sleep 0.1
+  done
+  return 1
+}
+for sig in INT TERM; do
+  d=$tmp/sig$sig
+  "$sinew" run scenes/hanging_cloth.yaml --out "$d" --duration 30 --frames-every 0.05 --quiet 2>"$tmp/err" &
+  pid=$!
+  wait_lines "$d/tension.csv.part" 20 || fail "SIG$sig: the run did not get going"
+  kill -$sig $pid
+  wait $pid
+  code=$?
+  want=$([ $sig = INT ] && echo 130 || echo 143)
+  [ "$code" = "$want" ] || fail "SIG$sig: exit $code, expected $want"
+  grep -q '"status": "interrupted"' "$d/summary.json" || fail "SIG$sig: summary not interrupted"
+  [ -f "$d/tension.csv" ] && [ -f "$d/energy.csv" ] || fail "SIG$sig: the logs were not renamed"
+  last=$(tail -n 1 "$d/tension.csv" | cut -d, -f1)
+  reached=$(sed -n 's/.*"time_reached": \([^,]*\),.*/\1/p' "$d/summary.json")
+  [ -n "$last" ] && [ "$last" = "$reached" ] || fail "SIG$sig: time_reached $reached, last logged $last"
+  grep -q "timestep=\"$last\"" "$d/frames.pvd" || fail "SIG$sig: no frame of the last state t = $last"
+  grep -q "interrupted by signal" "$tmp/err" || fail "SIG$sig: not said: $(cat "$tmp/err")"
+done
+
+b=$tmp/bench
+"$sinew" bench scenes/hanging_cloth.yaml --out "$b" --methods backward-euler --dts 0.001 --duration 30 \
+  >/dev/null 2>"$tmp/bench.err" &
+pid=$!
+wait_lines "$b/runs/wp_reference/tension.csv.part" 5 || fail "bench: the run did not get going"
+kill -TERM $pid
+wait $pid
+code=$?
+[ "$code" = 143 ] || fail "bench: exit $code after SIGTERM, expected 143"
+pgrep -f "$b/runs" >/dev/null && fail "bench: a run still going after the bench ended: $(pgrep -af "$b/runs")"
+grep -q '"status": "interrupted"' "$b/runs/wp_reference/summary.json" ||
+  fail "bench: the run was not interrupted cleanly"
 
 [ "$fails" = 0 ] && echo "runfolder: all checks passed"
 exit $((fails > 0))

@@ -1,6 +1,7 @@
 /* main.c — the sinew command line, a thin client of libsinew's public API (sinew.h). */
 #include <errno.h>
 #include <math.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -245,6 +246,20 @@ static int parse_run_args(int argc, char **argv, cli *c) {
   return 0;
 }
 
+/* SIGINT, SIGTERM: the run stops after its current step and closes its folder (status
+ * "interrupted"); the handler is reset, so a second signal ends the process at once. */
+static void on_signal(int sig) { sw_interrupt(sig); }
+
+static void catch_stop_signals(void) {
+  struct sigaction sa;
+  memset(&sa, 0, sizeof sa);
+  sa.sa_handler = on_signal;
+  sa.sa_flags = SA_RESETHAND;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, NULL);
+  sigaction(SIGTERM, &sa, NULL);
+}
+
 static int cmd_run(int argc, char **argv) {
   cli c = {.dt = -1, .duration = -1, .frames_every = -1, .positions_every = -1,
            .max_halvings = -1, .newton_tol = -1, .hessian = -1, .reuse = -1, .norm = -1,
@@ -274,8 +289,10 @@ static int cmd_run(int argc, char **argv) {
   if (!c.quiet)
     fprintf(stderr, "sinew: %s: %d vertices, %d free DOFs, %s, dt = %g s, to t = %g s\n",
             m->name, m->nv, m->ndof, m->opt.method, m->opt.dt, m->opt.duration);
+  catch_stop_signals();
   int rc = sw_run(m, !c.quiet, err, sizeof err);
-  if (rc == SW_NOSTART)
+  if (rc == SW_INTERRUPTED) fprintf(stderr, "sinew: %s\n", err);
+  else if (rc == SW_NOSTART)
     fprintf(stderr, "sinew: run not started: %s\nsinew: nothing written; the files of an "
             "earlier run in %s/ are as they were\n", err, m->opt.out_dir);
   else if (rc) fprintf(stderr, "sinew: run failed: %s\n", err);
@@ -286,7 +303,7 @@ static int cmd_run(int argc, char **argv) {
             m->opt.positions_every > 0 ? ", positions.bin" : "",
             m->opt.frames_every >= 0 ? ", frames.pvd" : "");
   sw_model_free(m);
-  return rc ? 1 : 0;
+  return rc == SW_INTERRUPTED ? 128 + sw_interrupted() : rc ? 1 : 0;
 }
 
 static int cmd_check(int argc, char **argv) {

@@ -28,10 +28,11 @@ int sw_output_record(sw_output *o, const sw_model *m, const sw_data *d, int posi
 int sw_output_step(sw_output *o, const sw_model *m, const sw_data *d, char *err, size_t errsz);
 /* frames/frame_NNNNNN.vtu of the current state, and its entry in frames.pvd. */
 int sw_output_frame(sw_output *o, const sw_model *m, const sw_data *d, char *err, size_t errsz);
-/* Write summary.json with status ("running", "ok", "failed") and a message. */
+/* Write summary.json with status ("running", "ok", "failed", "interrupted") and a message. */
 int sw_output_summary(sw_output *o, const sw_model *m, const sw_data *d, const char *status,
                       const char *message, double wall, char *err, size_t errsz);
-/* Flush and rename the logs, write the final summary, free.  status "ok" or "failed". */
+/* Flush and rename the logs, write the final summary, free.  status "ok", "failed" or
+ * "interrupted". */
 int sw_output_close(sw_output *o, const sw_model *m, const sw_data *d, const char *status,
                     const char *message, double wall, char *err, size_t errsz);
 
