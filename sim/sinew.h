@@ -433,6 +433,14 @@ SW_API void sw_set_threads(int blas_threads);
  * (the logs are flushed up to the failure and summary.json says "failed"); SW_NOSTART when
  * the folder could not be taken (nothing written). */
 SW_API int sw_run(const sw_model *m, int progress, char *err, size_t errsz);
+/* The scene file and the options of the run whose folder is dir, from its restart.bin (a run
+ * writes it with each frame and when it stops), for sw_resume.  SW_OK or SW_FATAL with err. */
+SW_API int sw_restart_options(const char *dir, char *scene, size_t scenesz, sw_options *opt,
+                              char *err, size_t errsz);
+/* Go on with the run in m->opt.out_dir from its restart.bin to m->opt.duration, appending to
+ * its logs (m: the scene loaded again, with the options sw_restart_options gave).  Returns as
+ * sw_run; SW_NOSTART when the folder or its restart file cannot be used (nothing changed). */
+SW_API int sw_resume(const sw_model *m, int progress, char *err, size_t errsz);
 /* ------------------------------------------------------------ stepping */
 
 /* A simulation stepped by its caller (sim/sim.c): the loop sw_run is made of, one step at a

@@ -8,6 +8,9 @@
 #   4. SIGINT / SIGTERM part-way: exit 130 / 143, summary "interrupted" with time_reached the
 #      last logged time, the logs renamed (whole lines), the last state a frame; `sinew bench`
 #      forwards SIGTERM to its run and waits for it (no orphan).
+#   5. `sinew run --resume DIR`: a 0.2 s run resumed to 0.5 s, and a 0.5 s run stopped by
+#      SIGTERM part-way and resumed, give the logs of a straight run bit for bit (but the
+#      wall-time column) for backward Euler, BDF2 and Newmark.
 #   3. A run that cannot start (a link as frames/, a frame file sinew did not write) leaves the
 #      earlier run's files as they were and does not say "results in".
 set -u
@@ -100,6 +103,34 @@ code=$?
 pgrep -f "$b/runs" >/dev/null && fail "bench: a run still going after the bench ended: $(pgrep -af "$b/runs")"
 grep -q '"status": "interrupted"' "$b/runs/wp_reference/summary.json" ||
   fail "bench: the run was not interrupted cleanly"
+
+# 5. resume
+# same_logs A B: tension.csv identical, energy.csv too but its last column (step_wall_s)
+same_logs() {
+  cmp -s "$1/tension.csv" "$2/tension.csv" || fail "$3: tension.csv differs from the straight run's"
+  cmp -s <(sed 's/,[^,]*$//' "$1/energy.csv") <(sed 's/,[^,]*$//' "$2/energy.csv") ||
+    fail "$3: energy.csv differs from the straight run's"
+}
+for meth in backward-euler bdf2 newmark; do
+  rs() { "$sinew" run scenes/hanging_cloth.yaml --method $meth --frames-every 0.1 --quiet "$@"; }
+  rs --out "$tmp/straight" --duration 0.5 2>/dev/null || fail "$meth: straight run"
+  rs --out "$tmp/half" --duration 0.2 2>/dev/null || fail "$meth: 0.2 s run"
+  "$sinew" run --resume "$tmp/half" --duration 0.5 --quiet 2>"$tmp/err" || fail "$meth: resume: $(cat "$tmp/err")"
+  grep -q '"status": "ok"' "$tmp/half/summary.json" || fail "$meth: resumed run not ok"
+  grep -q '"time_reached": 0.5,' "$tmp/half/summary.json" || fail "$meth: resumed run did not reach 0.5 s"
+  same_logs "$tmp/straight" "$tmp/half" "$meth, 0.2 s + resume"
+  "$sinew" run scenes/hanging_cloth.yaml --method $meth --frames-every 0.1 --quiet \
+    --out "$tmp/stopped" --duration 0.5 2>/dev/null &
+  pid=$!
+  wait_lines "$tmp/stopped/tension.csv.part" 25 || fail "$meth: the run did not get going"
+  kill -TERM $pid
+  wait $pid
+  "$sinew" run --resume "$tmp/stopped" --quiet 2>"$tmp/err" || fail "$meth: resume after SIGTERM: $(cat "$tmp/err")"
+  same_logs "$tmp/straight" "$tmp/stopped" "$meth, SIGTERM + resume"
+  rm -rf "$tmp/straight" "$tmp/half" "$tmp/stopped"
+done
+"$sinew" run --resume "$tmp/nothing" --quiet 2>"$tmp/err" && fail "resume of a folder without a run accepted"
+grep -q "cannot resume: .*restart.bin: cannot read the restart file" "$tmp/err" || fail "resume message: $(cat "$tmp/err")"
 
 [ "$fails" = 0 ] && echo "runfolder: all checks passed"
 exit $((fails > 0))

@@ -128,6 +128,13 @@ int out_manifest_commit(sw_output *o, char *err, size_t errsz) {
   return out_own(o, NULL, err, errsz);
 }
 
+int out_manifest_reopen(sw_output *o, char *err, size_t errsz) {
+  if (out_join(o->path, o->dir, "sinew.manifest", err, errsz)) return -1;
+  o->mfd = open(o->path, O_WRONLY | O_APPEND | O_NOFOLLOW | O_CLOEXEC);
+  if (o->mfd >= 0) return 0;
+  return sw_errf(err, errsz, "%s: cannot resume: %s", o->path, strerror(errno)), -1;
+}
+
 int out_own(sw_output *o, const char *name, char *err, size_t errsz) {
   char line[SW_OUT_PATHMAX];
   int n = name ? snprintf(line, sizeof line, "%s\n", name) : snprintf(line, sizeof line, HEADER);

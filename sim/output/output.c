@@ -37,7 +37,8 @@ static const sw_out_ops *const formats[] = {&sw_out_lock,      &sw_out_tension, 
 
 /* ------------------------------------------------------------ the folder */
 
-static int prepare_folder(sw_output *o, const sw_model *m, char *err, size_t errsz) {
+/* The folder made, locked and checked (every format's prepare); nothing removed. */
+static int take_folder(sw_output *o, const sw_model *m, char *err, size_t errsz) {
   size_t n = strnlen(m->opt.out_dir, SW_PATHSZ);
   if (n == 0 || n == SW_PATHSZ) {
     sw_errf(err, errsz, "output folder: %s", n ? "path too long" : "no folder given");
@@ -52,8 +53,13 @@ static int prepare_folder(sw_output *o, const sw_model *m, char *err, size_t err
     const sw_out_ops *f = o->w[k].ops;
     if (f->prepare && f->prepare(o->w[k].self, o, m, err, errsz)) return -1;
   }
-  /* the run can start: the files of an earlier run in the folder go, so results never mix */
-  return out_manifest_commit(o, err, errsz);
+  return 0;
+}
+
+/* The folder taken; then, the run can start: the files of an earlier run in the folder go, so
+ * results never mix. */
+static int prepare_folder(sw_output *o, const sw_model *m, char *err, size_t errsz) {
+  return take_folder(o, m, err, errsz) || out_manifest_commit(o, err, errsz) ? -1 : 0;
 }
 
 /* ------------------------------------------------------------ the formats */
@@ -167,6 +173,25 @@ sw_output *sw_output_open(const sw_model *m, char *err, size_t errsz) {
   }
   if (prepare_folder(o, m, err, errsz) || open_formats(o, m, err, errsz) ||
       sw_output_summary(o, m, NULL, "running", "", 0.0, err, errsz)) {
+    output_free(o);
+    return NULL;
+  }
+  return o;
+}
+
+sw_output *sw_output_resume(const sw_model *m, const sw_data *d, sw_io *io, char *err,
+                            size_t errsz) {
+  sw_output *o = sw_calloc(1, sizeof *o);
+  if (o) o->mfd = -1, o->resume = 1;
+  if (!o || output_alloc(o, m)) {
+    sw_errf(err, errsz, "%s: out of memory for the output writers", m->opt.out_dir);
+    if (o) output_free(o);
+    return NULL;
+  }
+  /* the lock first (the lock's prepare); the others' prepare checks change nothing */
+  if (take_folder(o, m, err, errsz) || out_resume_formats(o, io, err, errsz) ||
+      out_manifest_reopen(o, err, errsz) || open_formats(o, m, err, errsz) ||
+      sw_output_summary(o, m, d, "running", "", 0.0, err, errsz)) {
     output_free(o);
     return NULL;
   }

@@ -71,5 +71,6 @@ const sw_out_ops sw_out_positions = {
     .undo = out_log_undo,
     .close = out_log_close,
     .files = out_log_files,
+    .io = out_log_io,
     .free = pos_free,
 };

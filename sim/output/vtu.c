@@ -357,6 +357,22 @@ static int vtu_write(void *self, sw_output *o, const sw_model *m, const sw_data 
   return write_pvd(v, o, m, err, errsz);
 }
 
+/* The frames written so far: their count and times (the resumed run's frames.pvd lists them). */
+static void vtu_io(void *self, sw_io *io) {
+  vtu *v = self;
+  int n = v->nframe;
+  sw_io_bytes(io, &n, sizeof n);
+  if (io->load) {
+    if (n < 0 || (size_t)n > (io->len - io->pos) / sizeof(double)) return (void)(io->bad = 1);
+    double *t = n > v->frame_cap ? sw_realloc(v->frame_t, (size_t)n, sizeof *t) : v->frame_t;
+    if (!t) return (void)(io->bad = 1);
+    v->frame_t = t;
+    v->frame_cap = n > v->frame_cap ? n : v->frame_cap;
+    v->nframe = n;
+  }
+  sw_io_bytes(io, v->frame_t, (size_t)n * sizeof(double));
+}
+
 static void vtu_files(const void *self, void (*add)(void *ctx, const char *name), void *ctx) {
   const vtu *v = self;
   char name[40];
@@ -386,5 +402,6 @@ const sw_out_ops sw_out_vtu = {
     .prepare = vtu_prepare,
     .write = vtu_write,
     .files = vtu_files,
+    .io = vtu_io,
     .free = vtu_free,
 };

@@ -55,6 +55,9 @@ typedef struct sw_out_ops {
   int (*close)(void *self, sw_output *o, char *err, size_t errsz);
   /* Name each of its files (relative to the folder, under their current names). */
   void (*files)(const void *self, void (*add)(void *ctx, const char *name), void *ctx);
+  /* Save or load (io->load) what a resumed run needs to go on writing (restart.c); open is
+   * then called with o->resume set and reopens its files as they were at the restart. */
+  void (*io)(void *self, sw_io *io);
   /* Release what init and open took (not self itself). */
   void (*free)(void *self);
 } sw_out_ops;
@@ -71,6 +74,7 @@ struct sw_output {
   char path[SW_OUT_PATHMAX], tmp[SW_OUT_PATHMAX]; /* path scratch */
   const char *status, *message;                   /* SW_OUT_STATUS: the run's status */
   double wall;                                    /* SW_OUT_STATUS: wall time so far, s */
+  int resume;                                     /* opened by sw_output_resume */
   int mfd;                                        /* sinew.manifest, open to append; -1 */
   char *old;                                      /* the earlier run's manifest, NUL-separated */
   size_t nold;                                    /* its bytes */
@@ -85,8 +89,13 @@ extern const sw_out_ops sw_out_vtu;                                    /* vtu.c 
 extern const sw_out_ops sw_out_summary;                                /* summary.c */
 extern const sw_out_ops sw_out_lock;                                   /* lock.c */
 
+/* restart.c: every format's part of the restart file loaded; -1 when io does not fit. */
+int out_resume_formats(sw_output *o, sw_io *io, char *err, size_t errsz);
+
 /* ------------------------------------------ manifest.c: the files of the run (sinew.manifest) */
 
+/* Resuming: reopen the manifest to append to it (its names stay). */
+int out_manifest_reopen(sw_output *o, char *err, size_t errsz);
 /* Read the earlier run's manifest, if any (nothing is removed yet). */
 int out_manifest_read(sw_output *o, char *err, size_t errsz);
 /* 1 if the earlier run's manifest names name (or name without its .tmp / .part). */
@@ -146,7 +155,8 @@ typedef struct out_log {
   int final;        /* 1 once renamed to NAME */
 } out_log;
 
-/* Name NAME in the manifest, create o->dir/NAME.part and write its header of n bytes. */
+/* Name NAME in the manifest, create o->dir/NAME.part and write its header of n bytes (when
+ * resuming: out_log_reopen). */
 int out_log_open(out_log *l, const char *name, sw_output *o, const char *head, size_t n,
                  char *err, size_t errsz);
 /* Write n bytes of s in one piece; the log's mark is its size before.  On failure the error
@@ -155,6 +165,11 @@ int out_log_put(out_log *l, const sw_output *o, const char *s, size_t n, char *e
                 size_t errsz);
 /* The next three are the undo, close and files operations of a format whose private state
  * begins with its out_log (csv.c, positions.c): self points at that out_log. */
+/* Resuming: reopen o->dir/NAME.part (or NAME, renamed to NAME.part) cut to l->size bytes,
+ * the size it had at the restart (loaded by out_log_io). */
+int out_log_reopen(out_log *l, const char *name, sw_output *o, char *err, size_t errsz);
+/* The io operation of a log: its size. */
+void out_log_io(void *self, sw_io *io);
 /* Cut the log back to its mark (after a logged state whose writes failed part-way). */
 void out_log_undo(void *self);
 /* Close and rename NAME.part to NAME; it keeps its .part name if anything failed. */
