@@ -10,7 +10,8 @@
 #      forwards SIGTERM to its run and waits for it (no orphan).
 #   5. `sinew run --resume DIR`: a 0.2 s run resumed to 0.5 s, and a 0.5 s run stopped by
 #      SIGTERM part-way and resumed, give the logs of a straight run bit for bit (but the
-#      wall-time column) for backward Euler, BDF2 and Newmark.
+#      wall-time column) for backward Euler, BDF2 and Newmark; so does a BDF2 run killed with
+#      SIGKILL, from its last frame.
 #   3. A run that cannot start (a link as frames/, a frame file sinew did not write) leaves the
 #      earlier run's files as they were and does not say "results in".
 set -u
@@ -127,7 +128,17 @@ for meth in backward-euler bdf2 newmark; do
   wait $pid
   "$sinew" run --resume "$tmp/stopped" --quiet 2>"$tmp/err" || fail "$meth: resume after SIGTERM: $(cat "$tmp/err")"
   same_logs "$tmp/straight" "$tmp/stopped" "$meth, SIGTERM + resume"
-  rm -rf "$tmp/straight" "$tmp/half" "$tmp/stopped"
+  if [ $meth = bdf2 ]; then # kill -9: the restart of the last frame, the logs cut back to it
+    "$sinew" run scenes/hanging_cloth.yaml --method $meth --frames-every 0.1 --quiet \
+      --out "$tmp/killed" --duration 0.5 2>/dev/null &
+    pid=$!
+    wait_lines "$tmp/killed/tension.csv.part" 35 || fail "$meth: the run did not get going"
+    kill -9 $pid
+    wait $pid 2>/dev/null
+    "$sinew" run --resume "$tmp/killed" --quiet 2>"$tmp/err" || fail "$meth: resume after kill -9: $(cat "$tmp/err")"
+    same_logs "$tmp/straight" "$tmp/killed" "$meth, kill -9 + resume"
+  fi
+  rm -rf "$tmp/straight" "$tmp/half" "$tmp/stopped" "$tmp/killed"
 done
 "$sinew" run --resume "$tmp/nothing" --quiet 2>"$tmp/err" && fail "resume of a folder without a run accepted"
 grep -q "cannot resume: .*restart.bin: cannot read the restart file" "$tmp/err" || fail "resume message: $(cat "$tmp/err")"
