@@ -437,7 +437,8 @@ static int resume_from(sw_sim *s, int flags, char *err, size_t errsz) {
   const char *dir = s->m->opt.out_dir;
   sw_io io;
   if (sw_io_read(&io, dir, err, errsz)) return SW_NOSTART;
-  int rc = check_head(&io, s->m, dir, err, errsz) ? SW_NOSTART : start_method(s, err, errsz);
+  int rc = check_head(&io, s->m, dir, err, errsz) || start_method(s, err, errsz) ? SW_NOSTART
+                                                                                 : SW_OK;
   if (!rc) {
     sim_io(s, &io);
     if (io.bad) rc = SW_NOSTART, sw_errf(err, errsz, "%s/restart.bin: cut short", dir);
