@@ -35,14 +35,24 @@ void sw_set_threads(int blas_threads) {
 /* The scene to its duration through the stepping API, writing the run folder.  sw_run does not
  * change m: the sim changes its model only through the sw_sim_set_* calls, which it makes
  * none of. */
-int sw_run(const sw_model *m, int progress, char *err, size_t errsz) {
+static int run_to_end(const sw_model *m, int progress, int resume, char *err, size_t errsz) {
   int flags = SW_SIM_OUTPUT | (progress ? SW_SIM_PROGRESS : 0);
-  sw_sim *s = sw_sim_new((sw_model *)m, flags, err, errsz);
-  if (!s) return SW_FATAL;
+  int start = SW_OK;
+  sw_sim *s = resume ? sw_sim_resume((sw_model *)m, flags, &start, err, errsz)
+                     : sw_sim_start((sw_model *)m, flags, &start, err, errsz);
+  if (!s) return start;
   int rc = sw_sim_run(s, m->opt.duration, err, errsz);
   char cerr[SW_ERRSZ];
   int crc = sw_sim_close(s, cerr, sizeof cerr);
   if (!rc && crc) sw_errf(err, errsz, "%s", cerr), rc = SW_FATAL;
   sw_sim_free(s);
   return rc;
+}
+
+int sw_run(const sw_model *m, int progress, char *err, size_t errsz) {
+  return run_to_end(m, progress, 0, err, errsz);
+}
+
+int sw_resume(const sw_model *m, int progress, char *err, size_t errsz) {
+  return run_to_end(m, progress, 1, err, errsz);
 }

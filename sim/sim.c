@@ -7,7 +7,9 @@
  * opt.positions_every s > 0, and the same first and last) are taken at logged states, and
  * sw_sim_close writes the last good state as a frame and a summary.json "failed" when the last
  * step failed. */
+#define _XOPEN_SOURCE 700 /* realpath */
 #include <math.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -33,9 +35,13 @@ struct sw_sim {
   int logged;                  /* a line was logged since the start or the last set_state */
   int changed;                 /* SW_CHANGED_* since the last step */
   int failed;                  /* the last step failed, with msg */
+  int stopped;                 /* sw_sim_run stopped at sw_interrupt's request, with msg */
   char msg[SW_ERRSZ];
   int finished;                /* the run folder was closed (finish ran) */
+  int started;                 /* the integrator is going (a restart file can be written) */
 };
+
+static int write_restart(sw_sim *s, char *err, size_t errsz);
 
 /* The power damping dissipates at the current state (d->grad as scratch for D v) and its
  * integral by the trapezoid rule between log lines. */
@@ -117,6 +123,7 @@ static int record(sw_sim *s, int force, char *err, size_t errsz) {
   if (fe >= 0.0 && (force || is_due(fe, s->next_frame, d->t))) {
     if (sw_output_frame(s->out, m, d, err, errsz)) return output_failed(d, err, errsz);
     advance(fe, &s->next_frame, d->t);
+    if (write_restart(s, err, errsz)) return output_failed(d, err, errsz);
   }
   return SW_OK;
 }
@@ -179,6 +186,7 @@ static double tidy_time(double t, double dt) {
 /* The result of a step: remembered for sw_sim_close (msg: the failure). */
 static int outcome(sw_sim *s, int rc, const char *err) {
   s->failed = rc != SW_OK;
+  s->stopped = 0;
   snprintf(s->msg, sizeof s->msg, "%s", rc && err ? err : "");
   show_progress(s, 0);
   return rc;
@@ -219,11 +227,27 @@ int sw_sim_step(sw_sim *s, char *err, size_t errsz) {
   return rc;
 }
 
+static volatile sig_atomic_t stop_signal; /* sw_interrupt's request */
+
+void sw_interrupt(int sig) { stop_signal = sig; }
+int sw_interrupted(void) { return stop_signal; }
+
+/* Stop at sw_interrupt's request: the state is that of the last step, whole. */
+static int stop(sw_sim *s, char *err, size_t errsz) {
+  int sig = stop_signal;
+  s->stopped = 1;
+  snprintf(s->msg, sizeof s->msg, "interrupted by signal %d (%s) at t = %.9g s", sig,
+           sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : "signal", s->d->t);
+  sw_errf(err, errsz, "%s", s->msg);
+  return SW_INTERRUPTED;
+}
+
 int sw_sim_run(sw_sim *s, double until, char *err, size_t errsz) {
   if (!s->ops) return static_step(s, err, errsz);
   const double dt = s->m->opt.dt;
   int rc = SW_OK;
   while (rc == SW_OK && s->d->t < until) {
+    if (stop_signal) return stop(s, err, errsz);
     /* a step ends on the grid (not a running sum), and a last sliver below dt/1e6 is merged */
     double grid = grid_next(s), end = fmin(grid, until);
     if (until - end < 1e-6 * dt) end = until;
@@ -239,13 +263,14 @@ static int finish(sw_sim *s, char *err, size_t errsz) {
   s->finished = 1;
   show_progress(s, 1);
   if (!s->out) return SW_OK;
-  if (s->failed) {
+  if (s->failed || s->stopped) {
     char ferr[SW_ERRSZ]; /* the last good state, as a frame */
     sw_tension_xy(s->m, s->d);
-    sw_output_frame(s->out, s->m, s->d, ferr, sizeof ferr);
+    if (!sw_output_frame(s->out, s->m, s->d, ferr, sizeof ferr))
+      write_restart(s, ferr, sizeof ferr); /* to resume from */
   }
-  int rc = sw_output_close(s->out, s->m, s->d, s->failed ? "failed" : "ok", s->msg,
-                           sw_now() - s->wall0, err, errsz);
+  const char *status = s->failed ? "failed" : s->stopped ? "interrupted" : "ok";
+  int rc = sw_output_close(s->out, s->m, s->d, status, s->msg, sw_now() - s->wall0, err, errsz);
   s->out = NULL;
   return rc;
 }
@@ -278,6 +303,11 @@ static int start_method(sw_sim *s, char *err, size_t errsz) {
 }
 
 sw_sim *sw_sim_new(sw_model *m, int flags, char *err, size_t errsz) {
+  return sw_sim_start(m, flags, NULL, err, errsz);
+}
+
+/* A sim of m and its state at t = 0, no folder, no integrator; NULL when out of memory. */
+static sw_sim *sim_alloc(sw_model *m, int flags, char *err, size_t errsz) {
   sw_set_threads(m->opt.blas_threads);
   sw_sim *s = sw_calloc(1, sizeof *s);
   if (!s) return sw_errf(err, errsz, "out of memory"), NULL;
@@ -289,9 +319,19 @@ sw_sim *sw_sim_new(sw_model *m, int flags, char *err, size_t errsz) {
     return sw_errf(err, errsz, "out of memory allocating the state (%d vertices, %d faces)",
                    m->nv, m->nf),
            sw_free(s), NULL;
+  return s;
+}
+
+sw_sim *sw_sim_start(sw_model *m, int flags, int *status, char *err, size_t errsz) {
+  if (status) *status = SW_FATAL;
+  sw_sim *s = sim_alloc(m, flags, err, errsz);
+  if (!s) return NULL;
   if (flags & SW_SIM_OUTPUT) {
     s->out = sw_output_open(m, err, errsz);
-    if (!s->out) return s->finished = 1, sw_sim_free(s), NULL; /* nothing to close */
+    if (!s->out) { /* nothing to close */
+      if (status) *status = SW_NOSTART;
+      return s->finished = 1, sw_sim_free(s), NULL;
+    }
   }
   s->next_frame = m->opt.frames_every;
   s->next_positions = 0.0; /* a record at t = 0 */
@@ -301,12 +341,136 @@ sw_sim *sw_sim_new(sw_model *m, int flags, char *err, size_t errsz) {
   int is_static = !strcmp(m->opt.method, "static");
   int rc = is_static ? SW_OK : record(s, 1, err, errsz);
   if (!rc) rc = start_method(s, err, errsz);
+  s->started = !rc;
   if (rc) {
     outcome(s, rc, err);
     char cerr[SW_ERRSZ];
     finish(s, cerr, sizeof cerr);
     return sw_sim_free(s), NULL;
   }
+  return s;
+}
+
+/* ------------------------------------------------------------------ restart */
+
+/* restart.bin (sim/output/restart.c) begins with what the run was, checked on loading; the
+ * scene and the options are what `sinew run --resume` runs again (sw_restart_options). */
+#define RESTART_MAGIC "SWREST01"
+typedef struct restart_head {
+  char magic[8];
+  char scene[SW_PATHSZ]; /* the scene file, absolute */
+  sw_options opt;        /* the run's options, the command line's included */
+  int nv, dim, nf;
+} restart_head;
+
+static void head_of(const sw_model *m, restart_head *h) {
+  memset(h, 0, sizeof *h);
+  memcpy(h->magic, RESTART_MAGIC, 8);
+  if (!realpath(m->path, h->scene)) snprintf(h->scene, sizeof h->scene, "%s", m->path);
+  h->opt = m->opt;
+  h->nv = m->nv, h->dim = m->dim, h->nf = m->nf;
+}
+
+#define IO(field) sw_io_bytes(io, &(field), sizeof(field))
+
+/* The run loop's state after a logged step: time, step grid, sampling, the integrals and
+ * counters of the logs, positions and velocities, then the integrator's history. */
+static void sim_io(sw_sim *s, sw_io *io) {
+  sw_data *d = s->d;
+  const size_t nd = (size_t)s->m->nv * (size_t)s->m->dim;
+  IO(d->t), IO(s->t0), IO(s->n), IO(s->next_frame), IO(s->next_positions);
+  IO(s->t_logged), IO(s->logged);
+  IO(d->damp_power), IO(d->dissipated), IO(d->actuation_power), IO(d->work_in);
+  IO(d->nstep), IO(d->nnewton), IO(d->nfactor), IO(d->nassemble), IO(d->nforce);
+  IO(d->nretry), IO(d->nlinesearch), IO(d->nerrfail), IO(d->nsetup), IO(d->nstep_order);
+  IO(d->energy_bound), IO(d->last_newton), IO(d->last_dt);
+  IO(d->time_assemble), IO(d->time_factor), IO(d->time_solve), IO(d->time_step);
+  sw_io_bytes(io, d->x, nd * sizeof(double));
+  sw_io_bytes(io, d->v, nd * sizeof(double));
+  if (s->ops->history) s->ops->history(s->st, s->m, io);
+}
+
+/* restart.bin of the current state (with a frame, and when the run stops). */
+static int write_restart(sw_sim *s, char *err, size_t errsz) {
+  if (!s->started || !s->out || !s->ops) return SW_OK; /* a static solve: nothing to resume */
+  sw_io io = {0};
+  restart_head h;
+  head_of(s->m, &h);
+  sw_io_bytes(&io, &h, sizeof h);
+  sim_io(s, &io);
+  int rc = sw_output_restart(s->out, &io, err, errsz);
+  sw_io_free(&io);
+  return rc ? SW_FATAL : SW_OK;
+}
+
+/* The header of io, checked against m (loading). */
+static int check_head(sw_io *io, const sw_model *m, const char *dir, char *err, size_t errsz) {
+  restart_head h;
+  sw_io_bytes(io, &h, sizeof h);
+  if (io->bad || memcmp(h.magic, RESTART_MAGIC, 8))
+    return sw_errf(err, errsz, "%s/restart.bin: not a restart file of this sinew", dir), -1;
+  if (h.nv != m->nv || h.dim != m->dim || h.nf != m->nf || strcmp(h.opt.method, m->opt.method))
+    return sw_errf(err, errsz, "%s/restart.bin: a run of %d vertices, %d faces in %dD with %s; "
+                   "expected this scene's %d, %d, %dD, %s", dir, h.nv, h.nf, h.dim,
+                   h.opt.method, m->nv, m->nf, m->dim, m->opt.method),
+           -1;
+  return 0;
+}
+
+int sw_restart_options(const char *dir, char *scene, size_t scenesz, sw_options *opt,
+                       char *err, size_t errsz) {
+  sw_io io;
+  if (sw_io_read(&io, dir, err, errsz)) return SW_FATAL;
+  restart_head h;
+  sw_io_bytes(&io, &h, sizeof h);
+  int bad = io.bad || memcmp(h.magic, RESTART_MAGIC, 8);
+  sw_io_free(&io);
+  if (bad) return sw_errf(err, errsz, "%s/restart.bin: not a restart file of this sinew", dir), SW_FATAL;
+  snprintf(scene, scenesz, "%s", h.scene);
+  *opt = h.opt;
+  return SW_OK;
+}
+
+/* The state, the integrator's history and the folder of the run in m->opt.out_dir, from its
+ * restart.bin. */
+static int resume_from(sw_sim *s, int flags, char *err, size_t errsz) {
+  const char *dir = s->m->opt.out_dir;
+  sw_io io;
+  if (sw_io_read(&io, dir, err, errsz)) return SW_NOSTART;
+  int rc = check_head(&io, s->m, dir, err, errsz) || start_method(s, err, errsz) ? SW_NOSTART
+                                                                                 : SW_OK;
+  if (!rc) {
+    sim_io(s, &io);
+    if (io.bad) rc = SW_NOSTART, sw_errf(err, errsz, "%s/restart.bin: cut short", dir);
+    /* written by the step that reached grid point n + 1, before the loop counted it */
+    if (!rc && grid_next(s) <= s->d->t + 1e-9 * s->m->opt.dt) s->n++;
+  }
+  if (!rc && !s->ops->history && s->ops->reset) s->ops->reset(s->st, s->m, s->d, SW_CHANGED_STATE);
+  if (!rc && (flags & SW_SIM_OUTPUT) && !(s->out = sw_output_resume(s->m, s->d, &io, err, errsz)))
+    rc = SW_NOSTART;
+  sw_io_free(&io);
+  s->started = !rc;
+  return rc;
+}
+
+sw_sim *sw_sim_resume(sw_model *m, int flags, int *status, char *err, size_t errsz) {
+  *status = SW_FATAL;
+  sw_sim *s = sim_alloc(m, flags, err, errsz);
+  if (!s) return NULL;
+  s->finished = 1; /* nothing to close until the folder is open */
+  if (!strcmp(m->opt.method, "static"))
+    return sw_errf(err, errsz, "a static solve is not resumed; expected a run of a method"),
+           sw_sim_free(s), NULL;
+  int rc = resume_from(s, flags, err, errsz);
+  if (rc) return *status = rc, sw_sim_free(s), NULL;
+  s->finished = 0;
+  double u; /* the diagnostics of the state, as after the step that reached it */
+  if (diagnose(s, &u)) {
+    sw_errf(err, errsz, "t = %.9g s: cannot evaluate the resumed state: %s", s->d->t, s->d->err);
+    outcome(s, SW_FATAL, err);
+    return sw_sim_free(s), NULL;
+  }
+  *status = SW_OK;
   return s;
 }
 

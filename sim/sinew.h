@@ -26,7 +26,11 @@ extern "C" {
 #define SW_NAMESZ 64
 #define SW_PATHSZ 4096
 
-enum { SW_OK = 0, SW_RECOVER = 1, SW_FATAL = -1 };
+/* SW_NOSTART: a run that could not start (its output folder could not be taken: locked, not
+ * writable, files of another origin); nothing was written and an earlier run's files are as
+ * they were. */
+/* SW_INTERRUPTED: a run stopped by sw_interrupt (SIGINT, SIGTERM) after a step. */
+enum { SW_OK = 0, SW_RECOVER = 1, SW_FATAL = -1, SW_NOSTART = -2, SW_INTERRUPTED = -3 };
 
 typedef struct sw_model sw_model;
 typedef struct sw_data sw_data;
@@ -426,8 +430,17 @@ SW_API int sw_max_order(const sw_model *m);
  * $OPENBLAS_NUM_THREADS if set, else 1. */
 SW_API void sw_set_threads(int blas_threads);
 /* Simulate the model and write the output folder.  0 on success; nonzero with err on failure
- * (the logs are flushed up to the failure and summary.json says "failed"). */
+ * (the logs are flushed up to the failure and summary.json says "failed"); SW_NOSTART when
+ * the folder could not be taken (nothing written). */
 SW_API int sw_run(const sw_model *m, int progress, char *err, size_t errsz);
+/* The scene file and the options of the run whose folder is dir, from its restart.bin (a run
+ * writes it with each frame and when it stops), for sw_resume.  SW_OK or SW_FATAL with err. */
+SW_API int sw_restart_options(const char *dir, char *scene, size_t scenesz, sw_options *opt,
+                              char *err, size_t errsz);
+/* Go on with the run in m->opt.out_dir from its restart.bin to m->opt.duration, appending to
+ * its logs (m: the scene loaded again, with the options sw_restart_options gave).  Returns as
+ * sw_run; SW_NOSTART when the folder or its restart file cannot be used (nothing changed). */
+SW_API int sw_resume(const sw_model *m, int progress, char *err, size_t errsz);
 /* ------------------------------------------------------------ stepping */
 
 /* A simulation stepped by its caller (sim/sim.c): the loop sw_run is made of, one step at a
@@ -457,6 +470,13 @@ SW_API int sw_sim_step(sw_sim *s, char *err, size_t errsz);
 /* Steps until t = until (the last one shortened to land on it; a frame and a record of
  * positions.bin at until when the folder is written).  0 or nonzero with err. */
 SW_API int sw_sim_run(sw_sim *s, double until, char *err, size_t errsz);
+/* Ask every sw_sim_run going to stop after its current step, as for signal sig (async-signal
+ * safe: for a SIGINT or SIGTERM handler; 0 withdraws the request).  The run then returns
+ * SW_INTERRUPTED, and sw_sim_close writes the state reached as a frame and summary.json with
+ * status "interrupted", its time_reached and the signal. */
+SW_API void sw_interrupt(int sig);
+/* The signal of the pending sw_interrupt request, 0 if none. */
+SW_API int sw_interrupted(void);
 /* Finish the run folder (summary.json "ok", or "failed" with the message of the last step
  * when it failed, after a frame of the last good state).  0 without a folder. */
 SW_API int sw_sim_close(sw_sim *s, char *err, size_t errsz);

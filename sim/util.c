@@ -5,6 +5,7 @@
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include <time.h>
 
 static long alloc_fail_at;   /* 0: never fail */
@@ -48,4 +49,33 @@ double sw_now(void) {
   struct timespec ts;
   clock_gettime(CLOCK_MONOTONIC, &ts);
   return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* ------------------------------------------------ restart files (util.h) */
+
+void sw_io_bytes(sw_io *io, void *p, size_t n) {
+  if (io->bad) return;
+  if (io->load) {
+    if (n > io->len - io->pos) {
+      io->bad = 1;
+      memset(p, 0, n);
+      return;
+    }
+    memcpy(p, io->buf + io->pos, n);
+    io->pos += n;
+    return;
+  }
+  if (io->len + n > io->cap) {
+    size_t cap = io->cap ? 2 * io->cap : 4096;
+    while (cap < io->len + n) cap *= 2;
+    unsigned char *b = sw_realloc(io->buf, cap, 1);
+    if (!b) {
+      io->bad = 1;
+      return;
+    }
+    io->buf = b;
+    io->cap = cap;
+  }
+  memcpy(io->buf + io->len, p, n);
+  io->len += n;
 }

@@ -21,4 +21,27 @@ double sw_now(void); /* monotonic wall clock, s */
 #define SW_MIN(a, b) ((a) < (b) ? (a) : (b))
 #define SW_MAX(a, b) ((a) > (b) ? (a) : (b))
 
+/* A restart file's contents, written or read piece by piece in the same order (restart.c):
+ * saving appends each piece to buf, loading copies it back out and fails past the end. */
+typedef struct sw_io {
+  int load;                /* 0: saving, 1: loading */
+  unsigned char *buf;      /* the file's bytes */
+  size_t len, cap, pos;    /* bytes held, allocated, read so far */
+  int bad;                 /* loading: past the end, or a check failed; saving: out of memory */
+} sw_io;
+
+/* n bytes at p into (saving) or out of (loading) io. */
+void sw_io_bytes(sw_io *io, void *p, size_t n);
+/* sim.c: sw_sim_new, and in *rc (if not NULL) SW_NOSTART when the output folder could not be
+ * opened, SW_FATAL on another failure (run.c). */
+typedef struct sw_sim sw_sim;
+typedef struct sw_model sw_model;
+sw_sim *sw_sim_start(sw_model *m, int flags, int *rc, char *err, size_t errsz);
+/* sim.c: a sim going on from the restart.bin of the run folder m->opt.out_dir (its folder
+ * reopened with SW_SIM_OUTPUT); *rc as sw_sim_start. */
+sw_sim *sw_sim_resume(sw_model *m, int flags, int *rc, char *err, size_t errsz);
+/* util.c / restart.c: the restart file. */
+int sw_io_read(sw_io *io, const char *dir, char *err, size_t errsz);
+void sw_io_free(sw_io *io);
+
 #endif

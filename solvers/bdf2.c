@@ -104,7 +104,19 @@ static int bdf2_step(void *p, const sw_model *m, sw_data *d, double h) {
   return SW_OK;
 }
 
+/* The previous state, its step and time: a resumed run goes on with the BDF2 formula. */
+static void bdf2_history(void *p, const sw_model *m, sw_io *io) {
+  bdf2_state *s = p;
+  size_t nd = (size_t)m->nv * (size_t)m->dim;
+  sw_io_bytes(io, &s->have_prev, sizeof s->have_prev);
+  sw_io_bytes(io, &s->hprev, sizeof s->hprev);
+  sw_io_bytes(io, &s->tcur, sizeof s->tcur);
+  sw_io_bytes(io, s->xprev, nd * sizeof(double));
+  sw_io_bytes(io, s->vprev, nd * sizeof(double));
+}
+
 const sw_integrator_ops sw_bdf2_ops = {
+    .history = bdf2_history,
     .name = "bdf2",
     .summary = "BDF2, Newton; restarts on a step change (order 2, L-stable)",
     .init = bdf2_init,

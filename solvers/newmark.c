@@ -117,7 +117,16 @@ static int nm_step(void *p, const sw_model *m, sw_data *d, double h) {
   return SW_OK;
 }
 
+/* The acceleration of the current state, as the last step left it. */
+static void nm_history(void *p, const sw_model *m, sw_io *io) {
+  nm_state *s = p;
+  sw_io_bytes(io, &s->tacc, sizeof s->tacc);
+  sw_io_bytes(io, &s->stale, sizeof s->stale);
+  sw_io_bytes(io, s->acc, (size_t)m->nv * (size_t)m->dim * sizeof(double));
+}
+
 const sw_integrator_ops sw_newmark_ops = {
+    .history = nm_history,
     .name = "newmark",
     .summary = "Newmark beta 1/4, gamma 1/2, Newton (order 2, no damping)",
     .init = nm_init,

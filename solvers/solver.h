@@ -8,6 +8,7 @@
 #include <suitesparse/cholmod.h>
 
 #include "sinew.h"
+#include "util.h"
 
 /* ---------------------------------------------------------------- pattern.c */
 typedef struct sw_pattern {
@@ -205,6 +206,10 @@ typedef struct sw_integrator_ops {
   /* Between steps the caller (sim.c) changed what SW_CHANGED_* says: forget what no longer
    * holds and restart from d at the next step.  NULL: the method keeps nothing that could. */
   void (*reset)(void *state, const sw_model *m, sw_data *d, int what);
+  /* Save or load (io->load) the history a step uses besides d (a restart file, `sinew run
+   * --resume`), so that a resumed run takes the same steps.  NULL: a method with none, or
+   * one that is restarted at the resumed state with reset(SW_CHANGED_STATE) (CVODE, IDA). */
+  void (*history)(void *state, const sw_model *m, sw_io *io);
 } sw_integrator_ops;
 
 /* What changed between two steps: the state (d->t, d->x, d->v: a history of past states no

@@ -464,7 +464,17 @@ static void test_readonly_dir(void **state) {
   fixture_free(fx);
 }
 
-/* Files of an earlier run in the folder are removed; others are left alone. */
+static void write_in(const fixture *fx, const char *name, const char *text) {
+  char path[SW_PATHSZ + 64];
+  snprintf(path, sizeof path, "%s/%s", fx->m.opt.out_dir, name);
+  FILE *f = fopen(path, "w");
+  assert_non_null(f);
+  fputs(text, f);
+  fclose(f);
+}
+
+/* The earlier run's files go, those its sinew.manifest names (and their .tmp / .part forms);
+ * a user's files stay, a ParaView export among the frames too. */
 static void test_stale_files(void **state) {
   (void)state;
   fixture *fx = fixture_new(2);
@@ -474,22 +484,54 @@ static void test_stale_files(void **state) {
   char frames[SW_PATHSZ + 16];
   snprintf(frames, sizeof frames, "%s/frames", fx->m.opt.out_dir);
   assert_int_equal(mkdir(frames, 0755), 0);
-  const char *stale[] = {"tension.csv", "energy.csv", "summary.json", "frames.pvd",
-                         "frames/frame_000007.vtu", "frames/frame_000008.vtu.tmp"};
-  for (int i = 0; i < 6; i++) touch_in(fx, stale[i]);
+  const char *stale[] = {"tension.csv",  "energy.csv",  "summary.json",      "frames.pvd",
+                         "frames/frame_000007.vtu", "frames/frame_000008.vtu.tmp",
+                         "tendons.csv.part", "positions.bin"};
+  for (int i = 0; i < 8; i++) touch_in(fx, stale[i]);
+  write_in(fx, "sinew.manifest", "# sinew manifest 1\ntension.csv\nenergy.csv\nsummary.json\n"
+           "frames.pvd\nframes/frame_000007.vtu\nframes/frame_000008.vtu\ntendons.csv\n"
+           "positions.bin\n../notes.txt\n");
   touch_in(fx, "notes.txt");
   touch_in(fx, "frames/keep.png");
+  touch_in(fx, "frames/export.vtu");
   sw_output *o = sw_output_open(&fx->m, err, sizeof err);
   assert_non_null(o);
-  for (int i = 0; i < 6; i++)
+  for (int i = 0; i < 8; i++)
     if (i != 2) assert_false(exists_in(fx, stale[i]));
-  assert_true(exists_in(fx, "notes.txt") && exists_in(fx, "frames/keep.png"));
+  assert_true(exists_in(fx, "notes.txt") && exists_in(fx, "frames/keep.png") &&
+              exists_in(fx, "frames/export.vtu"));
   char *sum = slurp_in(fx, "summary.json");
   assert_non_null(strstr(sum, "\"status\": \"running\""));
   free(sum);
   assert_int_equal(sw_output_close(o, &fx->m, &fx->d, "ok", NULL, 0.0, err, sizeof err), 0);
   sum = slurp_in(fx, "summary.json");
   assert_non_null(strstr(sum, "\"message\": null"));
+  free(sum);
+  char *man = slurp_in(fx, "sinew.manifest"); /* this run's files */
+  assert_string_equal(man, "# sinew manifest 1\ntension.csv\nenergy.csv\nsummary.json\n");
+  free(man);
+  fixture_free(fx);
+}
+
+/* Files sinew did not write are never removed: without a manifest a positions.bin, a frame
+ * under sinew's own name stops the run before it touches anything. */
+static void test_foreign_files(void **state) {
+  (void)state;
+  fixture *fx = fixture_new(2);
+  char err[SW_ERRSZ] = "";
+  snprintf(fx->m.opt.out_dir, sizeof fx->m.opt.out_dir, "%s/mine", fx->root);
+  assert_int_equal(mkdir(fx->m.opt.out_dir, 0755), 0);
+  touch_in(fx, "positions.bin");
+  sw_output *o = sw_output_open(&fx->m, err, sizeof err);
+  assert_non_null(o);
+  assert_int_equal(sw_output_close(o, &fx->m, &fx->d, "ok", NULL, 0.0, err, sizeof err), 0);
+  assert_true(exists_in(fx, "positions.bin"));
+  write_in(fx, "summary.json", "earlier\n"); /* frames/ was made by the run */
+  touch_in(fx, "frames/frame_000003.vtu");
+  assert_null(sw_output_open(&fx->m, err, sizeof err));
+  assert_non_null(strstr(err, "frames/frame_000003.vtu: a frame file that no earlier sinew run"));
+  char *sum = slurp_in(fx, "summary.json");
+  assert_string_equal(sum, "earlier\n");
   free(sum);
   fixture_free(fx);
 }
@@ -579,6 +621,7 @@ static void test_positions_off(void **state) {
   assert_int_equal(mkdir(fx->m.opt.out_dir, 0755), 0);
   touch_in(fx, "positions.bin");
   touch_in(fx, "positions.bin.part");
+  write_in(fx, "sinew.manifest", "# sinew manifest 1\npositions.bin\n");
   sw_output *o = sw_output_open(&fx->m, err, sizeof err);
   assert_non_null(o);
   assert_false(exists_in(fx, "positions.bin") || exists_in(fx, "positions.bin.part"));
@@ -702,7 +745,7 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(test_full_run),      cmocka_unit_test(test_killed_run),
       cmocka_unit_test(test_dir_under_file), cmocka_unit_test(test_readonly_dir),
-      cmocka_unit_test(test_stale_files),   cmocka_unit_test(test_percentile),
+      cmocka_unit_test(test_stale_files), cmocka_unit_test(test_foreign_files),   cmocka_unit_test(test_percentile),
       cmocka_unit_test(test_alloc_failure),
       cmocka_unit_test(test_positions_writer), cmocka_unit_test(test_positions_off),
       cmocka_unit_test(test_positions_run),   cmocka_unit_test(test_binary_frames),

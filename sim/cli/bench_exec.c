@@ -14,6 +14,9 @@
 #include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
+#ifdef __linux__
+#include <sys/prctl.h>
+#endif
 
 #define MAXARGS 40
 
@@ -93,6 +96,13 @@ static pid_t spawn(const bench_cfg *c, const bench_job *j) {
   fflush(NULL);
   pid_t pid = fork();
   if (pid != 0) return pid;
+  /* its own process group: a Ctrl-C at the terminal reaches the runs once, through the bench
+   * (forward_stop); and SIGTERM when the bench itself dies, so that no run is orphaned */
+  setpgid(0, 0);
+#ifdef __linux__
+  prctl(PR_SET_PDEATHSIG, SIGTERM);
+  if (getppid() == 1) _exit(128 + SIGTERM); /* the bench died before prctl */
+#endif
   int fd = open(log, O_WRONLY | O_CREAT | O_TRUNC, 0644);
   if (fd >= 0) dup2(fd, 1), dup2(fd, 2), close(fd);
   execv(argv[0], argv);
@@ -133,6 +143,39 @@ static int reap(slot *slots, int n, int *status) {
   return -1;
 }
 
+/* ------------------------------------------------------------ SIGINT, SIGTERM */
+
+static volatile sig_atomic_t stop_signal; /* the signal the bench received, 0: none */
+
+static void on_stop(int sig) { stop_signal = sig; }
+
+static void catch_stop(void) {
+  struct sigaction sa;
+  memset(&sa, 0, sizeof sa);
+  sa.sa_handler = on_stop;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, NULL);
+  sigaction(SIGTERM, &sa, NULL);
+}
+
+/* The bench was asked to stop: the signal goes to every run going (each closes its folder as
+ * "interrupted"), and the bench waits for them all and records how each ended. */
+static int forward_stop(const bench_plan *p, slot *slots, int n, int *done) {
+  int sig = stop_signal;
+  fprintf(stderr, "sinew bench: %s: stopping the runs going, no new ones\n",
+          sig == SIGINT ? "SIGINT" : "SIGTERM");
+  for (int k = 0; k < n; k++)
+    if (slots[k].pid > 0) kill(slots[k].pid, sig);
+  for (int k = 0; k < n; k++) {
+    int status;
+    if (slots[k].pid <= 0) continue;
+    while (waitpid(slots[k].pid, &status, 0) < 0 && errno == EINTR) {}
+    finished(p, &slots[k], status, ++*done);
+    slots[k].pid = 0;
+  }
+  return 128 + sig;
+}
+
 int bench_execute(const bench_plan *p) {
   const bench_cfg *c = &p->cfg;
   int n = c->jobs, next = 0, running = 0, done = 0;
@@ -140,7 +183,13 @@ int bench_execute(const bench_plan *p) {
   if (!slots) return fprintf(stderr, "sinew: bench: out of memory\n"), 2;
   fprintf(stderr, "sinew bench: %d runs of %s, %d at a time, into %s\n", p->njob, c->scene, n,
           c->dir);
+  catch_stop();
   while (done < p->njob) {
+    if (stop_signal) {
+      int rc = forward_stop(p, slots, n, &done);
+      free(slots);
+      return rc;
+    }
     for (int k = 0; k < n && next < p->njob; k++) {
       if (slots[k].pid > 0) continue;
       pid_t pid = spawn(c, &p->job[next]);

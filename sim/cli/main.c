@@ -1,6 +1,7 @@
 /* main.c — the sinew command line, a thin client of libsinew's public API (sinew.h). */
 #include <errno.h>
 #include <math.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -74,10 +75,13 @@ static void usage_run(FILE *fp) {
           "                 [--positions-every S] [--grid NXxNY] [--stiffness-scale S]\n"
           "                 [--newton-tol V] [--newton-norm rms|max] [--hessian MODE]\n"
           "                 [--newton-reuse on|off]\n"
+          "       sinew run --resume DIR [--duration T] [--threads N] [--quiet]\n"
           "\n"
           "Simulate SCENE (YAML) headless and write its logs and frames to the output folder\n"
           "(docs/scenes.md).  Exit 0 on success, 1 when the scene or the run fails, 2 on bad\n"
-          "arguments.\n"
+          "arguments, 130 (143) when stopped by SIGINT (SIGTERM) after a step.  --resume DIR\n"
+          "goes on with the run in DIR (interrupted, failed or ended) from its last frame or the\n"
+          "state it stopped at, with its scene and options, to T if given, appending to its logs.\n"
           "\n"
           "  --out DIR       output folder (overrides output.dir)\n"
           "  --method M      integrator (overrides integrator.method); one of:\n");
@@ -245,7 +249,58 @@ static int parse_run_args(int argc, char **argv, cli *c) {
   return 0;
 }
 
+/* SIGINT, SIGTERM: the run stops after its current step and closes its folder (status
+ * "interrupted"); the handler is reset, so a second signal ends the process at once. */
+static void on_signal(int sig) { sw_interrupt(sig); }
+
+static void catch_stop_signals(void) {
+  struct sigaction sa;
+  memset(&sa, 0, sizeof sa);
+  sa.sa_handler = on_signal;
+  sa.sa_flags = SA_RESETHAND;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, NULL);
+  sigaction(SIGTERM, &sa, NULL);
+}
+
+static int finish_run(sw_model *m, int rc, const char *err);
+
+/* sinew run --resume DIR [--duration T] [--threads N] [--quiet]: the run in DIR goes on from
+ * its restart.bin with its own scene and options (a longer duration if given). */
+static int cmd_resume(int argc, char **argv) {
+  const char *dir = argv[3];
+  double duration = -1.0;
+  int quiet = 0, threads = 0;
+  for (int i = 4; i < argc; i++) {
+    const char *a = argv[i];
+    if (!strcmp(a, "--quiet")) quiet = 1;
+    else if (!strcmp(a, "--duration") && i + 1 < argc) {
+      if (cli_number(a, argv[++i], 0, &duration)) return 2;
+    } else if (!strcmp(a, "--threads") && i + 1 < argc) {
+      if (cli_int(a, argv[++i], 1, 1024, &threads)) return 2;
+    } else
+      return fprintf(stderr, "sinew: with --resume only --duration, --threads and --quiet are "
+                     "taken (the run's own options go on): %s\n", a), 2;
+  }
+  char err[SW_ERRSZ], scene[SW_PATHSZ];
+  sw_options opt;
+  if (strlen(dir) >= SW_PATHSZ || sw_restart_options(dir, scene, sizeof scene, &opt, err, sizeof err))
+    return fprintf(stderr, "sinew: cannot resume: %s\n", strlen(dir) >= SW_PATHSZ ? "path too long" : err), 1;
+  sw_model *m = sw_scene_load(scene, err, sizeof err);
+  if (!m) return fprintf(stderr, "sinew: cannot resume: %s\n", err), 1;
+  m->opt = opt;
+  snprintf(m->opt.out_dir, sizeof m->opt.out_dir, "%s", dir);
+  if (duration >= 0) m->opt.duration = duration;
+  if (threads > 0) m->opt.blas_threads = threads;
+  if (!quiet)
+    fprintf(stderr, "sinew: resuming %s in %s/: %s, to t = %g s\n", m->name, dir,
+            m->opt.method, m->opt.duration);
+  catch_stop_signals();
+  return finish_run(m, sw_resume(m, !quiet, err, sizeof err), err);
+}
+
 static int cmd_run(int argc, char **argv) {
+  if (argc >= 4 && !strcmp(argv[2], "--resume")) return cmd_resume(argc, argv);
   cli c = {.dt = -1, .duration = -1, .frames_every = -1, .positions_every = -1,
            .max_halvings = -1, .newton_tol = -1, .hessian = -1, .reuse = -1, .norm = -1,
            .max_order = -1, .frames_format = -1};
@@ -274,16 +329,25 @@ static int cmd_run(int argc, char **argv) {
   if (!c.quiet)
     fprintf(stderr, "sinew: %s: %d vertices, %d free DOFs, %s, dt = %g s, to t = %g s\n",
             m->name, m->nv, m->ndof, m->opt.method, m->opt.dt, m->opt.duration);
-  int rc = sw_run(m, !c.quiet, err, sizeof err);
-  if (rc) fprintf(stderr, "sinew: run failed: %s\n", err);
+  catch_stop_signals();
+  return finish_run(m, sw_run(m, !c.quiet, err, sizeof err), err);
+}
+
+/* What a run (or a resumed run) left: its message, where the results are; the exit code. */
+static int finish_run(sw_model *m, int rc, const char *err) {
+  if (rc == SW_INTERRUPTED) fprintf(stderr, "sinew: %s\n", err);
+  else if (rc == SW_NOSTART)
+    fprintf(stderr, "sinew: run not started: %s\nsinew: nothing written; the files of an "
+            "earlier run in %s/ are as they were\n", err, m->opt.out_dir);
+  else if (rc) fprintf(stderr, "sinew: run failed: %s\n", err);
   struct stat st;
-  if (stat(m->opt.out_dir, &st) == 0 && S_ISDIR(st.st_mode))
+  if (rc != SW_NOSTART && stat(m->opt.out_dir, &st) == 0 && S_ISDIR(st.st_mode))
     fprintf(stderr, "sinew: results in %s/ (summary.json, tension.csv, energy.csv%s%s%s)\n",
             m->opt.out_dir, m->ntendon ? ", tendons.csv" : "",
             m->opt.positions_every > 0 ? ", positions.bin" : "",
             m->opt.frames_every >= 0 ? ", frames.pvd" : "");
   sw_model_free(m);
-  return rc ? 1 : 0;
+  return rc == SW_INTERRUPTED ? 128 + sw_interrupted() : rc ? 1 : 0;
 }
 
 static int cmd_check(int argc, char **argv) {

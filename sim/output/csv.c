@@ -269,14 +269,21 @@ static void csv_free(void *self) {
   sw_free(o->line);
 }
 
+/* The log's size and energy.csv's counters at the previous line. */
+static void csv_io(void *self, sw_io *io) {
+  csv_log *o = self;
+  out_log_io(&o->log, io);
+  sw_io_bytes(io, o->prev, sizeof o->prev);
+  sw_io_bytes(io, &o->prev_time_step, sizeof o->prev_time_step);
+}
+
 /* The three logs differ in name, open and write only. */
 #define CSV_OPS(NAME)                                                                         \
-  .name = #NAME ".csv", .stale = (const char *const[]){#NAME ".csv", NULL},                  \
+  .name = #NAME ".csv",                                                                      \
   .event = SW_OUT_STEP, .size = sizeof(csv_log), .init = csv_init, .open = NAME##_open,      \
   .write = NAME##_write, .undo = out_log_undo, .close = out_log_close,                      \
-  .files = out_log_files, .free = csv_free
+  .files = out_log_files, .io = csv_io, .free = csv_free
 
 const sw_out_ops sw_out_tension = {CSV_OPS(tension)};
 const sw_out_ops sw_out_energy = {CSV_OPS(energy)};
-/* removed (stale) even when this run has no tendons: it would survive next to the new logs */
 const sw_out_ops sw_out_tendons = {CSV_OPS(tendons), .wanted = tendons_wanted};

@@ -62,11 +62,25 @@ int out_join(char *buf, const char *dir, const char *name, char *err, size_t err
   return -1;
 }
 
+int out_create(const char *path, int flags, char *err, size_t errsz) {
+  if (unlink(path) && errno != ENOENT) {
+    sw_errf(err, errsz, "%s: cannot replace: %s", path, strerror(errno));
+    return -1;
+  }
+  int fd = open(path, O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC | flags, 0666);
+  if (fd < 0) sw_errf(err, errsz, "%s: cannot open for writing: %s", path, strerror(errno));
+  return fd;
+}
+
 int out_tmp_open(out_file *w, const char *tmp, char *err, size_t errsz) {
   w->err = 0;
-  w->f = fopen(tmp, "w");
+  int fd = out_create(tmp, 0, err, errsz);
+  if (fd < 0) return -1;
+  w->f = fdopen(fd, "w");
   if (w->f) return 0;
   sw_errf(err, errsz, "%s: cannot open for writing: %s", tmp, strerror(errno));
+  close(fd);
+  unlink(tmp);
   return -1;
 }
 
@@ -176,21 +190,44 @@ void out_log_undo(void *self) {
 
 int out_log_open(out_log *l, const char *name, sw_output *o, const char *head, size_t n,
                  char *err, size_t errsz) {
+  if (o->resume) return out_log_reopen(l, name, o, err, errsz);
   char part[32];
   l->name = name;
   snprintf(part, sizeof part, "%s.part", name);
-  if (out_join(o->path, o->dir, part, err, errsz)) return -1;
+  if (out_own(o, name, err, errsz) || out_join(o->path, o->dir, part, err, errsz)) return -1;
   /* O_APPEND: after a cut, the next line (if any) goes to the new end */
-  l->fd = open(o->path, O_WRONLY | O_CREAT | O_TRUNC | O_APPEND | O_CLOEXEC, 0666);
-  if (l->fd < 0) {
-    sw_errf(err, errsz, "%s: cannot open for writing: %s", o->path, strerror(errno));
-    return -1;
-  }
+  l->fd = out_create(o->path, O_APPEND, err, errsz);
+  if (l->fd < 0) return -1;
   l->size = 0;
   l->opened = 1;
   if (out_log_put(l, o, head, n, err, errsz) == 0) return 0;
   out_log_undo(l);
   return -1;
+}
+
+void out_log_io(void *self, sw_io *io) {
+  out_log *l = self;
+  sw_io_bytes(io, &l->size, sizeof l->size);
+}
+
+int out_log_reopen(out_log *l, const char *name, sw_output *o, char *err, size_t errsz) {
+  char part[32];
+  l->name = name;
+  snprintf(part, sizeof part, "%s.part", name);
+  if (out_join(o->path, o->dir, part, err, errsz) || out_join(o->tmp, o->dir, name, err, errsz))
+    return -1;
+  struct stat st;
+  if (lstat(o->path, &st) && rename(o->tmp, o->path)) /* a finished log: NAME again NAME.part */
+    return sw_errf(err, errsz, "%s: cannot resume the log: %s", o->tmp, strerror(errno)), -1;
+  l->fd = open(o->path, O_WRONLY | O_APPEND | O_NOFOLLOW | O_CLOEXEC);
+  if (l->fd < 0 || fstat(l->fd, &st) || st.st_size < l->size || ftruncate(l->fd, l->size)) {
+    int e = l->fd < 0 || st.st_size >= l->size ? errno : 0;
+    sw_errf(err, errsz, "%s: cannot resume the log: %s", o->path,
+            e ? strerror(e) : "shorter than at the restart");
+    return -1;
+  }
+  l->opened = 1;
+  return 0;
 }
 
 int out_log_close(void *self, sw_output *o, char *err, size_t errsz) {

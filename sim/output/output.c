@@ -11,6 +11,7 @@
  *   frames/frame_NNNNNN.vtu
  *   summary.json   summary.c: scene, method, counters, wall time, status, the files above
  *   sinew.lock     lock.c: the id of the process writing the folder, while it runs
+ *   sinew.manifest manifest.c: the files this run wrote (the next run removes those only)
  * Logs (and positions.bin) live as NAME.part until sw_output_close; every other file is written
  * to NAME.tmp and renamed, so a reader never sees a half-written file under a final name.  A log
  * line (a record of positions.bin) goes out in one write(2) (no stdio buffer), so a killed run
@@ -36,7 +37,8 @@ static const sw_out_ops *const formats[] = {&sw_out_lock,      &sw_out_tension, 
 
 /* ------------------------------------------------------------ the folder */
 
-static int prepare_folder(sw_output *o, const sw_model *m, char *err, size_t errsz) {
+/* The folder made, locked and checked (every format's prepare); nothing removed. */
+static int take_folder(sw_output *o, const sw_model *m, char *err, size_t errsz) {
   size_t n = strnlen(m->opt.out_dir, SW_PATHSZ);
   if (n == 0 || n == SW_PATHSZ) {
     sw_errf(err, errsz, "output folder: %s", n ? "path too long" : "no folder given");
@@ -46,15 +48,18 @@ static int prepare_folder(sw_output *o, const sw_model *m, char *err, size_t err
   while (n > 1 && o->dir[n - 1] == '/') n--;
   o->dir[n] = '\0';
   if (out_make_dirs(o->dir, o->tmp, err, errsz)) return -1;
+  if (out_manifest_read(o, err, errsz)) return -1;
   for (int k = 0; k < o->nw; k++) {
     const sw_out_ops *f = o->w[k].ops;
     if (f->prepare && f->prepare(o->w[k].self, o, m, err, errsz)) return -1;
   }
-  /* files of an earlier run in the same folder, so that results never mix */
-  for (int k = 0; k < o->nw; k++)
-    for (const char *const *s = o->w[k].ops->stale; s && *s; s++)
-      if (out_remove(o, *s, err, errsz)) return -1;
   return 0;
+}
+
+/* The folder taken; then, the run can start: the files of an earlier run in the folder go, so
+ * results never mix. */
+static int prepare_folder(sw_output *o, const sw_model *m, char *err, size_t errsz) {
+  return take_folder(o, m, err, errsz) || out_manifest_commit(o, err, errsz) ? -1 : 0;
 }
 
 /* ------------------------------------------------------------ the formats */
@@ -74,6 +79,7 @@ static int output_alloc(sw_output *o, const sw_model *m) {
 }
 
 static void output_free(sw_output *o) {
+  out_manifest_free(o);
   for (int k = 0; k < o->nw; k++)
     if (o->w[k].self) {
       if (o->w[k].ops->free) o->w[k].ops->free(o->w[k].self);
@@ -159,6 +165,7 @@ static int open_formats(sw_output *o, const sw_model *m, char *err, size_t errsz
 
 sw_output *sw_output_open(const sw_model *m, char *err, size_t errsz) {
   sw_output *o = sw_calloc(1, sizeof *o);
+  if (o) o->mfd = -1;
   if (!o || output_alloc(o, m)) {
     sw_errf(err, errsz, "%s: out of memory for the output writers", m->opt.out_dir);
     if (o) output_free(o);
@@ -166,6 +173,25 @@ sw_output *sw_output_open(const sw_model *m, char *err, size_t errsz) {
   }
   if (prepare_folder(o, m, err, errsz) || open_formats(o, m, err, errsz) ||
       sw_output_summary(o, m, NULL, "running", "", 0.0, err, errsz)) {
+    output_free(o);
+    return NULL;
+  }
+  return o;
+}
+
+sw_output *sw_output_resume(const sw_model *m, const sw_data *d, sw_io *io, char *err,
+                            size_t errsz) {
+  sw_output *o = sw_calloc(1, sizeof *o);
+  if (o) o->mfd = -1, o->resume = 1;
+  if (!o || output_alloc(o, m)) {
+    sw_errf(err, errsz, "%s: out of memory for the output writers", m->opt.out_dir);
+    if (o) output_free(o);
+    return NULL;
+  }
+  /* the lock first (the lock's prepare); the others' prepare checks change nothing */
+  if (take_folder(o, m, err, errsz) || out_resume_formats(o, io, err, errsz) ||
+      out_manifest_reopen(o, err, errsz) || open_formats(o, m, err, errsz) ||
+      sw_output_summary(o, m, d, "running", "", 0.0, err, errsz)) {
     output_free(o);
     return NULL;
   }

@@ -13,8 +13,10 @@
 #define SW_OUTPUT_H
 
 #include "sinew.h"
+#include "util.h"
 
 typedef struct sw_output sw_output;
+
 
 /* Create m->opt.out_dir (and frames/), open the logs and write their headers. */
 sw_output *sw_output_open(const sw_model *m, char *err, size_t errsz);
@@ -28,10 +30,20 @@ int sw_output_record(sw_output *o, const sw_model *m, const sw_data *d, int posi
 int sw_output_step(sw_output *o, const sw_model *m, const sw_data *d, char *err, size_t errsz);
 /* frames/frame_NNNNNN.vtu of the current state, and its entry in frames.pvd. */
 int sw_output_frame(sw_output *o, const sw_model *m, const sw_data *d, char *err, size_t errsz);
-/* Write summary.json with status ("running", "ok", "failed") and a message. */
+/* Write summary.json with status ("running", "ok", "failed", "interrupted") and a message. */
 int sw_output_summary(sw_output *o, const sw_model *m, const sw_data *d, const char *status,
                       const char *message, double wall, char *err, size_t errsz);
-/* Flush and rename the logs, write the final summary, free.  status "ok" or "failed". */
+/* Add every format's state (log sizes, the frame list) to io, whose first part the run loop
+ * filled (its state and the integrator's), and write it as restart.bin (through a .tmp). */
+int sw_output_restart(sw_output *o, sw_io *io, char *err, size_t errsz);
+/* The folder of an interrupted (or failed, or finished) run, opened to go on from its
+ * restart.bin: io positioned after the run loop's part, d the restored state.  The logs are
+ * cut to what they held at the restart and appended to (as NAME.part again), the frames go
+ * on from there, the manifest keeps its names.  NULL with err on failure (nothing changed). */
+sw_output *sw_output_resume(const sw_model *m, const sw_data *d, sw_io *io, char *err,
+                            size_t errsz);
+/* Flush and rename the logs, write the final summary, free.  status "ok", "failed" or
+ * "interrupted". */
 int sw_output_close(sw_output *o, const sw_model *m, const sw_data *d, const char *status,
                     const char *message, double wall, char *err, size_t errsz);
 

@@ -62,7 +62,6 @@ static void pos_free(void *self) {
 
 const sw_out_ops sw_out_positions = {
     .name = "positions.bin",
-    .stale = (const char *const[]){"positions.bin", "positions.bin.part", NULL},
     .event = SW_OUT_POSITIONS,
     .size = sizeof(positions),
     .wanted = pos_wanted,
@@ -72,5 +71,6 @@ const sw_out_ops sw_out_positions = {
     .undo = out_log_undo,
     .close = out_log_close,
     .files = out_log_files,
+    .io = out_log_io,
     .free = pos_free,
 };

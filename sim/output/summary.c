@@ -159,9 +159,14 @@ static int summary_write(void *self, sw_output *o, const sw_model *m, const sw_d
   return out_tmp_commit(&w, o->tmp, o->path, err, errsz);
 }
 
+static int summary_open(void *self, sw_output *o, const sw_model *m, char *err, size_t errsz) {
+  (void)self, (void)m;
+  return out_own(o, "summary.json", err, errsz);
+}
+
 const sw_out_ops sw_out_summary = {
+    .open = summary_open,
     .name = "summary.json",
-    .stale = (const char *const[]){"summary.json", "summary.json.tmp", NULL},
     .event = SW_OUT_STATUS,
     .write = summary_write,
 };

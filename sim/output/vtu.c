@@ -17,6 +17,8 @@
 #include <math.h>
 #include <stdint.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "util.h"
 #include "vtkxml.h"
@@ -45,19 +47,18 @@ typedef struct vtu {
 
 /* ---------------------------------------------------------------- folder */
 
-static int ends_with(const char *s, const char *tail) {
-  size_t n = strlen(s), k = strlen(tail);
-  return n >= k && strcmp(s + n - k, tail) == 0;
-}
-
+/* A name sinew gives a frame: frame_NNNNNN.vtu, tendons_NNNNNN.vtp, or either + ".tmp". */
 static int is_frame_file(const char *name) {
-  return ends_with(name, ".vtu") || ends_with(name, ".vtu.tmp") || ends_with(name, ".vtp") ||
-         ends_with(name, ".vtp.tmp");
+  const char *s = !strncmp(name, "frame_", 6) ? name + 6 : !strncmp(name, "tendons_", 8) ? name + 8 : NULL;
+  if (!s || !('0' <= *s && *s <= '9')) return 0;
+  while ('0' <= *s && *s <= '9') s++;
+  return !strcmp(s, ".vtu") || !strcmp(s, ".vtu.tmp") || !strcmp(s, ".vtp") ||
+         !strcmp(s, ".vtp.tmp");
 }
 
-/* Remove the frames (NAME.vtu, NAME.vtp and unfinished NAME.vt?.tmp) of an earlier run (none
- * when there is no frames/ folder). */
-static int remove_stale_frames(sw_output *o, char *err, size_t errsz) {
+/* frames/ holds no frame file (NAME.vtu, NAME.vtp, NAME.vt?.tmp) that the earlier run's
+ * manifest does not name: a run never replaces or mixes with frames it did not write. */
+static int check_frames(sw_output *o, char *err, size_t errsz) {
   if (out_join(o->tmp, o->dir, "frames", err, errsz)) return -1;
   DIR *dp = opendir(o->tmp);
   if (!dp && errno == ENOENT) return 0;
@@ -73,12 +74,14 @@ static int remove_stale_frames(sw_output *o, char *err, size_t errsz) {
       if (errno) rc = -1, sw_errf(err, errsz, "%s: cannot list: %s", o->tmp, strerror(errno));
       break;
     }
-    if (!is_frame_file(e->d_name)) continue;
-    if (out_join(o->path, o->tmp, e->d_name, err, errsz) ||
-        out_remove_path(o->path, err, errsz)) {
-      rc = -1;
-      break;
-    }
+    char name[SW_OUT_PATHMAX];
+    snprintf(name, sizeof name, "frames/%s", e->d_name);
+    if (!is_frame_file(e->d_name) || out_owned(o, name)) continue;
+    sw_errf(err, errsz, "%s/%s: a frame file that no earlier sinew run here wrote (%s/sinew."
+            "manifest does not name it); expected no such file: move it or choose another "
+            "output folder", o->dir, name, o->dir);
+    rc = -1;
+    break;
   }
   closedir(dp);
   return rc;
@@ -93,11 +96,23 @@ static int make_frames_dir(vtu *v, sw_output *o, char *err, size_t errsz) {
   return 0;
 }
 
-/* frames/ when frames are on (before any file is opened: a `frames` that is not a folder
- * fails the run before it writes anything), then the frames of an earlier run go. */
+/* frames/ when frames are on (before any file is opened: a `frames` that is not a writable
+ * folder fails the run before it touches anything), checked: not a symbolic link (it could
+ * lead out of the folder), no frame files of another origin. */
 static int vtu_prepare(void *self, sw_output *o, const sw_model *m, char *err, size_t errsz) {
+  struct stat st;
+  if (out_join(o->tmp, o->dir, "frames", err, errsz)) return -1;
+  if (lstat(o->tmp, &st) == 0 && S_ISLNK(st.st_mode))
+    return sw_errf(err, errsz, "%s: is a symbolic link; expected a folder (sinew writes and "
+                   "removes files only inside its output folder): remove the link or choose "
+                   "another output folder", o->tmp),
+           -1;
   if (m->opt.frames_every >= 0.0 && make_frames_dir(self, o, err, errsz)) return -1;
-  return remove_stale_frames(o, err, errsz);
+  if (m->opt.frames_every >= 0.0 && access(o->path, W_OK | X_OK))
+    return sw_errf(err, errsz, "%s: the frames folder is not writable: %s", o->path,
+                   strerror(errno)),
+           -1;
+  return check_frames(o, err, errsz);
 }
 
 /* ------------------------------------------------------------ constants */
@@ -272,11 +287,11 @@ static int write_piece(vtu *v, sw_output *o, const sw_model *m, const sw_data *d
                        int tendons, char *err, size_t errsz) {
   const char *type = tendons ? "PolyData" : "UnstructuredGrid";
   char name[64];
-  snprintf(name, sizeof name, tendons ? "frames/tendons_%06d.vtp.tmp" : "frames/frame_%06d.vtu.tmp",
+  snprintf(name, sizeof name, tendons ? "frames/tendons_%06d.vtp" : "frames/frame_%06d.vtu",
            v->nframe);
+  if (out_own(o, name, err, errsz) || out_join(o->path, o->dir, name, err, errsz)) return -1;
+  strcat(name, ".tmp");
   if (out_join(o->tmp, o->dir, name, err, errsz)) return -1;
-  name[strlen(name) - 4] = '\0'; /* drop ".tmp" */
-  if (out_join(o->path, o->dir, name, err, errsz)) return -1;
   out_file w;
   if (out_tmp_open(&w, o->tmp, err, errsz)) return -1;
   vx_begin(&v->vx, &w, type);
@@ -334,11 +349,28 @@ static int vtu_write(void *self, sw_output *o, const sw_model *m, const sw_data 
                      size_t errsz) {
   vtu *v = self;
   if (grow_frames(v, o, err, errsz) || make_frames_dir(v, o, err, errsz) ||
+      (v->nframe == 0 && out_own(o, "frames.pvd", err, errsz)) ||
       write_piece(v, o, m, d, 0, err, errsz) ||
       (m->ntendon && write_piece(v, o, m, d, 1, err, errsz)))
     return -1;
   v->frame_t[v->nframe++] = d->t;
   return write_pvd(v, o, m, err, errsz);
+}
+
+/* The frames written so far: their count and times (the resumed run's frames.pvd lists them). */
+static void vtu_io(void *self, sw_io *io) {
+  vtu *v = self;
+  int n = v->nframe;
+  sw_io_bytes(io, &n, sizeof n);
+  if (io->load) {
+    if (n < 0 || (size_t)n > (io->len - io->pos) / sizeof(double)) return (void)(io->bad = 1);
+    double *t = n > v->frame_cap ? sw_realloc(v->frame_t, (size_t)n, sizeof *t) : v->frame_t;
+    if (!t) return (void)(io->bad = 1);
+    v->frame_t = t;
+    v->frame_cap = n > v->frame_cap ? n : v->frame_cap;
+    v->nframe = n;
+  }
+  sw_io_bytes(io, v->frame_t, (size_t)n * sizeof(double));
 }
 
 static void vtu_files(const void *self, void (*add)(void *ctx, const char *name), void *ctx) {
@@ -364,12 +396,12 @@ static void vtu_free(void *self) {
 
 const sw_out_ops sw_out_vtu = {
     .name = "frames",
-    .stale = (const char *const[]){"frames.pvd", "frames.pvd.tmp", NULL},
     .event = SW_OUT_FRAME,
     .size = sizeof(vtu),
     .init = vtu_init,
     .prepare = vtu_prepare,
     .write = vtu_write,
     .files = vtu_files,
+    .io = vtu_io,
     .free = vtu_free,
 };

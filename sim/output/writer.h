@@ -34,17 +34,15 @@ enum {
  * the message in err ("PATH: what failed: strerror(errno)").  NULL operations are skipped. */
 typedef struct sw_out_ops {
   const char *name; /* the format, for messages */
-  /* Files (relative to the folder, NULL-terminated) that an earlier run may have left and
-   * that are removed, so that results never mix, before any format opens a file. */
-  const char *const *stale;
   int event;        /* SW_OUT_*: when write is called */
   size_t size;      /* bytes of private state */
   /* Whether this run writes the format (NULL: always). */
   int (*wanted)(const sw_model *m);
   /* Allocate buffers for m (no files yet); -1 when out of memory. */
   int (*init)(void *self, const sw_model *m);
-  /* Make the folders it needs and remove what an earlier run left there besides `stale`
-   * (called for every format, wanted or not (self NULL then), before any file is opened). */
+  /* Take the folder (lock), make the folders it needs and check that they can be written,
+   * touching no file of an earlier run (called for every format, wanted or not (self NULL
+   * then), before the earlier run's files are removed (manifest.c) and any file is opened). */
   int (*prepare)(void *self, sw_output *o, const sw_model *m, char *err, size_t errsz);
   /* Create its files (headers). */
   int (*open)(void *self, sw_output *o, const sw_model *m, char *err, size_t errsz);
@@ -57,6 +55,9 @@ typedef struct sw_out_ops {
   int (*close)(void *self, sw_output *o, char *err, size_t errsz);
   /* Name each of its files (relative to the folder, under their current names). */
   void (*files)(const void *self, void (*add)(void *ctx, const char *name), void *ctx);
+  /* Save or load (io->load) what a resumed run needs to go on writing (restart.c); open is
+   * then called with o->resume set and reopens its files as they were at the restart. */
+  void (*io)(void *self, sw_io *io);
   /* Release what init and open took (not self itself). */
   void (*free)(void *self);
 } sw_out_ops;
@@ -73,6 +74,10 @@ struct sw_output {
   char path[SW_OUT_PATHMAX], tmp[SW_OUT_PATHMAX]; /* path scratch */
   const char *status, *message;                   /* SW_OUT_STATUS: the run's status */
   double wall;                                    /* SW_OUT_STATUS: wall time so far, s */
+  int resume;                                     /* opened by sw_output_resume */
+  int mfd;                                        /* sinew.manifest, open to append; -1 */
+  char *old;                                      /* the earlier run's manifest, NUL-separated */
+  size_t nold;                                    /* its bytes */
   int nw;
   sw_writer w[SW_OUT_MAXW]; /* in output.c's order: that of the summary's file list */
 };
@@ -83,6 +88,24 @@ extern const sw_out_ops sw_out_positions;                              /* positi
 extern const sw_out_ops sw_out_vtu;                                    /* vtu.c */
 extern const sw_out_ops sw_out_summary;                                /* summary.c */
 extern const sw_out_ops sw_out_lock;                                   /* lock.c */
+
+/* restart.c: every format's part of the restart file loaded; -1 when io does not fit. */
+int out_resume_formats(sw_output *o, sw_io *io, char *err, size_t errsz);
+
+/* ------------------------------------------ manifest.c: the files of the run (sinew.manifest) */
+
+/* Resuming: reopen the manifest to append to it (its names stay). */
+int out_manifest_reopen(sw_output *o, char *err, size_t errsz);
+/* Read the earlier run's manifest, if any (nothing is removed yet). */
+int out_manifest_read(sw_output *o, char *err, size_t errsz);
+/* 1 if the earlier run's manifest names name (or name without its .tmp / .part). */
+int out_owned(const sw_output *o, const char *name);
+/* Remove the files the earlier manifest names, then start this run's manifest. */
+int out_manifest_commit(sw_output *o, char *err, size_t errsz);
+/* Append name (relative to the folder) to the manifest, before the file is created; name NULL:
+ * the header. */
+int out_own(sw_output *o, const char *name, char *err, size_t errsz);
+void out_manifest_free(sw_output *o);
 
 /* ------------------------------------------------ file.c: text files written whole */
 
@@ -101,7 +124,11 @@ void out_num(out_file *w, double v, const char *after);
 int out_fmt_num(char *buf, size_t sz, double v);
 /* buf (SW_OUT_PATHMAX bytes) = dir/name; -1 with a message when too long. */
 int out_join(char *buf, const char *dir, const char *name, char *err, size_t errsz);
-/* Open tmp for writing. */
+/* Create path afresh for writing (flags | O_WRONLY): a file of that name (sinew's own: a
+ * temporary name, or one the earlier manifest named) is unlinked first, then the file is made
+ * with O_CREAT | O_EXCL | O_NOFOLLOW, so no symbolic link is ever followed.  fd, or -1. */
+int out_create(const char *path, int flags, char *err, size_t errsz);
+/* Open tmp for writing (out_create). */
 int out_tmp_open(out_file *w, const char *tmp, char *err, size_t errsz);
 /* Flush and close w (the file tmp), then rename it to path.  On failure tmp is removed. */
 int out_tmp_commit(out_file *w, const char *tmp, const char *path, char *err, size_t errsz);
@@ -128,7 +155,8 @@ typedef struct out_log {
   int final;        /* 1 once renamed to NAME */
 } out_log;
 
-/* Create o->dir/NAME.part (truncated) and write its header of n bytes. */
+/* Name NAME in the manifest, create o->dir/NAME.part and write its header of n bytes (when
+ * resuming: out_log_reopen). */
 int out_log_open(out_log *l, const char *name, sw_output *o, const char *head, size_t n,
                  char *err, size_t errsz);
 /* Write n bytes of s in one piece; the log's mark is its size before.  On failure the error
@@ -137,6 +165,11 @@ int out_log_put(out_log *l, const sw_output *o, const char *s, size_t n, char *e
                 size_t errsz);
 /* The next three are the undo, close and files operations of a format whose private state
  * begins with its out_log (csv.c, positions.c): self points at that out_log. */
+/* Resuming: reopen o->dir/NAME.part (or NAME, renamed to NAME.part) cut to l->size bytes,
+ * the size it had at the restart (loaded by out_log_io). */
+int out_log_reopen(out_log *l, const char *name, sw_output *o, char *err, size_t errsz);
+/* The io operation of a log: its size. */
+void out_log_io(void *self, sw_io *io);
 /* Cut the log back to its mark (after a logged state whose writes failed part-way). */
 void out_log_undo(void *self);
 /* Close and rename NAME.part to NAME; it keeps its .part name if anything failed. */

@@ -1,0 +1,147 @@
+#!/usr/bin/env bash
+# tests/runfolder.sh SINEW — a run folder holds sinew's files and the user's side by side
+# (docs/reliability.md, "The run folder"):
+#   1. sinew.manifest names the files a run wrote; the next run removes those only: a user's
+#      ParaView export among the frames and a positions.bin it did not write stay.
+#   2. No symbolic link is followed: frames/ as a link is refused, tension.csv.part as a link
+#      is replaced, not written through.
+#   4. SIGINT / SIGTERM part-way: exit 130 / 143, summary "interrupted" with time_reached the
+#      last logged time, the logs renamed (whole lines), the last state a frame; `sinew bench`
+#      forwards SIGTERM to its run and waits for it (no orphan).
+#   5. `sinew run --resume DIR`: a 0.2 s run resumed to 0.5 s, and a 0.5 s run stopped by
+#      SIGTERM part-way and resumed, give the logs of a straight run bit for bit (but the
+#      wall-time column) for backward Euler, BDF2 and Newmark; so does a BDF2 run killed with
+#      SIGKILL, from its last frame.
+#   3. A run that cannot start (a link as frames/, a frame file sinew did not write) leaves the
+#      earlier run's files as they were and does not say "results in".
+set -u
+sinew=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+fails=0
+fail() { echo "FAIL: $*"; fails=$((fails + 1)); }
+run() { "$sinew" run scenes/hanging_cloth.yaml --duration 0.02 --frames-every 0.01 --quiet "$@"; }
+
+# 1. manifest: what sinew wrote goes, the rest stays
+d=$tmp/one
+run --out "$d" --positions-every 0.01 2>"$tmp/err" || fail "first run: $(cat "$tmp/err")"
+grep -qx 'positions.bin' "$d/sinew.manifest" || fail "manifest lacks positions.bin"
+grep -qx 'frames/frame_000002.vtu' "$d/sinew.manifest" || fail "manifest lacks the last frame"
+cp "$d/frames/frame_000000.vtu" "$d/frames/export.vtu"
+echo mine >"$d/notes.txt"
+run --out "$d" 2>"$tmp/err" || fail "second run: $(cat "$tmp/err")"
+[ -e "$d/positions.bin" ] && fail "the earlier run's positions.bin was left beside the new logs"
+[ -f "$d/frames/export.vtu" ] && [ -f "$d/notes.txt" ] || fail "a user's file was removed"
+echo 'user data' >"$d/positions.bin"
+run --out "$d" 2>"$tmp/err" || fail "third run: $(cat "$tmp/err")"
+[ "$(cat "$d/positions.bin" 2>/dev/null)" = 'user data' ] || fail "a positions.bin sinew did not write was removed"
+
+# 2. symbolic links: never followed
+echo precious >"$tmp/target"
+ln -s "$tmp/target" "$d/tension.csv.part"
+run --out "$d" 2>"$tmp/err" || fail "run beside a linked .part: $(cat "$tmp/err")"
+[ "$(cat "$tmp/target")" = precious ] || fail "written through the link tension.csv.part"
+[ -L "$d/tension.csv" ] && fail "tension.csv is a link"
+
+# 3. runs that cannot start leave the earlier run as it was
+mkdir -p "$tmp/elsewhere"
+cp "$d/frames/frame_000000.vtu" "$tmp/elsewhere/frame_000000.vtu"
+e=$tmp/linked
+run --out "$e" 2>/dev/null || fail "run into $e"
+cp "$e/summary.json" "$tmp/summary.before"
+rm -rf "$e/frames" && ln -s "$tmp/elsewhere" "$e/frames"
+run --out "$e" 2>"$tmp/err" && fail "a link as frames/ accepted"
+grep -q 'frames: is a symbolic link; expected a folder' "$tmp/err" || fail "link message: $(cat "$tmp/err")"
+grep -q 'run not started' "$tmp/err" || fail "not said that the run did not start: $(cat "$tmp/err")"
+grep -q 'results in' "$tmp/err" && fail "'results in' printed for a run that did not start"
+[ -f "$tmp/elsewhere/frame_000000.vtu" ] || fail "a frame outside the folder removed through the link"
+cmp -s "$e/summary.json" "$tmp/summary.before" || fail "the earlier summary changed by a run that did not start"
+[ -f "$e/tension.csv" ] && [ -f "$e/energy.csv" ] || fail "the earlier logs removed by a run that did not start"
+rm "$e/frames" && mkdir "$e/frames" && cp "$tmp/elsewhere/frame_000000.vtu" "$e/frames/frame_000009.vtu"
+run --out "$e" 2>"$tmp/err" && fail "a frame file sinew did not write accepted"
+grep -q 'frames/frame_000009.vtu: a frame file that no earlier sinew run here wrote' "$tmp/err" ||
+  fail "foreign frame message: $(cat "$tmp/err")"
+cmp -s "$e/summary.json" "$tmp/summary.before" || fail "summary changed by a refused run"
+
+# 4. signals
+# wait_lines FILE N: until FILE has N lines (at most 60 s)
+wait_lines() {
+  local i
+  for i in $(seq 600); do
+    [ -f "$1" ] && [ "$(wc -l <"$1")" -ge "$2" ] && return 0
+    sleep 0.1
+  done
+  return 1
+}
+for sig in INT TERM; do
+  d=$tmp/sig$sig
+  "$sinew" run scenes/hanging_cloth.yaml --out "$d" --duration 30 --frames-every 0.05 --quiet 2>"$tmp/err" &
+  pid=$!
+  wait_lines "$d/tension.csv.part" 20 || fail "SIG$sig: the run did not get going"
+  kill -$sig $pid
+  wait $pid
+  code=$?
+  want=$([ $sig = INT ] && echo 130 || echo 143)
+  [ "$code" = "$want" ] || fail "SIG$sig: exit $code, expected $want"
+  grep -q '"status": "interrupted"' "$d/summary.json" || fail "SIG$sig: summary not interrupted"
+  [ -f "$d/tension.csv" ] && [ -f "$d/energy.csv" ] || fail "SIG$sig: the logs were not renamed"
+  last=$(tail -n 1 "$d/tension.csv" | cut -d, -f1)
+  reached=$(sed -n 's/.*"time_reached": \([^,]*\),.*/\1/p' "$d/summary.json")
+  [ -n "$last" ] && [ "$last" = "$reached" ] || fail "SIG$sig: time_reached $reached, last logged $last"
+  grep -q "timestep=\"$last\"" "$d/frames.pvd" || fail "SIG$sig: no frame of the last state t = $last"
+  grep -q "interrupted by signal" "$tmp/err" || fail "SIG$sig: not said: $(cat "$tmp/err")"
+done
+
+b=$tmp/bench
+"$sinew" bench scenes/hanging_cloth.yaml --out "$b" --methods backward-euler --dts 0.001 --duration 30 \
+  >/dev/null 2>"$tmp/bench.err" &
+pid=$!
+wait_lines "$b/runs/wp_reference/tension.csv.part" 5 || fail "bench: the run did not get going"
+kill -TERM $pid
+wait $pid
+code=$?
+[ "$code" = 143 ] || fail "bench: exit $code after SIGTERM, expected 143"
+pgrep -f "$b/runs" >/dev/null && fail "bench: a run still going after the bench ended: $(pgrep -af "$b/runs")"
+grep -q '"status": "interrupted"' "$b/runs/wp_reference/summary.json" ||
+  fail "bench: the run was not interrupted cleanly"
+
+# 5. resume
+# same_logs A B: tension.csv identical, energy.csv too but its last column (step_wall_s)
+same_logs() {
+  cmp -s "$1/tension.csv" "$2/tension.csv" || fail "$3: tension.csv differs from the straight run's"
+  cmp -s <(sed 's/,[^,]*$//' "$1/energy.csv") <(sed 's/,[^,]*$//' "$2/energy.csv") ||
+    fail "$3: energy.csv differs from the straight run's"
+}
+for meth in backward-euler bdf2 newmark; do
+  rs() { "$sinew" run scenes/hanging_cloth.yaml --method $meth --frames-every 0.1 --quiet "$@"; }
+  rs --out "$tmp/straight" --duration 0.5 2>/dev/null || fail "$meth: straight run"
+  rs --out "$tmp/half" --duration 0.2 2>/dev/null || fail "$meth: 0.2 s run"
+  "$sinew" run --resume "$tmp/half" --duration 0.5 --quiet 2>"$tmp/err" || fail "$meth: resume: $(cat "$tmp/err")"
+  grep -q '"status": "ok"' "$tmp/half/summary.json" || fail "$meth: resumed run not ok"
+  grep -q '"time_reached": 0.5,' "$tmp/half/summary.json" || fail "$meth: resumed run did not reach 0.5 s"
+  same_logs "$tmp/straight" "$tmp/half" "$meth, 0.2 s + resume"
+  "$sinew" run scenes/hanging_cloth.yaml --method $meth --frames-every 0.1 --quiet \
+    --out "$tmp/stopped" --duration 0.5 2>/dev/null &
+  pid=$!
+  wait_lines "$tmp/stopped/tension.csv.part" 25 || fail "$meth: the run did not get going"
+  kill -TERM $pid
+  wait $pid
+  "$sinew" run --resume "$tmp/stopped" --quiet 2>"$tmp/err" || fail "$meth: resume after SIGTERM: $(cat "$tmp/err")"
+  same_logs "$tmp/straight" "$tmp/stopped" "$meth, SIGTERM + resume"
+  if [ $meth = bdf2 ]; then # kill -9: the restart of the last frame, the logs cut back to it
+    "$sinew" run scenes/hanging_cloth.yaml --method $meth --frames-every 0.1 --quiet \
+      --out "$tmp/killed" --duration 0.5 2>/dev/null &
+    pid=$!
+    wait_lines "$tmp/killed/tension.csv.part" 35 || fail "$meth: the run did not get going"
+    kill -9 $pid
+    wait $pid 2>/dev/null
+    "$sinew" run --resume "$tmp/killed" --quiet 2>"$tmp/err" || fail "$meth: resume after kill -9: $(cat "$tmp/err")"
+    same_logs "$tmp/straight" "$tmp/killed" "$meth, kill -9 + resume"
+  fi
+  rm -rf "$tmp/straight" "$tmp/half" "$tmp/stopped" "$tmp/killed"
+done
+"$sinew" run --resume "$tmp/nothing" --quiet 2>"$tmp/err" && fail "resume of a folder without a run accepted"
+grep -q "cannot resume: .*restart.bin: cannot read the restart file" "$tmp/err" || fail "resume message: $(cat "$tmp/err")"
+
+[ "$fails" = 0 ] && echo "runfolder: all checks passed"
+exit $((fails > 0))
