@@ -21,7 +21,7 @@ if [ ! -f $dir/build.ninja ]; then
     -Db_lundef=false "${cargs[@]}" >/dev/null
 fi
 ninja -C $dir >/dev/null
-for name in obj scene bench; do
+for name in obj scene targets bench; do
   corpus=$dir/corpus_$name
   mkdir -p "$corpus"
   cp tests/fuzz/regress/$name/* "$corpus"/ 2>/dev/null || true
