@@ -12,6 +12,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "contact.h"
 #include "solver.h"
 #include "util.h"
 
@@ -155,12 +156,20 @@ static void add_step(const sw_model *m, const double *x, const double *dx, doubl
   }
 }
 
+/* The largest fraction of the step dx from x that keeps every vertex outside the obstacles
+ * (continuous collision detection, models/contact.c); 1 without obstacles. */
+static double step_bound(sw_newton *nw, const sw_model *m, const double *x, double t) {
+  if (m->nobstacle == 0) return 1.0;
+  add_step(m, x, nw->dx, 1.0, nw->xtry);
+  return sw_contact_toi(m, x, nw->xtry, t);
+}
+
 int sw_newton_line_search(sw_newton *nw, const sw_model *m, sw_data *d, double *x,
                           const double *xhat, const sw_newton_opts *o, double phi0, double slope) {
   /* Differences below this are round-off in Phi itself. */
   double noise = 1e-13 * (fabs(phi0) + 1e-300);
-  double alpha = 1.0;
-  for (int k = 0; k < 40; k++, alpha *= 0.5) {
+  double alpha = step_bound(nw, m, x, o->t);
+  for (int k = 0; k < 40 && alpha > 0.0; k++, alpha *= 0.5) {
     add_step(m, x, nw->dx, alpha, nw->xtry);
     double phi;
     int rc = sw_newton_phi(nw, m, d, nw->xtry, xhat, o->a, o->t, 0, 0, 0, &phi);
@@ -357,7 +366,7 @@ int sw_newton_solve(sw_newton *nw, const sw_model *m, sw_data *d, double *x, con
      * never counted above the step itself (CVODE's test, Hindmarsh et al. 2005) */
     double rate = prev > 0.0 ? step / prev : 1.0;
     double left = rate < 0.5 ? step * rate / (1.0 - rate) : step;
-    if (left <= o->tol_dx || dxmax <= xfloor || stalled) {
+    if ((left <= o->tol_dx || dxmax <= xfloor || stalled) && step_bound(nw, m, x, o->t) == 1.0) {
       add_step(m, x, nw->dx, 1.0, x);
       return SW_OK;
     }
@@ -370,8 +379,8 @@ int sw_newton_solve(sw_newton *nw, const sw_model *m, sw_data *d, double *x, con
         continue;
       }
       if (rc) return rc;
-    } else {
-      add_step(m, x, nw->dx, 1.0, x);
+    } else { /* a full step, as far as the obstacles let it go */
+      add_step(m, x, nw->dx, step_bound(nw, m, x, o->t), x);
     }
     nw->theta = prev > 0.0 ? rate : 0.0;
     prev = step;

@@ -135,6 +135,7 @@ typedef struct sw_newton_opts {
                             same a and cd) */
   double cd;             /* damping: v = cd (x - xd) at the stage, 1/s (0: no damping term) */
   const double *xd;      /* (nv x dim) */
+  double h;              /* s: the time step (contact friction's lag; 0 in a static solve) */
 } sw_newton_opts;
 
 /* hessian: abs filters by absolute value for this many iterations of a step, then clamps: far
