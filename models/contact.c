@@ -223,6 +223,22 @@ double sw_contact_toi(const sw_model *m, const double *x0, const double *x1, dou
   return toi;
 }
 
+int sw_contact_settled(const sw_model *m, const double *x0, const double *x1, double t) {
+  const int dim = m->dim;
+  for (int i = 0; i < m->nv; i++) {
+    if (m->pinned[i]) continue;
+    const double *p0 = x0 + (size_t)i * dim, *p1 = x1 + (size_t)i * dim;
+    double len = 0.0;
+    for (int a = 0; a < dim; a++) len += (p1[a] - p0[a]) * (p1[a] - p0[a]);
+    len = sqrt(len); /* m */
+    for (int o = 0; len > 0.0 && o < m->nobstacle; o++) {
+      double d0 = sw_obstacle_sdf(&m->obstacle[o], dim, t, p0, NULL, NULL);
+      if (len > (d0 < m->contact.dhat ? SW_CONTACT_KEEP : 1.0 - SW_CONTACT_KEEP) * d0) return 0;
+    }
+  }
+  return 1;
+}
+
 /* Lag the friction at (d->x, d->t) for a step of size h. */
 static void lag_friction(const sw_model *m, sw_data *d, double h) {
   sw_contact_lag *lag = d->lag;

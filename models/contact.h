@@ -39,6 +39,12 @@ int sw_contact_outside(const sw_model *m, const double *x, double t, char *err, 
 /* The largest fraction of the straight motion x0 -> x1 (nv x dim each) that keeps every free
  * vertex outside every obstacle at time t (at least SW_CONTACT_KEEP of its distance). */
 double sw_contact_toi(const sw_model *m, const double *x0, const double *x1, double t);
+/* Whether the update x0 -> x1 is small next to every contact: a vertex within dhat of an
+ * obstacle moves by at most SW_CONTACT_KEEP of its distance, any other by at most
+ * 1 - SW_CONTACT_KEEP of it (so it stays outside).  Newton on a log barrier at most doubles a
+ * distance per iteration, so an update that is small in metres may still be far from
+ * converged in a contact a few nanometres thick: Newton converges only when this holds. */
+int sw_contact_settled(const sw_model *m, const double *x0, const double *x1, double t);
 /* Start a step from (d->x, d->t) to stage time t1 of size h: lag the friction (normal forces
  * and normals at d->x), and move the guess y (nv x dim) so that it is outside every obstacle
  * at t1: vertices near a moving obstacle are carried with it, then y is the farthest point of

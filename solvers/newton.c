@@ -164,6 +164,13 @@ static double step_bound(sw_newton *nw, const sw_model *m, const double *x, doub
   return sw_contact_toi(m, x, nw->xtry, t);
 }
 
+/* Whether the full step dx from x leaves every contact settled (sw_contact_settled). */
+static int contact_settled(sw_newton *nw, const sw_model *m, const double *x, double t) {
+  if (m->nobstacle == 0) return 1;
+  add_step(m, x, nw->dx, 1.0, nw->xtry);
+  return sw_contact_settled(m, x, nw->xtry, t);
+}
+
 int sw_newton_line_search(sw_newton *nw, const sw_model *m, sw_data *d, double *x,
                           const double *xhat, const sw_newton_opts *o, double phi0, double slope) {
   /* Differences below this are round-off in Phi itself. */
@@ -366,7 +373,7 @@ int sw_newton_solve(sw_newton *nw, const sw_model *m, sw_data *d, double *x, con
      * never counted above the step itself (CVODE's test, Hindmarsh et al. 2005) */
     double rate = prev > 0.0 ? step / prev : 1.0;
     double left = rate < 0.5 ? step * rate / (1.0 - rate) : step;
-    if ((left <= o->tol_dx || dxmax <= xfloor || stalled) && step_bound(nw, m, x, o->t) == 1.0) {
+    if ((left <= o->tol_dx || dxmax <= xfloor || stalled) && contact_settled(nw, m, x, o->t)) {
       add_step(m, x, nw->dx, 1.0, x);
       return SW_OK;
     }
