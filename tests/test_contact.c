@@ -286,7 +286,7 @@ static void scene_errors(void **st) {
     assert_non_null(strstr(err, bad[k].want));
   }
   /* no obstacles: no contact term, no contact arrays */
-  sw_model *m = parse("mesh: {points: [[0, 0, 0]]}\n");
+  sw_model *m = parse("mesh: {points: [[0, 0, 0]]}\npins: [{select: {vertices: [0]}}]\n");
   assert_int_equal(sw_term_find(m, "contact"), -1);
   sw_data *d = sw_data_new(m);
   assert_null(d->lag);
