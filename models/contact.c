@@ -149,7 +149,11 @@ static int barrier_add(const sw_model *m, const sw_eval *ev, int i, int o, doubl
   double B[9];
   for (int a = 0; a < dim; a++)
     for (int b = 0; b < dim; b++) B[a * dim + b] = w * (d2b * n[a] * n[b] + db * Hp[a * dim + b]);
-  sw_psd_project(B, dim, ev->project); /* b' < 0: the shape's curvature makes it indefinite */
+  /* b' < 0: the shape's curvature makes the block indefinite along the surface.  Clamped even
+   * when the other terms take absolute values: |b'| / R grows without bound as the vertex
+   * presses closer, and its absolute value stiffens the tangential directions by twice the
+   * exact amount, which made Newton converge linearly on a cloth pressed onto a sphere. */
+  sw_psd_project(B, dim, ev->project == SW_FILTER_ABS ? SW_FILTER_CLAMP : ev->project);
   for (int k = 0; k < dim * dim; k++) H[k] += B[k];
   return SW_OK;
 }
@@ -204,23 +208,31 @@ int sw_contact_outside(const sw_model *m, const double *x, double t, char *err, 
   return 0;
 }
 
-double sw_contact_toi(const sw_model *m, const double *x0, const double *x1, double t) {
+/* The fraction of vertex i's straight motion x0 -> x1 that keeps it outside every obstacle. */
+static double vertex_toi(const sw_model *m, const double *x0, const double *x1, int i, double t) {
   const int dim = m->dim;
-  double toi = 1.0;
-  for (int i = 0; i < m->nv; i++) {
-    if (m->pinned[i]) continue;
-    const double *p0 = x0 + (size_t)i * dim, *p1 = x1 + (size_t)i * dim;
-    double len = 0.0;
-    for (int a = 0; a < dim; a++) len += (p1[a] - p0[a]) * (p1[a] - p0[a]);
-    len = sqrt(len);
-    if (len == 0.0) continue;
-    for (int o = 0; o < m->nobstacle; o++) {
-      double d0 = sw_obstacle_sdf(&m->obstacle[o], dim, t, p0, NULL, NULL);
-      if (d0 - len > SW_CONTACT_KEEP * d0) continue; /* cannot get close enough to matter */
-      toi = fmin(toi, sw_obstacle_toi(&m->obstacle[o], dim, t, p0, p1, SW_CONTACT_KEEP));
-    }
+  const double *p0 = x0 + (size_t)i * dim, *p1 = x1 + (size_t)i * dim;
+  double len = 0.0, toi = 1.0;
+  for (int a = 0; a < dim; a++) len += (p1[a] - p0[a]) * (p1[a] - p0[a]);
+  len = sqrt(len);
+  if (len == 0.0 || m->pinned[i]) return 1.0;
+  for (int o = 0; o < m->nobstacle; o++) {
+    double d0 = sw_obstacle_sdf(&m->obstacle[o], dim, t, p0, NULL, NULL);
+    if (d0 - len > SW_CONTACT_KEEP * d0) continue; /* cannot get close enough to matter */
+    toi = fmin(toi, sw_obstacle_toi(&m->obstacle[o], dim, t, p0, p1, SW_CONTACT_KEEP));
   }
   return toi;
+}
+
+double sw_contact_toi(const sw_model *m, const double *x0, const double *x1, double t) {
+  double toi = 1.0;
+  for (int i = 0; i < m->nv; i++) toi = fmin(toi, vertex_toi(m, x0, x1, i, t));
+  return toi;
+}
+
+void sw_contact_clip(const sw_model *m, const double *x0, const double *x1, double t,
+                     double *frac) {
+  for (int i = 0; i < m->nv; i++) frac[i] = vertex_toi(m, x0, x1, i, t);
 }
 
 int sw_contact_settled(const sw_model *m, const double *x0, const double *x1, double t) {
@@ -276,24 +288,41 @@ static void carry(const sw_model *m, const double *x, int i, double t0, double t
   }
 }
 
+/* The guess yi (dim) moved out to dhat / 2 from every obstacle it is inside of, along the
+ * normal there (the distances are exact: that lands on dhat / 2); 1 if it is then outside every
+ * obstacle. */
+static int lift(const sw_model *m, double t1, double *yi) {
+  const int dim = m->dim;
+  for (int o = 0; o < m->nobstacle; o++) {
+    double n[3], dist = sw_obstacle_sdf(&m->obstacle[o], dim, t1, yi, n, NULL);
+    if (!(dist > 0.0))
+      for (int a = 0; a < dim; a++) yi[a] += (0.5 * m->contact.dhat - dist) * n[a];
+  }
+  for (int o = 0; o < m->nobstacle; o++)
+    if (!(sw_obstacle_sdf(&m->obstacle[o], dim, t1, yi, NULL, NULL) > 0.0)) return 0;
+  return 1;
+}
+
 int sw_contact_begin(const sw_model *m, sw_data *d, double h, double t1, double *y) {
   if (!d->lag) return SW_OK;
   const int dim = m->dim;
   lag_friction(m, d, h);
   for (int i = 0; i < m->nv; i++) {
     if (m->pinned[i]) continue;
-    double z[3], *yi = y + (size_t)i * dim, s = 1.0;
+    double z[3], *yi = y + (size_t)i * dim, s = 1.0, guess[3];
     carry(m, d->x, i, d->t, t1, z);
-    for (int o = 0; o < m->nobstacle; o++) {
+    memcpy(guess, yi, (size_t)dim * sizeof(double));
+    if (lift(m, t1, yi)) continue;
+    for (int o = 0; o < m->nobstacle; o++) { /* between obstacles: the path's safe part */
       double dist = sw_obstacle_sdf(&m->obstacle[o], dim, t1, z, NULL, NULL);
       if (!(dist > 0.0)) {
         sw_errf(d->err, sizeof d->err, "obstacles[%d] moves into vertex %d between t = %g s "
                 "and %g s", o, i, d->t, t1);
         return SW_RECOVER;
       }
-      s = fmin(s, sw_obstacle_toi(&m->obstacle[o], dim, t1, z, yi, SW_CONTACT_KEEP));
+      s = fmin(s, sw_obstacle_toi(&m->obstacle[o], dim, t1, z, guess, SW_CONTACT_KEEP));
     }
-    for (int a = 0; a < dim; a++) yi[a] = z[a] + s * (yi[a] - z[a]);
+    for (int a = 0; a < dim; a++) yi[a] = z[a] + s * (guess[a] - z[a]);
   }
   return SW_OK;
 }

@@ -460,6 +460,8 @@ struct sw_data {
   sw_static_info static_info;  /* where the last static solve stopped (sw_static_solve) */
   double last_dt;              /* size of the last accepted step, s */
   double time_assemble, time_factor, time_solve, time_step; /* s of wall time */
+  double time_contact;         /* s of wall time in the solvers' contact checks: continuous
+                                  collision detection, settling, each step's start */
   long factor_nnz;             /* nonzeros of the Cholesky factor L of the last factorisation
                                   (CHOLMOD's count for its ordering; 0: no factor yet, or a
                                   method without one) */

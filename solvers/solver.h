@@ -118,6 +118,7 @@ typedef struct sw_newton {
   double theta;          /* the last observed contraction |dx_k| / |dx_k-1| */
   double *wdof;          /* (n) each free DOF's share of the free mass, m_i / sum m_i */
   int iter;              /* the current iteration of the solve */
+  double *vfrac;         /* (nv) with obstacles: each vertex's allowed fraction of a step */
 } sw_newton;
 
 typedef struct sw_newton_opts {
