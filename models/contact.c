@@ -245,7 +245,7 @@ int sw_contact_settled(const sw_model *m, const double *x0, const double *x1, do
     len = sqrt(len); /* m */
     for (int o = 0; len > 0.0 && o < m->nobstacle; o++) {
       double d0 = sw_obstacle_sdf(&m->obstacle[o], dim, t, p0, NULL, NULL);
-      if (len > (d0 < m->contact.dhat ? SW_CONTACT_KEEP : 1.0 - SW_CONTACT_KEEP) * d0) return 0;
+      if (len > (d0 < m->contact.dhat ? SW_CONTACT_SETTLE : 1.0 - SW_CONTACT_KEEP) * d0) return 0;
     }
   }
   return 1;

@@ -9,6 +9,10 @@
 #define SW_MAX_OBSTACLES 64     /* obstacles per scene at most (scene loader) */
 #define SW_TOI_MAX_ITERS 64     /* conservative advancement steps before giving up (safe) */
 #define SW_CONTACT_KEEP 0.1     /* a step may close at most 90 % of a vertex's distance */
+#ifndef SW_CONTACT_SETTLE
+#define SW_CONTACT_SETTLE 0.5   /* Newton's last update moves a vertex in contact by at most this
+                                   fraction of its distance (docs/contact.md, measured) */
+#endif
 #define SW_CONTACT_DHAT 1e-3    /* default barrier distance, m */
 #define SW_CONTACT_EPS_V 1e-3   /* default stick-slip velocity of friction, m/s */
 
@@ -45,7 +49,7 @@ double sw_contact_toi(const sw_model *m, const double *x0, const double *x1, dou
 void sw_contact_clip(const sw_model *m, const double *x0, const double *x1, double t,
                      double *frac);
 /* Whether the update x0 -> x1 is small next to every contact: a vertex within dhat of an
- * obstacle moves by at most SW_CONTACT_KEEP of its distance, any other by at most
+ * obstacle moves by at most SW_CONTACT_SETTLE of its distance, any other by at most
  * 1 - SW_CONTACT_KEEP of it (so it stays outside).  Newton on a log barrier at most doubles a
  * distance per iteration, so an update that is small in metres may still be far from
  * converged in a contact a few micrometres thick: Newton converges only when this holds.

@@ -450,6 +450,14 @@ void sw_model_print(const sw_model *m, void *file) {
   fprintf(fp, "terms      ");
   for (int k = 0; k < m->nterm; k++) fprintf(fp, " %s", m->term[k].name);
   fprintf(fp, "%s\n", m->nterm ? "" : " (none)");
+  for (int k = 0; k < m->nobstacle; k++) {
+    const sw_obstacle *o = &m->obstacle[k];
+    fprintf(fp, "obstacle %d  %s%s, offset %g m\n", k, sw_shape_names()[o->shape],
+            o->nkey > 1 ? " (moving)" : "", o->offset);
+  }
+  if (m->nobstacle)
+    fprintf(fp, "contact     distance %g m, stiffness %g 1/s^2%s, friction %g\n", m->contact.dhat,
+            m->contact.kappa, m->contact.kappa_auto ? " (automatic)" : "", m->contact.friction);
   fprintf(fp, "system nnz  %ld (upper triangle, free DOFs)\n", sw_system_nnz(m));
   fprintf(fp, "integrator  %s, dt = %g s, duration = %g s\n", m->opt.method, m->opt.dt,
           m->opt.duration);

@@ -28,6 +28,7 @@ static const named_array arrays[] = {
     {"tendon_tension", offsetof(sw_data, tendon_tension), 0, 't', '1'},
     {"tendon_delta", offsetof(sw_data, tendon_delta), 0, 't', '1'},
     {"term_energy", offsetof(sw_data, term_energy), 0, 'e', '1'},
+    {"contact_pressure", offsetof(sw_data, contact_pressure), 0, 'f', '1'},
     {"x0", offsetof(sw_model, x0), 1, 'v', 'd'},
     {"mass", offsetof(sw_model, mass), 1, 'v', '1'},
     {"area", offsetof(sw_model, area), 1, 'f', '1'},

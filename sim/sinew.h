@@ -578,7 +578,7 @@ SW_API int sw_term_find(const sw_model *m, const char *name);
  * "x", "v" (nv x dim), "x0" (nv x dim), "mass" (nv x 1), "tension_xy", "stretch_u",
  * "stretch_v", "shear", "area" (nf x 1), "uv" (nf x 6), "tendon_length", "tendon_tension",
  * "tendon_delta" (ntendon x 1), "term_energy" (nterm x 1), "load" (nv x dim, or NULL without
- * loads).  Ints: "face" (nf x 3), "dof" (nv x dim: the free DOF of each component, -1 where
+ * loads), "contact_pressure" (nf x 1, or NULL without obstacles).  Ints: "face" (nf x 3), "dof" (nv x dim: the free DOF of each component, -1 where
  * pinned).  The memory is the sim's (valid until sw_sim_free; x and v change as it steps). */
 SW_API double *sw_sim_array(sw_sim *s, const char *name, int *rows, int *cols);
 SW_API int *sw_sim_iarray(sw_sim *s, const char *name, int *rows, int *cols);

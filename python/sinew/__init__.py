@@ -317,6 +317,13 @@ class Simulation:
         return self._array("tension_xy")
 
     @property
+    def contact_pressure(self):
+        """(nfaces,) contact pressure on each face, N/m^2; None in a scene without obstacles."""
+        if not _library().sw_sim_array(self._ptr, b"contact_pressure", None, None):
+            return None
+        return self._array("contact_pressure")
+
+    @property
     def stretch_u(self):
         """(nfaces,) warp stretch |w_u| of each face (1: unstretched)."""
         return self._array("stretch_u")

@@ -200,3 +200,16 @@ def test_installed_tree(tmp_path):
     assert np.array_equal(np.array(got["x"]), sim.positions)
     assert np.array_equal(np.array(got["txy"]), sim.tension_xy)
     assert got["tension"] == sim.tendons["drawstring"].tension
+
+
+def test_contact_pressure():
+    """On the drape scene the cloth touches the sphere within 0.12 s: the pressure is positive
+    on some faces, never negative, and carries the cloth's weight in the right units (the sum
+    of pressure x area is of the order of the weight); a scene without obstacles has none."""
+    sim = sinew.load(os.path.join(ROOT, "scenes", "drape_sphere.yaml"))
+    assert sim.contact_pressure is not None and sim.contact_pressure.shape == (sim.nfaces,)
+    while sim.time < 0.12 - 1e-9:
+        sim.step()
+    p = sim.contact_pressure
+    assert (p >= 0).all() and (p > 0).any()
+    assert sinew.load(SCENE).contact_pressure is None
