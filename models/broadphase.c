@@ -90,6 +90,7 @@ static int make_boxes(sw_broadphase *bp, const sw_bp_input *in) {
 
 typedef struct grid {
   double lo[3], h; /* origin and spacing, m */
+  int bits[3];     /* key bits of each cell coordinate (at most CELL_BITS) */
   int first[3], count[3]; /* the primitives of each kind in the grid: box indices */
 } grid;
 
@@ -135,6 +136,8 @@ static void plan_grid(grid *G, const double *box, size_t *nent) {
   double n;
   while ((n = total_cells(G, box)) > 16.0 * nprim + 1024.0) G->h *= 2.0;
   *nent = (size_t)n;
+  for (int a = 0; a < 3; a++) /* as few key bits as the cells need: fewer sorting passes */
+    for (G->bits[a] = 1; G->bits[a] < CELL_BITS && (cell_of(G, hi[a], a) >> G->bits[a]);) G->bits[a]++;
 }
 
 static void put_entries(sw_broadphase *bp, const grid *G) {
@@ -147,24 +150,23 @@ static void put_entries(sw_broadphase *bp, const grid *G) {
       for (long long x = c0[0]; x <= c1[0]; x++)
         for (long long y = c0[1]; y <= c1[1]; y++)
           for (long long z = c0[2]; z <= c1[2]; z++) {
-            bp->key[m] = (unsigned long long)x << (2 * CELL_BITS) |
-                         (unsigned long long)y << CELL_BITS | (unsigned long long)z;
+            bp->key[m] = ((unsigned long long)x << G->bits[1] | (unsigned long long)y) << G->bits[2] |
+                         (unsigned long long)z;
             bp->code[m++] = 3 * (i - G->first[k]) + k;
           }
     }
 }
 
-/* LSD radix sort of the m entries by key, 8 bits a pass, passes over constant digits skipped. */
-static void sort_entries(sw_broadphase *bp, size_t m) {
-  for (int shift = 0; shift < 64; shift += 8) {
-    size_t cnt[257] = {0};
-    for (size_t i = 0; i < m; i++) cnt[((bp->key[i] >> shift) & 255) + 1]++;
-    int constant = 0;
-    for (int d = 1; d <= 256; d++) constant |= cnt[d] == m;
-    if (constant) continue;
-    for (int d = 0; d < 256; d++) cnt[d + 1] += cnt[d];
+/* LSD radix sort of the m entries by their nbits-bit keys, 11 bits a pass. */
+enum { RADIX = 11 };
+static void sort_entries(sw_broadphase *bp, size_t m, int nbits) {
+  const unsigned long long mask = (1ULL << RADIX) - 1;
+  for (int shift = 0; shift < nbits; shift += RADIX) {
+    size_t cnt[(1 << RADIX) + 1] = {0};
+    for (size_t i = 0; i < m; i++) cnt[((bp->key[i] >> shift) & mask) + 1]++;
+    for (int d = 0; d < 1 << RADIX; d++) cnt[d + 1] += cnt[d];
     for (size_t i = 0; i < m; i++) {
-      size_t j = cnt[(bp->key[i] >> shift) & 255]++;
+      size_t j = cnt[(bp->key[i] >> shift) & mask]++;
       bp->key2[j] = bp->key[i], bp->code2[j] = bp->code[i];
     }
     unsigned long long *tk = bp->key;
@@ -181,12 +183,19 @@ typedef struct cell_ctx {
   long long c[3];          /* the cell's coordinates */
 } cell_ctx;
 
-/* The boxes overlap (closed) and the lower corner of their overlap lies in this cell. */
-static int owns_pair(const cell_ctx *C, const double *p, const double *q) {
-  for (int a = 0; a < 3; a++) {
+/* A primitive of the cell being paired: its box, its index, and along which axes its box
+ * starts in this cell (bit a).  The cell of the lower corner of two boxes' overlap is, axis by
+ * axis, the later of their starting cells, so this cell owns the pair iff every axis has a box
+ * starting in it: (mask_p | mask_q) == 7. */
+struct sw_bp_entry {
+  double b[6];
+  int idx, mask;
+};
+typedef struct sw_bp_entry entry;
+
+static int boxes_overlap(const double *p, const double *q) {
+  for (int a = 0; a < 3; a++)
     if (p[a] > q[3 + a] || q[a] > p[3 + a]) return 0;
-    if (cell_of(C->G, fmax(p[a], q[a]), a) != C->c[a]) return 0;
-  }
   return 1;
 }
 
@@ -222,16 +231,15 @@ static int verts_of(const sw_bp_input *in, int k, int i, int *v) {
 /* Report the pairs of one cell between the primitives A (na, kind ka) and B (nb, kind kb):
  * vertex-face, edge-edge or face-face by ka; same = A is B (each pair once, lower index
  * first). */
-static int pair_lists(sw_broadphase *bp, const cell_ctx *C, int ka, const int *A, int na, int kb,
-                      const int *B, int nb, int same) {
+static int pair_lists(sw_broadphase *bp, const cell_ctx *C, int ka, const entry *A, int na,
+                      int kb, const entry *B, int nb, int same) {
   for (int i = 0; i < na; i++)
     for (int j = same ? i + 1 : 0; j < nb; j++) {
-      int a = A[i], b = B[j], u[3], w[3];
-      if (same && a > b) a = B[j], b = A[i];
+      if ((A[i].mask | B[j].mask) != 7 || !boxes_overlap(A[i].b, B[j].b)) continue;
+      int a = A[i].idx, b = B[j].idx, u[3], w[3];
+      if (same && a > b) a = B[j].idx, b = A[i].idx;
       int nu = verts_of(C->in, ka, a, u), nw = verts_of(C->in, kb, b, w);
       if (skip_pair(C->in, u, nu, w, nw)) continue;
-      if (!owns_pair(C, bp->box + 6 * (C->G->first[ka] + a), bp->box + 6 * (C->G->first[kb] + b)))
-        continue;
       int rc = ka == KIND_V   ? push_pair(&bp->pt, &bp->cap_pt, &bp->npt, a, b)
                : ka == KIND_E ? push_pair(&bp->ee, &bp->cap_ee, &bp->nee, a, b)
                               : push_pair(&bp->ff, &bp->cap_ff, &bp->nff, a, b);
@@ -240,18 +248,25 @@ static int pair_lists(sw_broadphase *bp, const cell_ctx *C, int ka, const int *A
   return 0;
 }
 
-/* The pairs of the cell whose entries are [i, j) of the sorted list. */
+/* The pairs of the cell whose entries are [i, j) of the sorted list: its primitives gathered
+ * by kind with their boxes, then paired. */
 static int pair_cell(sw_broadphase *bp, cell_ctx *C, size_t i, size_t j, int want) {
-  int n[3] = {0, 0, 0}, *list[3];
-  unsigned long long key = bp->key[i], mask = (1ULL << CELL_BITS) - 1;
-  C->c[0] = (long long)(key >> (2 * CELL_BITS)), C->c[1] = (long long)((key >> CELL_BITS) & mask);
-  C->c[2] = (long long)(key & mask);
+  int n[3] = {0, 0, 0};
+  entry *list[3];
+  const int *bits = C->G->bits;
+  unsigned long long key = bp->key[i];
+  C->c[2] = (long long)(key & ((1ULL << bits[2]) - 1)), key >>= bits[2];
+  C->c[1] = (long long)(key & ((1ULL << bits[1]) - 1)), C->c[0] = (long long)(key >> bits[1]);
   for (size_t e = i; e < j; e++) n[bp->code[e] % 3]++;
   list[0] = bp->grp, list[1] = list[0] + n[0], list[2] = list[1] + n[1];
   n[0] = n[1] = n[2] = 0;
   for (size_t e = i; e < j; e++) {
     int k = bp->code[e] % 3;
-    list[k][n[k]++] = bp->code[e] / 3;
+    entry *t = &list[k][n[k]++];
+    t->idx = bp->code[e] / 3;
+    memcpy(t->b, bp->box + 6 * (C->G->first[k] + t->idx), sizeof t->b);
+    t->mask = 0;
+    for (int a = 0; a < 3; a++) t->mask |= (cell_of(C->G, t->b[a], a) == C->c[a]) << a;
   }
   if ((want & SW_BP_PT) && pair_lists(bp, C, KIND_V, list[0], n[0], KIND_F, list[2], n[2], 0))
     return -1;
@@ -267,7 +282,7 @@ static int pair_cells(sw_broadphase *bp, const sw_bp_input *in, const grid *G, s
   cell_ctx C = {in, G, {0, 0, 0}};
   for (size_t i = 0, j; i < m; i = j) {
     for (j = i + 1; j < m && bp->key[j] == bp->key[i];) j++;
-    if (reserve((void **)&bp->grp, &bp->cap_grp, j - i, sizeof(int)) ||
+    if (reserve((void **)&bp->grp, &bp->cap_grp, j - i, sizeof(entry)) ||
         pair_cell(bp, &C, i, j, want))
       return -1;
   }
@@ -288,7 +303,7 @@ int sw_broadphase_query(sw_broadphase *bp, const sw_bp_input *in, int want) {
   bp->cell = G.h;
   if (reserve_entries(bp, m)) return -1;
   put_entries(bp, &G);
-  sort_entries(bp, m);
+  sort_entries(bp, m, G.bits[0] + G.bits[1] + G.bits[2]);
   if (pair_cells(bp, in, &G, m, want)) {
     bp->npt = bp->nee = bp->nff = 0;
     return -1;

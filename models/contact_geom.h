@@ -148,7 +148,7 @@ typedef struct sw_broadphase {
   double *box;                 /* (nv + ne + nf) x 6: lo[3], hi[3] */
   unsigned long long *key, *key2;
   int *code, *code2;           /* primitive of each entry: 3 * index + kind */
-  int *grp;                    /* the primitives of one cell */
+  struct sw_bp_entry *grp;     /* the primitives of one cell */
 } sw_broadphase;
 
 void sw_broadphase_init(sw_broadphase *bp);
