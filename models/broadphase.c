@@ -295,9 +295,10 @@ int sw_broadphase_query(sw_broadphase *bp, const sw_bp_input *in, int want) {
   size_t nbox = (size_t)in->nv + (size_t)in->ne + (size_t)in->nf, m;
   if (reserve((void **)&bp->box, &bp->cap_box, 6 * nbox, sizeof(double)) || make_boxes(bp, in))
     return -1;
+  int pt = (want & SW_BP_PT) && in->nf > 0; /* kinds with something to pair */
   grid G = {.first = {0, in->nv, in->nv + in->ne},
-            .count = {want & SW_BP_PT ? in->nv : 0, want & SW_BP_EE ? in->ne : 0,
-                      want & (SW_BP_PT | SW_BP_FF) ? in->nf : 0}};
+            .count = {pt ? in->nv : 0, (want & SW_BP_EE) && in->ne > 1 ? in->ne : 0,
+                      pt || ((want & SW_BP_FF) && in->nf > 1) ? in->nf : 0}};
   if (G.count[0] + G.count[1] + G.count[2] == 0) return 0;
   plan_grid(&G, bp->box, &m);
   bp->cell = G.h;

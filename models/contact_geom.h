@@ -96,10 +96,10 @@ double sw_barrier_of(int n, double d2, const double *g2, const double *H2, doubl
 
 /* ------------------------------------------------------------------------- CCD (ccd.c) */
 
-/* C-IPC's scaling s (Li, Kaufman, Jiang 2021, Algorithm 1): CCD reports the first time the
- * gap d - dmin falls below s times its value at the start, and advances by at most (1 - s)
- * of the current gap per iteration.  0.1 (the value ipc-toolkit's default rescaling 0.9
- * gives); Codim-IPC's examples use 0.2. */
+/* C-IPC's scaling s (Li, Kaufman, Jiang 2021, Algorithm 1): CCD stops before the gap
+ * d - dmin falls below s times its value at the start, and advances by at most (1 - s) of the
+ * current gap per iteration.  0.1: what the IPC Toolkit's default rescaling 0.9 gives; a
+ * larger s stops earlier, in fewer iterations. */
 #define SW_CCD_SCALE 0.1
 /* Additive CCD (C-IPC, sec. 5) of primitives moving linearly from x0 to x1 over a step
  * (vertex-major coordinates: p, t0, t1, t2 or a0, a1, b0, b1 — 12 values; p, e0, e1 — 9;
