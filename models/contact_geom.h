@@ -37,7 +37,10 @@ typedef enum {
 
 /* |p - q|^2 (m^2); g: 6, H: 36. */
 double sw_d2_point_point(const double p[3], const double q[3], double *g, double *H);
-/* Squared distance from p to the line through e0, e1 (m^2; unclamped); g: 9, H: 81. */
+/* Squared distance from p to the line through e0, e1 (m^2; unclamped); g: 9, H: 81.  These
+ * four take the features as given: for a degenerate edge or triangle, or parallel lines, they
+ * return |p - e0|^2, |p - t0|^2 or |a0 - b0|^2 instead (the classified functions below never
+ * ask for those cases). */
 double sw_d2_point_line(const double p[3], const double e0[3], const double e1[3], double *g,
                         double *H);
 /* Squared distance from p to the plane of t0, t1, t2 (m^2); g: 12, H: 144. */
