@@ -2,6 +2,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "contact.h"
 #include "terms.h"
 #include "util.h"
 
@@ -39,6 +40,12 @@ sw_data *sw_data_new(const sw_model *m) {
   if (!d->x || !d->v || !d->grad || !d->hess || !d->lowrank || !d->term_energy || !d->txy ||
       !d->stretch_u || !d->stretch_v || !d->shear || !d->rlu || !d->rlv || !d->scratch)
     return sw_data_free(d), NULL;
+  if (m->nobstacle > 0) {
+    d->lag = sw_contact_lag_new(m);
+    d->contact_pressure = sw_calloc(nf + 1, sizeof(double));
+    if (!d->lag || !d->contact_pressure) return sw_data_free(d), NULL;
+  }
+  d->contact_min = INFINITY;
   memcpy(d->x, m->x0, nd * sizeof(double));
   memcpy(d->v, m->v0, nd * sizeof(double));
   for (int i = 0; i < m->nv; i++)
@@ -68,6 +75,8 @@ void sw_data_free(sw_data *d) {
   sw_free(d->tendon_length);
   sw_free(d->tendon_delta);
   sw_free(d->tendon_tension);
+  sw_contact_lag_free(d->lag);
+  sw_free(d->contact_pressure);
   sw_free(d);
 }
 
@@ -83,7 +92,8 @@ int sw_eval_terms(const sw_model *m, sw_data *d, const double *x, double t, int 
   for (int k = 0; k < m->nterm; k++) {
     sw_eval ev = {.t = t, .x = x, .grad = want_grad ? d->grad : NULL,
                   .hess = want_hess ? d->hess + d->hoff[k] : NULL,
-                  .lowrank = want_hess ? d->lowrank + d->loff[k] : NULL, .project = project};
+                  .lowrank = want_hess ? d->lowrank + d->loff[k] : NULL, .project = project,
+                  .lag = d->lag && d->lag->h > 0.0 ? d->lag : NULL};
     double e = 0.0;
     char why[192] = "";
     ev.why = why, ev.whysz = sizeof why;

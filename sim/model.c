@@ -3,6 +3,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "contact.h"
 #include "terms.h"
 #include "util.h"
 
@@ -73,6 +74,11 @@ void sw_model_free(sw_model *m) {
   sw_free(m->mass);
   sw_free(m->point_mass);
   sw_free(m->pinned);
+  for (int k = 0; k < m->nobstacle; k++) {
+    sw_free(m->obstacle[k].key_t);
+    sw_free(m->obstacle[k].key_d);
+  }
+  sw_free(m->obstacle);
   sw_free(m->dof);
   sw_free(m->mat);
   sw_free(m->face_mat);
@@ -224,6 +230,13 @@ static int build_terms(sw_model *m, char *err, size_t errsz) {
   if (m->ntendon > 0 && add_term(m, sw_tendon_build, err, errsz)) return -1;
   if (m->has_gravity && add_term(m, sw_gravity_build, err, errsz)) return -1;
   if (m->load && add_term(m, sw_point_load_build, err, errsz)) return -1;
+  if (m->nobstacle > 0) {
+    if (m->contact.kappa <= 0.0) {
+      m->contact.kappa = sw_contact_auto_kappa(m); /* 1/s^2 */
+      m->contact.kappa_auto = 1;
+    }
+    if (add_term(m, sw_contact_build, err, errsz)) return -1;
+  }
   return 0;
 }
 

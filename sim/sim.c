@@ -16,6 +16,7 @@
 #include <unistd.h>
 
 #include "output.h"
+#include "contact.h"
 #include "solver.h"
 #include "util.h"
 
@@ -47,9 +48,10 @@ static int write_restart(sw_sim *s, char *err, size_t errsz);
  * integral by the trapezoid rule between log lines. */
 static int damping_power(sw_sim *s) {
   sw_data *d = s->d;
-  double p;
-  int rc = sw_damping_force(s->m, d, d->x, d->t, d->v, d->grad, &p);
+  double p = 0.0;
+  int rc = sw_damped(s->m) ? sw_damping_force(s->m, d, d->x, d->t, d->v, d->grad, &p) : SW_OK;
   if (rc) return rc;
+  p += d->friction_power; /* W: contact friction (sw_contact_state) */
   if (s->logged) d->dissipated += 0.5 * (d->damp_power + p) * (d->t - s->t_logged); /* J */
   d->damp_power = p; /* W */
   return SW_OK;
@@ -106,7 +108,8 @@ static int record(sw_sim *s, int force, char *err, size_t errsz) {
   const sw_model *m = s->m;
   sw_data *d = s->d;
   double u;
-  int rc = sw_damped(m) ? damping_power(s) : SW_OK;
+  if (m->nobstacle > 0) sw_contact_state(m, d);
+  int rc = sw_damped(m) || m->contact.friction > 0.0 ? damping_power(s) : SW_OK;
   if (sw_actuated(m)) actuation_power(s);
   if (!rc) rc = diagnose(s, &u);
   if (rc) /* e.g. a step accepted a state whose energy is not finite */

@@ -82,6 +82,8 @@ typedef struct sw_eval {
                                   for; never NULL then for a term with nlowrank > 0 */
   int project;                 /* SW_FILTER_*: how each block is made positive semi-definite
                                   (SW_FILTER_NONE: the exact Hessian) */
+  const struct sw_contact_lag *lag; /* contact friction lagged for the current step, or NULL
+                                  (models/contact.c; set by the Newton integrators) */
   char *why;                   /* or NULL: when eval fails, a term may say which element and
                                   why here (whysz bytes, e.g. "face 3 (vertices 0 1 4): energy
                                   inf J"); the first failure is kept */
@@ -117,6 +119,59 @@ struct sw_term {
   int *lidx;                   /* (lptr[nlowrank]) vertex indices */
   void *param;                 /* the term's own immutable data */
 };
+
+
+/* ---------------------------------------------------------------- contact */
+
+/* Obstacles (models/obstacle.c, docs/contact.md): rigid shapes the cloth's vertices cannot
+ * enter.  Each sits where the scene puts it, translated by its motion keyframes (a
+ * displacement, m, interpolated as sw_keyframe_value); its contact surface is the shape grown
+ * by `offset`.  In 2D, a plane is a line, a sphere a circle, a capsule a stadium and a box a
+ * rectangle (the third components are 0). */
+enum { SW_SHAPE_PLANE = 0, SW_SHAPE_SPHERE, SW_SHAPE_CAPSULE, SW_SHAPE_BOX, SW_SHAPE_N };
+/* The scene's names of the SW_SHAPE_* ("plane", "sphere", "capsule", "box"), in order. */
+SW_API const char *const *sw_shape_names(void);
+
+typedef struct sw_obstacle {
+  int shape;                   /* SW_SHAPE_* */
+  double a[3];                 /* plane: a point on it; sphere and box: the centre; capsule:
+                                  one end of its axis, m */
+  double b[3];                 /* plane: the unit normal, pointing out of the solid side;
+                                  capsule: the other end, m; box: half sizes along x, y, z, m */
+  double radius;               /* sphere, capsule, m */
+  double offset;               /* m (>= 0): the contact surface is the shape grown by this (a
+                                  thickness, e.g. of the cloth or of skin) */
+  int nkey;                    /* motion keyframes (0: static) */
+  double *key_t;               /* (nkey) s, increasing */
+  double *key_d;               /* (nkey x 3) displacement from the stated place, m */
+  int interp;                  /* SW_INTERP_* of the motion */
+} sw_obstacle;
+
+/* Contact (models/contact.c, docs/contact.md): a log barrier on each vertex's distance to each
+ * obstacle (Li et al., "Incremental Potential Contact", SIGGRAPH 2020), energy
+ *   E = kappa sum_i m_i b(d_i),  b(d) = -(d - dhat)^2 ln(d / dhat) for 0 < d < dhat, else 0,
+ * and optional smoothed Coulomb friction lagged per step. */
+typedef struct sw_contact {
+  double dhat;                 /* m: the barrier acts below this distance (default 1e-3) */
+  double kappa;                /* 1/s^2: barrier stiffness per unit mass, kappa m |b'(d)| is
+                                  the contact force (N); 0 in the scene: automatic,
+                                  sw_model_finish sets |g| / |b'(dhat/2)| */
+  int kappa_auto;              /* 1: kappa was chosen automatically */
+  double friction;             /* Coulomb coefficient mu (0: frictionless) */
+  double eps_v;                /* m/s: friction's stick-slip velocity (below it, friction is
+                                  a stiff viscous force: the smoothing of IPC's f0) */
+} sw_contact;
+
+/* Friction lagged for one step (IPC): at the start of the step, each vertex-obstacle pair's
+ * normal force and normal; friction then acts on the tangential displacement over the step,
+ * relative to the obstacle (models/contact.c). */
+typedef struct sw_contact_lag {
+  double h;                    /* s: the step */
+  double t0;                   /* s: its start */
+  const double *x0;            /* (nv x dim) positions at its start, m */
+  double *lambda;              /* (nv x nobstacle) lagged normal force, N (0: no contact) */
+  double *normal;              /* (nv x nobstacle x 3) lagged unit normals */
+} sw_contact_lag;
 
 /* ----------------------------------------------------------------- model */
 
@@ -304,6 +359,9 @@ struct sw_model {
                                   `loads`, term "loads", models/point_load.c), or NULL */
   double *load_ramp;           /* (nv) s: vertex i's load grows as sw_ramp(t, load_ramp[i]);
                                   NULL: every load on at t = 0 */
+  int nobstacle;
+  sw_obstacle *obstacle;       /* (nobstacle) the scene's `obstacles` */
+  sw_contact contact;          /* the scene's `contact` (used when nobstacle > 0) */
   int nterm;
   sw_term *term;               /* (nterm) energy terms, only those the scene names */
   sw_options opt;
@@ -378,6 +436,15 @@ struct sw_data {
   double *tendon_length;       /* (ntendon) m, at the last diagnostics */
   double *tendon_delta;        /* (ntendon) length - rest, m */
   double *tendon_tension;      /* (ntendon) E'(delta), N */
+  /* contact (models/contact.c; only with obstacles) */
+  sw_contact_lag *lag;         /* friction lagged for the current step, or NULL */
+  int contact_count;           /* vertex-obstacle pairs closer than dhat at the last diagnostics */
+  double contact_min;          /* m: smallest vertex-obstacle distance (inf: no obstacle) */
+  double contact_force[3];     /* N: total force the obstacles exert (barrier) */
+  double friction_force[3];    /* N: total friction force of the last step's lag */
+  double friction_power;       /* W: the power friction dissipates at the last diagnostics */
+  double *contact_pressure;    /* (nf) N/m^2: mean over its corners of |contact force| / the
+                                  corner's rest area share, or NULL */
   double damp_power;           /* W: v.D v dissipated by damping at the last diagnostics */
   double dissipated;           /* J: its integral over the run so far (trapezoid on the logs) */
   double actuation_power;      /* W: dU/dt at fixed x (sw_actuation_power) at the last log */
@@ -393,6 +460,8 @@ struct sw_data {
   sw_static_info static_info;  /* where the last static solve stopped (sw_static_solve) */
   double last_dt;              /* size of the last accepted step, s */
   double time_assemble, time_factor, time_solve, time_step; /* s of wall time */
+  double time_contact;         /* s of wall time in the solvers' contact checks: continuous
+                                  collision detection, settling, each step's start */
   long factor_nnz;             /* nonzeros of the Cholesky factor L of the last factorisation
                                   (CHOLMOD's count for its ordering; 0: no factor yet, or a
                                   method without one) */

@@ -7,6 +7,7 @@
  * the commit of the new state. */
 #include <string.h>
 
+#include "contact.h"
 #include "solver.h"
 #include "util.h"
 
@@ -49,6 +50,7 @@ sw_newton_opts sw_ipstep_opts(const sw_model *m, const sw_ipstep *s, double a, d
       .reuse = m->opt.newton_reuse,
       .cd = cd,
       .xd = s->xd,
+      .h = h,
   };
   return o;
 }
@@ -58,7 +60,11 @@ int sw_ipstep_solve(sw_ipstep *s, const sw_model *m, sw_data *d, const sw_newton
   const int nd = m->nv * m->dim;
   if (!y0) y0 = s->xhat;
   for (int i = 0; i < nd; i++) s->xnew[i] = m->dof[i] < 0 ? d->x[i] : y0[i];
-  int rc = sw_newton_damping(&s->nw, m, d, s->xhat, o->t);
+  double t0 = sw_now();
+  int rc = sw_contact_begin(m, d, o->h, o->t, s->xnew);
+  d->time_contact += sw_now() - t0;
+  if (rc) return rc;
+  rc = sw_newton_damping(&s->nw, m, d, s->xhat, o->t);
   return rc ? rc : sw_newton_solve(&s->nw, m, d, s->xnew, s->xhat, o);
 }
 

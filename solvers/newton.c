@@ -12,6 +12,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "contact.h"
 #include "solver.h"
 #include "util.h"
 
@@ -56,6 +57,10 @@ int sw_newton_init(sw_newton *nw, const sw_model *m, char *err, size_t errsz) {
   nw->g = sw_calloc((size_t)nw->n, sizeof(double));
   nw->dx = sw_calloc((size_t)nw->n, sizeof(double));
   nw->xtry = sw_calloc((size_t)m->nv * (size_t)m->dim, sizeof(double));
+  if (m->nobstacle > 0 && !(nw->vfrac = sw_calloc((size_t)m->nv, sizeof(double)))) {
+    sw_errf(err, errsz, "out of memory for Newton's workspaces (%d DOFs)", nw->n);
+    return SW_FATAL;
+  }
   int damped = sw_damped(m);
   if (damped) {
     nw->dval = sw_calloc((size_t)nw->pat.nnz + 1, sizeof(double));
@@ -84,6 +89,7 @@ void sw_newton_free(sw_newton *nw) {
   sw_free(nw->hfilt);
   sw_free(nw->vres);
   sw_free(nw->wdof);
+  sw_free(nw->vfrac);
   memset(nw, 0, sizeof *nw);
 }
 
@@ -155,12 +161,59 @@ static void add_step(const sw_model *m, const double *x, const double *dx, doubl
   }
 }
 
+/* The largest fraction of the step dx from x that keeps every vertex outside the obstacles
+ * (continuous collision detection, models/contact.c); 1 without obstacles. */
+static double step_bound(sw_newton *nw, const sw_model *m, sw_data *d, const double *x,
+                         double t) {
+  if (m->nobstacle == 0) return 1.0;
+  double t0 = sw_now();
+  add_step(m, x, nw->dx, 1.0, nw->xtry);
+  double toi = sw_contact_toi(m, x, nw->xtry, t);
+  d->time_contact += sw_now() - t0;
+  return toi;
+}
+
+/* Whether the full step dx from x leaves every contact settled (sw_contact_settled). */
+static int contact_settled(sw_newton *nw, const sw_model *m, sw_data *d, const double *x,
+                           double t) {
+  if (m->nobstacle == 0) return 1;
+  double t0 = sw_now();
+  add_step(m, x, nw->dx, 1.0, nw->xtry);
+  int ok = sw_contact_settled(m, x, nw->xtry, t);
+  d->time_contact += sw_now() - t0;
+  return ok;
+}
+
+/* When the obstacles cut the whole step dx short (alpha < 1), each vertex's part of dx is
+ * clipped at what that vertex alone may take instead, so that a vertex running into an obstacle
+ * does not hold back the rest of the cloth; kept if it is still a descent direction (then
+ * *alpha = 1 and *slope is its own).  Newton's quadratic model does not see an obstacle
+ * beyond the barrier's reach, so without this one vertex can cut every step to a few percent
+ * for many iterations. */
+static void clip_step(sw_newton *nw, const sw_model *m, sw_data *d, const double *x, double t,
+                      double *alpha, double *slope) {
+  if (*alpha >= 1.0 || !nw->vfrac) return;
+  double t0 = sw_now(), s = 0.0;
+  add_step(m, x, nw->dx, 1.0, nw->xtry);
+  sw_contact_clip(m, x, nw->xtry, t, nw->vfrac);
+  for (int i = 0; i < m->nv * m->dim; i++)
+    if (m->dof[i] >= 0) s += nw->g[m->dof[i]] * nw->dx[m->dof[i]] * nw->vfrac[i / m->dim];
+  if (-s < 0.0) { /* nw->g is -grad Phi here: the clipped slope grad Phi . dx_clipped */
+    for (int i = 0; i < m->nv * m->dim; i++)
+      if (m->dof[i] >= 0) nw->dx[m->dof[i]] *= nw->vfrac[i / m->dim];
+    *alpha = 1.0;
+    *slope = -s;
+  }
+  d->time_contact += sw_now() - t0;
+}
+
 int sw_newton_line_search(sw_newton *nw, const sw_model *m, sw_data *d, double *x,
                           const double *xhat, const sw_newton_opts *o, double phi0, double slope) {
   /* Differences below this are round-off in Phi itself. */
   double noise = 1e-13 * (fabs(phi0) + 1e-300);
-  double alpha = 1.0;
-  for (int k = 0; k < 40; k++, alpha *= 0.5) {
+  double alpha = step_bound(nw, m, d, x, o->t);
+  clip_step(nw, m, d, x, o->t, &alpha, &slope);
+  for (int k = 0; k < 40 && alpha > 0.0; k++, alpha *= 0.5) {
     add_step(m, x, nw->dx, alpha, nw->xtry);
     double phi;
     int rc = sw_newton_phi(nw, m, d, nw->xtry, xhat, o->a, o->t, 0, 0, 0, &phi);
@@ -357,7 +410,7 @@ int sw_newton_solve(sw_newton *nw, const sw_model *m, sw_data *d, double *x, con
      * never counted above the step itself (CVODE's test, Hindmarsh et al. 2005) */
     double rate = prev > 0.0 ? step / prev : 1.0;
     double left = rate < 0.5 ? step * rate / (1.0 - rate) : step;
-    if (left <= o->tol_dx || dxmax <= xfloor || stalled) {
+    if ((left <= o->tol_dx || dxmax <= xfloor || stalled) && contact_settled(nw, m, d, x, o->t)) {
       add_step(m, x, nw->dx, 1.0, x);
       return SW_OK;
     }
@@ -370,8 +423,8 @@ int sw_newton_solve(sw_newton *nw, const sw_model *m, sw_data *d, double *x, con
         continue;
       }
       if (rc) return rc;
-    } else {
-      add_step(m, x, nw->dx, 1.0, x);
+    } else { /* a full step, as far as the obstacles let it go */
+      add_step(m, x, nw->dx, step_bound(nw, m, d, x, o->t), x);
     }
     nw->theta = prev > 0.0 ? rate : 0.0;
     prev = step;

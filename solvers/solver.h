@@ -118,6 +118,7 @@ typedef struct sw_newton {
   double theta;          /* the last observed contraction |dx_k| / |dx_k-1| */
   double *wdof;          /* (n) each free DOF's share of the free mass, m_i / sum m_i */
   int iter;              /* the current iteration of the solve */
+  double *vfrac;         /* (nv) with obstacles: each vertex's allowed fraction of a step */
 } sw_newton;
 
 typedef struct sw_newton_opts {
@@ -135,6 +136,7 @@ typedef struct sw_newton_opts {
                             same a and cd) */
   double cd;             /* damping: v = cd (x - xd) at the stage, 1/s (0: no damping term) */
   const double *xd;      /* (nv x dim) */
+  double h;              /* s: the time step (contact friction's lag; 0 in a static solve) */
 } sw_newton_opts;
 
 /* hessian: abs filters by absolute value for this many iterations of a step, then clamps: far

@@ -260,6 +260,16 @@ awk -v y="$y5" 'BEGIN { e = (-y - 6.13125e-7) / 6.13125e-7; exit !(e < 1e-6 && e
 grep -q '"status": "ok"' "$tmp/garment/summary.json" || fail "garment: status not ok"
 grep -q '"retries": 0,' "$tmp/garment/summary.json" || fail "garment: a step was retried"
 
+# Contact scenes: the skirt falls onto the body and the cloth onto the sphere, without a step
+# halved; contact.csv logs contacts (some) and the smallest distance (always positive).
+for sc in skirt_body:0.6 drape_sphere:0.4; do
+  IFS=: read -r name dur <<<"$sc"
+  "$sinew" run "scenes/$name.yaml" --duration "$dur" --max-halvings 0 --no-frames \
+    --out "$tmp/$name" --quiet 2>"$tmp/err" || fail "$name to $dur s: $(cat "$tmp/err")"
+  awk -F, 'NR > 1 { n += $2; if (!($3 > 0)) bad = 1 } END { exit !(n > 0 && !bad) }' \
+    "$tmp/$name/contact.csv" || fail "$name: contact.csv has no contact or a distance <= 0"
+done
+
 # --newton-norm: the two norms, and a bad one refused
 for n in rms max; do
   "$sinew" run scenes/hanging_cloth.yaml --newton-norm $n --duration 0.02 --no-frames \

@@ -8,6 +8,7 @@
  * Units are SI: m, s, kg, N. */
 #include "scene.h"
 #include "scene_material.h"
+#include "contact.h"
 
 #include "util.h"
 
@@ -198,9 +199,9 @@ static const char *const top_keys[] = {"name",     "dimension", "mesh",     "mat
                                        "gravity",  "pins",      "initial_velocity",
                                        "integrator", "duration", "output",  "tension_xy",
                                        "panels",   "damping",   "tendons",  "loads",
-                                       "masses",   "perturb"};
+                                       "masses",   "perturb",   "obstacles", "contact"};
 enum { K_NAME, K_DIM, K_MESH, K_MAT, K_GRAV, K_PINS, K_IV, K_INT, K_DUR, K_OUT, K_TXY, K_PANELS,
-       K_DAMP, K_TENDONS, K_LOADS, K_MASSES, K_PERTURB, K_N };
+       K_DAMP, K_TENDONS, K_LOADS, K_MASSES, K_PERTURB, K_OBST, K_CONTACT, K_N };
 
 static int load_name_dim(const ctx *c, const ynode **v) {
   sw_model *m = c->m;
@@ -540,6 +541,8 @@ static int load_scene(ctx *c) {
   if (v[K_LOADS] && load_loads(c, v[K_LOADS])) return -1;
   if (v[K_MASSES] && load_masses(c, v[K_MASSES])) return -1;
   if (v[K_PERTURB] && load_perturb(c, v[K_PERTURB])) return -1;
+  if (v[K_OBST] && sc_load_obstacles(c, v[K_OBST])) return -1;
+  if (sc_load_contact(c, v[K_CONTACT], v[K_OBST] != NULL)) return -1;
   return load_options(c, v);
 }
 
@@ -591,9 +594,13 @@ sw_model *sw_scene_parse_ex(const char *name, const char *buf, size_t len,
   int rc = c.m ? load_scene(&c) : sy_oom(&c, root);
   if (!rc && by_index && ov && ov->grid[0] > 0) grid_warning(&c, by_index);
   int at[2] = {0, 0}; /* line and column of the mesh, for the model's own checks */
-  for (int k = 0; root->kind == Y_MAP && k + 1 < root->n; k += 2)
-    if (root->kid[k]->kind == Y_SCALAR && !strcmp(root->kid[k]->text, "mesh"))
-      at[0] = root->kid[k + 1]->line, at[1] = root->kid[k + 1]->col;
+  int ob[2] = {0, 0}; /* and of the obstacles */
+  for (int k = 0; root->kind == Y_MAP && k + 1 < root->n; k += 2) {
+    if (root->kid[k]->kind != Y_SCALAR) continue;
+    int *p = !strcmp(root->kid[k]->text, "mesh") ? at
+             : !strcmp(root->kid[k]->text, "obstacles") ? ob : NULL;
+    if (p) p[0] = root->kid[k + 1]->line, p[1] = root->kid[k + 1]->col;
+  }
   sw_free(c.sel);
   sy_free(root);
   if (!rc && ov && ov->stiffness_scale > 0.0) sc_scale_stiffness(c.m, ov->stiffness_scale);
@@ -605,6 +612,12 @@ sw_model *sw_scene_parse_ex(const char *name, const char *buf, size_t len,
   if (sw_model_finish(c.m, e, sizeof e)) { /* e.g. a face of zero rest area: at the mesh */
     if (at[0] > 0) sw_errf(err, errsz, "%s:%d:%d: mesh: %s", name, at[0], at[1], e);
     else sw_errf(err, errsz, "%s: %s", name, e);
+    sw_model_free(c.m);
+    return NULL;
+  }
+  if (c.m->nobstacle > 0 && sw_contact_outside(c.m, c.m->x0, 0.0, e, sizeof e)) {
+    sw_errf(err, errsz, "%s:%d:%d: obstacles: %s; expected every free vertex to start outside "
+            "every obstacle's contact surface", name, ob[0], ob[1], e);
     sw_model_free(c.m);
     return NULL;
   }

@@ -15,6 +15,10 @@ int sc_load_panels(const ctx *c, const ynode *y, const sw_mesh *me, const char *
 int sc_load_damping(const ctx *c, const ynode *y);
 /* `tendons` after the geometry is filled (x0 gives relative rest lengths). */
 int sc_load_tendons(const ctx *c, const ynode *y);
+/* `obstacles` (scene_contact.c). */
+int sc_load_obstacles(const ctx *c, const ynode *y);
+/* `contact` (y NULL: the defaults), which needs obstacles. */
+int sc_load_contact(const ctx *c, const ynode *y, int has_obstacles);
 /* Multiply every elastic stiffness of a loaded model (before sw_model_finish) by s > 0 and
  * record s in m->stiffness_scale (sw_scene_overrides in sinew.h says which). */
 void sc_scale_stiffness(sw_model *m, double s);

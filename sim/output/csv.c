@@ -3,6 +3,8 @@
  *   energy.csv   time, kinetic and per-term energies, step size and per-step solver counts;
  *                damping power and dissipated energy; actuation power and work in
  *   tendons.csv  a scene with tendons only: per tendon time, name, length, delta, tension
+ *   contact.csv  a scene with obstacles only: time, contacts, smallest distance, total contact
+ *                and friction force
  * Each is a log (file.c): NAME.part until the run closes, a line in one write(2).  Numbers are
  * the shortest that read back exactly; "nan", "inf", "-inf" as such. */
 #include <math.h>
@@ -165,6 +167,11 @@ static int tension_write(void *self, sw_output *out, const sw_model *m, const sw
 
 /* -------------------------------------------------------------- energy.csv */
 
+/* Whether energy.csv logs dissipation: damping, or contact friction. */
+static int dissipates(const sw_model *m) {
+  return sw_damped(m) || (m->nobstacle > 0 && m->contact.friction > 0.0);
+}
+
 static void energy_header(csv_log *o, const sw_model *m) {
   size_t len = 0;
   line_str(o, &len, "time,kinetic");
@@ -174,7 +181,7 @@ static void energy_header(csv_log *o, const sw_model *m) {
   }
   line_str(o, &len, ",potential,total,dt,steps,newton_iterations,factorizations,"
                     "force_evaluations,error_test_failures,linesearch_backtracks,step_wall_s");
-  if (sw_damped(m)) line_str(o, &len, ",damping_power,dissipated");
+  if (dissipates(m)) line_str(o, &len, ",damping_power,dissipated");
   if (sw_actuated(m)) line_str(o, &len, ",actuation_power,work_in");
   line_end(o, len);
 }
@@ -204,7 +211,7 @@ static int energy_write(void *self, sw_output *out, const sw_model *m, const sw_
   const long now[6] = {d->nstep, d->nnewton, d->nfactor, d->nforce, d->nerrfail, d->nlinesearch};
   for (int k = 0; k < 6; k++) line_long(o, &len, now[k] - o->prev[k]);
   line_num(o, &len, d->time_step - o->prev_time_step);
-  if (sw_damped(m)) {
+  if (dissipates(m)) {
     line_num(o, &len, d->damp_power); /* W */
     line_num(o, &len, d->dissipated); /* J */
   }
@@ -250,7 +257,39 @@ static int tendons_write(void *self, sw_output *out, const sw_model *m, const sw
   return put_line(o, out, err, errsz);
 }
 
-/* ---------------------------------------------------- operations of all three */
+/* ------------------------------------------------------------- contact.csv */
+
+static int contact_wanted(const sw_model *m) { return m->nobstacle > 0; }
+
+static int contact_open(void *self, sw_output *out, const sw_model *m, char *err,
+                        size_t errsz) {
+  (void)m;
+  static const char head[] = "time,contacts,min_distance,force_x,force_y,force_z,force,"
+                             "friction_x,friction_y,friction_z,friction\n";
+  csv_log *o = self;
+  return out_log_open(&o->log, "contact.csv", out, head, strlen(head), err, errsz);
+}
+
+/* Time (s), vertex-obstacle pairs closer than dhat, the smallest distance (m), the total force
+ * of the obstacles on the cloth and of friction, each with its magnitude (N). */
+static int contact_write(void *self, sw_output *out, const sw_model *m, const sw_data *d,
+                         char *err, size_t errsz) {
+  (void)m;
+  csv_log *o = self;
+  size_t len = 0;
+  line_num(o, &len, d->t);
+  line_long(o, &len, d->contact_count);
+  line_num(o, &len, d->contact_min);
+  const double *f[2] = {d->contact_force, d->friction_force};
+  for (int k = 0; k < 2; k++) {
+    for (int a = 0; a < 3; a++) line_num(o, &len, f[k][a]);
+    line_num(o, &len, sqrt(f[k][0] * f[k][0] + f[k][1] * f[k][1] + f[k][2] * f[k][2]));
+  }
+  line_end(o, len);
+  return put_line(o, out, err, errsz);
+}
+
+/* ---------------------------------------------------- operations of all four */
 
 static int csv_init(void *self, const sw_model *m) {
   csv_log *o = self;
@@ -277,7 +316,7 @@ static void csv_io(void *self, sw_io *io) {
   sw_io_bytes(io, &o->prev_time_step, sizeof o->prev_time_step);
 }
 
-/* The three logs differ in name, open and write only. */
+/* The four logs differ in name, open and write only. */
 #define CSV_OPS(NAME)                                                                         \
   .name = #NAME ".csv",                                                                      \
   .event = SW_OUT_STEP, .size = sizeof(csv_log), .init = csv_init, .open = NAME##_open,      \
@@ -287,3 +326,4 @@ static void csv_io(void *self, sw_io *io) {
 const sw_out_ops sw_out_tension = {CSV_OPS(tension)};
 const sw_out_ops sw_out_energy = {CSV_OPS(energy)};
 const sw_out_ops sw_out_tendons = {CSV_OPS(tendons), .wanted = tendons_wanted};
+const sw_out_ops sw_out_contact = {CSV_OPS(contact), .wanted = contact_wanted};

@@ -109,6 +109,7 @@ static void summary_counters(out_file *w, const sw_model *m, const sw_data *d, d
   w_json_num(w, "time_assemble_s", d->time_assemble);
   w_json_num(w, "time_factor_s", d->time_factor);
   w_json_num(w, "time_solve_s", d->time_solve);
+  if (m->nobstacle > 0) w_json_num(w, "time_contact_s", d->time_contact);
   w_json_num(w, "time_step_s", d->time_step);
   w_json_long(w, "factor_nnz", d->factor_nnz);
   w_json_num(w, "wall_time_s", wall);

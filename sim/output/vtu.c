@@ -238,6 +238,8 @@ static void cloth_cell_data(vtu *v, const sw_model *m, const sw_data *d) {
   vx_array(x, "        ", VX_F64, "stretch_u", 1, d->stretch_u, nf);
   vx_array(x, "        ", VX_F64, "stretch_v", 1, d->stretch_v, nf);
   vx_array(x, "        ", VX_F64, "shear", 1, d->shear, nf); /* rad */
+  if (d->contact_pressure) /* N/m^2 */
+    vx_array(x, "        ", VX_F64, "contact_pressure", 1, d->contact_pressure, nf);
   vx_array(x, "        ", VX_I32, "panel", 1, v->panel, nf);
   if (v->uv_corner) vx_array(x, "        ", VX_F64, "uv_corners", 6, v->uv_corner, nf); /* m */
   vx_puts(x, "      </CellData>\n");

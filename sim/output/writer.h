@@ -83,7 +83,8 @@ struct sw_output {
 };
 
 /* The formats (one file each). */
-extern const sw_out_ops sw_out_tension, sw_out_energy, sw_out_tendons; /* csv.c */
+extern const sw_out_ops sw_out_tension, sw_out_energy, sw_out_tendons,
+    sw_out_contact; /* csv.c */
 extern const sw_out_ops sw_out_positions;                              /* positions.c */
 extern const sw_out_ops sw_out_vtu;                                    /* vtu.c */
 extern const sw_out_ops sw_out_summary;                                /* summary.c */

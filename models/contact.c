@@ -1,0 +1,369 @@
+/* contact.c — the term "contact": every free vertex kept outside every obstacle by a log
+ * barrier on its distance, with optional smoothed Coulomb friction, after Li et al.,
+ * "Incremental Potential Contact: Intersection- and Inversion-free, Large-Deformation
+ * Dynamics", SIGGRAPH 2020 (barrier: eq. 6; friction: section 5).
+ *
+ *   E = kappa sum_i sum_o m_i b(d_io) + sum_i sum_o mu lambda_io f0(|u_io|)
+ *
+ * d_io is vertex i's signed distance to obstacle o's contact surface (models/obstacle.c),
+ * b(d) = -(d - dhat)^2 ln(d / dhat) below dhat and 0 beyond, weighted by the vertex's mass so
+ * that kappa |b'(d)| is the acceleration the obstacle gives it (the term does not depend on
+ * the mesh's resolution).  Friction is lagged per step: lambda_io = kappa m_i |b'(d_io)| and
+ * the normal n_io at the start of the step, u_io the tangential part of the vertex's
+ * displacement over the step relative to the obstacle, f0 IPC's C1 smoothing of |u| below
+ * eps_v h.  The solvers keep every distance positive: Newton's line search is limited by
+ * sw_contact_toi, and every step starts from sw_contact_begin's guess. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "contact.h"
+#include "terms.h"
+#include "util.h"
+
+double sw_contact_barrier(double d, double dhat, double *db, double *d2b) {
+  if (d >= dhat) return *db = *d2b = 0.0, 0.0;
+  if (d <= 0.0) return *db = -INFINITY, *d2b = INFINITY, INFINITY;
+  double r = d - dhat, l = log(d / dhat);
+  *db = -2.0 * r * l - r * r / d;                       /* m */
+  *d2b = -2.0 * l - 4.0 * r / d + r * r / (d * d);      /* 1 */
+  return -r * r * l;                                    /* m^2 */
+}
+
+double sw_contact_auto_kappa(const sw_model *m) {
+  double g = 0.0, db, d2b;
+  for (int a = 0; a < m->dim; a++) g += m->gravity[a] * m->gravity[a];
+  g = m->has_gravity && g > 0.0 ? sqrt(g) : 9.81; /* m/s^2 */
+  sw_contact_barrier(0.5 * m->contact.dhat, m->contact.dhat, &db, &d2b);
+  return g / fabs(db); /* 1/s^2 */
+}
+
+/* --------------------------------------------------------------- the lag */
+
+typedef struct lag_store {
+  sw_contact_lag pub;
+  double *x0;      /* (nv x dim) the step's start */
+  double *vforce;  /* (nv) |contact force| on each vertex at the last diagnostics, N */
+  double *varea;   /* (nv) each vertex's share of the rest area, m^2 */
+} lag_store;
+
+sw_contact_lag *sw_contact_lag_new(const sw_model *m) {
+  if (m->nobstacle == 0) return NULL;
+  lag_store *s = sw_calloc(1, sizeof *s);
+  if (!s) return NULL;
+  size_t nv = (size_t)m->nv, no = (size_t)m->nobstacle;
+  s->x0 = sw_calloc(nv * (size_t)m->dim, sizeof(double));
+  s->vforce = sw_calloc(nv, sizeof(double));
+  s->varea = sw_calloc(nv, sizeof(double));
+  s->pub.lambda = sw_calloc(nv * no, sizeof(double));
+  s->pub.normal = sw_calloc(nv * no * 3, sizeof(double));
+  if (!s->x0 || !s->vforce || !s->varea || !s->pub.lambda || !s->pub.normal) {
+    sw_contact_lag_free(&s->pub);
+    return NULL;
+  }
+  s->pub.x0 = s->x0;
+  for (int f = 0; f < m->nf; f++)
+    for (int c = 0; c < 3; c++) s->varea[m->face[3 * f + c]] += m->area[f] / 3.0; /* m^2 */
+  return &s->pub;
+}
+
+void sw_contact_lag_free(sw_contact_lag *lag) {
+  lag_store *s = (lag_store *)lag;
+  if (!s) return;
+  sw_free(s->x0);
+  sw_free(s->vforce);
+  sw_free(s->varea);
+  sw_free(s->pub.lambda);
+  sw_free(s->pub.normal);
+  sw_free(s);
+}
+
+/* ------------------------------------------------------------- friction */
+
+/* Vertex i's tangential displacement u over the step relative to obstacle o (lagged normal
+ * n0), at x and time t; returns |u|. */
+static double slip(const sw_model *m, const sw_contact_lag *lag, int i, int o, const double *x,
+                   double t, double *u) {
+  const int dim = m->dim;
+  const double *n0 = lag->normal + 3 * ((size_t)i * m->nobstacle + o);
+  double d1[3], d0[3], dn = 0.0, y = 0.0;
+  sw_obstacle_disp(&m->obstacle[o], t, d1);
+  sw_obstacle_disp(&m->obstacle[o], lag->t0, d0);
+  for (int a = 0; a < dim; a++) {
+    u[a] = x[i * dim + a] - lag->x0[i * dim + a] - (d1[a] - d0[a]);
+    dn += u[a] * n0[a];
+  }
+  for (int a = 0; a < dim; a++) {
+    u[a] -= dn * n0[a];
+    y += u[a] * u[a];
+  }
+  return sqrt(y);
+}
+
+/* IPC's smoothed friction of slip y (m) for eps = eps_v h: f0 (m) and f1(y)/y (1/m). */
+static double friction_f0(double y, double eps, double *f1_over_y) {
+  if (y >= eps) return *f1_over_y = 1.0 / y, y;
+  *f1_over_y = 2.0 / eps - y / (eps * eps);
+  return -y * y * y / (3.0 * eps * eps) + y * y / eps + eps / 3.0;
+}
+
+/* Friction of vertex i against obstacle o: energy (J), gradient and Hessian block (dim x dim,
+ * positive semi-definite as it is) added. */
+static double friction_add(const sw_model *m, const sw_contact_lag *lag, int i, int o,
+                           const double *x, double t, double *g, double *H) {
+  const int dim = m->dim;
+  double lam = lag->lambda[(size_t)i * m->nobstacle + o];
+  if (lam <= 0.0 || m->contact.friction <= 0.0) return 0.0;
+  const double *n0 = lag->normal + 3 * ((size_t)i * m->nobstacle + o);
+  double u[3], q, eps = m->contact.eps_v * lag->h;
+  double y = slip(m, lag, i, o, x, t, u), mul = m->contact.friction * lam; /* N */
+  double e = mul * friction_f0(y, eps, &q);
+  for (int a = 0; a < dim; a++) g[a] += mul * q * u[a];
+  if (!H) return e;
+  /* d2/dx2 of f0(|P dx|): q P + c u u^T / y^2, c = -y / eps^2 below eps, -1/y above */
+  double c = y <= 0.0 ? 0.0 : (y >= eps ? -1.0 / y : -y / (eps * eps)) / (y * y);
+  for (int a = 0; a < dim; a++)
+    for (int b = 0; b < dim; b++)
+      H[a * dim + b] += mul * (q * ((a == b) - n0[a] * n0[b]) + c * u[a] * u[b]);
+  return e;
+}
+
+/* ------------------------------------------------------------------ term */
+
+/* The barrier of vertex i against obstacle o: energy added (J), gradient and Hessian block;
+ * SW_RECOVER (with why) when the vertex is not outside. */
+static int barrier_add(const sw_model *m, const sw_eval *ev, int i, int o, double *e,
+                       double *g, double *H) {
+  const int dim = m->dim;
+  double n[3], Hp[9], db, d2b;
+  double d = sw_obstacle_sdf(&m->obstacle[o], dim, ev->t, ev->x + (size_t)i * dim, n, Hp);
+  if (!(d > 0.0)) {
+    sw_eval_why(ev, "vertex %d is not outside obstacle %d (distance %g m)", i, o, d);
+    return SW_RECOVER;
+  }
+  if (d >= m->contact.dhat) return SW_OK;
+  double w = m->contact.kappa * m->mass[i]; /* kg/s^2 */
+  *e += w * sw_contact_barrier(d, m->contact.dhat, &db, &d2b);
+  for (int a = 0; a < dim; a++) g[a] += w * db * n[a];
+  if (!H) return SW_OK;
+  double B[9];
+  for (int a = 0; a < dim; a++)
+    for (int b = 0; b < dim; b++) B[a * dim + b] = w * (d2b * n[a] * n[b] + db * Hp[a * dim + b]);
+  /* b' < 0: the shape's curvature makes the block indefinite along the surface.  Clamped even
+   * when the other terms take absolute values: |b'| / R grows without bound as the vertex
+   * presses closer, and its absolute value stiffens the tangential directions by twice the
+   * exact amount, which made Newton converge linearly on a cloth pressed onto a sphere. */
+  sw_psd_project(B, dim, ev->project == SW_FILTER_ABS ? SW_FILTER_CLAMP : ev->project);
+  for (int k = 0; k < dim * dim; k++) H[k] += B[k];
+  return SW_OK;
+}
+
+static int contact_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, double *energy) {
+  const int dim = m->dim;
+  const sw_contact_lag *lag = ev->lag;
+  double e = 0.0;
+  for (int s = 0; s < t->nstencil; s++) {
+    int i = t->sidx[s];
+    double g[3] = {0.0, 0.0, 0.0}, *H = ev->hess ? ev->hess + t->hptr[s] : NULL;
+    for (int o = 0; o < m->nobstacle; o++) {
+      int rc = barrier_add(m, ev, i, o, &e, g, H);
+      if (rc) return rc;
+      if (lag) e += friction_add(m, lag, i, o, ev->x, ev->t, g, H);
+    }
+    if (ev->grad)
+      for (int a = 0; a < dim; a++) ev->grad[i * dim + a] += g[a];
+  }
+  *energy = e;
+  return SW_OK;
+}
+
+static const sw_term_ops contact_ops = {.kind = "contact", .eval = contact_eval};
+
+int sw_contact_build(sw_term *t, const sw_model *m, char *err, size_t errsz) {
+  t->ops = &contact_ops;
+  snprintf(t->name, sizeof t->name, "%s", "contact");
+  int nfree = 0;
+  for (int i = 0; i < m->nv; i++) nfree += !m->pinned[i];
+  if (sw_term_alloc_stencils(t, nfree, 1, m->dim)) {
+    sw_errf(err, errsz, "out of memory for the contact term (%d vertices)", nfree);
+    return -1;
+  }
+  for (int i = 0, s = 0; i < m->nv; i++)
+    if (!m->pinned[i]) t->sidx[s++] = i;
+  return 0;
+}
+
+/* ------------------------------------------------------------ the solvers' side */
+
+int sw_contact_outside(const sw_model *m, const double *x, double t, char *err, size_t errsz) {
+  for (int i = 0; i < m->nv; i++)
+    for (int o = 0; !m->pinned[i] && o < m->nobstacle; o++) {
+      double d = sw_obstacle_sdf(&m->obstacle[o], m->dim, t, x + (size_t)i * m->dim, NULL, NULL);
+      if (!(d > 0.0)) {
+        sw_errf(err, errsz, "vertex %d is not outside obstacles[%d] at t = %g s (signed "
+                "distance %g m to its contact surface)", i, o, t, d);
+        return -1;
+      }
+    }
+  return 0;
+}
+
+/* The fraction of vertex i's straight motion x0 -> x1 that keeps it outside every obstacle. */
+static double vertex_toi(const sw_model *m, const double *x0, const double *x1, int i, double t) {
+  const int dim = m->dim;
+  const double *p0 = x0 + (size_t)i * dim, *p1 = x1 + (size_t)i * dim;
+  double len = 0.0, toi = 1.0;
+  for (int a = 0; a < dim; a++) len += (p1[a] - p0[a]) * (p1[a] - p0[a]);
+  len = sqrt(len);
+  if (len == 0.0 || m->pinned[i]) return 1.0;
+  for (int o = 0; o < m->nobstacle; o++) {
+    double d0 = sw_obstacle_sdf(&m->obstacle[o], dim, t, p0, NULL, NULL);
+    if (d0 - len > SW_CONTACT_KEEP * d0) continue; /* cannot get close enough to matter */
+    toi = fmin(toi, sw_obstacle_toi(&m->obstacle[o], dim, t, p0, p1, SW_CONTACT_KEEP));
+  }
+  return toi;
+}
+
+double sw_contact_toi(const sw_model *m, const double *x0, const double *x1, double t) {
+  double toi = 1.0;
+  for (int i = 0; i < m->nv; i++) toi = fmin(toi, vertex_toi(m, x0, x1, i, t));
+  return toi;
+}
+
+void sw_contact_clip(const sw_model *m, const double *x0, const double *x1, double t,
+                     double *frac) {
+  for (int i = 0; i < m->nv; i++) frac[i] = vertex_toi(m, x0, x1, i, t);
+}
+
+int sw_contact_settled(const sw_model *m, const double *x0, const double *x1, double t) {
+  const int dim = m->dim;
+  for (int i = 0; i < m->nv; i++) {
+    if (m->pinned[i]) continue;
+    const double *p0 = x0 + (size_t)i * dim, *p1 = x1 + (size_t)i * dim;
+    double len = 0.0;
+    for (int a = 0; a < dim; a++) len += (p1[a] - p0[a]) * (p1[a] - p0[a]);
+    len = sqrt(len); /* m */
+    for (int o = 0; len > 0.0 && o < m->nobstacle; o++) {
+      double d0 = sw_obstacle_sdf(&m->obstacle[o], dim, t, p0, NULL, NULL);
+      if (len > (d0 < m->contact.dhat ? SW_CONTACT_KEEP : 1.0 - SW_CONTACT_KEEP) * d0) return 0;
+    }
+  }
+  return 1;
+}
+
+/* Lag the friction at (d->x, d->t) for a step of size h. */
+static void lag_friction(const sw_model *m, sw_data *d, double h) {
+  sw_contact_lag *lag = d->lag;
+  const int dim = m->dim, no = m->nobstacle;
+  lag->h = h;
+  lag->t0 = d->t;
+  memcpy(((lag_store *)lag)->x0, d->x, (size_t)m->nv * dim * sizeof(double));
+  for (int i = 0; i < m->nv; i++)
+    for (int o = 0; o < no; o++) {
+      double n[3] = {0.0, 0.0, 0.0}, db, d2b;
+      double dist = sw_obstacle_sdf(&m->obstacle[o], dim, d->t, d->x + (size_t)i * dim, n, NULL);
+      sw_contact_barrier(dist, m->contact.dhat, &db, &d2b);
+      lag->lambda[(size_t)i * no + o] =
+          m->pinned[i] || !isfinite(db) ? 0.0 : m->contact.kappa * m->mass[i] * fabs(db); /* N */
+      memcpy(lag->normal + 3 * ((size_t)i * no + o), n, sizeof n);
+    }
+}
+
+/* Vertex i of x at t0 carried by every moving obstacle it is near (within dhat plus that
+ * obstacle's motion from t0 to t1) into z. */
+static void carry(const sw_model *m, const double *x, int i, double t0, double t1, double *z) {
+  const int dim = m->dim;
+  memcpy(z, x + (size_t)i * dim, (size_t)dim * sizeof(double));
+  for (int o = 0; o < m->nobstacle; o++) {
+    const sw_obstacle *ob = &m->obstacle[o];
+    if (ob->nkey < 2) continue;
+    double d0[3], d1[3], move = 0.0;
+    sw_obstacle_disp(ob, t0, d0);
+    sw_obstacle_disp(ob, t1, d1);
+    for (int a = 0; a < dim; a++) move += (d1[a] - d0[a]) * (d1[a] - d0[a]);
+    move = sqrt(move); /* m */
+    if (move == 0.0) continue;
+    if (sw_obstacle_sdf(ob, dim, t0, x + (size_t)i * dim, NULL, NULL) < m->contact.dhat + move)
+      for (int a = 0; a < dim; a++) z[a] += d1[a] - d0[a];
+  }
+}
+
+/* The guess yi (dim) moved out to dhat / 2 from every obstacle it is inside of, along the
+ * normal there (the distances are exact: that lands on dhat / 2); 1 if it is then outside every
+ * obstacle. */
+static int lift(const sw_model *m, double t1, double *yi) {
+  const int dim = m->dim;
+  for (int o = 0; o < m->nobstacle; o++) {
+    double n[3], dist = sw_obstacle_sdf(&m->obstacle[o], dim, t1, yi, n, NULL);
+    if (!(dist > 0.0))
+      for (int a = 0; a < dim; a++) yi[a] += (0.5 * m->contact.dhat - dist) * n[a];
+  }
+  for (int o = 0; o < m->nobstacle; o++)
+    if (!(sw_obstacle_sdf(&m->obstacle[o], dim, t1, yi, NULL, NULL) > 0.0)) return 0;
+  return 1;
+}
+
+int sw_contact_begin(const sw_model *m, sw_data *d, double h, double t1, double *y) {
+  if (!d->lag) return SW_OK;
+  const int dim = m->dim;
+  lag_friction(m, d, h);
+  for (int i = 0; i < m->nv; i++) {
+    if (m->pinned[i]) continue;
+    double z[3], *yi = y + (size_t)i * dim, s = 1.0, guess[3];
+    carry(m, d->x, i, d->t, t1, z);
+    memcpy(guess, yi, (size_t)dim * sizeof(double));
+    if (lift(m, t1, yi)) continue;
+    for (int o = 0; o < m->nobstacle; o++) { /* between obstacles: the path's safe part */
+      double dist = sw_obstacle_sdf(&m->obstacle[o], dim, t1, z, NULL, NULL);
+      if (!(dist > 0.0)) {
+        sw_errf(d->err, sizeof d->err, "obstacles[%d] moves into vertex %d between t = %g s "
+                "and %g s", o, i, d->t, t1);
+        return SW_RECOVER;
+      }
+      s = fmin(s, sw_obstacle_toi(&m->obstacle[o], dim, t1, z, guess, SW_CONTACT_KEEP));
+    }
+    for (int a = 0; a < dim; a++) yi[a] = z[a] + s * (guess[a] - z[a]);
+  }
+  return SW_OK;
+}
+
+void sw_contact_state(const sw_model *m, sw_data *d) {
+  if (!d->lag) return;
+  lag_store *ls = (lag_store *)d->lag;
+  const int dim = m->dim;
+  d->contact_count = 0;
+  d->contact_min = INFINITY;
+  memset(d->contact_force, 0, sizeof d->contact_force);
+  memset(d->friction_force, 0, sizeof d->friction_force);
+  d->friction_power = 0.0;
+  for (int i = 0; i < m->nv; i++) {
+    double fi[3] = {0.0, 0.0, 0.0};
+    for (int o = 0; !m->pinned[i] && o < m->nobstacle; o++) {
+      double n[3], db, d2b, ff[3] = {0.0, 0.0, 0.0};
+      double dist = sw_obstacle_sdf(&m->obstacle[o], dim, d->t, d->x + (size_t)i * dim, n, NULL);
+      d->contact_min = fmin(d->contact_min, dist);
+      if (dist < m->contact.dhat) d->contact_count++;
+      sw_contact_barrier(dist, m->contact.dhat, &db, &d2b);
+      for (int a = 0; isfinite(db) && a < dim; a++) fi[a] -= m->contact.kappa * m->mass[i] * db * n[a];
+      if (d->lag->h > 0.0) friction_add(m, d->lag, i, o, d->x, d->t, ff, NULL);
+      for (int a = 0; a < dim; a++) {
+        d->friction_force[a] -= ff[a];
+        d->friction_power += ff[a] * d->v[i * dim + a]; /* W dissipated: -f.v */
+      }
+    }
+    double mag = 0.0;
+    for (int a = 0; a < dim; a++) {
+      d->contact_force[a] += fi[a];
+      mag += fi[a] * fi[a];
+    }
+    ls->vforce[i] = sqrt(mag); /* N */
+  }
+  for (int f = 0; d->contact_pressure && f < m->nf; f++) {
+    double p = 0.0;
+    for (int c = 0; c < 3; c++) {
+      int i = m->face[3 * f + c];
+      p += ls->varea[i] > 0.0 ? ls->vforce[i] / ls->varea[i] / 3.0 : 0.0; /* N/m^2 */
+    }
+    d->contact_pressure[f] = p;
+  }
+}

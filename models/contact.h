@@ -1,0 +1,70 @@
+/* contact.h — obstacles and the contact term (models/obstacle.c, models/contact.c): what the
+ * solvers need to keep every vertex outside every obstacle (docs/contact.md). */
+#ifndef SW_CONTACT_H
+#define SW_CONTACT_H
+
+#include "sinew.h"
+
+#define SW_OBSTACLE_MAXKEY 4096 /* motion keyframes per obstacle at most (scene loader) */
+#define SW_MAX_OBSTACLES 64     /* obstacles per scene at most (scene loader) */
+#define SW_TOI_MAX_ITERS 64     /* conservative advancement steps before giving up (safe) */
+#define SW_CONTACT_KEEP 0.1     /* a step may close at most 90 % of a vertex's distance */
+#define SW_CONTACT_DHAT 1e-3    /* default barrier distance, m */
+#define SW_CONTACT_EPS_V 1e-3   /* default stick-slip velocity of friction, m/s */
+
+/* The displacement of obstacle o at time t (its motion keyframes), m. */
+void sw_obstacle_disp(const sw_obstacle *o, double t, double disp[3]);
+/* Signed distance (m) from p (dim components) to o's contact surface at time t, negative
+ * inside; its gradient (the outward unit normal, dim) into n and Hessian (dim x dim) into H,
+ * each when not NULL. */
+double sw_obstacle_sdf(const sw_obstacle *o, int dim, double t, const double *p, double *n,
+                       double *H);
+/* The fraction s in [0, 1] of the straight motion p0 -> p1 (o fixed at time t) over which the
+ * point stays at least keep x its distance at p0 from o (1: the whole motion); 0 if p0 is not
+ * outside. */
+double sw_obstacle_toi(const sw_obstacle *o, int dim, double t, const double *p0,
+                       const double *p1, double keep);
+
+/* IPC's barrier b(d) = -(d - dhat)^2 ln(d / dhat) on 0 < d < dhat (0 beyond; +inf at d <= 0)
+ * and its first and second derivatives (m, 1), as functions of the distance d (m). */
+double sw_contact_barrier(double d, double dhat, double *db, double *d2b);
+
+/* models/contact.c: the term "contact", one 1-vertex stencil per free vertex. */
+int sw_contact_build(sw_term *t, const sw_model *m, char *err, size_t errsz);
+/* The automatic barrier stiffness: a vertex resting under gravity sits at dhat / 2. */
+double sw_contact_auto_kappa(const sw_model *m);
+/* Nonzero with err naming the vertex and obstacle when a free vertex of x is not outside an
+ * obstacle at time t. */
+int sw_contact_outside(const sw_model *m, const double *x, double t, char *err, size_t errsz);
+/* The largest fraction of the straight motion x0 -> x1 (nv x dim each) that keeps every free
+ * vertex outside every obstacle at time t (at least SW_CONTACT_KEEP of its distance). */
+double sw_contact_toi(const sw_model *m, const double *x0, const double *x1, double t);
+/* Each vertex's own fraction of that motion (nv values in frac): the step a vertex may take
+ * alone.  Only vertex-obstacle contacts exist, so scaling each vertex's motion by its fraction
+ * keeps every vertex outside. */
+void sw_contact_clip(const sw_model *m, const double *x0, const double *x1, double t,
+                     double *frac);
+/* Whether the update x0 -> x1 is small next to every contact: a vertex within dhat of an
+ * obstacle moves by at most SW_CONTACT_KEEP of its distance, any other by at most
+ * 1 - SW_CONTACT_KEEP of it (so it stays outside).  Newton on a log barrier at most doubles a
+ * distance per iteration, so an update that is small in metres may still be far from
+ * converged in a contact a few micrometres thick: Newton converges only when this holds.
+ * (A test on the change of the distance alone, which lets a vertex slide along the surface,
+ * took 1214 Newton iterations on scenes/drape_sphere.yaml against 810.) */
+int sw_contact_settled(const sw_model *m, const double *x0, const double *x1, double t);
+/* Start a step from (d->x, d->t) to stage time t1 of size h: lag the friction (normal forces
+ * and normals at d->x), and move the guess y (nv x dim) so that it is outside every obstacle
+ * at t1: a guess inside an obstacle is moved out along the normal to dhat / 2, where the
+ * automatic stiffness rests a vertex under its weight; when that is not outside
+ * every obstacle (between two), the guess is the farthest point of the vertex's path to it
+ * that the obstacles allow, from where it was (carried along by an obstacle moving near it).
+ * SW_RECOVER when an obstacle would move into a vertex within the step. */
+int sw_contact_begin(const sw_model *m, sw_data *d, double h, double t1, double *y);
+/* The contact diagnostics of d (sinew.h: contact_count, contact_min, contact_force,
+ * friction_force, contact_pressure) at d->x, d->t. */
+void sw_contact_state(const sw_model *m, sw_data *d);
+/* The lag's buffers (NULL: the model has no obstacles), and their release. */
+sw_contact_lag *sw_contact_lag_new(const sw_model *m);
+void sw_contact_lag_free(sw_contact_lag *lag);
+
+#endif

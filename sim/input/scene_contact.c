@@ -1,0 +1,192 @@
+/* scene_contact.c — the scene keys `obstacles` and `contact` (docs/contact.md):
+ *   obstacles:
+ *     - {shape: plane, point: [x, y, z], normal: [nx, ny, nz]}
+ *     - {shape: sphere, center: [...], radius: r}
+ *     - {shape: capsule, ends: [[...], [...]], radius: r}
+ *     - {shape: box, center: [...], size: [lx, ly, lz]}     (axis-aligned)
+ *   each with offset: m (>= 0) and motion: {keyframes: [[t, dx, dy(, dz)], ...],
+ *   interpolation: smooth | linear} (a translation, m, from the stated place);
+ *   contact: {distance: m, stiffness: 1/s^2, friction: mu, stick_velocity: m/s}. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "contact.h"
+#include "scene_material.h"
+#include "util.h"
+
+static const char *const obst_keys[] = {"shape", "point", "normal", "center", "radius",
+                                        "ends",  "size",  "offset", "motion"};
+enum { O_SHAPE, O_POINT, O_NORMAL, O_CENTER, O_RADIUS, O_ENDS, O_SIZE, O_OFFSET, O_MOTION, O_N };
+
+/* The keys each shape needs (and the only shape keys it takes), SW_SHAPE_* order. */
+static const int shape_keys[SW_SHAPE_N][3] = {
+    {O_POINT, O_NORMAL, -1}, {O_CENTER, O_RADIUS, -1}, {O_ENDS, O_RADIUS, -1},
+    {O_CENTER, O_SIZE, -1}};
+static const char *const shape_hint[SW_SHAPE_N] = {
+    "point: [...] and normal: [...]", "center: [...] and radius: m", "ends: [[...], [...]] and "
+    "radius: m", "center: [...] and size: [...] (full edge lengths, m)"};
+
+static int takes(int shape, int key) {
+  for (int k = 0; k < 3 && shape_keys[shape][k] >= 0; k++)
+    if (shape_keys[shape][k] == key) return 1;
+  return 0;
+}
+
+/* Every key of the shape given, and no key of another shape. */
+static int check_shape_keys(const ctx *c, const ynode *y, const char *w, int shape,
+                            const ynode **v) {
+  for (int k = O_POINT; k <= O_SIZE; k++) {
+    if (takes(shape, k) && !v[k])
+      return sy_fail(c, y, "%s (a %s) has no '%s'; expected %s", w, sw_shape_names()[shape],
+                     obst_keys[k], shape_hint[shape]);
+    if (!takes(shape, k) && v[k])
+      return sy_fail(c, v[k], "%s (a %s) does not take '%s'; expected %s", w,
+                     sw_shape_names()[shape], obst_keys[k], shape_hint[shape]);
+  }
+  return 0;
+}
+
+/* A point of dim components (the rest of p stays 0). */
+static int point(const ctx *c, const ynode *y, const char *w, const char *key, double *p) {
+  char lab[128];
+  snprintf(lab, sizeof lab, "%s %s", w, key);
+  return sy_vec(c, y, lab, c->m->dim, -HUGE_VAL, 0, "m", p);
+}
+
+static int load_plane(const ctx *c, const ynode **v, const char *w, sw_obstacle *o) {
+  char lab[128];
+  if (point(c, v[O_POINT], w, "point", o->a)) return -1;
+  snprintf(lab, sizeof lab, "%s normal", w);
+  if (sy_vec(c, v[O_NORMAL], lab, c->m->dim, -HUGE_VAL, 0, "", o->b)) return -1;
+  double len = 0.0;
+  for (int a = 0; a < c->m->dim; a++) len += o->b[a] * o->b[a];
+  len = sqrt(len);
+  if (!(len > 0.0) || !isfinite(len))
+    return sy_fail(c, v[O_NORMAL], "%s is zero; expected a nonzero vector (it is normalised)",
+                   lab);
+  for (int a = 0; a < c->m->dim; a++) o->b[a] /= len;
+  return 0;
+}
+
+static int load_radius(const ctx *c, const ynode *y, const char *w, sw_obstacle *o) {
+  char lab[128];
+  snprintf(lab, sizeof lab, "%s radius", w);
+  return sy_num(c, y, lab, 0, 1, "m", &o->radius);
+}
+
+static int load_capsule(const ctx *c, const ynode **v, const char *w, sw_obstacle *o) {
+  char lab[128];
+  snprintf(lab, sizeof lab, "%s ends", w);
+  if (sy_seq(c, v[O_ENDS], lab, "two points [[x, y, z], [x, y, z]]")) return -1;
+  if (v[O_ENDS]->n != 2)
+    return sy_fail(c, v[O_ENDS], "%s has %d points; expected 2", lab, v[O_ENDS]->n);
+  if (point(c, v[O_ENDS]->kid[0], w, "ends[0]", o->a) ||
+      point(c, v[O_ENDS]->kid[1], w, "ends[1]", o->b))
+    return -1;
+  return load_radius(c, v[O_RADIUS], w, o);
+}
+
+static int load_box(const ctx *c, const ynode **v, const char *w, sw_obstacle *o) {
+  char lab[128];
+  if (point(c, v[O_CENTER], w, "center", o->a)) return -1;
+  snprintf(lab, sizeof lab, "%s size", w);
+  if (sy_vec(c, v[O_SIZE], lab, c->m->dim, 0, 1, "m", o->b)) return -1;
+  for (int a = 0; a < c->m->dim; a++) o->b[a] *= 0.5; /* half sizes, m */
+  return 0;
+}
+
+static const char *const motion_keys[] = {"keyframes", "interpolation"};
+static const char *const interps[] = {"linear", "smooth"}; /* SW_INTERP_* order */
+
+/* motion: {keyframes: [[t, dx, dy(, dz)], ...], interpolation: smooth | linear}. */
+static int load_motion(const ctx *c, const ynode *y, const char *w, sw_obstacle *o) {
+  char lab[160], kl[128];
+  const ynode *v[2];
+  const int dim = c->m->dim;
+  snprintf(lab, sizeof lab, "%s motion", w);
+  if (sy_map(c, y, lab, motion_keys, 2, v) ||
+      sy_need(c, y, v[0], lab, "keyframes", "keyframes: [[t, dx, dy(, dz)], ...] in s and m"))
+    return -1;
+  o->interp = SW_INTERP_SMOOTH;
+  snprintf(kl, sizeof kl, "%s motion interpolation", w);
+  if (v[1] && sy_choice(c, v[1], kl, interps, 2, &o->interp)) return -1;
+  snprintf(kl, sizeof kl, "%s motion keyframes", w);
+  const ynode *k = v[0];
+  if (sy_seq(c, k, kl, "a sequence of [t, dx, dy(, dz)]")) return -1;
+  if (k->n < 1 || k->n > SW_OBSTACLE_MAXKEY)
+    return sy_fail(c, k, "%s has %d keyframes; expected 1 to %d", kl, k->n, SW_OBSTACLE_MAXKEY);
+  o->key_t = sw_calloc((size_t)k->n, sizeof(double));
+  o->key_d = sw_calloc((size_t)k->n * 3, sizeof(double));
+  if (!o->key_t || !o->key_d) return sy_oom(c, k);
+  for (int j = 0; j < k->n; j++) {
+    double row[4];
+    snprintf(lab, sizeof lab, "%s[%d]", kl, j);
+    if (sy_vec(c, k->kid[j], lab, dim + 1, -HUGE_VAL, 0, "s, m", row)) return -1;
+    if (j > 0 && !(row[0] > o->key_t[j - 1]))
+      return sy_fail(c, k->kid[j], "%s has time %g s after %g s; expected increasing times",
+                     lab, row[0], o->key_t[j - 1]);
+    o->key_t[j] = row[0];                                   /* s */
+    for (int a = 0; a < dim; a++) o->key_d[3 * j + a] = row[1 + a]; /* m */
+  }
+  o->nkey = k->n;
+  return 0;
+}
+
+static int load_obstacle(const ctx *c, const ynode *y, int k, sw_obstacle *o) {
+  char w[64], lab[96];
+  const ynode *v[O_N];
+  snprintf(w, sizeof w, "obstacles[%d]", k);
+  if (sy_map(c, y, w, obst_keys, O_N, v) ||
+      sy_need(c, y, v[O_SHAPE], w, "shape", "shape: plane, sphere, capsule or box"))
+    return -1;
+  snprintf(lab, sizeof lab, "%s shape", w);
+  if (sy_choice(c, v[O_SHAPE], lab, sw_shape_names(), SW_SHAPE_N, &o->shape) ||
+      check_shape_keys(c, y, w, o->shape, v))
+    return -1;
+  static int (*const loaders[SW_SHAPE_N])(const ctx *, const ynode **, const char *,
+                                          sw_obstacle *) = {load_plane, NULL, load_capsule,
+                                                            load_box};
+  int rc = o->shape == SW_SHAPE_SPHERE
+               ? point(c, v[O_CENTER], w, "center", o->a) || load_radius(c, v[O_RADIUS], w, o)
+               : loaders[o->shape](c, v, w, o);
+  if (rc) return -1;
+  snprintf(lab, sizeof lab, "%s offset", w);
+  if (v[O_OFFSET] && sy_num(c, v[O_OFFSET], lab, 0, 0, "m", &o->offset)) return -1;
+  return v[O_MOTION] ? load_motion(c, v[O_MOTION], w, o) : 0;
+}
+
+int sc_load_obstacles(const ctx *c, const ynode *y) {
+  sw_model *m = c->m;
+  if (sy_seq(c, y, "obstacles", "a sequence of {shape: plane | sphere | capsule | box, ...}"))
+    return -1;
+  if (y->n < 1) return sy_fail(c, y, "obstacles is empty; expected at least one obstacle");
+  if (y->n > SW_MAX_OBSTACLES)
+    return sy_fail(c, y, "obstacles has %d items; expected at most %d", y->n, SW_MAX_OBSTACLES);
+  if (!(m->obstacle = sw_calloc((size_t)y->n, sizeof *m->obstacle))) return sy_oom(c, y);
+  m->nobstacle = y->n;
+  for (int k = 0; k < y->n; k++)
+    if (load_obstacle(c, y->kid[k], k, &m->obstacle[k])) return -1;
+  return 0;
+}
+
+static const char *const contact_keys[] = {"distance", "stiffness", "friction",
+                                           "stick_velocity"};
+
+int sc_load_contact(const ctx *c, const ynode *y, int has_obstacles) {
+  sw_contact *ct = &c->m->contact;
+  ct->dhat = SW_CONTACT_DHAT;
+  ct->eps_v = SW_CONTACT_EPS_V;
+  if (!y) return 0;
+  const ynode *v[4];
+  if (sy_map(c, y, "contact", contact_keys, 4, v)) return -1;
+  if (!has_obstacles)
+    return sy_fail(c, y, "contact is given but the scene has no obstacles; expected "
+                   "obstacles: [...] with it");
+  if ((v[0] && sy_num(c, v[0], "contact distance", 0, 1, "m", &ct->dhat)) ||
+      (v[1] && sy_num(c, v[1], "contact stiffness", 0, 1, "1/s^2", &ct->kappa)) ||
+      (v[2] && sy_num(c, v[2], "contact friction", 0, 0, "", &ct->friction)) ||
+      (v[3] && sy_num(c, v[3], "contact stick_velocity", 0, 1, "m/s", &ct->eps_v)))
+    return -1;
+  return 0;
+}
