@@ -161,10 +161,11 @@ int sw_membrane_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, dou
   return isfinite(total) ? SW_OK : SW_RECOVER;
 }
 
-/* A = V diag(w) V^T for a symmetric n x n matrix (n <= 6) by cyclic Jacobi rotations (Golub and
+/* A = V diag(w) V^T for a symmetric n x n matrix (n <= 12) by cyclic Jacobi rotations (Golub and
  * Van Loan, "Matrix Computations", 4th ed., alg. 8.5.3): A is destroyed, row k of V is the
  * eigenvector of w[k].  Converges quadratically; a fixed-size problem with no allocation and no
- * BLAS threads (dsyev costs ~2.5 us on a 6 x 6 matrix, 10x that with OpenBLAS threads). */
+ * BLAS threads (dsyev costs ~2.5 us on a 6 x 6 matrix, 10x that with OpenBLAS threads); the
+ * 12 x 12 blocks of contact pairs (models/distance.c) use it too. */
 static void jacobi_eigen(double *A, int n, double *w, double *V) {
   for (int i = 0; i < n * n; i++) V[i] = (i % (n + 1)) == 0;
   for (int sweep = 0; sweep < 30; sweep++) {
@@ -206,8 +207,8 @@ int sw_psd_project(double *A, int n, int mode) {
    * of the negative directions (Chen, Liu, Levin, Zheng, Jacobson, "Stabler Neo-Hookean
    * Simulation: Absolute Eigenvalue Filtering for Projected Newton", SIGGRAPH 2024).
    * Fixed-size workspace: no allocation. */
-  double B[36], V[36], w[6], wmin = 0.0;
-  if (n < 1 || n > 6) return -1;
+  double B[144], V[144], w[12], wmin = 0.0;
+  if (n < 1 || n > 12) return -1;
   if (mode == SW_FILTER_NONE) return 0;
   memcpy(B, A, sizeof(double) * (size_t)(n * n));
   jacobi_eigen(B, n, w, V);

@@ -44,7 +44,7 @@ sw_membrane *sw_membrane_new(sw_term *t, const sw_model *m, const sw_term_ops *o
 void sw_eval_why(const sw_eval *ev, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 int sw_membrane_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, double *energy);
 void sw_membrane_free(void *param);
-/* Filter the eigenvalues of the symmetric n x n matrix A (row-major, n <= 6) by `mode`
+/* Filter the eigenvalues of the symmetric n x n matrix A (row-major, n <= 12) by `mode`
  * (SW_FILTER_*): SW_FILTER_CLAMP gives its nearest positive semi-definite matrix, SW_FILTER_ABS
  * V |Lambda| V^T; A is unchanged when it is PSD already, or for SW_FILTER_NONE (Jacobi
  * eigen-decomposition).  0, or -1 when n is out of range or A is not finite. */
