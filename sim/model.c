@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "contact.h"
+#include "contact_geom.h"
 #include "terms.h"
 #include "util.h"
 
@@ -458,6 +459,9 @@ void sw_model_print(const sw_model *m, void *file) {
   if (m->nobstacle)
     fprintf(fp, "contact     distance %g m, stiffness %g 1/s^2%s, friction %g\n", m->contact.dhat,
             m->contact.kappa, m->contact.kappa_auto ? " (automatic)" : "", m->contact.friction);
+  if (m->dim == 3 && m->nf > 1) /* an exact test: sinew has no self-contact */
+    fprintf(fp, "crossings   %ld face pairs intersect at the start\n",
+            sw_mesh_self_intersections(m->nv, m->x0, m->nf, m->face));
   fprintf(fp, "system nnz  %ld (upper triangle, free DOFs)\n", sw_system_nnz(m));
   fprintf(fp, "integrator  %s, dt = %g s, duration = %g s\n", m->opt.method, m->opt.dt,
           m->opt.duration);

@@ -269,7 +269,12 @@ for sc in skirt_body:0.6:0 drape_sphere:0.45:8; do
     --out "$tmp/$name" --quiet 2>"$tmp/err" || fail "$name to $dur s: $(cat "$tmp/err")"
   awk -F, 'NR > 1 { n += $2; if (!($3 > 0)) bad = 1 } END { exit !(n > 0 && !bad) }' \
     "$tmp/$name/contact.csv" || fail "$name: contact.csv has no contact or a distance <= 0"
+  grep -q '"self_intersections": [0-9]' "$tmp/$name/summary.json" ||
+    fail "$name: summary.json has no self_intersections"
 done
+# the skirt does not fold onto itself; the draped cloth's folds do cross (no self-contact yet)
+grep -q '"self_intersections": 0,' "$tmp/skirt_body/summary.json" ||
+  fail "skirt_body: the skirt crossed itself"
 
 # --newton-norm: the two norms, and a bad one refused
 for n in rms max; do

@@ -5,6 +5,7 @@
 #include <string.h>
 #include <sys/resource.h>
 
+#include "contact_geom.h"
 #include "writer.h"
 
 /* Length of the well-formed UTF-8 sequence (RFC 3629) at s, of at most rem bytes; 0 if none. */
@@ -116,6 +117,15 @@ static void summary_counters(out_file *w, const sw_model *m, const sw_data *d, d
   w_json_num(w, "max_rss_mb", max_rss_mb());
 }
 
+/* A 3D cloth's face pairs (sharing no vertex) that intersect at the state written (an exact
+ * test, models/intersect.c): sinew has no self-contact, so this says whether the cloth passed
+ * through itself.  Only at the end of a run (the state NULL at open). */
+static void summary_intersections(out_file *w, const sw_model *m, const sw_data *d) {
+  if (!d || m->dim != 3 || m->nf < 2) return;
+  long n = sw_mesh_self_intersections(m->nv, d->x, m->nf, m->face);
+  if (n >= 0) w_json_long(w, "self_intersections", n);
+}
+
 typedef struct file_list {
   out_file *w;
   int n;
@@ -155,6 +165,7 @@ static int summary_write(void *self, sw_output *o, const sw_model *m, const sw_d
   w_json_str(&w, o->message, 4 * SW_ERRSZ);
   summary_model(&w, m);
   summary_counters(&w, m, d ? d : &not_started, o->wall);
+  summary_intersections(&w, m, d);
   summary_files(&w, o);
   out_puts(&w, "\n}\n");
   return out_tmp_commit(&w, o->tmp, o->path, err, errsz);
