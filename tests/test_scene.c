@@ -457,6 +457,7 @@ typedef struct bad_case {
 static const bad_case bad[] = {
     {"syntax.yaml", GRID MAT "duration: 1: 2\n", 3, 12, "invalid YAML"},
     {"unclosed.yaml", GRID MAT "gravity: [0, 0, -9.81\n", 4, 1, "invalid YAML"},
+    {"explicit_key.yaml", GRID MAT "? [a, b]\n: 1\n", 3, 1, "an explicit mapping key"},
     {"unknown_top.yaml", GRID MAT "colour: red\n", 3, 1, "unknown key 'colour'"},
     {"unknown_nested.yaml", GRID MAT "integrator: {method: backward-euler, step: 0.1}\n", 3, 38,
      "unknown key 'step'"},

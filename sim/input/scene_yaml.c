@@ -274,14 +274,28 @@ static void *too_many_values(yparser *p) {
 }
 
 /* Refuse a NUL byte (it ends libfyaml's input silently) and invalid UTF-8 (libfyaml 0.7.12
- * loops forever on some, e.g. "%r\xff"), with the position of the offending byte.  Also
+ * loops forever on some, e.g. "%r\xff"), with the position of the offending byte; and explicit
+ * mapping keys ("? key"), which no scene needs and on which Debian 12's libfyaml crashes while
+ * destroying its parser after some errors (found by fuzzing).  Also
  * refuse more commas than SW_SCENE_MAX_VALUES outside comments: libfyaml scans a whole flow
  * sequence before it yields its first item (30 million indices took 12 GB and 74 s), and in a
  * flow collection each comma follows a value, so the values are at least the commas. */
+/* Whether the '?' at s[i] is YAML's explicit-key indicator: followed by a blank or the end, and
+ * preceded on its line (blanks skipped) by nothing, '-', '{', '[' or ','. */
+static int explicit_key(const unsigned char *s, size_t i, size_t len) {
+  if (s[i] != '?' || (i + 1 < len && s[i + 1] != ' ' && s[i + 1] != '\t' && s[i + 1] != '\n' &&
+                      s[i + 1] != '\r'))
+    return 0;
+  size_t j = i;
+  while (j > 0 && (s[j - 1] == ' ' || s[j - 1] == '\t')) j--;
+  return j == 0 || s[j - 1] == '\n' || s[j - 1] == '-' || s[j - 1] == '{' || s[j - 1] == '[' ||
+         s[j - 1] == ',';
+}
+
 static int check_text(yparser *p, const char *buf, size_t len) {
   const unsigned char *s = (const unsigned char *)buf;
   long commas = 0;
-  int comment = 0;
+  int comment = 0, quote = 0; /* in a comment; in a '...' or "..." scalar (its quote char) */
   p->line = p->col = 1;
   for (size_t i = 0; i < len;) {
     size_t k = s[i] ? utf8_len(s + i, len - i) : 0;
@@ -293,6 +307,12 @@ static int check_text(yparser *p, const char *buf, size_t len) {
       comment = 1;
     if (s[i] == ',' && !comment && ++commas > SW_SCENE_MAX_VALUES)
       return too_many_values(p), -1;
+    if (!comment && (s[i] == '\'' || s[i] == '"') && (!quote || quote == s[i]))
+      quote = quote ? 0 : s[i];
+    if (!comment && !quote && explicit_key(s, i, len)) { /* libfyaml 0.8 crashes on some */
+      yerr(p, "an explicit mapping key ('? '); expected plain keys (key: value)");
+      return -1;
+    }
     if (s[i] == '\n') p->line++, p->col = 1, comment = 0;
     else p->col++;
     i += k;
