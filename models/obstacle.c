@@ -17,15 +17,9 @@ const char *const *sw_shape_names(void) {
 }
 
 void sw_obstacle_disp(const sw_obstacle *o, double t, double disp[3]) {
-  for (int a = 0; a < 3; a++) {
-    double kv[SW_OBSTACLE_MAXKEY];
-    if (o->nkey == 0) {
-      disp[a] = 0.0;
-      continue;
-    }
-    for (int k = 0; k < o->nkey; k++) kv[k] = o->key_d[3 * k + a];
-    disp[a] = sw_keyframe_value(o->key_t, kv, o->nkey, o->interp, t); /* m */
-  }
+  for (int a = 0; a < 3; a++) /* m */
+    disp[a] = o->nkey ? sw_keyframe_value(o->key_t, o->key_d + a * o->nkey, o->nkey, o->interp, t)
+                      : 0.0;
 }
 
 /* Distance to a point c: phi = |r| - R, r = p - c; gradient r/|r|, Hessian (P - n n^T)/|r| with

@@ -143,7 +143,8 @@ typedef struct sw_obstacle {
                                   thickness, e.g. of the cloth or of skin) */
   int nkey;                    /* motion keyframes (0: static) */
   double *key_t;               /* (nkey) s, increasing */
-  double *key_d;               /* (nkey x 3) displacement from the stated place, m */
+  double *key_d;               /* (3 x nkey) displacement from the stated place, m: component
+                                  a of keyframe k at key_d[a nkey + k] */
   int interp;                  /* SW_INTERP_* of the motion */
 } sw_obstacle;
 

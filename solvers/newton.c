@@ -161,27 +161,20 @@ static void add_step(const sw_model *m, const double *x, const double *dx, doubl
   }
 }
 
-/* The largest fraction of the step dx from x that keeps every vertex outside the obstacles
- * (continuous collision detection, models/contact.c); 1 without obstacles. */
-static double step_bound(sw_newton *nw, const sw_model *m, sw_data *d, const double *x,
-                         double t) {
+/* The full step dx from x against the obstacles (models/contact.c), timed: the largest fraction
+ * of it that keeps every vertex outside (continuous collision detection, STEP_BOUND), or 1 when
+ * it leaves every contact settled and 0 when not (sw_contact_settled, STEP_SETTLED); 1 without
+ * obstacles. */
+enum { STEP_BOUND, STEP_SETTLED };
+static double contact_check(sw_newton *nw, const sw_model *m, sw_data *d, const double *x,
+                            double t, int what) {
   if (m->nobstacle == 0) return 1.0;
   double t0 = sw_now();
   add_step(m, x, nw->dx, 1.0, nw->xtry);
-  double toi = sw_contact_toi(m, x, nw->xtry, t);
+  double r = what == STEP_BOUND ? sw_contact_toi(m, x, nw->xtry, t)
+                                : sw_contact_settled(m, x, nw->xtry, t);
   d->time_contact += sw_now() - t0;
-  return toi;
-}
-
-/* Whether the full step dx from x leaves every contact settled (sw_contact_settled). */
-static int contact_settled(sw_newton *nw, const sw_model *m, sw_data *d, const double *x,
-                           double t) {
-  if (m->nobstacle == 0) return 1;
-  double t0 = sw_now();
-  add_step(m, x, nw->dx, 1.0, nw->xtry);
-  int ok = sw_contact_settled(m, x, nw->xtry, t);
-  d->time_contact += sw_now() - t0;
-  return ok;
+  return r;
 }
 
 /* When the obstacles cut the whole step dx short (alpha < 1), each vertex's part of dx is
@@ -211,7 +204,7 @@ int sw_newton_line_search(sw_newton *nw, const sw_model *m, sw_data *d, double *
                           const double *xhat, const sw_newton_opts *o, double phi0, double slope) {
   /* Differences below this are round-off in Phi itself. */
   double noise = 1e-13 * (fabs(phi0) + 1e-300);
-  double alpha = step_bound(nw, m, d, x, o->t);
+  double alpha = contact_check(nw, m, d, x, o->t, STEP_BOUND);
   clip_step(nw, m, d, x, o->t, &alpha, &slope);
   for (int k = 0; k < 40 && alpha > 0.0; k++, alpha *= 0.5) {
     add_step(m, x, nw->dx, alpha, nw->xtry);
@@ -410,7 +403,8 @@ int sw_newton_solve(sw_newton *nw, const sw_model *m, sw_data *d, double *x, con
      * never counted above the step itself (CVODE's test, Hindmarsh et al. 2005) */
     double rate = prev > 0.0 ? step / prev : 1.0;
     double left = rate < 0.5 ? step * rate / (1.0 - rate) : step;
-    if ((left <= o->tol_dx || dxmax <= xfloor || stalled) && contact_settled(nw, m, d, x, o->t)) {
+    if ((left <= o->tol_dx || dxmax <= xfloor || stalled) &&
+        contact_check(nw, m, d, x, o->t, STEP_SETTLED) == 1.0) {
       add_step(m, x, nw->dx, 1.0, x);
       return SW_OK;
     }
@@ -424,7 +418,7 @@ int sw_newton_solve(sw_newton *nw, const sw_model *m, sw_data *d, double *x, con
       }
       if (rc) return rc;
     } else { /* a full step, as far as the obstacles let it go */
-      add_step(m, x, nw->dx, step_bound(nw, m, d, x, o->t), x);
+      add_step(m, x, nw->dx, contact_check(nw, m, d, x, o->t, STEP_BOUND), x);
     }
     nw->theta = prev > 0.0 ? rate : 0.0;
     prev = step;

@@ -127,7 +127,7 @@ static int load_motion(const ctx *c, const ynode *y, const char *w, sw_obstacle 
       return sy_fail(c, k->kid[j], "%s has time %g s after %g s; expected increasing times",
                      lab, row[0], o->key_t[j - 1]);
     o->key_t[j] = row[0];                                   /* s */
-    for (int a = 0; a < dim; a++) o->key_d[3 * j + a] = row[1 + a]; /* m */
+    for (int a = 0; a < dim; a++) o->key_d[a * k->n + j] = row[1 + a]; /* m */
   }
   o->nkey = k->n;
   return 0;
