@@ -44,7 +44,6 @@ typedef struct lag_store {
   sw_contact_lag pub;
   double *x0;      /* (nv x dim) the step's start */
   double *vforce;  /* (nv) |contact force| on each vertex at the last diagnostics, N */
-  double *varea;   /* (nv) each vertex's share of the rest area, m^2 */
 } lag_store;
 
 sw_contact_lag *sw_contact_lag_new(const sw_model *m) {
@@ -54,16 +53,13 @@ sw_contact_lag *sw_contact_lag_new(const sw_model *m) {
   size_t nv = (size_t)m->nv, no = (size_t)m->nobstacle;
   s->x0 = sw_calloc(nv * (size_t)m->dim, sizeof(double));
   s->vforce = sw_calloc(nv, sizeof(double));
-  s->varea = sw_calloc(nv, sizeof(double));
   s->pub.lambda = sw_calloc(nv * no, sizeof(double));
   s->pub.normal = sw_calloc(nv * no * 3, sizeof(double));
-  if (!s->x0 || !s->vforce || !s->varea || !s->pub.lambda || !s->pub.normal) {
+  if (!s->x0 || !s->vforce || !s->pub.lambda || !s->pub.normal) {
     sw_contact_lag_free(&s->pub);
     return NULL;
   }
   s->pub.x0 = s->x0;
-  for (int f = 0; f < m->nf; f++)
-    for (int c = 0; c < 3; c++) s->varea[m->face[3 * f + c]] += m->area[f] / 3.0; /* m^2 */
   return &s->pub;
 }
 
@@ -72,7 +68,6 @@ void sw_contact_lag_free(sw_contact_lag *lag) {
   if (!s) return;
   sw_free(s->x0);
   sw_free(s->vforce);
-  sw_free(s->varea);
   sw_free(s->pub.lambda);
   sw_free(s->pub.normal);
   sw_free(s);
@@ -358,11 +353,19 @@ void sw_contact_state(const sw_model *m, sw_data *d) {
     }
     ls->vforce[i] = sqrt(mag); /* N */
   }
-  for (int f = 0; d->contact_pressure && f < m->nf; f++) {
+}
+
+void sw_contact_pressure(const sw_model *m, sw_data *d) {
+  if (!d->contact_pressure) return;
+  const double *fo = d->lag ? ((const lag_store *)d->lag)->vforce : NULL;
+  const double *fs = sw_mcontact_vertex_force(d->mc);
+  for (int f = 0; f < m->nf; f++) {
     double p = 0.0;
     for (int c = 0; c < 3; c++) {
       int i = m->face[3 * f + c];
-      p += ls->varea[i] > 0.0 ? ls->vforce[i] / ls->varea[i] / 3.0 : 0.0; /* N/m^2 */
+      double share = d->vertex_area[i]; /* m^2 */
+      double fi = (fo ? fo[i] : 0.0) + (fs ? fs[i] : 0.0); /* N */
+      p += share > 0.0 ? fi / share / 3.0 : 0.0; /* N/m^2 */
     }
     d->contact_pressure[f] = p;
   }

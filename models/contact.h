@@ -65,10 +65,63 @@ int sw_contact_settled(const sw_model *m, const double *x0, const double *x1, do
  * SW_RECOVER when an obstacle would move into a vertex within the step. */
 int sw_contact_begin(const sw_model *m, sw_data *d, double h, double t1, double *y);
 /* The contact diagnostics of d (sinew.h: contact_count, contact_min, contact_force,
- * friction_force, contact_pressure) at d->x, d->t. */
+ * friction_force) at d->x, d->t. */
 void sw_contact_state(const sw_model *m, sw_data *d);
+/* d->contact_pressure from the last diagnostics of obstacles and self-contact: per face, the
+ * mean over its corners of |contact force| / the corner's share of the rest area, N/m^2. */
+void sw_contact_pressure(const sw_model *m, sw_data *d);
 /* The lag's buffers (NULL: the model has no obstacles), and their release. */
 sw_contact_lag *sw_contact_lag_new(const sw_model *m);
 void sw_contact_lag_free(sw_contact_lag *lag);
+
+
+/* ----------------------------------------------- models/mesh_contact.c: triangle meshes */
+
+/* The term "mesh_contact" (contact: {self: true}): IPC barriers on the point-triangle and
+ * edge-edge pairs of the cloth's own triangles, within thickness + dhat. */
+int sw_mesh_contact_build(sw_term *t, const sw_model *m, char *err, size_t errsz);
+/* shat = (xi + dhat)^2 - xi^2, the barrier's reach in squared distance beyond xi^2, m^2. */
+double sw_mesh_contact_shat(const sw_contact *c);
+/* The automatic kappa_mesh: a vertex resting on the cloth under gravity sits dhat / 2 beyond
+ * the thickness, 1/(s^2 m^2). */
+double sw_mesh_contact_auto_kappa(const sw_model *m);
+
+/* One active pair of the last evaluation: a point and a triangle (v[0]; v[1..3]) or two edges
+ * (v[0] v[1]; v[2] v[3]), closer than thickness + dhat; gap = distance - thickness, m. */
+enum { SW_MC_PT = 0, SW_MC_EE = 1 };
+typedef struct sw_mc_pair {
+  int kind;
+  int v[4];
+  double gap;
+} sw_mc_pair;
+
+/* The run's mutable workspace of mesh contact (broad phase, the active pairs and their
+ * Hessian blocks): NULL for a model without self-contact. */
+sw_mcontact *sw_mcontact_new(const sw_model *m);
+void sw_mcontact_free(sw_mcontact *mc);
+/* The active pairs of the last evaluation (0 for mc NULL) and their filtered Hessian blocks
+ * (144 doubles each, vertex-major over v[0..3]; NULL unless that evaluation asked for the
+ * Hessian). */
+int sw_mcontact_pairs(const sw_mcontact *mc, const sw_mc_pair **pair, const double **block);
+/* The smallest gap (distance - thickness, m) among the last evaluation's candidates. */
+double sw_mcontact_min_gap(const sw_mcontact *mc);
+/* The largest fraction of the straight motion x0 -> x1 (nv x 3 each) over which no two
+ * primitives come within the thickness (additive CCD, models/ccd.c); the broad phase's wall
+ * time is added to *time_bp.  1 for mc NULL. */
+double sw_mcontact_toi(const sw_model *m, sw_mcontact *mc, const double *x0, const double *x1,
+                       double *time_bp);
+/* Whether the update x0 -> x1 moves every vertex of an active pair of the last evaluation by at
+ * most SW_CONTACT_SETTLE of the pair's gap (the test sw_contact_settled makes for obstacles). */
+int sw_mcontact_settled(const sw_model *m, const sw_mcontact *mc, const double *x0,
+                        const double *x1);
+/* Cut the step's start guess y back along d->x -> y to where no pair comes within the
+ * thickness (d->x is such a state). */
+int sw_mcontact_begin(const sw_model *m, sw_data *d, double *y);
+/* Nonzero with err when x has intersecting triangles or a pair within the thickness. */
+int sw_mcontact_check_start(const sw_model *m, const double *x, char *err, size_t errsz);
+/* The self-contact diagnostics of d at d->x (sinew.h: self_count, self_min, self_force). */
+void sw_mcontact_state(const sw_model *m, sw_data *d);
+/* (nv) |self-contact force| on each vertex at the last diagnostics, N, or NULL. */
+const double *sw_mcontact_vertex_force(const sw_mcontact *mc);
 
 #endif

@@ -40,12 +40,16 @@ sw_data *sw_data_new(const sw_model *m) {
   if (!d->x || !d->v || !d->grad || !d->hess || !d->lowrank || !d->term_energy || !d->txy ||
       !d->stretch_u || !d->stretch_v || !d->shear || !d->rlu || !d->rlv || !d->scratch)
     return sw_data_free(d), NULL;
-  if (m->nobstacle > 0) {
-    d->lag = sw_contact_lag_new(m);
+  if (m->nobstacle > 0 && !(d->lag = sw_contact_lag_new(m))) return sw_data_free(d), NULL;
+  if (m->contact.self && !(d->mc = sw_mcontact_new(m))) return sw_data_free(d), NULL;
+  if (m->nobstacle > 0 || m->contact.self) {
     d->contact_pressure = sw_calloc(nf + 1, sizeof(double));
-    if (!d->lag || !d->contact_pressure) return sw_data_free(d), NULL;
+    d->vertex_area = sw_calloc((size_t)m->nv + 1, sizeof(double));
+    if (!d->contact_pressure || !d->vertex_area) return sw_data_free(d), NULL;
+    for (int f = 0; f < m->nf; f++)
+      for (int c = 0; c < 3; c++) d->vertex_area[m->face[3 * f + c]] += m->area[f] / 3.0;
   }
-  d->contact_min = INFINITY;
+  d->contact_min = d->self_min = INFINITY;
   memcpy(d->x, m->x0, nd * sizeof(double));
   memcpy(d->v, m->v0, nd * sizeof(double));
   for (int i = 0; i < m->nv; i++)
@@ -76,7 +80,9 @@ void sw_data_free(sw_data *d) {
   sw_free(d->tendon_delta);
   sw_free(d->tendon_tension);
   sw_contact_lag_free(d->lag);
+  sw_mcontact_free(d->mc);
   sw_free(d->contact_pressure);
+  sw_free(d->vertex_area);
   sw_free(d);
 }
 
@@ -93,7 +99,7 @@ int sw_eval_terms(const sw_model *m, sw_data *d, const double *x, double t, int 
     sw_eval ev = {.t = t, .x = x, .grad = want_grad ? d->grad : NULL,
                   .hess = want_hess ? d->hess + d->hoff[k] : NULL,
                   .lowrank = want_hess ? d->lowrank + d->loff[k] : NULL, .project = project,
-                  .lag = d->lag && d->lag->h > 0.0 ? d->lag : NULL};
+                  .lag = d->lag && d->lag->h > 0.0 ? d->lag : NULL, .mc = d->mc};
     double e = 0.0;
     char why[192] = "";
     ev.why = why, ev.whysz = sizeof why;

@@ -238,6 +238,10 @@ static int build_terms(sw_model *m, char *err, size_t errsz) {
     }
     if (add_term(m, sw_contact_build, err, errsz)) return -1;
   }
+  if (m->contact.self) {
+    if (m->contact.kappa_mesh <= 0.0) m->contact.kappa_mesh = sw_mesh_contact_auto_kappa(m);
+    if (add_term(m, sw_mesh_contact_build, err, errsz)) return -1;
+  }
   return 0;
 }
 

@@ -109,6 +109,8 @@ static int record(sw_sim *s, int force, char *err, size_t errsz) {
   sw_data *d = s->d;
   double u;
   if (m->nobstacle > 0) sw_contact_state(m, d);
+  if (d->mc) sw_mcontact_state(m, d);
+  sw_contact_pressure(m, d);
   int rc = sw_damped(m) || m->contact.friction > 0.0 ? damping_power(s) : SW_OK;
   if (sw_actuated(m)) actuation_power(s);
   if (!rc) rc = diagnose(s, &u);

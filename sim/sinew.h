@@ -34,6 +34,7 @@ enum { SW_OK = 0, SW_RECOVER = 1, SW_FATAL = -1, SW_NOSTART = -2, SW_INTERRUPTED
 
 typedef struct sw_model sw_model;
 typedef struct sw_data sw_data;
+typedef struct sw_mcontact sw_mcontact; /* models/mesh_contact.c: self-contact workspace */
 typedef struct sw_term sw_term;
 
 /* ------------------------------------------------------------------ mesh */
@@ -84,6 +85,9 @@ typedef struct sw_eval {
                                   (SW_FILTER_NONE: the exact Hessian) */
   const struct sw_contact_lag *lag; /* contact friction lagged for the current step, or NULL
                                   (models/contact.c; set by the Newton integrators) */
+  sw_mcontact *mc;             /* self-contact's workspace (models/mesh_contact.c): the
+                                  term lists its active pairs and their Hessian blocks there;
+                                  NULL without self-contact */
   char *why;                   /* or NULL: when eval fails, a term may say which element and
                                   why here (whysz bytes, e.g. "face 3 (vertices 0 1 4): energy
                                   inf J"); the first failure is kept */
@@ -161,6 +165,11 @@ typedef struct sw_contact {
   double friction;             /* Coulomb coefficient mu (0: frictionless) */
   double eps_v;                /* m/s: friction's stick-slip velocity (below it, friction is
                                   a stiff viscous force: the smoothing of IPC's f0) */
+  int self;                    /* 1: the cloth's triangles repel each other (self-contact) */
+  double thickness;            /* m: self-contact keeps every point-triangle and edge-edge
+                                  pair at least this far apart (C-IPC's thickness) */
+  double kappa_mesh;           /* 1/(s^2 m^2): self-contact's barrier stiffness per unit mass
+                                  on squared distances; 0 in the scene: automatic */
 } sw_contact;
 
 /* Friction lagged for one step (IPC): at the start of the step, each vertex-obstacle pair's
@@ -444,6 +453,13 @@ struct sw_data {
   double contact_force[3];     /* N: total force the obstacles exert (barrier) */
   double friction_force[3];    /* N: total friction force of the last step's lag */
   double friction_power;       /* W: the power friction dissipates at the last diagnostics */
+  sw_mcontact *mc;             /* self-contact's workspace, or NULL (contact: {self: true}) */
+  int self_count;              /* self-contact pairs closer than dhat beyond the thickness */
+  double self_min;             /* m: smallest gap (distance - thickness) of a self-contact
+                                  candidate pair (inf: none within thickness + dhat) */
+  double self_force;           /* N: half the sum over vertices of |self-contact force| */
+  double *vertex_area;         /* (nv) each vertex's third of its faces' rest areas, m^2 (with
+                                  contact only) */
   double *contact_pressure;    /* (nf) N/m^2: mean over its corners of |contact force| / the
                                   corner's rest area share, or NULL */
   double damp_power;           /* W: v.D v dissipated by damping at the last diagnostics */
@@ -463,6 +479,10 @@ struct sw_data {
   double time_assemble, time_factor, time_solve, time_step; /* s of wall time */
   double time_contact;         /* s of wall time in the solvers' contact checks: continuous
                                   collision detection, settling, each step's start */
+  double time_broadphase;      /* s in self-contact's broad phase for the CCD */
+  double time_ccd;             /* s in self-contact's CCD (broad and narrow phase) */
+  double time_pattern;         /* s growing the sparse pattern and re-analysing it */
+  long npattern;               /* times the pattern grew (a CHOLMOD analysis each) */
   long factor_nnz;             /* nonzeros of the Cholesky factor L of the last factorisation
                                   (CHOLMOD's count for its ordering; 0: no factor yet, or a
                                   method without one) */

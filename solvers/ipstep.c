@@ -62,7 +62,12 @@ int sw_ipstep_solve(sw_ipstep *s, const sw_model *m, sw_data *d, const sw_newton
   for (int i = 0; i < nd; i++) s->xnew[i] = m->dof[i] < 0 ? d->x[i] : y0[i];
   double t0 = sw_now();
   int rc = sw_contact_begin(m, d, o->h, o->t, s->xnew);
-  d->time_contact += sw_now() - t0;
+  double t1 = sw_now();
+  d->time_contact += t1 - t0;
+  if (!rc && d->mc) {
+    rc = sw_mcontact_begin(m, d, s->xnew);
+    d->time_ccd += sw_now() - t1;
+  }
   if (rc) return rc;
   rc = sw_newton_damping(&s->nw, m, d, s->xhat, o->t);
   return rc ? rc : sw_newton_solve(&s->nw, m, d, s->xnew, s->xhat, o);

@@ -10,6 +10,7 @@
  * still converges, it never fails on round-off (docs/integrators.md). */
 #include <float.h>
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "contact.h"
@@ -90,6 +91,7 @@ void sw_newton_free(sw_newton *nw) {
   sw_free(nw->vres);
   sw_free(nw->wdof);
   sw_free(nw->vfrac);
+  sw_free(nw->xpair);
   memset(nw, 0, sizeof *nw);
 }
 
@@ -163,18 +165,32 @@ static void add_step(const sw_model *m, const double *x, const double *dx, doubl
 
 /* The full step dx from x against the obstacles (models/contact.c), timed: the largest fraction
  * of it that keeps every vertex outside (continuous collision detection, STEP_BOUND), or 1 when
- * it leaves every contact settled and 0 when not (sw_contact_settled, STEP_SETTLED); 1 without
- * obstacles. */
+ * it leaves every contact settled and 0 when not (sw_contact_settled, STEP_SETTLED; with
+ * self-contact, sw_mcontact_settled too); 1 without obstacles. */
 enum { STEP_BOUND, STEP_SETTLED };
 static double contact_check(sw_newton *nw, const sw_model *m, sw_data *d, const double *x,
                             double t, int what) {
-  if (m->nobstacle == 0) return 1.0;
-  double t0 = sw_now();
+  if (m->nobstacle == 0 && !(d->mc && what == STEP_SETTLED)) return 1.0;
+  double t0 = sw_now(), r = 1.0;
   add_step(m, x, nw->dx, 1.0, nw->xtry);
-  double r = what == STEP_BOUND ? sw_contact_toi(m, x, nw->xtry, t)
-                                : sw_contact_settled(m, x, nw->xtry, t);
+  if (m->nobstacle > 0)
+    r = what == STEP_BOUND ? sw_contact_toi(m, x, nw->xtry, t)
+                           : sw_contact_settled(m, x, nw->xtry, t);
+  if (d->mc && what == STEP_SETTLED && r == 1.0) r = sw_mcontact_settled(m, d->mc, x, nw->xtry);
   d->time_contact += sw_now() - t0;
   return r;
+}
+
+/* Self-contact: the fraction of the step alpha dx from x over which no two of the cloth's
+ * primitives come within the thickness (CCD), timed; 1 without self-contact. */
+static double self_bound(sw_newton *nw, const sw_model *m, sw_data *d, const double *x,
+                         double alpha) {
+  if (!d->mc || alpha <= 0.0) return 1.0;
+  double t0 = sw_now();
+  add_step(m, x, nw->dx, alpha, nw->xtry);
+  double s = sw_mcontact_toi(m, d->mc, x, nw->xtry, &d->time_broadphase);
+  d->time_ccd += sw_now() - t0;
+  return s;
 }
 
 /* When the obstacles cut the whole step dx short (alpha < 1), each vertex's part of dx is
@@ -206,6 +222,7 @@ int sw_newton_line_search(sw_newton *nw, const sw_model *m, sw_data *d, double *
   double noise = 1e-13 * (fabs(phi0) + 1e-300);
   double alpha = contact_check(nw, m, d, x, o->t, STEP_BOUND);
   clip_step(nw, m, d, x, o->t, &alpha, &slope);
+  alpha *= self_bound(nw, m, d, x, alpha);
   for (int k = 0; k < 40 && alpha > 0.0; k++, alpha *= 0.5) {
     add_step(m, x, nw->dx, alpha, nw->xtry);
     double phi;
@@ -247,18 +264,104 @@ int sw_hessian_filter(int hessian) {
   return SW_FILTER_NONE;
 }
 
-/* Fill S = a M + H (H from the last evaluation: blocks and low-rank vectors) + cd D and
- * factorise it; on success it is the kept factorisation for (a, cd). */
+static int cmp_pair(const void *a, const void *b) {
+  const int *p = a, *q = b;
+  return p[0] != q[0] ? (p[0] > q[0]) - (p[0] < q[0]) : (p[1] > q[1]) - (p[1] < q[1]);
+}
+
+/* Add vertex pair (i, j) to nw->xpair; -1 when out of memory. */
+static int push_xpair(sw_newton *nw, int i, int j) {
+  if (nw->nxpair == nw->capxpair) {
+    long cap = nw->capxpair + nw->capxpair / 2 + 256;
+    int *p = sw_realloc(nw->xpair, (size_t)cap * 2, sizeof(int));
+    if (!p) return -1;
+    nw->xpair = p, nw->capxpair = cap;
+  }
+  nw->xpair[2 * nw->nxpair] = i < j ? i : j;
+  nw->xpair[2 * nw->nxpair + 1] = i < j ? j : i;
+  nw->nxpair++;
+  return 0;
+}
+
+/* Rebuild the pattern with nw->xpair and analyse it again (the damping matrix carried over). */
+static int regrow(sw_newton *nw, const sw_model *m, sw_data *d) {
+  sw_pattern np;
+  int rc = sw_pattern_build_ex(&np, m, nw->xpair, nw->nxpair, d->err, sizeof d->err);
+  if (rc) return rc;
+  if (nw->dval) {
+    double *dv = sw_calloc((size_t)np.nnz + 1, sizeof(double));
+    if (!dv) {
+      sw_pattern_free(&np, m->nterm);
+      sw_errf(d->err, sizeof d->err, "out of memory growing the sparsity pattern");
+      return SW_FATAL;
+    }
+    sw_pattern_remap(&nw->pat, nw->dval, &np, dv);
+    sw_free(nw->dval);
+    nw->dval = dv;
+  }
+  sw_chol_free(&nw->chol);
+  sw_pattern_free(&nw->pat, m->nterm);
+  nw->pat = np;
+  nw->fac_valid = 0;
+  d->npattern++;
+  return sw_chol_init(&nw->chol, &nw->pat, d->err, sizeof d->err);
+}
+
+/* Self-contact: when the last evaluation's pairs couple vertices the pattern does not hold,
+ * add those pairs and rebuild it (a new symbolic analysis).  The pattern only grows: a pair
+ * that left contact keeps its (zero) entries, so a contact that comes and goes costs one
+ * analysis, not one per change (docs/contact.md, "The sparsity pattern"). */
+static int grow_pattern(sw_newton *nw, const sw_model *m, sw_data *d) {
+  const sw_mc_pair *pr;
+  int np = sw_mcontact_pairs(d->mc, &pr, NULL);
+  long before = nw->nxpair;
+  for (int k = 0; k < np; k++)
+    for (int i = 0; i < 4; i++)
+      for (int j = i + 1; j < 4; j++) {
+        int a = pr[k].v[i], b = pr[k].v[j];
+        if (a != b && !sw_pattern_has_pair(&nw->pat, m, a, b) && push_xpair(nw, a, b)) {
+          sw_errf(d->err, sizeof d->err, "out of memory growing the sparsity pattern");
+          return SW_FATAL;
+        }
+      }
+  if (nw->nxpair == before) return SW_OK;
+  double t0 = sw_now();
+  qsort(nw->xpair, (size_t)nw->nxpair, 2 * sizeof(int), cmp_pair);
+  long u = 0;
+  for (long q = 0; q < nw->nxpair; q++)
+    if (u == 0 || cmp_pair(nw->xpair + 2 * q, nw->xpair + 2 * (u - 1)))
+      memmove(nw->xpair + 2 * u++, nw->xpair + 2 * q, 2 * sizeof(int));
+  nw->nxpair = u;
+  int rc = regrow(nw, m, d);
+  d->time_pattern += sw_now() - t0;
+  return rc;
+}
+
+/* The active self-contact pairs' Hessian blocks into val. */
+static void add_pair_blocks(const sw_newton *nw, const sw_model *m, const sw_data *d,
+                            double *val) {
+  const sw_mc_pair *pr;
+  const double *blk;
+  int np = sw_mcontact_pairs(d->mc, &pr, &blk);
+  for (int k = 0; blk && k < np; k++)
+    sw_pattern_add_block(&nw->pat, m, pr[k].v, 4, blk + 144 * (size_t)k, 1.0, val);
+}
+
+/* Fill S = a M + H (H from the last evaluation: blocks, self-contact pairs and low-rank
+ * vectors) + cd D and factorise it; on success it is the kept factorisation for (a, cd). */
 static int fill_factor(sw_newton *nw, const sw_model *m, sw_data *d, double a) {
+  int rc = d->mc ? grow_pattern(nw, m, d) : SW_OK;
+  if (rc) return rc;
   double t0 = sw_now();
   double *val = sw_chol_values(&nw->chol);
   sw_pattern_fill(&nw->pat, m, d, a, 1.0, val);
+  if (d->mc) add_pair_blocks(nw, m, d, val);
   sw_pattern_fill_lowrank(&nw->pat, d, sw_chol_lowrank(&nw->chol, 1.0));
   if (nw->cd > 0.0 && nw->dval)
     for (long q = 0; q < nw->pat.nnz; q++) val[q] += nw->cd * nw->dval[q];
   double t1 = sw_now();
   d->time_assemble += t1 - t0;
-  int rc = sw_chol_factor(&nw->chol, d->err, sizeof d->err);
+  rc = sw_chol_factor(&nw->chol, d->err, sizeof d->err);
   d->time_factor += sw_now() - t1;
   d->nfactor++;
   d->factor_nnz = sw_chol_nnz(&nw->chol);
@@ -418,7 +521,8 @@ int sw_newton_solve(sw_newton *nw, const sw_model *m, sw_data *d, double *x, con
       }
       if (rc) return rc;
     } else { /* a full step, as far as the obstacles let it go */
-      add_step(m, x, nw->dx, contact_check(nw, m, d, x, o->t, STEP_BOUND), x);
+      double alpha = contact_check(nw, m, d, x, o->t, STEP_BOUND);
+      add_step(m, x, nw->dx, alpha * self_bound(nw, m, d, x, alpha), x);
     }
     nw->theta = prev > 0.0 ? rate : 0.0;
     prev = step;

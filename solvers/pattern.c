@@ -12,9 +12,11 @@ static int cmp_long(const void *a, const void *b) {
   return (x > y) - (x < y);
 }
 
-/* Sorted, unique vertex neighbours (self included) of every vertex: CSR in (*ptr, *adj). */
-static int vertex_graph(const sw_model *m, long **ptr_out, int **adj_out) {
-  long npair = m->nv; /* self pairs */
+/* Sorted, unique vertex neighbours (self included) of every vertex, from the stencils and the
+ * nextra vertex pairs extra (2 each): CSR in (*ptr, *adj). */
+static int vertex_graph(const sw_model *m, const int *extra, long nextra, long **ptr_out,
+                        int **adj_out) {
+  long npair = m->nv + 2 * nextra; /* self pairs, extra pairs both ways */
   for (int k = 0; k < m->nterm; k++) {
     const sw_term *t = &m->term[k];
     for (int s = 0; s < t->nstencil; s++) {
@@ -27,6 +29,10 @@ static int vertex_graph(const sw_model *m, long **ptr_out, int **adj_out) {
   if (!key || !ptr) return sw_free(key), sw_free(ptr), -1;
   long np = 0;
   for (int i = 0; i < m->nv; i++) key[np++] = (long)i * m->nv + i;
+  for (long q = 0; q < nextra; q++) {
+    key[np++] = (long)extra[2 * q] * m->nv + extra[2 * q + 1];
+    key[np++] = (long)extra[2 * q + 1] * m->nv + extra[2 * q];
+  }
   for (int k = 0; k < m->nterm; k++) {
     const sw_term *t = &m->term[k];
     for (int s = 0; s < t->nstencil; s++)
@@ -150,11 +156,16 @@ static int build_lowrank(sw_pattern *p, const sw_model *m) {
 }
 
 int sw_pattern_build(sw_pattern *p, const sw_model *m, char *err, size_t errsz) {
+  return sw_pattern_build_ex(p, m, NULL, 0, err, errsz);
+}
+
+int sw_pattern_build_ex(sw_pattern *p, const sw_model *m, const int *extra, long nextra,
+                        char *err, size_t errsz) {
   memset(p, 0, sizeof *p);
   p->n = m->ndof;
   long *vptr = NULL;
   int *adj = NULL;
-  if (vertex_graph(m, &vptr, &adj) || build_csc(p, m, vptr, adj) || p->nnz > 2147483647L ||
+  if (vertex_graph(m, extra, nextra, &vptr, &adj) || build_csc(p, m, vptr, adj) || p->nnz > 2147483647L ||
       build_maps(p, m) || build_lowrank(p, m)) {
     sw_free(vptr);
     sw_free(adj);
@@ -200,6 +211,39 @@ void sw_pattern_fill(const sw_pattern *p, const sw_model *m, const sw_data *d, d
 }
 
 long sw_pattern_slot(const sw_pattern *p, int r, int c) { return find_slot(p, r, c); }
+
+int sw_pattern_has_pair(const sw_pattern *p, const sw_model *m, int i, int j) {
+  for (int a = 0; a < m->dim; a++)
+    for (int b = 0; b < m->dim; b++) {
+      int r = m->dof[i * m->dim + a], c = m->dof[j * m->dim + b];
+      if (r >= 0 && c >= 0) return find_slot(p, r < c ? r : c, r < c ? c : r) >= 0;
+    }
+  return 1; /* a pinned vertex: no entry needed */
+}
+
+void sw_pattern_remap(const sw_pattern *from, const double *vfrom, const sw_pattern *to,
+                      double *vto) {
+  memset(vto, 0, (size_t)to->nnz * sizeof(double));
+  for (int c = 0; c < from->n; c++)
+    for (long k = from->colptr[c]; k < from->colptr[c + 1]; k++) {
+      long q = find_slot(to, (int)from->rowind[k], c);
+      if (q >= 0) vto[q] = vfrom[k];
+    }
+}
+
+void sw_pattern_add_block(const sw_pattern *p, const sw_model *m, const int *v, int nvert,
+                          const double *block, double coef, double *values) {
+  const int d = m->dim, w = nvert * d;
+  for (int i = 0; i < w; i++) {
+    int r = m->dof[v[i / d] * d + i % d];
+    for (int j = 0; r >= 0 && j < w; j++) {
+      int c = m->dof[v[j / d] * d + j % d];
+      if (c < r) continue;
+      long q = find_slot(p, r, c);
+      if (q >= 0) values[q] += coef * block[i * w + j];
+    }
+  }
+}
 
 void sw_pattern_symv(const sw_pattern *p, const double *values, const double *x, double *y) {
   memset(y, 0, (size_t)p->n * sizeof(double));

@@ -27,6 +27,19 @@ typedef struct sw_pattern {
 } sw_pattern;
 
 int sw_pattern_build(sw_pattern *p, const sw_model *m, char *err, size_t errsz);
+/* The pattern of the terms' stencils and of nextra more vertex pairs (extra: 2 vertices each;
+ * the couplings self-contact adds). */
+int sw_pattern_build_ex(sw_pattern *p, const sw_model *m, const int *extra, long nextra,
+                        char *err, size_t errsz);
+/* Whether the pattern couples vertices i and j (1 when either has no free component). */
+int sw_pattern_has_pair(const sw_pattern *p, const sw_model *m, int i, int j);
+/* vto (on pattern to, which holds every entry of from) = vfrom (on pattern from). */
+void sw_pattern_remap(const sw_pattern *from, const double *vfrom, const sw_pattern *to,
+                      double *vto);
+/* values += coef * block, a dense (nvert dim)^2 block over vertices v (vertex-major, row-major),
+ * on the entries the pattern holds (pinned components dropped). */
+void sw_pattern_add_block(const sw_pattern *p, const sw_model *m, const int *v, int nvert,
+                          const double *block, double coef, double *values);
 void sw_pattern_free(sw_pattern *p, int nterm);
 /* values = mass_coef * M + hess_coef * (sum of the terms' blocks in d->hess), on the pattern. */
 void sw_pattern_fill(const sw_pattern *p, const sw_model *m, const sw_data *d, double mass_coef,
@@ -119,6 +132,10 @@ typedef struct sw_newton {
   double *wdof;          /* (n) each free DOF's share of the free mass, m_i / sum m_i */
   int iter;              /* the current iteration of the solve */
   double *vfrac;         /* (nv) with obstacles: each vertex's allowed fraction of a step */
+  /* self-contact: the vertex pairs its Hessian has coupled so far, on top of the stencils'
+   * pattern (it only grows: a pair once in contact keeps its entries for the run) */
+  int *xpair;            /* (2 nxpair) */
+  long nxpair, capxpair;
 } sw_newton;
 
 typedef struct sw_newton_opts {

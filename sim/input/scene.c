@@ -594,11 +594,12 @@ sw_model *sw_scene_parse_ex(const char *name, const char *buf, size_t len,
   int rc = c.m ? load_scene(&c) : sy_oom(&c, root);
   if (!rc && by_index && ov && ov->grid[0] > 0) grid_warning(&c, by_index);
   int at[2] = {0, 0}; /* line and column of the mesh, for the model's own checks */
-  int ob[2] = {0, 0}; /* and of the obstacles */
+  int ob[2] = {0, 0}, ct[2] = {0, 0}; /* and of the obstacles and of contact */
   for (int k = 0; root->kind == Y_MAP && k + 1 < root->n; k += 2) {
     if (root->kid[k]->kind != Y_SCALAR) continue;
     int *p = !strcmp(root->kid[k]->text, "mesh") ? at
-             : !strcmp(root->kid[k]->text, "obstacles") ? ob : NULL;
+             : !strcmp(root->kid[k]->text, "obstacles") ? ob
+             : !strcmp(root->kid[k]->text, "contact") ? ct : NULL;
     if (p) p[0] = root->kid[k + 1]->line, p[1] = root->kid[k + 1]->col;
   }
   sw_free(c.sel);
@@ -618,6 +619,12 @@ sw_model *sw_scene_parse_ex(const char *name, const char *buf, size_t len,
   if (c.m->nobstacle > 0 && sw_contact_outside(c.m, c.m->x0, 0.0, e, sizeof e)) {
     sw_errf(err, errsz, "%s:%d:%d: obstacles: %s; expected every free vertex to start outside "
             "every obstacle's contact surface", name, ob[0], ob[1], e);
+    sw_model_free(c.m);
+    return NULL;
+  }
+  if (sw_mcontact_check_start(c.m, c.m->x0, e, sizeof e)) {
+    sw_errf(err, errsz, "%s:%d:%d: contact: self: %s; expected a starting mesh whose "
+            "triangles are apart by more than the thickness", name, ct[0], ct[1], e);
     sw_model_free(c.m);
     return NULL;
   }

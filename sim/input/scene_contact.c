@@ -6,7 +6,8 @@
  *     - {shape: box, center: [...], size: [lx, ly, lz]}     (axis-aligned)
  *   each with offset: m (>= 0) and motion: {keyframes: [[t, dx, dy(, dz)], ...],
  *   interpolation: smooth | linear} (a translation, m, from the stated place);
- *   contact: {distance: m, stiffness: 1/s^2, friction: mu, stick_velocity: m/s}. */
+ *   contact: {distance: m, stiffness: 1/s^2, friction: mu, stick_velocity: m/s, self: bool,
+ *             thickness: m, self_stiffness: 1/(s^2 m^2)}. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -171,22 +172,37 @@ int sc_load_obstacles(const ctx *c, const ynode *y) {
 }
 
 static const char *const contact_keys[] = {"distance", "stiffness", "friction",
-                                           "stick_velocity"};
+                                           "stick_velocity", "self", "thickness",
+                                           "self_stiffness"};
+enum { C_DIST, C_STIFF, C_FRIC, C_STICK, C_SELF, C_THICK, C_SSTIFF, C_N };
 
 int sc_load_contact(const ctx *c, const ynode *y, int has_obstacles) {
   sw_contact *ct = &c->m->contact;
+  static const char *const bools[] = {"false", "true"};
   ct->dhat = SW_CONTACT_DHAT;
   ct->eps_v = SW_CONTACT_EPS_V;
   if (!y) return 0;
-  const ynode *v[4];
-  if (sy_map(c, y, "contact", contact_keys, 4, v)) return -1;
-  if (!has_obstacles)
-    return sy_fail(c, y, "contact is given but the scene has no obstacles; expected "
-                   "obstacles: [...] with it");
-  if ((v[0] && sy_num(c, v[0], "contact distance", 0, 1, "m", &ct->dhat)) ||
-      (v[1] && sy_num(c, v[1], "contact stiffness", 0, 1, "1/s^2", &ct->kappa)) ||
-      (v[2] && sy_num(c, v[2], "contact friction", 0, 0, "", &ct->friction)) ||
-      (v[3] && sy_num(c, v[3], "contact stick_velocity", 0, 1, "m/s", &ct->eps_v)))
+  const ynode *v[C_N];
+  if (sy_map(c, y, "contact", contact_keys, C_N, v)) return -1;
+  if (v[C_SELF] && sy_choice(c, v[C_SELF], "contact self", bools, 2, &ct->self)) return -1;
+  if (!has_obstacles && !ct->self)
+    return sy_fail(c, y, "contact is given but the scene has no obstacles and no self-contact; "
+                   "expected obstacles: [...] or self: true with it");
+  if (ct->self && c->m->dim != 3)
+    return sy_fail(c, v[C_SELF], "contact self is true in a 2D scene; expected it only in a "
+                   "3D scene (a 2D cloth lies in its plane and cannot fold onto itself)");
+  const ynode *s3[] = {v[C_THICK], v[C_SSTIFF]};
+  for (int k = 0; k < 2; k++)
+    if (s3[k] && !ct->self)
+      return sy_fail(c, s3[k], "contact %s is given without self: true; expected it only with "
+                     "self-contact", k ? "self_stiffness" : "thickness");
+  if ((v[C_DIST] && sy_num(c, v[C_DIST], "contact distance", 0, 1, "m", &ct->dhat)) ||
+      (v[C_STIFF] && sy_num(c, v[C_STIFF], "contact stiffness", 0, 1, "1/s^2", &ct->kappa)) ||
+      (v[C_FRIC] && sy_num(c, v[C_FRIC], "contact friction", 0, 0, "", &ct->friction)) ||
+      (v[C_STICK] && sy_num(c, v[C_STICK], "contact stick_velocity", 0, 1, "m/s", &ct->eps_v)) ||
+      (v[C_THICK] && sy_num(c, v[C_THICK], "contact thickness", 0, 0, "m", &ct->thickness)) ||
+      (v[C_SSTIFF] &&
+       sy_num(c, v[C_SSTIFF], "contact self_stiffness", 0, 1, "1/(s^2 m^2)", &ct->kappa_mesh)))
     return -1;
   return 0;
 }

@@ -3,8 +3,8 @@
  *   energy.csv   time, kinetic and per-term energies, step size and per-step solver counts;
  *                damping power and dissipated energy; actuation power and work in
  *   tendons.csv  a scene with tendons only: per tendon time, name, length, delta, tension
- *   contact.csv  a scene with obstacles only: time, contacts, smallest distance, total contact
- *                and friction force
+ *   contact.csv  a scene with obstacles or self-contact only: time, contacts, smallest
+ *                distance, total contact and friction force; self-contact pairs, gap, force
  * Each is a log (file.c): NAME.part until the run closes, a line in one write(2).  Numbers are
  * the shortest that read back exactly; "nan", "inf", "-inf" as such. */
 #include <math.h>
@@ -259,19 +259,21 @@ static int tendons_write(void *self, sw_output *out, const sw_model *m, const sw
 
 /* ------------------------------------------------------------- contact.csv */
 
-static int contact_wanted(const sw_model *m) { return m->nobstacle > 0; }
+static int contact_wanted(const sw_model *m) { return m->nobstacle > 0 || m->contact.self; }
 
 static int contact_open(void *self, sw_output *out, const sw_model *m, char *err,
                         size_t errsz) {
   (void)m;
   static const char head[] = "time,contacts,min_distance,force_x,force_y,force_z,force,"
-                             "friction_x,friction_y,friction_z,friction\n";
+                             "friction_x,friction_y,friction_z,friction,self_contacts,"
+                             "self_min_gap,self_force\n";
   csv_log *o = self;
   return out_log_open(&o->log, "contact.csv", out, head, strlen(head), err, errsz);
 }
 
 /* Time (s), vertex-obstacle pairs closer than dhat, the smallest distance (m), the total force
- * of the obstacles on the cloth and of friction, each with its magnitude (N). */
+ * of the obstacles on the cloth and of friction, each with its magnitude (N); self-contact
+ * pairs closer than dhat beyond the thickness, their smallest gap (m) and force (N). */
 static int contact_write(void *self, sw_output *out, const sw_model *m, const sw_data *d,
                          char *err, size_t errsz) {
   (void)m;
@@ -285,6 +287,9 @@ static int contact_write(void *self, sw_output *out, const sw_model *m, const sw
     for (int a = 0; a < 3; a++) line_num(o, &len, f[k][a]);
     line_num(o, &len, sqrt(f[k][0] * f[k][0] + f[k][1] * f[k][1] + f[k][2] * f[k][2]));
   }
+  line_long(o, &len, d->self_count);
+  line_num(o, &len, d->self_min);
+  line_num(o, &len, d->self_force);
   line_end(o, len);
   return put_line(o, out, err, errsz);
 }

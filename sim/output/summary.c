@@ -111,6 +111,12 @@ static void summary_counters(out_file *w, const sw_model *m, const sw_data *d, d
   w_json_num(w, "time_factor_s", d->time_factor);
   w_json_num(w, "time_solve_s", d->time_solve);
   if (m->nobstacle > 0) w_json_num(w, "time_contact_s", d->time_contact);
+  if (m->contact.self) {
+    w_json_num(w, "time_self_ccd_s", d->time_ccd);
+    w_json_num(w, "time_self_broadphase_s", d->time_broadphase);
+    w_json_num(w, "time_pattern_s", d->time_pattern);
+    w_json_long(w, "pattern_growths", d->npattern);
+  }
   w_json_num(w, "time_step_s", d->time_step);
   w_json_long(w, "factor_nnz", d->factor_nnz);
   w_json_num(w, "wall_time_s", wall);
@@ -118,8 +124,9 @@ static void summary_counters(out_file *w, const sw_model *m, const sw_data *d, d
 }
 
 /* A 3D cloth's face pairs (sharing no vertex) that intersect at the state written (an exact
- * test, models/intersect.c): sinew has no self-contact, so this says whether the cloth passed
- * through itself.  Only at the end of a run (the state NULL at open). */
+ * test, models/intersect.c, independent of the solver): whether the cloth passed through
+ * itself (it cannot with self-contact on).  Only at the end of a run (the state NULL at
+ * open). */
 static void summary_intersections(out_file *w, const sw_model *m, const sw_data *d) {
   if (!d || m->dim != 3 || m->nf < 2) return;
   long n = sw_mesh_self_intersections(m->nv, d->x, m->nf, m->face);
