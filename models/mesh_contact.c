@@ -370,8 +370,8 @@ void sw_mcontact_state(const sw_model *m, sw_data *d) {
       double g[12], gap;
       pair_vertices(m, mc, kind, q + 2 * k, v);
       double e = pair_energy(m, kind, v, d->x, g, NULL, &gap);
-      d->self_min = fmin(d->self_min, gap);
       if (!isfinite(e) || gap >= m->contact.dhat) continue;
+      d->self_min = fmin(d->self_min, gap);
       d->self_count++;
       for (int j = 0; j < 12; j++) f[3 * v[j / 3] + j % 3] -= g[j];
     }
