@@ -239,7 +239,10 @@ static int build_terms(sw_model *m, char *err, size_t errsz) {
     if (add_term(m, sw_contact_build, err, errsz)) return -1;
   }
   if (m->contact.self) {
-    if (m->contact.kappa_mesh <= 0.0) m->contact.kappa_mesh = sw_mesh_contact_auto_kappa(m);
+    if (m->contact.kappa_mesh <= 0.0) {
+      m->contact.kappa_mesh = sw_mesh_contact_auto_kappa(m); /* 1/(s^2 m^2) */
+      m->contact.kappa_mesh_auto = 1;
+    }
     if (add_term(m, sw_mesh_contact_build, err, errsz)) return -1;
   }
   return 0;
@@ -463,7 +466,11 @@ void sw_model_print(const sw_model *m, void *file) {
   if (m->nobstacle)
     fprintf(fp, "contact     distance %g m, stiffness %g 1/s^2%s, friction %g\n", m->contact.dhat,
             m->contact.kappa, m->contact.kappa_auto ? " (automatic)" : "", m->contact.friction);
-  if (m->dim == 3 && m->nf > 1) /* an exact test: sinew has no self-contact */
+  if (m->contact.self)
+    fprintf(fp, "self        distance %g m, thickness %g m, stiffness %g 1/(s^2 m^2)%s\n",
+            m->contact.dhat, m->contact.thickness, m->contact.kappa_mesh,
+            m->contact.kappa_mesh_auto ? " (automatic)" : "");
+  if (m->dim == 3 && m->nf > 1) /* an exact test, independent of the solver */
     fprintf(fp, "crossings   %ld face pairs intersect at the start\n",
             sw_mesh_self_intersections(m->nv, m->x0, m->nf, m->face));
   fprintf(fp, "system nnz  %ld (upper triangle, free DOFs)\n", sw_system_nnz(m));
