@@ -438,6 +438,7 @@ struct sw_data {
   double *lowrank;             /* low-rank Hessian vectors of every term; term k at loff[k] */
   long *loff;                  /* (nterm + 1) */
   double *term_energy;         /* (nterm) J, at the last evaluation */
+  double *term_time;           /* (nterm) s of wall time in each term's evaluations, cumulative */
   /* diagnostics (after every accepted step) */
   double *txy;                 /* (nf) tension XY, N/m */
   double *stretch_u, *stretch_v; /* (nf) warp and weft stretch |wu|, |wv| */
