@@ -554,9 +554,11 @@ def chart_tension(d, title, series):
 
 
 def ref_run_label(ref):
-    rtol = num(ref, "rtol")
-    return f"reference ({ref['method']} rtol={compact(rtol)})" if math.isfinite(rtol) else \
-        f"reference ({ref['method']})"
+    """The reference's method and rtol (adaptive) or dt (fixed-step, older folders: neither)."""
+    rtol, dt = num(ref, "rtol"), num(ref, "dt")
+    setting = f" rtol={compact(rtol)}" if math.isfinite(rtol) else \
+        f" dt={compact(dt)}" if math.isfinite(dt) else ""
+    return f"reference ({ref['method']}{setting})"
 
 
 def choose_runs(rows, series):

@@ -1,8 +1,9 @@
 /* bench.c — `sinew bench`: the command line and the plan (docs/benchmarks.md).
  *
  * A plan is the list of `sinew run` processes one mode needs:
- *   work precision  a reference (CVODE at rtol 1e-10), a second method confirming it, then every
- *                   method x setting (dt for fixed-step methods, rtol for adaptive ones) x repeat
+ *   work precision  a reference (CVODE at rtol 1e-10, or a fixed-step method at a fine dt), a
+ *                   second method confirming it, then every method x setting (dt for
+ *                   fixed-step methods, rtol for adaptive ones) x repeat
  *   stability       per stiffness scale: a reference, then every fixed-step method x dt
  *   scaling         every method x grid size, a few steps each
  * It is written to DIR/plan_MODE.csv and DIR/bench_MODE.cfg before anything runs, so that the
@@ -39,7 +40,8 @@ static void bench_usage(FILE *fp) {
   fprintf(fp,
       "usage: sinew bench SCENE [--out DIR] [--methods M,...] [--dts DT,...] [--rtols R,...]\n"
       "                   [--max-orders Q,...] [--repeat N] [--duration T] [--sample-every S]\n"
-      "                   [--reference M] [--reference-rtol R] [--confirm M] [--confirm-tol E]\n"
+      "                   [--reference M] [--reference-rtol R] [--reference-dt DT]\n"
+      "                   [--confirm M] [--confirm-dt DT] [--confirm-tol E]\n"
       "                   [--stability [--scales S,...] [--overdamped F]]\n"
       "                   [--scaling [--sizes N,...] [--steps N]]\n"
       "                   [--jobs N | --emit-jobs FILE] [--timeout S] [--diverged F]\n"
@@ -50,7 +52,11 @@ static void bench_usage(FILE *fp) {
       "  writes CSV files and PNG charts into DIR (default out/bench/<scene stem>).\n"
       "  Default mode: work precision.  A reference (--reference cvode:q5 at --reference-rtol\n"
       "  1e-10) confirmed by a second method (--confirm ida:q5, same rtol) agreeing to\n"
-      "  --confirm-tol (1e-6 of the cloth's size); then every method x setting: fixed-step\n"
+      "  --confirm-tol (1e-6 of the cloth's size).  A fixed-step reference or confirm (bdf2,\n"
+      "  backward-euler: where CVODE and IDA fail, e.g. at contact) runs at --reference-dt\n"
+      "  (default: the finest dt of the sweep / 8) or --confirm-dt (default: half the\n"
+      "  reference's), each dividing the finest dt, and may halve a failed step up to 4\n"
+      "  times (or --max-halvings when larger).  Then every method x setting: fixed-step\n"
       "  methods at --dts (default: the scene's dt x 1, 1/2, 1/4, 1/8), adaptive ones at\n"
       "  --rtols (default 1e-3 .. 1e-6).  Errors at the common sample times (every\n"
       "  --sample-every s, a multiple of every dt; default ~duration/40) against the reference:\n"
@@ -165,11 +171,14 @@ static int parse_valued(const char *a, const char *v, bench_cli *c, bench_cfg *g
   if (!strcmp(a, "--jobs")) return cli_int(a, v, 1, 256, &g->jobs) ? -1 : 1;
   if (!strcmp(a, "--steps")) return cli_int(a, v, 1, 100000, &g->steps) ? -1 : 1;
   if (!strcmp(a, "--max-halvings")) return cli_int(a, v, 0, 60, &g->max_halvings) ? -1 : 1;
+  if (!strcmp(a, "--reference-dt")) return cli_number(a, v, 0, &g->ref_dt) ? -1 : 1;
+  if (!strcmp(a, "--confirm-dt")) return cli_number(a, v, 0, &g->confirm_dt) ? -1 : 1;
   if (!strcmp(a, "--reference") || !strcmp(a, "--confirm")) {
     char *dst = a[2] == 'r' ? g->ref_method : g->confirm_method;
-    if (check_spec(v) != 1 || strlen(v) >= SW_NAMESZ)
+    if (check_spec(v) < 0 || !strcmp(v, "static") || strlen(v) >= SW_NAMESZ)
       return fprintf(stderr, "sinew: %s expects an adaptive method (cvode, ida, or with its "
-                     "largest order: cvode:q5), got '%s'\n", a, v), -1;
+                     "largest order: cvode:q5) or a fixed-step one (bdf2, backward-euler, ...: "
+                     "at --reference-dt), got '%s'\n", a, v), -1;
     snprintf(dst, SW_NAMESZ, "%s", v);
     return 1;
   }
@@ -236,17 +245,19 @@ static bench_job *add_job(bench_plan *p, int cap) {
 /* atol for an rtol: 1 % of the cloth's size times rtol (m; the same number in m/s). */
 static double atol_for(const bench_cfg *g, double rtol) { return 1e-2 * g->size * rtol; }
 
+/* The reference or confirm run: an adaptive method at --reference-rtol, logged every log_dt
+ * (s); a fixed-step one at its own step, --reference-dt or --confirm-dt. */
 static void add_reference(bench_plan *p, int cap, int role, const char *method, double scale,
-                          double dt) {
+                          double log_dt) {
   const bench_cfg *g = &p->cfg;
   bench_job *j = add_job(p, cap);
   if (!j) return;
   j->role = role;
   snprintf(j->method, sizeof j->method, "%s", method);
-  j->adaptive = 1;
-  j->dt = dt;
-  j->rtol = g->ref_rtol;
-  j->atol = atol_for(g, g->ref_rtol);
+  j->adaptive = check_spec(method) == 1;
+  j->dt = j->adaptive ? log_dt : role == BR_REFERENCE ? g->ref_dt : g->confirm_dt;
+  j->rtol = j->adaptive ? g->ref_rtol : 0.0;
+  j->atol = j->adaptive ? atol_for(g, g->ref_rtol) : 0.0;
   j->scale = scale;
   job_id(j, g->mode, role == BR_REFERENCE ? "reference" : "confirm");
 }
@@ -267,8 +278,8 @@ static void add_run(bench_plan *p, int cap, const char *method, double setting, 
   job_id(j, g->mode, NULL);
 }
 
-/* The smallest dt: the log interval of the references (their tension series at every step of
- * the finest run; CVODE and IDA interpolate to it, their steps are not limited by it). */
+/* The smallest dt: the log interval of adaptive references (CVODE and IDA interpolate to it,
+ * their steps are not limited by it); a fixed-step reference's step divides it. */
 static double finest(const bench_cli *c) {
   double h = INFINITY;
   for (int k = 0; k < c->ndt; k++) h = fmin(h, c->dts[k]);
@@ -368,6 +379,45 @@ static void defaults(bench_cli *c, bench_cfg *g, const sw_model *m) {
   if (g->max_halvings < 0) g->max_halvings = 0; /* dt means dt (--max-halvings to change) */
 }
 
+/* Whether q = a / b is a whole number >= 1 (to 1e-6 of it). */
+static int whole_ratio(double a, double b) {
+  double q = a / b;
+  return q >= 1.0 - 1e-6 && fabs(q - floor(q + 0.5)) <= 1e-6 * q;
+}
+
+/* The step (s) of a fixed-step reference (what: "--reference-dt") or confirm run: given, or
+ * def; it must divide the finest dt of the sweep, so that the run is at least as fine as every
+ * run and logs at every sample time.  An adaptive one takes no step (given must be 0). */
+static int ref_step(const char *what, const char *method, double given, double def,
+                    double fine, double *dt) {
+  if (check_spec(method) == 1) {
+    if (given > 0)
+      return fprintf(stderr, "sinew: bench: %s is for a fixed-step method; %s is adaptive (its "
+                     "accuracy is --reference-rtol)\n", what, method), -1;
+    return *dt = 0.0, 0;
+  }
+  *dt = given > 0 ? given : def;
+  if (whole_ratio(fine, *dt)) return 0;
+  char a[32], b[32];
+  bench_fmt(a, sizeof a, *dt), bench_fmt(b, sizeof b, fine);
+  return fprintf(stderr, "sinew: bench: %s %s s does not divide the finest dt of the sweep (%s "
+                 "s): the %s run must log at every sample time; choose %s / N\n", what, a, b,
+                 method, b), -1;
+}
+
+/* The steps of fixed-step references: --reference-dt (default the finest dt / 8) and
+ * --confirm-dt (default half the reference's: a confirm by the same method then measures the
+ * reference's own error). */
+static int reference_steps(const bench_cli *c, bench_cfg *g) {
+  double fine = finest(c), rdt = 0.0;
+  if (ref_step("--reference-dt", g->ref_method, g->ref_dt, fine / 8.0, fine, &rdt)) return -1;
+  double cdef = 0.5 * (rdt > 0 ? rdt : fine / 8.0);
+  if (ref_step("--confirm-dt", g->confirm_method, g->confirm_dt, cdef, fine, &g->confirm_dt))
+    return -1;
+  g->ref_dt = rdt;
+  return 0;
+}
+
 /* The common sample interval: a multiple of every dt (checked), ~duration/40 by default. */
 static int sample_interval(const bench_cli *c, bench_cfg *g) {
   double big = 0.0;
@@ -418,7 +468,7 @@ static int check_scene(bench_cli *c, bench_cfg *g) {
     return 0;
   }
   if (!(g->size > 0)) return fprintf(stderr, "sinew: bench: %s has zero size\n", c->scene), -1;
-  return sample_interval(c, g);
+  return sample_interval(c, g) || reference_steps(c, g) ? -1 : 0;
 }
 
 /* ------------------------------------------------------------ plan files */
@@ -451,6 +501,7 @@ static int write_cfg(const bench_cfg *g) {
           g->ref_method, g->confirm_method);
   num(f, "duration", g->duration), num(f, "sample", g->sample), num(f, "size", g->size);
   num(f, "reference_rtol", g->ref_rtol), num(f, "confirm_tol", g->confirm_tol);
+  num(f, "reference_dt", g->ref_dt), num(f, "confirm_dt", g->confirm_dt);
   num(f, "overdamped", g->overdamped), num(f, "diverged", g->diverged);
   num(f, "timeout", g->timeout);
   fprintf(f, "repeat = %d\nsteps = %d\nmax_halvings = %d\n", g->repeat, g->steps,
@@ -491,7 +542,8 @@ static int cfg_line(bench_cfg *g, const char *key, const char *val) {
     if (!strcmp(key, str[k].k)) return snprintf(str[k].s, str[k].sz, "%s", val), 0;
   struct { const char *k; double *v; } nums[] = {{"duration", &g->duration},
       {"sample", &g->sample}, {"size", &g->size}, {"reference_rtol", &g->ref_rtol},
-      {"confirm_tol", &g->confirm_tol}, {"overdamped", &g->overdamped},
+      {"confirm_tol", &g->confirm_tol}, {"reference_dt", &g->ref_dt},
+      {"confirm_dt", &g->confirm_dt}, {"overdamped", &g->overdamped},
       {"diverged", &g->diverged}, {"timeout", &g->timeout}};
   for (size_t k = 0; k < sizeof nums / sizeof *nums; k++)
     if (!strcmp(key, nums[k].k)) return *nums[k].v = strtod(val, NULL), 0;

@@ -23,6 +23,10 @@ enum { BR_REFERENCE = 0, BR_CONFIRM, BR_RUN };
 #define BENCH_IDSZ 192
 #define BENCH_MAXLIST 64
 #define BENCH_MAX_JOBS 1000000 /* runs in a plan read by --merge, at most */
+/* A fixed-step reference or confirm run halves a failed step up to this many times (or the
+ * bench's --max-halvings when larger): a halved step is only finer, and it still ends on the
+ * grid of its dt, so the sample times are still logged. */
+#define BENCH_REF_HALVINGS 4
 
 typedef struct bench_job {
   char id[BENCH_IDSZ];         /* folder under DIR/runs and log name under DIR/logs */
@@ -46,7 +50,8 @@ typedef struct bench_cfg {
   double duration;             /* s */
   double sample;               /* s between the common sample times */
   double size;                 /* m: diagonal of the initial bounding box (relative errors) */
-  double ref_rtol;             /* reference tolerance */
+  double ref_rtol;             /* reference tolerance (adaptive reference and confirm) */
+  double ref_dt, confirm_dt;   /* s: the steps of a fixed-step reference and confirm */
   char ref_method[SW_NAMESZ], confirm_method[SW_NAMESZ];
   double confirm_tol;          /* the reference is confirmed when the two agree to this */
   double overdamped;           /* stability: energy lost beyond the reference's, fraction */

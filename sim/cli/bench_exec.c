@@ -46,6 +46,14 @@ static int num_arg(char **argv, int *n, int maxargs, char *buf, size_t bufsz, si
          arg(argv, n, maxargs, buf, bufsz, used, s);
 }
 
+/* --max-halvings of a run: the bench's; a fixed-step reference or confirm at least
+ * BENCH_REF_HALVINGS (its halved steps are finer, not coarser). */
+static int halvings(const bench_cfg *c, const bench_job *j) {
+  int fixed_ref = j->role != BR_RUN && !j->adaptive;
+  return fixed_ref && c->max_halvings < BENCH_REF_HALVINGS ? BENCH_REF_HALVINGS
+                                                            : c->max_halvings;
+}
+
 int bench_job_argv(const bench_cfg *c, const bench_job *j, char **argv, int maxargs, char *buf,
                    size_t bufsz) {
   int n = 0, rc = 0;
@@ -59,7 +67,7 @@ int bench_job_argv(const bench_cfg *c, const bench_job *j, char **argv, int maxa
   A(c->exe), A("run"), A(c->scene), A("--out"), A(out), A("--quiet"), A("--threads"), A("1");
   A("--method"), A(method), A("--no-frames");
   if (order) N("--max-order", order);
-  if (c->max_halvings >= 0) N("--max-halvings", c->max_halvings);
+  if (c->max_halvings >= 0) N("--max-halvings", halvings(c, j));
   N("--dt", j->dt);
   N("--duration", c->mode == BM_SCALING ? c->steps * j->dt : c->duration);
   if (j->adaptive) N("--rtol", j->rtol), N("--atol", j->atol);

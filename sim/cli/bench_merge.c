@@ -189,30 +189,54 @@ static void wp_row(FILE *f, const bench_plan *p, int k, const bench_result *ref)
   bench_result_free(&r);
 }
 
+/* "cvode:q5 rtol 1e-10" or "bdf2 dt 0.0003125 s" (a fixed-step job: its step). */
+static void describe(char *out, size_t sz, const bench_job *j, const char *method) {
+  char v[32];
+  bench_fmt(v, sizeof v, j && !j->adaptive ? j->dt : j ? j->rtol : NAN);
+  snprintf(out, sz, "%s %s %s%s", method, j && !j->adaptive ? "dt" : "rtol", v,
+           j && !j->adaptive ? " s" : "");
+}
+
+/* The rtol and dt columns of a reference or confirm job (the one that does not apply: empty). */
+static void put_setting(FILE *f, const bench_job *j) {
+  put_num(f, j && j->adaptive ? j->rtol : NAN);
+  put_num(f, j && !j->adaptive ? j->dt : NAN);
+}
+
+static const char *const ref_header =
+    "method,rtol,dt,confirm_method,confirm_rtol,confirm_dt,pos_err,txy_err,tendon_err,bound,"
+    "confirmed,wall_s,retries,confirm_retries,run_dir,confirm_dir";
+
 /* reference.csv: the reference run and its agreement with the second method. */
 static int wp_reference(const bench_plan *p, const bench_result *ref, int have_ref) {
   const bench_cfg *c = &p->cfg;
   int kc = find_role(p, BR_CONFIRM, 1.0), kr = find_role(p, BR_REFERENCE, 1.0);
+  const bench_job *jr = kr >= 0 ? &p->job[kr] : NULL, *jc = kc >= 0 ? &p->job[kc] : NULL;
   bench_result cr;
   errors e = {NAN, NAN, NAN, NAN, NAN, NAN, NAN};
-  if (kc >= 0) bench_read(c, &p->job[kc], 1, &cr);
+  if (jc) bench_read(c, jc, 1, &cr);
   else memset(&cr, 0, sizeof cr);
-  if (have_ref && kc >= 0 && !strcmp(cr.status, "ok")) measure(&cr, ref, c->size, &e);
+  if (have_ref && jc && !strcmp(cr.status, "ok")) measure(&cr, ref, c->size, &e);
   int confirmed = isfinite(e.pos_max) && e.pos_max <= c->confirm_tol;
-  char path[SW_PATHSZ + 64];
-  FILE *f = open_csv(c, "reference.csv", "method,rtol,confirm_method,confirm_rtol,pos_err,"
-                     "txy_err,tendon_err,bound,confirmed,wall_s,run_dir,confirm_dir", path,
-                     sizeof path);
+  char path[SW_PATHSZ + 64], rd[SW_NAMESZ + 48], cd[SW_NAMESZ + 48];
+  FILE *f = open_csv(c, "reference.csv", ref_header, path, sizeof path);
   if (!f) return bench_result_free(&cr), -1;
-  fprintf(f, "%s,%g,%s,%g", c->ref_method, c->ref_rtol, c->confirm_method, c->ref_rtol);
+  fprintf(f, "%s", c->ref_method), put_setting(f, jr);
+  fprintf(f, ",%s", c->confirm_method), put_setting(f, jc);
   put_num(f, e.pos_max), put_num(f, e.txy_max_l2), put_num(f, e.tendon);
   put_num(f, c->confirm_tol);
   fprintf(f, ",%s", confirmed ? "yes" : "no");
   put_num(f, have_ref ? ref->wall : NAN);
-  fprintf(f, ",runs/%s,runs/%s\n", kr >= 0 ? p->job[kr].id : "", kc >= 0 ? p->job[kc].id : "");
-  printf("reference: %s rtol %g; %s at the same rtol agrees to %.3g of the size (positions), "
-         "%.3g (tension XY max): %s (bound %g)\n", c->ref_method, c->ref_rtol, c->confirm_method,
-         e.pos_max, e.txy_max_l2, confirmed ? "confirmed" : "NOT CONFIRMED", c->confirm_tol);
+  fprintf(f, ",%ld,%ld", have_ref ? ref->retries : 0L, cr.retries);
+  fprintf(f, ",runs/%s,runs/%s\n", jr ? jr->id : "", jc ? jc->id : "");
+  describe(rd, sizeof rd, jr, c->ref_method), describe(cd, sizeof cd, jc, c->confirm_method);
+  printf("reference: %s; %s agrees to %.3g of the size (positions), %.3g (tension XY max): %s "
+         "(bound %g)\n", rd, cd, e.pos_max, e.txy_max_l2, confirmed ? "confirmed"
+                                                                    : "NOT CONFIRMED",
+         c->confirm_tol);
+  if (have_ref && (ref->retries || cr.retries))
+    printf("reference: halved steps: %ld (reference), %ld (confirm)\n", ref->retries,
+           cr.retries);
   bench_result_free(&cr);
   return close_csv(f, path) ? -1 : confirmed ? 0 : 1;
 }
