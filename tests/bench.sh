@@ -2,7 +2,8 @@
 # tests/bench.sh SINEW — `sinew bench` end to end on a 36-vertex cloth (seconds): the CSV has every
 # method x setting, errors fall with dt for the convergent methods at their order, a blown-up
 # run is recorded as failed, a crashed one as crashed, --emit-jobs + --merge give the same
-# errors as local runs, the stability and scaling modes, and the charts are valid PNG files.
+# errors as local runs, the stability and scaling modes, the charts are valid PNG files, and a
+# fixed-step reference (BDF2) on a contact scene, where CVODE and IDA fail.
 set -u
 sinew=$1
 tmp=$(mktemp -d)
@@ -163,6 +164,53 @@ s5=$(col "$mo/work_precision.csv" steps '^cvode:q5,')
 "$sinew" bench $scene --methods cvode --max-orders 6 >/dev/null 2>&1 && fail "--max-orders 6 accepted"
 "$sinew" bench $scene --methods bdf2:q2 >/dev/null 2>&1 && fail "a fixed-step method with an order accepted"
 "$sinew" bench $scene --methods cvode:q0 >/dev/null 2>&1 && fail "cvode:q0 accepted"
+
+# ------------------------------------------- a fixed-step reference on a contact scene
+# CVODE and IDA fail at the first contact (docs/contact.md): the reference is BDF2 at
+# --reference-dt (default the finest dt / 8 = 1.25 ms), confirmed by BDF2 at half that step
+# (--confirm-dt's default); they agree to ~2.4e-4 of the size (contact is not smooth), hence
+# --confirm-tol 1e-3 here.
+ct=$tmp/ct
+"$sinew" bench tests/data/bench_contact.yaml --out "$ct" --methods backward-euler,bdf2,baraff-witkin \
+  --dts 0.02,0.01 --reference bdf2 --confirm bdf2 --confirm-tol 1e-3 --no-charts >"$tmp/ct.out" 2>&1 ||
+  fail "contact bench: $(tail -3 "$tmp/ct.out")"
+for f in reference.csv work_precision.csv plan_work_precision.csv; do
+  [ -f "$ct/$f" ] || fail "contact bench: no $f"
+done
+r=$ct/reference.csv
+[ "$(col "$r" confirmed .)" = yes ] || fail "contact reference not confirmed: $(cat "$r")"
+[ "$(col "$r" dt .),$(col "$r" confirm_dt .),$(col "$r" rtol .)" = "0.00125,0.000625," ] ||
+  fail "contact reference dt, confirm_dt, rtol: $(cat "$r")"
+grep -q 'reference: bdf2 dt 0.00125 s; bdf2 dt 0.000625 s agrees' "$tmp/ct.out" ||
+  fail "the summary does not give the reference's dt: $(grep reference: "$tmp/ct.out")"
+grep -q '"dt": 0.00125,' "$ct/runs/wp_reference/summary.json" || fail "the reference did not run at 1.25 ms"
+c=$ct/work_precision.csv
+agree=$(col "$r" pos_err .)
+for m in bdf2 baraff-witkin; do
+  e1=$(col "$c" pos_err_max "^$m,fixed,dt,0.02,")
+  e2=$(col "$c" pos_err_max "^$m,fixed,dt,0.01,")
+  t2=$(col "$c" txy_max_l2 "^$m,fixed,dt,0.01,")
+  # errors fall with dt and stay above the reference's own (the confirm's agreement)
+  $py -c "import sys; sys.exit(not ($agree < $e2 < $e1 and $t2 > 0))" ||
+    fail "$m on contact: errors $e1 -> $e2 (reference agreement $agree, tension $t2)"
+done
+# A reference whose step is halved (backward Euler at 20 ms: Newton does not converge at the
+# contact, the step is halved): its halved steps are counted, the samples still land on its
+# grid, every error of the run is measured.
+"$sinew" bench tests/data/bench_contact.yaml --out "$tmp/ch" --methods bdf2 --dts 0.02 \
+  --reference backward-euler --reference-dt 0.02 --confirm bdf2 --confirm-dt 0.005 --confirm-tol 0.05 \
+  --no-charts >"$tmp/ch.out" 2>&1 || fail "halved reference: $(tail -3 "$tmp/ch.out")"
+[ "$(col "$tmp/ch/reference.csv" retries .)" -ge 1 ] || fail "the reference was not halved: $(cat "$tmp/ch/reference.csv")"
+[ -n "$(col "$tmp/ch/work_precision.csv" pos_err_final '^bdf2,')" ] || fail "halved reference: no final error"
+[ "$(col "$tmp/ch/reference.csv" confirmed .)" = yes ] || fail "halved reference not confirmed"
+# bad input: a step that does not divide the finest dt, a step for an adaptive reference, static
+"$sinew" bench tests/data/bench_contact.yaml --out "$tmp/cb" --dts 0.02,0.01 --reference bdf2 \
+  --reference-dt 0.003 >/dev/null 2>"$tmp/cb.err" && fail "--reference-dt 0.003 accepted"
+grep -q 'does not divide the finest dt' "$tmp/cb.err" || fail "message for --reference-dt: $(cat "$tmp/cb.err")"
+"$sinew" bench $scene --out "$tmp/cb" --reference-dt 0.001 >/dev/null 2>"$tmp/cb.err" &&
+  fail "--reference-dt with an adaptive reference accepted"
+grep -q 'is for a fixed-step method' "$tmp/cb.err" || fail "message for --reference-dt with cvode"
+"$sinew" bench $scene --reference static >/dev/null 2>&1 && fail "--reference static accepted"
 
 # ------------------------------------------------------------- bad input
 "$sinew" bench $scene --out "$tmp/bad" --dts 0.03,0.02 >/dev/null 2>"$tmp/bad.err" && fail "non-dividing dts accepted"
