@@ -194,6 +194,12 @@ for m in bdf2 baraff-witkin; do
   $py -c "import sys; sys.exit(not ($agree < $e2 < $e1 and $t2 > 0))" ||
     fail "$m on contact: errors $e1 -> $e2 (reference agreement $agree, tension $t2)"
 done
+# The reference and confirm runs (and only they) get a strict Newton tolerance and halvings.
+"$sinew" bench tests/data/bench_contact.yaml --out "$tmp/cj" --methods bdf2 --dts 0.02,0.01 \
+  --reference bdf2 --confirm bdf2 --emit-jobs "$tmp/cj.txt" >/dev/null 2>&1 || fail "contact --emit-jobs"
+[ "$(grep -c -- "--max-halvings' '4' '--newton-tol' '1e-05'" "$tmp/cj.txt")" = 2 ] ||
+  fail "reference and confirm lines lack --newton-tol 1e-05 / --max-halvings 4: $(head -2 "$tmp/cj.txt")"
+[ "$(grep -c -- "--newton-tol" "$tmp/cj.txt")" = 2 ] || fail "a sweep run got the reference's --newton-tol"
 # A reference whose step is halved (backward Euler at 20 ms: Newton does not converge at the
 # contact, the step is halved): its halved steps are counted, the samples still land on its
 # grid, every error of the run is measured.

@@ -42,6 +42,7 @@ static void bench_usage(FILE *fp) {
       "                   [--max-orders Q,...] [--repeat N] [--duration T] [--sample-every S]\n"
       "                   [--reference M] [--reference-rtol R] [--reference-dt DT]\n"
       "                   [--confirm M] [--confirm-dt DT] [--confirm-tol E]\n"
+      "                   [--reference-newton-tol V]\n"
       "                   [--stability [--scales S,...] [--overdamped F]]\n"
       "                   [--scaling [--sizes N,...] [--steps N]]\n"
       "                   [--jobs N | --emit-jobs FILE] [--timeout S] [--diverged F]\n"
@@ -55,8 +56,9 @@ static void bench_usage(FILE *fp) {
       "  --confirm-tol (1e-6 of the cloth's size).  A fixed-step reference or confirm (bdf2,\n"
       "  backward-euler: where CVODE and IDA fail, e.g. at contact) runs at --reference-dt\n"
       "  (default: the finest dt of the sweep / 8) or --confirm-dt (default: half the\n"
-      "  reference's), each dividing the finest dt, and may halve a failed step up to 4\n"
-      "  times (or --max-halvings when larger).  Then every method x setting: fixed-step\n"
+      "  reference's), each dividing the finest dt, with Newton's tolerance at\n"
+      "  --reference-newton-tol (1e-5 m/s; 0: the scene's), and may halve a failed step up\n"
+      "  to 4 times (or --max-halvings when larger).  Then every method x setting: fixed-step\n"
       "  methods at --dts (default: the scene's dt x 1, 1/2, 1/4, 1/8), adaptive ones at\n"
       "  --rtols (default 1e-3 .. 1e-6).  Errors at the common sample times (every\n"
       "  --sample-every s, a multiple of every dt; default ~duration/40) against the reference:\n"
@@ -173,6 +175,8 @@ static int parse_valued(const char *a, const char *v, bench_cli *c, bench_cfg *g
   if (!strcmp(a, "--max-halvings")) return cli_int(a, v, 0, 60, &g->max_halvings) ? -1 : 1;
   if (!strcmp(a, "--reference-dt")) return cli_number(a, v, 0, &g->ref_dt) ? -1 : 1;
   if (!strcmp(a, "--confirm-dt")) return cli_number(a, v, 0, &g->confirm_dt) ? -1 : 1;
+  if (!strcmp(a, "--reference-newton-tol"))
+    return cli_number(a, v, 1, &g->ref_newton_tol) ? -1 : 1;
   if (!strcmp(a, "--reference") || !strcmp(a, "--confirm")) {
     char *dst = a[2] == 'r' ? g->ref_method : g->confirm_method;
     if (check_spec(v) < 0 || !strcmp(v, "static") || strlen(v) >= SW_NAMESZ)
@@ -502,6 +506,7 @@ static int write_cfg(const bench_cfg *g) {
   num(f, "duration", g->duration), num(f, "sample", g->sample), num(f, "size", g->size);
   num(f, "reference_rtol", g->ref_rtol), num(f, "confirm_tol", g->confirm_tol);
   num(f, "reference_dt", g->ref_dt), num(f, "confirm_dt", g->confirm_dt);
+  num(f, "reference_newton_tol", g->ref_newton_tol);
   num(f, "overdamped", g->overdamped), num(f, "diverged", g->diverged);
   num(f, "timeout", g->timeout);
   fprintf(f, "repeat = %d\nsteps = %d\nmax_halvings = %d\n", g->repeat, g->steps,
@@ -543,7 +548,8 @@ static int cfg_line(bench_cfg *g, const char *key, const char *val) {
   struct { const char *k; double *v; } nums[] = {{"duration", &g->duration},
       {"sample", &g->sample}, {"size", &g->size}, {"reference_rtol", &g->ref_rtol},
       {"confirm_tol", &g->confirm_tol}, {"reference_dt", &g->ref_dt},
-      {"confirm_dt", &g->confirm_dt}, {"overdamped", &g->overdamped},
+      {"confirm_dt", &g->confirm_dt}, {"reference_newton_tol", &g->ref_newton_tol},
+      {"overdamped", &g->overdamped},
       {"diverged", &g->diverged}, {"timeout", &g->timeout}};
   for (size_t k = 0; k < sizeof nums / sizeof *nums; k++)
     if (!strcmp(key, nums[k].k)) return *nums[k].v = strtod(val, NULL), 0;
@@ -702,7 +708,7 @@ int sw_bench_main(int argc, char **argv) {
   bench_cli c = {0};
   bench_plan p = {.cfg = {.mode = BM_WORK, .confirm_tol = 1e-6, .overdamped = 0.1,
                           .diverged = 1.0, .repeat = 1, .jobs = 1, .steps = 3, .charts = 1,
-                          .max_halvings = -1,
+                          .max_halvings = -1, .ref_newton_tol = BENCH_REF_NEWTON_TOL,
                           .ref_method = "cvode:q5", .confirm_method = "ida:q5"}};
   int rc = parse_bench_args(argc, argv, &c, &p.cfg);
   if (rc) return rc < 0 ? 2 : 0;

@@ -27,6 +27,9 @@ enum { BR_REFERENCE = 0, BR_CONFIRM, BR_RUN };
  * bench's --max-halvings when larger): a halved step is only finer, and it still ends on the
  * grid of its dt, so the sample times are still logged. */
 #define BENCH_REF_HALVINGS 4
+/* m/s: the default Newton tolerance of a fixed-step reference or confirm run; with the scene's
+ * 1e-2 Newton's error is a quarter of a fine step's own on a draped cloth (docs/benchmarks.md) */
+#define BENCH_REF_NEWTON_TOL 1e-5
 
 typedef struct bench_job {
   char id[BENCH_IDSZ];         /* folder under DIR/runs and log name under DIR/logs */
@@ -52,6 +55,7 @@ typedef struct bench_cfg {
   double size;                 /* m: diagonal of the initial bounding box (relative errors) */
   double ref_rtol;             /* reference tolerance (adaptive reference and confirm) */
   double ref_dt, confirm_dt;   /* s: the steps of a fixed-step reference and confirm */
+  double ref_newton_tol;       /* m/s: their Newton tolerance (--newton-tol); 0: the scene's */
   char ref_method[SW_NAMESZ], confirm_method[SW_NAMESZ];
   double confirm_tol;          /* the reference is confirmed when the two agree to this */
   double overdamped;           /* stability: energy lost beyond the reference's, fraction */
