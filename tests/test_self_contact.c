@@ -379,9 +379,111 @@ static void derivatives(void **st) {
     }
 }
 
+/* ------------------------------------------------------------------ a flap on a sheet */
+
+/* Two 9 x 9 sheets in one OBJ: the lower one 12 cm square at z = 0 (vertices 0-80), the flap
+ * 10 cm square 2 cm above it (81-161), its row y = 1 cm pinned; (u,v) = (x, y). */
+static void write_sheets(void) {
+  enum { N = 9, NV = 2 * N * N, NF = 2 * 2 * (N - 1) * (N - 1) };
+  double x[3 * NV], uv[2 * NV];
+  int f[3 * NF], nf = 0;
+  for (int s = 0; s < 2; s++)
+    for (int j = 0; j < N; j++)
+      for (int i = 0; i < N; i++) {
+        int k = s * N * N + j * N + i;
+        double size = s ? 0.1 : 0.12, o = s ? 0.01 : 0.0;
+        uv[2 * k] = x[3 * k] = o + size * i / (N - 1);
+        uv[2 * k + 1] = x[3 * k + 1] = o + size * j / (N - 1);
+        x[3 * k + 2] = s ? 0.02 : 0.0;
+        if (i + 1 < N && j + 1 < N) {
+          int q[6] = {k, k + 1, k + N + 1, k, k + N + 1, k + N};
+          memcpy(f + 3 * nf, q, sizeof q);
+          nf += 2;
+        }
+      }
+  write_obj("sheets.obj", NV, x, nf, f, uv);
+}
+
+static const char flap_scene[] =
+    "mesh: {obj: sheets.obj}\n"
+    "material: {density: 0.1, membrane: {model: bw98, k_u: 1000, k_v: 1000, k_shear: 50},\n"
+    "           bending: {model: quadratic, stiffness: 1e-6}}\n"
+    "gravity: [0, 0, -9.81]\n"
+    "pins: [{select: {box: [[-1, -1, -1e-3], [1e-3, 1, 1e-3]]}},\n"
+    "       {select: {box: [[0.119, -1, -1e-3], [1, 1, 1e-3]]}},\n"
+    "       {select: {box: [[-1, -1, -1e-3], [1, 1e-3, 1e-3]]}},\n"
+    "       {select: {box: [[-1, 0.119, -1e-3], [1, 1, 1e-3]]}},\n"
+    "       {select: {box: [[-1, 0.0099, 0.0199], [1, 0.0101, 0.0201]]}}]\n"
+    "damping: {mass: 1.0}\n"
+    "integrator: {method: backward-euler, dt: 0.01}\n"
+    "duration: 0.4\n"
+    "%s";
+
+typedef struct closest {
+  const double *x;
+  double d2;  /* m^2: the smallest squared distance */
+} closest;
+
+static void min_pair(const int *v, int kind, void *arg) {
+  closest *c = arg;
+  c->d2 = fmin(c->d2, pair_d2(kind, v, c->x, NULL, NULL));
+}
+
+/* The flap run to the end with or without self-contact: the smallest distance of any pair of
+ * primitives sharing no vertex at any step (brute force, m), the largest count of intersecting
+ * triangle pairs at any step and at the end, and the pairs in contact at the end. */
+static void flap_run(int self, double *dmin, long *cross_max, long *cross_end, int *contacts) {
+  char text[2048];
+  snprintf(text, sizeof text, flap_scene, self ? "contact: {self: true, thickness: 1e-3}\n" : "");
+  sw_model *m = parse_ok(text);
+  char err[SW_ERRSZ];
+  sw_sim *s = sw_sim_new(m, 0, err, sizeof err);
+  assert_non_null(s);
+  const sw_data *d = sw_sim_data(s);
+  int ne, *edge = mesh_edges(m, &ne);
+  *dmin = INFINITY;
+  *cross_max = 0;
+  while (d->t < m->opt.duration - 1e-9) {
+    int rc = sw_sim_step(s, err, sizeof err);
+    if (rc) print_error("%s\n", err);
+    assert_int_equal(rc, 0);
+    closest c = {.x = d->x, .d2 = INFINITY};
+    each_pair(m, edge, ne, min_pair, &c);
+    *dmin = fmin(*dmin, sqrt(c.d2));
+    *cross_end = sw_mesh_self_intersections(m->nv, d->x, m->nf, m->face);
+    *cross_max = *cross_end > *cross_max ? *cross_end : *cross_max;
+  }
+  print_message("flap, self-contact %s: %ld steps, %ld Newton iterations, %ld pattern growths, "
+                "smallest distance %.3g m, intersecting pairs at most %ld, at the end %ld; "
+                "%d pairs in contact at the end\n", self ? "on" : "off", d->nstep, d->nnewton,
+                d->npattern, *dmin, *cross_max, *cross_end, d->self_count);
+  *contacts = d->self_count;
+  free(edge);
+  sw_sim_free(s);
+  sw_model_free(m);
+}
+
+/* With self-contact the flap lands on the sheet and stays beyond the thickness; without, it
+ * swings through the sheet. */
+static void flap_on_sheet(void **st) {
+  (void)st;
+  write_sheets();
+  double dmin;
+  long cmax, cend;
+  int contacts;
+  flap_run(1, &dmin, &cmax, &cend, &contacts);
+  assert_true(dmin > 1e-3);          /* the thickness */
+  assert_true(dmin < 1e-3 + 1e-3);   /* it did land: within the barrier's reach */
+  assert_true(contacts > 100);       /* and lies on the sheet at the end */
+  assert_int_equal(cmax, 0);
+  flap_run(0, &dmin, &cmax, &cend, &contacts);
+  assert_true(cend > 0);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(derivatives),
+      cmocka_unit_test(flap_on_sheet),
   };
   return cmocka_run_group_tests(tests, make_tmpdir, remove_tmpdir);
 }
