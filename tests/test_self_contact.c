@@ -208,6 +208,13 @@ static double eig12(const double *B, double *amax, double *P) {
   return lam[0];
 }
 
+/* A += the 12 x 12 block B over the vertices v[0..3] (A: n x n over 3 coordinates a vertex). */
+static void scatter(double *A, int n, const int *v, const double *B) {
+  for (int i = 0; i < 12; i++)
+    for (int j = 0; j < 12; j++)
+      A[(3 * v[i / 3] + i % 3) * n + 3 * v[j / 3] + j % 3] += B[12 * i + j];
+}
+
 /* Sums of the brute-force pass over every pair (each_pair). */
 typedef struct sums {
   const sw_model *m;
@@ -226,8 +233,7 @@ static void add_pair(const int *v, int kind, void *arg) {
   s->energy += e;
   s->active++;
   if (kind == SW_MC_EE) s->min_mol = fmin(s->min_mol, mol);
-  for (int i = 0; i < 12; i++)
-    for (int j = 0; j < 12; j++) s->H[(3 * v[i / 3] + i % 3) * n + 3 * v[j / 3] + j % 3] += H[12 * i + j];
+  scatter(s->H, n, v, H);
 }
 
 /* One configuration: vertices 0-2 the triangle A = (0,0,0) (0.1,0,0) (0,0.1,0), vertices 3-5
@@ -333,9 +339,7 @@ static void check_config(const config *c, double xi, double *err) {
     err[3] = fmax(err[3], bmax / amax);
     assert_true(bmax <= 1e-9 * amax); /* the block is the clamped exact Hessian */
     assert_true(eig12(blk + 144 * k, &amax, NULL) >= -1e-9 * amax); /* PSD */
-    for (int i = 0; i < 12; i++)
-      for (int j = 0; j < 12; j++)
-        Hsum[(3 * pr[k].v[i / 3] + i % 3) * n + 3 * pr[k].v[j / 3] + j % 3] += blk[144 * k + 12 * i + j];
+    scatter(Hsum, n, pr[k].v, blk + 144 * k);
   }
   assert_true(found);
   if (c->parallel) assert_true(s.min_mol < 0.5); /* the nearly parallel pair is mollified */
@@ -480,10 +484,73 @@ static void flap_on_sheet(void **st) {
   assert_true(cend > 0);
 }
 
+/* ------------------------------------------------------------------------ scene errors */
+
+static void scene_errors(void **st) {
+  (void)st;
+  static const char grid[] = "mesh: {grid: {size: [0.1, 0.1], vertices: [3, 3]}}\n"
+                             "material: {density: 0.1}\n";
+  static const char plane[] = "obstacles: [{shape: plane, point: [0, 0, -1], normal: [0, 0, 1]}]\n";
+  static const char obj[] = "mesh: {obj: two.obj}\nmaterial: {density: 0.1}\n";
+  const double tri[9] = {0, 0, 0, 0.1, 0, 0, 0, 0.1, 0};
+  const double crossing[9] = {0.03, 0.03, -0.01, 0.05, 0.03, 0.01, 0.03, 0.05, 0.01};
+  const double close[9] = {0.01, 0.01, 5e-4, 0.05, 0.01, 5e-4, 0.01, 0.05, 5e-4};
+  const struct {
+    const char *head, *tail;
+    const double *b; /* the second triangle of two.obj (the first: tri), or NULL */
+    const char *want, *want2; /* in the message, both (want2 NULL: only want) */
+  } bad[] = {
+      {"dimension: 2\n", "contact: {self: true}\n", NULL,
+       "self.yaml:4:17: contact self is true in a 2D scene", NULL},
+      {plane, "contact: {self: false, thickness: 1e-3}\n", NULL,
+       "self.yaml:4:35: contact thickness is given without self: true", NULL},
+      {plane, "contact: {self_stiffness: 10}\n", NULL,
+       "self.yaml:4:27: contact self_stiffness is given without self: true", NULL},
+      {"", "contact: {distance: 1e-3}\n", NULL,
+       "self.yaml:3:10: contact is given but the scene has no obstacles and no self-contact", NULL},
+      {"", "contact: {self: false}\n", NULL,
+       "self.yaml:3:10: contact is given but the scene has no obstacles and no self-contact", NULL},
+      {"", "contact: {self: true}\n", crossing,
+       "self.yaml:3:10: contact: self: the mesh intersects itself (1 pairs of triangles)", NULL},
+      {"", "contact:\n  self: true\n  thickness: 1e-3\n", close,
+       "self.yaml:4:3: contact: self: vertices ", /* whichever of the 3 pairs comes first */
+       "(a point and a triangle) start 0.0005 m apart, within the thickness 0.001 m"},
+  };
+  for (size_t k = 0; k < sizeof bad / sizeof *bad; k++) {
+    char text[1024], err[SW_ERRSZ];
+    if (bad[k].b) {
+      double x[18];
+      const int f[6] = {0, 1, 2, 3, 4, 5};
+      memcpy(x, tri, sizeof tri);
+      memcpy(x + 9, bad[k].b, sizeof tri);
+      write_obj("two.obj", 6, x, 2, f, NULL);
+    }
+    snprintf(text, sizeof text, "%s%s%s", bad[k].b ? obj : grid, bad[k].head, bad[k].tail);
+    sw_model *m = parse_in_tmp(text, err, sizeof err);
+    int ok = !m && strstr(err, bad[k].want) && (!bad[k].want2 || strstr(err, bad[k].want2));
+    if (!ok) print_error("case %zu: %s\n", k, m ? "loaded" : err);
+    assert_null(m);
+    assert_true(ok);
+  }
+  /* the same triangles 2 mm apart load, with the term */
+  double x[18];
+  const int f[6] = {0, 1, 2, 3, 4, 5};
+  memcpy(x, tri, sizeof tri);
+  memcpy(x + 9, close, sizeof tri);
+  for (int i = 3; i < 6; i++) x[3 * i + 2] = 2e-3;
+  write_obj("two.obj", 6, x, 2, f, NULL);
+  char text[256];
+  snprintf(text, sizeof text, "%scontact: {self: true, thickness: 1e-3}\n", obj);
+  sw_model *m = parse_ok(text);
+  assert_true(sw_term_find(m, "mesh_contact") >= 0);
+  sw_model_free(m);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(derivatives),
       cmocka_unit_test(flap_on_sheet),
+      cmocka_unit_test(scene_errors),
   };
   return cmocka_run_group_tests(tests, make_tmpdir, remove_tmpdir);
 }
