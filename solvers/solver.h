@@ -201,8 +201,9 @@ void sw_ipstep_free(sw_ipstep *s);
  * coefficient cd (1/s), tolerance max |dy| <= tol_scale * newton_tol * h. */
 sw_newton_opts sw_ipstep_opts(const sw_model *m, const sw_ipstep *s, double a, double t,
                               double cd, double h, double tol_scale);
-/* D at xhat (a predictor of the stage state) and Newton from y = y0 (NULL: xhat) on the free
- * DOFs (the pinned components from d->x) into s->xnew. */
+/* D at xhat (a predictor of the stage state; with contact, at the start guess the contact
+ * checks made admissible) and Newton from y = y0 (NULL: xhat) on the free DOFs (the pinned
+ * components from d->x) into s->xnew. */
 int sw_ipstep_solve(sw_ipstep *s, const sw_model *m, sw_data *d, const sw_newton_opts *o,
                     const double *y0);
 /* After a change between steps (SW_CHANGED_*): a kept factorisation is dropped (the Hessian it
