@@ -139,6 +139,12 @@ static void pair_vertices(const sw_model *m, const sw_mcontact *mc, int kind, co
   }
 }
 
+/* The broad phase's last pairs of one kind (SW_MC_PT or SW_MC_EE) and their number. */
+static const int *candidates(const sw_mcontact *mc, int kind, int *n) {
+  *n = kind == SW_MC_PT ? mc->bp.npt : mc->bp.nee;
+  return kind == SW_MC_PT ? mc->bp.pt : mc->bp.ee;
+}
+
 static void gather(const double *x, const int *v, double *p) {
   for (int k = 0; k < 4; k++) memcpy(p + 3 * k, x + 3 * (size_t)v[k], 3 * sizeof(double));
 }
@@ -229,8 +235,12 @@ static int mc_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, doubl
     sw_eval_why(ev, "the broad phase failed (positions not finite, or out of memory)");
     return SW_RECOVER;
   }
-  int rc = eval_pairs(m, ev, mc, SW_MC_PT, mc->bp.pt, mc->bp.npt, energy);
-  if (!rc) rc = eval_pairs(m, ev, mc, SW_MC_EE, mc->bp.ee, mc->bp.nee, energy);
+  int rc = SW_OK;
+  for (int kind = SW_MC_PT; !rc && kind <= SW_MC_EE; kind++) {
+    int n;
+    const int *q = candidates(mc, kind, &n);
+    rc = eval_pairs(m, ev, mc, kind, q, n, energy);
+  }
   return rc;
 }
 
@@ -278,8 +288,8 @@ double sw_mcontact_toi(const sw_model *m, sw_mcontact *mc, const double *x0, con
   if (rc) return 0.0;
   double toi = 1.0;
   for (int kind = SW_MC_PT; kind <= SW_MC_EE; kind++) {
-    const int *q = kind == SW_MC_PT ? mc->bp.pt : mc->bp.ee;
-    int n = kind == SW_MC_PT ? mc->bp.npt : mc->bp.nee;
+    int n;
+    const int *q = candidates(mc, kind, &n);
     for (int k = 0; k < n && toi > 0.0; k++) {
       int v[4];
       double a[12], b[12];
@@ -332,8 +342,8 @@ int sw_mcontact_check_start(const sw_model *m, const double *x, char *err, size_
   sw_bp_input in = bp_input(m, mc, x, x, 0.5 * m->contact.thickness);
   int rc = sw_broadphase_query(&mc->bp, &in, SW_BP_PT | SW_BP_EE);
   for (int kind = SW_MC_PT; !rc && kind <= SW_MC_EE; kind++) {
-    const int *q = kind == SW_MC_PT ? mc->bp.pt : mc->bp.ee;
-    int n = kind == SW_MC_PT ? mc->bp.npt : mc->bp.nee;
+    int n;
+    const int *q = candidates(mc, kind, &n);
     for (int k = 0; k < n && !rc; k++) {
       int v[4];
       double g[12], gap;
@@ -363,8 +373,8 @@ void sw_mcontact_state(const sw_model *m, sw_data *d) {
   double *f = mc->xa; /* (nv x 3) the contact force on each vertex, N */
   memset(f, 0, (size_t)m->nv * 3 * sizeof(double));
   for (int kind = SW_MC_PT; kind <= SW_MC_EE; kind++) {
-    const int *q = kind == SW_MC_PT ? mc->bp.pt : mc->bp.ee;
-    int n = kind == SW_MC_PT ? mc->bp.npt : mc->bp.nee;
+    int n;
+    const int *q = candidates(mc, kind, &n);
     for (int k = 0; k < n; k++) {
       int v[4];
       double g[12], gap;
