@@ -80,6 +80,14 @@ void sw_model_free(sw_model *m) {
     sw_free(m->obstacle[k].key_d);
   }
   sw_free(m->obstacle);
+  for (int k = 0; k < m->nmesh_obstacle; k++) {
+    sw_obstacle *o = &m->mesh_obstacle[k];
+    sw_free(o->key_t);
+    sw_free(o->key_d);
+    sw_free(o->mesh_x);
+    sw_free(o->mesh_face);
+  }
+  sw_free(m->mesh_obstacle);
   sw_free(m->dof);
   sw_free(m->mat);
   sw_free(m->face_mat);
@@ -238,7 +246,7 @@ static int build_terms(sw_model *m, char *err, size_t errsz) {
     }
     if (add_term(m, sw_contact_build, err, errsz)) return -1;
   }
-  if (m->contact.self) {
+  if (sw_mesh_contact_on(m)) {
     if (m->contact.kappa_mesh <= 0.0) m->contact.kappa_mesh = sw_mesh_contact_auto_kappa(m);
     if (add_term(m, sw_mesh_contact_build, err, errsz)) return -1;
   }
@@ -457,9 +465,16 @@ void sw_model_print(const sw_model *m, void *file) {
   fprintf(fp, "%s\n", m->nterm ? "" : " (none)");
   for (int k = 0; k < m->nobstacle; k++) {
     const sw_obstacle *o = &m->obstacle[k];
-    fprintf(fp, "obstacle %d  %s%s, offset %g m\n", k, sw_shape_names()[o->shape],
+    fprintf(fp, "obstacle %d  %s%s, offset %g m\n", o->item, sw_shape_names()[o->shape],
             o->nkey > 1 ? " (moving)" : "", o->offset);
   }
+  for (int k = 0; k < m->nmesh_obstacle; k++) {
+    const sw_obstacle *o = &m->mesh_obstacle[k];
+    fprintf(fp, "obstacle %d  mesh, %d vertices, %d faces%s, offset %g m\n", o->item, o->mesh_nv,
+            o->mesh_nf, o->nkey > 1 ? " (moving)" : "", o->offset);
+  }
+  if (m->nmesh_obstacle && !m->contact.self)
+    fprintf(fp, "mesh contact stiffness %g 1/(s^2 m^2)\n", m->contact.kappa_mesh);
   if (m->nobstacle)
     fprintf(fp, "contact     distance %g m, stiffness %g 1/s^2%s, friction %g\n", m->contact.dhat,
             m->contact.kappa, m->contact.kappa_auto ? " (automatic)" : "", m->contact.friction);
