@@ -1,5 +1,5 @@
 /* mesh_contact.c — the term "mesh_contact": the cloth's triangles kept apart from each other
- * (`contact: {self: true}`), after Li et al., "Incremental Potential Contact: Intersection-
+ * (`contact: {self: true}`) and from the mesh obstacles' (`obstacles: - {mesh: file.obj}`), after Li et al., "Incremental Potential Contact: Intersection-
  * and Inversion-free, Large-Deformation Dynamics", SIGGRAPH 2020 (IPC), with the thickness of
  * Li, Kaufman and Jiang, "Codimensional Incremental Potential Contact", SIGGRAPH 2021 (C-IPC):
  *
@@ -15,7 +15,14 @@
  * The pairs change with the configuration, so their Hessian blocks have no fixed stencil: each
  * evaluation lists them (with their positive semi-definite blocks, 12 x 12) in the run's
  * sw_mcontact workspace, and Newton adds them to the system, growing its pattern when a pair
- * couples two vertices it does not hold yet (solvers/newton.c, docs/contact.md). */
+ * couples two vertices it does not hold yet (solvers/newton.c, docs/contact.md).
+ *
+ * Mesh obstacles: their vertices follow the cloth's in one numbering (vertex nv + j) and are
+ * fixed (at their stated place plus the obstacle's displacement at the evaluation's time): a
+ * pair with one of them takes the obstacle's offset as its thickness xi and the mean mass of
+ * its cloth vertices as w_k, and no gradient or Hessian entry goes to them.  Pairs of fixed
+ * vertices only are skipped, and the cloth's own pairs unless self-contact is on
+ * (docs/contact.md, "Mesh obstacles"). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>

@@ -463,15 +463,15 @@ void sw_model_print(const sw_model *m, void *file) {
   fprintf(fp, "terms      ");
   for (int k = 0; k < m->nterm; k++) fprintf(fp, " %s", m->term[k].name);
   fprintf(fp, "%s\n", m->nterm ? "" : " (none)");
-  for (int k = 0; k < m->nobstacle; k++) {
-    const sw_obstacle *o = &m->obstacle[k];
-    fprintf(fp, "obstacle %d  %s%s, offset %g m\n", o->item, sw_shape_names()[o->shape],
-            o->nkey > 1 ? " (moving)" : "", o->offset);
-  }
-  for (int k = 0; k < m->nmesh_obstacle; k++) {
-    const sw_obstacle *o = &m->mesh_obstacle[k];
-    fprintf(fp, "obstacle %d  mesh, %d vertices, %d faces%s, offset %g m\n", o->item, o->mesh_nv,
-            o->mesh_nf, o->nkey > 1 ? " (moving)" : "", o->offset);
+  for (int i = 0, j = 0; i < m->nobstacle || j < m->nmesh_obstacle;) { /* in the scene's order */
+    int shape = j == m->nmesh_obstacle ||
+                (i < m->nobstacle && m->obstacle[i].item <= m->mesh_obstacle[j].item);
+    const sw_obstacle *o = shape ? &m->obstacle[i++] : &m->mesh_obstacle[j++];
+    if (shape)
+      fprintf(fp, "obstacle %d  %s", o->item, sw_shape_names()[o->shape]);
+    else
+      fprintf(fp, "obstacle %d  mesh, %d vertices, %d faces", o->item, o->mesh_nv, o->mesh_nf);
+    fprintf(fp, "%s, offset %g m\n", o->nkey > 1 ? " (moving)" : "", o->offset);
   }
   if (m->nmesh_obstacle && !m->contact.self)
     fprintf(fp, "mesh contact stiffness %g 1/(s^2 m^2)\n", m->contact.kappa_mesh);
