@@ -24,6 +24,7 @@ sw_data *sw_data_new(const sw_model *m) {
   d->grad = sw_calloc(nd, sizeof(double));
   d->hess = sw_calloc((size_t)d->hoff[m->nterm], sizeof(double));
   d->term_energy = sw_calloc((size_t)m->nterm, sizeof(double));
+  d->term_time = sw_calloc((size_t)m->nterm + 1, sizeof(double));
   d->txy = sw_calloc(nf, sizeof(double));
   d->stretch_u = sw_calloc(nf, sizeof(double));
   d->stretch_v = sw_calloc(nf, sizeof(double));
@@ -37,7 +38,7 @@ sw_data *sw_data_new(const sw_model *m) {
   d->tendon_tension = sw_calloc(nt, sizeof(double));
   if (!d->tendon_length || !d->tendon_delta || !d->tendon_tension)
     return sw_data_free(d), NULL;
-  if (!d->x || !d->v || !d->grad || !d->hess || !d->lowrank || !d->term_energy || !d->txy ||
+  if (!d->x || !d->v || !d->grad || !d->hess || !d->lowrank || !d->term_energy || !d->term_time || !d->txy ||
       !d->stretch_u || !d->stretch_v || !d->shear || !d->rlu || !d->rlv || !d->scratch)
     return sw_data_free(d), NULL;
   if (m->nobstacle > 0 && !(d->lag = sw_contact_lag_new(m))) return sw_data_free(d), NULL;
@@ -69,6 +70,7 @@ void sw_data_free(sw_data *d) {
   sw_free(d->lowrank);
   sw_free(d->loff);
   sw_free(d->term_energy);
+  sw_free(d->term_time);
   sw_free(d->txy);
   sw_free(d->stretch_u);
   sw_free(d->stretch_v);
@@ -103,7 +105,9 @@ int sw_eval_terms(const sw_model *m, sw_data *d, const double *x, double t, int 
     double e = 0.0;
     char why[192] = "";
     ev.why = why, ev.whysz = sizeof why;
+    double t0 = sw_now();
     int rc = m->term[k].ops->eval(&m->term[k], m, &ev, &e);
+    d->term_time[k] += sw_now() - t0;
     if (rc) {
       sw_errf(d->err, sizeof d->err, "term %s failed at t = %g s: %s", m->term[k].name, t,
               why[0] ? why : "its energy is not finite (no element named)");

@@ -247,7 +247,10 @@ static int build_terms(sw_model *m, char *err, size_t errsz) {
     if (add_term(m, sw_contact_build, err, errsz)) return -1;
   }
   if (sw_mesh_contact_on(m)) {
-    if (m->contact.kappa_mesh <= 0.0) m->contact.kappa_mesh = sw_mesh_contact_auto_kappa(m);
+    if (m->contact.kappa_mesh <= 0.0) {
+      m->contact.kappa_mesh = sw_mesh_contact_auto_kappa(m); /* 1/(s^2 m^2) */
+      m->contact.kappa_mesh_auto = 1;
+    }
     if (add_term(m, sw_mesh_contact_build, err, errsz)) return -1;
   }
   return 0;
@@ -473,12 +476,17 @@ void sw_model_print(const sw_model *m, void *file) {
       fprintf(fp, "obstacle %d  mesh, %d vertices, %d faces", o->item, o->mesh_nv, o->mesh_nf);
     fprintf(fp, "%s, offset %g m\n", o->nkey > 1 ? " (moving)" : "", o->offset);
   }
-  if (m->nmesh_obstacle && !m->contact.self)
-    fprintf(fp, "mesh contact stiffness %g 1/(s^2 m^2)\n", m->contact.kappa_mesh);
   if (m->nobstacle)
     fprintf(fp, "contact     distance %g m, stiffness %g 1/s^2%s, friction %g\n", m->contact.dhat,
             m->contact.kappa, m->contact.kappa_auto ? " (automatic)" : "", m->contact.friction);
-  if (m->dim == 3 && m->nf > 1) /* an exact test: sinew has no self-contact */
+  if (m->contact.self)
+    fprintf(fp, "self        distance %g m, thickness %g m, stiffness %g 1/(s^2 m^2)%s\n",
+            m->contact.dhat, m->contact.thickness, m->contact.kappa_mesh,
+            m->contact.kappa_mesh_auto ? " (automatic)" : "");
+  else if (m->nmesh_obstacle) /* the mesh obstacles' pairs use the same kappa_mesh */
+    fprintf(fp, "mesh        distance %g m, stiffness %g 1/(s^2 m^2)%s\n", m->contact.dhat,
+            m->contact.kappa_mesh, m->contact.kappa_mesh_auto ? " (automatic)" : "");
+  if (m->dim == 3 && m->nf > 1) /* an exact test, independent of the solver */
     fprintf(fp, "crossings   %ld face pairs intersect at the start\n",
             sw_mesh_self_intersections(m->nv, m->x0, m->nf, m->face));
   fprintf(fp, "system nnz  %ld (upper triangle, free DOFs)\n", sw_system_nnz(m));

@@ -174,8 +174,10 @@ typedef struct sw_contact {
   int self;                    /* 1: the cloth's triangles repel each other (self-contact) */
   double thickness;            /* m: self-contact keeps every point-triangle and edge-edge
                                   pair at least this far apart (C-IPC's thickness) */
-  double kappa_mesh;           /* 1/(s^2 m^2): self-contact's barrier stiffness per unit mass
-                                  on squared distances; 0 in the scene: automatic */
+  double kappa_mesh;           /* 1/(s^2 m^2): self-contact's and the mesh obstacles' barrier
+                                  stiffness per unit mass on squared distances (scene key
+                                  self_stiffness); 0 in the scene: automatic */
+  int kappa_mesh_auto;         /* 1: kappa_mesh was chosen automatically */
 } sw_contact;
 
 /* Friction lagged for one step (IPC): at the start of the step, each vertex-obstacle pair's
@@ -446,6 +448,7 @@ struct sw_data {
   double *lowrank;             /* low-rank Hessian vectors of every term; term k at loff[k] */
   long *loff;                  /* (nterm + 1) */
   double *term_energy;         /* (nterm) J, at the last evaluation */
+  double *term_time;           /* (nterm) s of wall time in each term's evaluations, cumulative */
   /* diagnostics (after every accepted step) */
   double *txy;                 /* (nf) tension XY, N/m */
   double *stretch_u, *stretch_v; /* (nf) warp and weft stretch |wu|, |wv| */
@@ -613,7 +616,7 @@ SW_API int sw_term_find(const sw_model *m, const char *name);
  * "x", "v" (nv x dim), "x0" (nv x dim), "mass" (nv x 1), "tension_xy", "stretch_u",
  * "stretch_v", "shear", "area" (nf x 1), "uv" (nf x 6), "tendon_length", "tendon_tension",
  * "tendon_delta" (ntendon x 1), "term_energy" (nterm x 1), "load" (nv x dim, or NULL without
- * loads), "contact_pressure" (nf x 1, or NULL without obstacles).  Ints: "face" (nf x 3), "dof" (nv x dim: the free DOF of each component, -1 where
+ * loads), "contact_pressure" (nf x 1, or NULL without obstacles or self-contact).  Ints: "face" (nf x 3), "dof" (nv x dim: the free DOF of each component, -1 where
  * pinned).  The memory is the sim's (valid until sw_sim_free; x and v change as it steps). */
 SW_API double *sw_sim_array(sw_sim *s, const char *name, int *rows, int *cols);
 SW_API int *sw_sim_iarray(sw_sim *s, const char *name, int *rows, int *cols);

@@ -272,6 +272,21 @@ for sc in skirt_body:0.6:0 drape_sphere:0.45:8; do
   grep -q '"self_intersections": [0-9]' "$tmp/$name/summary.json" ||
     fail "$name: summary.json has no self_intersections"
 done
+# the skirt does not fold onto itself; the draped cloth's folds have self-contact and do not cross
+for name in skirt_body drape_sphere; do
+  grep -q '"self_intersections": 0,' "$tmp/$name/summary.json" || fail "$name: the cloth crossed itself"
+done
+
+# Self-contact: the upright cloth folds onto itself from 0.2 s on; no face pair crosses at the
+# end (exact test), self-contact pairs are logged and their smallest gap is always positive.
+"$sinew" run scenes/fold_self.yaml --duration 0.3 --no-frames --out "$tmp/fold" --quiet \
+  2>"$tmp/err" || fail "fold_self to 0.3 s: $(cat "$tmp/err")"
+grep -q '"self_intersections": 0,' "$tmp/fold/summary.json" || fail "fold_self: the cloth crossed itself"
+grep -q '"pattern_growths": [1-9]' "$tmp/fold/summary.json" || fail "fold_self: the pattern never grew"
+awk -F, 'NR == 1 { for (k = 1; k <= NF; k++) col[$k] = k }
+         NR > 1 { n += $(col["self_contacts"]); if (!($(col["self_min_gap"]) > 0)) bad = 1 }
+         END { exit !(n > 0 && !bad) }' "$tmp/fold/contact.csv" ||
+  fail "fold_self: contact.csv has no self-contact or a gap <= 0"
 
 # A mesh obstacle (scenes/drape_mesh.yaml: a cloth on an icosphere OBJ standing on a floor): the
 # whole run, which ends at rest with no triangle of the cloth crossing the sphere's or its own
@@ -284,9 +299,6 @@ for key in self_intersections obstacle_intersections; do
 done
 tail -1 "$tmp/drape_mesh/contact.csv" | awk -F, '{ w = 0.036 * 9.81; e = ($6 - w) / w
   exit !($3 > 0 && e < 0.01 && e > -0.01) }' || fail "drape_mesh: the final contact force is not the weight"
-# the skirt does not fold onto itself; the draped cloth's folds do cross (no self-contact yet)
-grep -q '"self_intersections": 0,' "$tmp/skirt_body/summary.json" ||
-  fail "skirt_body: the skirt crossed itself"
 
 # --newton-norm: the two norms, and a bad one refused
 for n in rms max; do

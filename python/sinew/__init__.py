@@ -318,7 +318,8 @@ class Simulation:
 
     @property
     def contact_pressure(self):
-        """(nfaces,) contact pressure on each face, N/m^2; None in a scene without obstacles."""
+        """(nfaces,) contact pressure on each face (obstacles and self-contact), N/m^2; None in a
+        scene without obstacles or self-contact."""
         if not _library().sw_sim_array(self._ptr, b"contact_pressure", None, None):
             return None
         return self._array("contact_pressure")

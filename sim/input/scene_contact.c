@@ -254,9 +254,10 @@ int sc_load_contact(const ctx *c, const ynode *y, int has_obstacles) {
                    "3D scene (a 2D cloth lies in its plane and cannot fold onto itself)");
   const ynode *s3[] = {v[C_THICK], v[C_SSTIFF]};
   for (int k = 0; k < 2; k++)
-    if (s3[k] && !ct->self)
+    if (s3[k] && !ct->self && !(k == 1 && c->m->nmesh_obstacle > 0)) /* kappa_mesh: both */
       return sy_fail(c, s3[k], "contact %s is given without self: true; expected it only with "
-                     "self-contact", k ? "self_stiffness" : "thickness");
+                     "self-contact%s", k ? "self_stiffness" : "thickness",
+                     k ? " or a mesh obstacle" : "");
   if ((v[C_DIST] && sy_num(c, v[C_DIST], "contact distance", 0, 1, "m", &ct->dhat)) ||
       (v[C_STIFF] && sy_num(c, v[C_STIFF], "contact stiffness", 0, 1, "1/s^2", &ct->kappa)) ||
       (v[C_FRIC] && sy_num(c, v[C_FRIC], "contact friction", 0, 0, "", &ct->friction)) ||

@@ -111,6 +111,14 @@ static void summary_counters(out_file *w, const sw_model *m, const sw_data *d, d
   w_json_num(w, "time_assemble_s", d->time_assemble);
   w_json_num(w, "time_factor_s", d->time_factor);
   w_json_num(w, "time_solve_s", d->time_solve);
+  w_key(w, "time_terms_s"); /* each term's evaluations (in assembly, line searches, logging) */
+  out_puts(w, "{");
+  for (int k = 0; k < m->nterm; k++) {
+    if (k) out_puts(w, ", ");
+    w_json_str(w, m->term[k].name, SW_NAMESZ);
+    out_printf(w, ": %.6g", d->term_time ? d->term_time[k] : 0.0); /* s */
+  }
+  out_puts(w, "}");
   if (m->nobstacle > 0) w_json_num(w, "time_contact_s", d->time_contact);
   if (sw_mesh_contact_on(m)) {
     w_json_num(w, "time_self_ccd_s", d->time_ccd);
