@@ -51,6 +51,7 @@ struct sw_mcontact {
   unsigned char *fixed; /* (nvt) 1: pinned or an obstacle's (pairs of those only are skipped) */
   double *xa, *xb;      /* (nvt x 3) positions of cloth and obstacles, m */
   double *z;            /* (nv x 3) a step's carried start, m */
+  int *carrier;         /* (nv) the last mesh obstacle that carried each vertex there, or -1 */
   double *f;            /* (2 x nv x 3) self and obstacle force on each vertex, N */
   sw_mc_pair *pair;     /* (cap) the active pairs of the last evaluation */
   double *block;        /* (cap x 144) their filtered Hessian blocks, when asked for */
@@ -129,9 +130,10 @@ sw_mcontact *sw_mcontact_new(const sw_model *m) {
   mc->xa = sw_calloc(3 * nvt + 1, sizeof(double));
   mc->xb = sw_calloc(3 * nvt + 1, sizeof(double));
   mc->z = sw_calloc(3 * nv + 1, sizeof(double));
+  mc->carrier = sw_calloc(nv + 1, sizeof(int));
   mc->f = sw_calloc(6 * nv + 1, sizeof(double));
   mc->vforce = sw_calloc(nv + 1, sizeof(double));
-  if (!mc->fixed || !mc->xa || !mc->xb || !mc->z || !mc->f || !mc->vforce)
+  if (!mc->fixed || !mc->xa || !mc->xb || !mc->z || !mc->carrier || !mc->f || !mc->vforce)
     return sw_mcontact_free(mc), NULL;
   for (int i = 0; i < p->nvt; i++) mc->fixed[i] = (unsigned char)(i >= m->nv || m->pinned[i]);
   return mc;
@@ -144,6 +146,7 @@ void sw_mcontact_free(sw_mcontact *mc) {
   sw_free(mc->xa);
   sw_free(mc->xb);
   sw_free(mc->z);
+  sw_free(mc->carrier);
   sw_free(mc->f);
   sw_free(mc->pair);
   sw_free(mc->block);
@@ -480,6 +483,7 @@ static int carry_pair(const sw_model *m, sw_mcontact *mc, int kind, const int *v
     int i = v[j];
     if (i >= m->nv || m->pinned[i] || a->done[i]) continue;
     a->done[i] = 1;
+    mc->carrier[i] = a->k;
     for (int c = 0; c < 3; c++) mc->z[3 * (size_t)i + c] += a->move[c];
   }
   return 0;
@@ -491,6 +495,7 @@ static int carry_pair(const sw_model *m, sw_mcontact *mc, int kind, const int *v
 static int carry(const sw_model *m, sw_data *d, double t1) {
   sw_mcontact *mc = d->mc;
   memcpy(mc->z, d->x, (size_t)m->nv * 3 * sizeof(double));
+  for (int i = 0; i < m->nv; i++) mc->carrier[i] = -1;
   const double *x = positions(m, mc, d->x, d->t, mc->xa);
   for (int k = 0; k < m->nmesh_obstacle; k++) {
     const sw_obstacle *o = &m->mesh_obstacle[k];
@@ -509,7 +514,9 @@ static int carry(const sw_model *m, sw_data *d, double t1) {
   return 0;
 }
 
-/* "obstacles[k] moves into vertex i" from the pair that limited the last CCD. */
+/* Why the carry failed, from the pair that limited its CCD: "obstacles[k] moves into vertex
+ * i", or "obstacles[c] moves vertex i into obstacles[k]" when obstacle c carried the vertex
+ * into one that does not move. */
 static int moves_into(const sw_model *m, const sw_mcontact *mc, sw_data *d, double t1) {
   int i = -1, k = -1;
   for (int j = 0; j < 4 && mc->limit[0] >= 0; j++) {
@@ -517,9 +524,19 @@ static int moves_into(const sw_model *m, const sw_mcontact *mc, sw_data *d, doub
     if (o < 0 && i < 0) i = mc->limit[j];
     if (o >= 0 && k < 0) k = o;
   }
+  int c = i >= 0 ? mc->carrier[i] : -1;
+  double d0[3], d1[3];
+  if (k >= 0) {
+    sw_obstacle_disp(&m->mesh_obstacle[k], d->t, d0);
+    sw_obstacle_disp(&m->mesh_obstacle[k], t1, d1);
+  }
+  int still = k >= 0 && d0[0] == d1[0] && d0[1] == d1[1] && d0[2] == d1[2];
   if (k < 0)
     sw_errf(d->err, sizeof d->err, "the cloth cannot follow the mesh obstacles between t = %g s "
             "and %g s (vertex %d)", d->t, t1, i);
+  else if (still && c >= 0 && c != k)
+    sw_errf(d->err, sizeof d->err, "obstacles[%d] moves vertex %d into obstacles[%d] between "
+            "t = %g s and %g s", m->mesh_obstacle[c].item, i, m->mesh_obstacle[k].item, d->t, t1);
   else
     sw_errf(d->err, sizeof d->err, "obstacles[%d] moves into vertex %d between t = %g s and %g s",
             m->mesh_obstacle[k].item, i, d->t, t1);

@@ -9,6 +9,7 @@
  *     vertical contact force equal to its weight to 1e-3;
  *   - a mesh box rising under a cloth carries it up (the start of each step moves the cloth
  *     with it), still with no crossing;
+ *   - a mesh box coming down onto a cloth lying on another fails the step, naming both;
  *   - scene errors name the place (file:line:column). */
 #include <math.h>
 #include <setjmp.h>
@@ -220,6 +221,37 @@ static void rising_box(void **st) {
   sw_model_free((sw_model *)m);
 }
 
+/* A mesh box coming down onto a cloth lying on another: the cloth cannot get out of the way,
+ * and the step fails with the obstacle and vertex named (after every halving), not through. */
+static void squeeze(void **st) {
+  (void)st;
+  const double lo[3] = {-0.1, -0.1, -0.2015}, hi[3] = {0.3, 0.3, -0.0015};
+  const double lo2[3] = {-0.1, -0.1, 0.0015}, hi2[3] = {0.3, 0.3, 0.2015};
+  write_box("floor.obj", lo, hi);
+  write_box("press.obj", lo2, hi2);
+  sw_model *m = scene("dimension: 3\n"
+                      "mesh: {grid: {size: [0.2, 0.2], vertices: [5, 5], plane: xy}}\n"
+                      "material: {density: 0.1, membrane: {model: bw98, k_u: 1000, k_v: 1000, "
+                      "k_shear: 50}}\n"
+                      "integrator: {method: backward-euler, dt: 0.01}\nduration: 0.5\n"
+                      "obstacles: [{mesh: floor.obj},\n"
+                      "  {mesh: press.obj, motion: {keyframes: [[0, 0, 0, 0], [0.5, 0, 0, -0.05]],"
+                      " interpolation: linear}}]\n");
+  assert_non_null(m);
+  char err[SW_ERRSZ] = "";
+  sw_sim *s = sw_sim_new(m, 0, err, sizeof err);
+  assert_non_null(s);
+  const sw_data *d = sw_sim_data(s);
+  int rc = 0;
+  while (rc == 0 && d->t < m->opt.duration - 1e-9) rc = sw_sim_step(s, err, sizeof err);
+  print_message("squeezed: stopped at t = %.4g s: %s\n", d->t, err);
+  assert_true(rc != 0 && d->t < 0.05); /* the 3 mm between the boxes close at 0.1 m/s */
+  assert_non_null(strstr(err, "obstacles[1] moves vertex "));
+  assert_non_null(strstr(err, " into obstacles[0] between"));
+  sw_sim_free(s);
+  sw_model_free(m);
+}
+
 static void scene_errors(void **st) {
   (void)st;
   const double lo[3] = {-0.1, -0.1, -0.5}, hi[3] = {0.3, 0.3, -0.001};
@@ -257,6 +289,14 @@ static void scene_errors(void **st) {
   snprintf(name, sizeof name, "%s/scene.yaml", dir);
   assert_null(sw_scene_parse(name, two, strlen(two), err, sizeof err));
   assert_non_null(strstr(err, "scene.yaml:3:20: obstacles[0] mesh is given in a 2D scene"));
+  /* self_stiffness sets the mesh obstacles' stiffness without self-contact */
+  sw_model *m = scene("dimension: 3\n"
+                      "mesh: {grid: {size: [0.2, 0.2], vertices: [3, 3], plane: xy}}\n"
+                      "material: {density: 0.1}\n"
+                      "obstacles: [{mesh: box.obj}]\ncontact: {self_stiffness: 1e7}\n");
+  assert_non_null(m);
+  assert_true(m->contact.kappa_mesh == 1e7 && !m->contact.kappa_mesh_auto && !m->contact.self);
+  sw_model_free(m);
 }
 
 static int setup(void **st) {
@@ -274,7 +314,8 @@ static int teardown(void **st) {
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(gradient),   cmocka_unit_test(drop_on_box),
-      cmocka_unit_test(rising_box), cmocka_unit_test(scene_errors),
+      cmocka_unit_test(rising_box), cmocka_unit_test(squeeze),
+      cmocka_unit_test(scene_errors),
   };
   return cmocka_run_group_tests(tests, setup, teardown);
 }
