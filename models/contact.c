@@ -133,7 +133,8 @@ static int barrier_add(const sw_model *m, const sw_eval *ev, int i, int o, doubl
   double n[3], Hp[9], db, d2b;
   double d = sw_obstacle_sdf(&m->obstacle[o], dim, ev->t, ev->x + (size_t)i * dim, n, Hp);
   if (!(d > 0.0)) {
-    sw_eval_why(ev, "vertex %d is not outside obstacle %d (distance %g m)", i, o, d);
+    sw_eval_why(ev, "vertex %d is not outside obstacle %d (distance %g m)", i,
+                m->obstacle[o].item, d);
     return SW_RECOVER;
   }
   if (d >= m->contact.dhat) return SW_OK;
@@ -196,7 +197,7 @@ int sw_contact_outside(const sw_model *m, const double *x, double t, char *err, 
       double d = sw_obstacle_sdf(&m->obstacle[o], m->dim, t, x + (size_t)i * m->dim, NULL, NULL);
       if (!(d > 0.0)) {
         sw_errf(err, errsz, "vertex %d is not outside obstacles[%d] at t = %g s (signed "
-                "distance %g m to its contact surface)", i, o, t, d);
+                "distance %g m to its contact surface)", i, m->obstacle[o].item, t, d);
         return -1;
       }
     }
@@ -312,7 +313,7 @@ int sw_contact_begin(const sw_model *m, sw_data *d, double h, double t1, double 
       double dist = sw_obstacle_sdf(&m->obstacle[o], dim, t1, z, NULL, NULL);
       if (!(dist > 0.0)) {
         sw_errf(d->err, sizeof d->err, "obstacles[%d] moves into vertex %d between t = %g s "
-                "and %g s", o, i, d->t, t1);
+                "and %g s", m->obstacle[o].item, i, d->t, t1);
         return SW_RECOVER;
       }
       s = fmin(s, sw_obstacle_toi(&m->obstacle[o], dim, t1, z, guess, SW_CONTACT_KEEP));

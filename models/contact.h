@@ -77,17 +77,23 @@ void sw_contact_lag_free(sw_contact_lag *lag);
 
 /* ----------------------------------------------- models/mesh_contact.c: triangle meshes */
 
-/* The term "mesh_contact" (contact: {self: true}): IPC barriers on the point-triangle and
- * edge-edge pairs of the cloth's own triangles, within thickness + dhat. */
+/* The term "mesh_contact" (contact: {self: true}, or a mesh obstacle): IPC barriers on the
+ * point-triangle and edge-edge pairs of the cloth's own triangles (self-contact), within
+ * thickness + dhat, and of the cloth's against the mesh obstacles', within the obstacle's
+ * offset + dhat.  The obstacles' vertices follow the cloth's in one numbering (vertex nv + j):
+ * fixed, they carry no DOF, no gradient and no Hessian entry. */
 int sw_mesh_contact_build(sw_term *t, const sw_model *m, char *err, size_t errsz);
+/* Whether the model has that term: self-contact or a mesh obstacle. */
+int sw_mesh_contact_on(const sw_model *m);
 /* shat = (xi + dhat)^2 - xi^2, the barrier's reach in squared distance beyond xi^2, m^2. */
 double sw_mesh_contact_shat(const sw_contact *c);
 /* The automatic kappa_mesh: a vertex resting on the cloth under gravity sits dhat / 2 beyond
- * the thickness, 1/(s^2 m^2). */
+ * the thickness (without self-contact: beyond the largest mesh obstacle offset), 1/(s^2 m^2). */
 double sw_mesh_contact_auto_kappa(const sw_model *m);
 
 /* One active pair of the last evaluation: a point and a triangle (v[0]; v[1..3]) or two edges
- * (v[0] v[1]; v[2] v[3]), closer than thickness + dhat; gap = distance - thickness, m. */
+ * (v[0] v[1]; v[2] v[3]), closer than thickness + dhat; gap = distance - thickness, m.  An
+ * index >= nv is a mesh obstacle's vertex (no DOF: the solvers skip it). */
 enum { SW_MC_PT = 0, SW_MC_EE = 1 };
 typedef struct sw_mc_pair {
   int kind;
@@ -96,7 +102,7 @@ typedef struct sw_mc_pair {
 } sw_mc_pair;
 
 /* The run's mutable workspace of mesh contact (broad phase, the active pairs and their
- * Hessian blocks): NULL for a model without self-contact. */
+ * Hessian blocks): NULL for a model without the term mesh_contact. */
 sw_mcontact *sw_mcontact_new(const sw_model *m);
 void sw_mcontact_free(sw_mcontact *mc);
 /* The active pairs of the last evaluation (0 for mc NULL) and their filtered Hessian blocks
@@ -105,23 +111,37 @@ void sw_mcontact_free(sw_mcontact *mc);
 int sw_mcontact_pairs(const sw_mcontact *mc, const sw_mc_pair **pair, const double **block);
 /* The smallest gap (distance - thickness, m) among the last evaluation's candidates. */
 double sw_mcontact_min_gap(const sw_mcontact *mc);
-/* The largest fraction of the straight motion x0 -> x1 (nv x 3 each) over which no two
- * primitives come within the thickness (additive CCD, models/ccd.c); the broad phase's wall
- * time is added to *time_bp.  1 for mc NULL. */
-double sw_mcontact_toi(const sw_model *m, sw_mcontact *mc, const double *x0, const double *x1,
-                       double *time_bp);
+/* The largest fraction of the straight motion of the cloth x0 -> x1 (nv x 3 each) and of the
+ * mesh obstacles from their place at t0 to that at t1 over which no pair comes within its
+ * thickness (additive CCD, models/ccd.c); the broad phase's wall time is added to *time_bp.
+ * 1 for mc NULL. */
+double sw_mcontact_toi(const sw_model *m, sw_mcontact *mc, const double *x0, double t0,
+                       const double *x1, double t1, double *time_bp);
 /* Whether the update x0 -> x1 moves every vertex of an active pair of the last evaluation by at
  * most SW_CONTACT_SETTLE of the pair's gap (the test sw_contact_settled makes for obstacles). */
 int sw_mcontact_settled(const sw_model *m, const sw_mcontact *mc, const double *x0,
                         const double *x1);
-/* Cut the step's start guess y back along d->x -> y to where no pair comes within the
- * thickness (d->x is such a state). */
-int sw_mcontact_begin(const sw_model *m, sw_data *d, double *y);
-/* Nonzero with err when x has intersecting triangles or a pair within the thickness. */
-int sw_mcontact_check_start(const sw_model *m, const double *x, char *err, size_t errsz);
-/* The self-contact diagnostics of d at d->x (sinew.h: self_count, self_min, self_force). */
+/* Cut the step's start guess y (at stage time t1) back along d->x -> y to where no pair comes
+ * within its thickness (d->x at d->t is such a state).  When a mesh obstacle moves over the
+ * step and the guess must be cut, the cut starts from d->x with the vertices near a moving
+ * obstacle carried along by its motion, once CCD has found that carry safe; SW_RECOVER
+ * ("obstacles[k] moves into vertex i") when it is not. */
+int sw_mcontact_begin(const sw_model *m, sw_data *d, double t1, double *y);
+/* Nonzero with err when x (at t = 0) has intersecting triangles or a pair within its
+ * thickness: the cloth's own pairs (obstacles 0, with self-contact) or the cloth's against
+ * the mesh obstacles (obstacles 1). */
+int sw_mcontact_check_start(const sw_model *m, const double *x, int obstacles, char *err,
+                            size_t errsz);
+/* The pairs of a cloth triangle and a mesh obstacle's that intersect with the cloth at x and
+ * the obstacles at time t (exact, models/intersect.c); the first pair's faces (numbering the
+ * obstacles' after the cloth's) into first when not NULL; -1 when out of memory. */
+long sw_mcontact_obstacle_intersections(const sw_model *m, sw_mcontact *mc, const double *x,
+                                        double t, int *first);
+/* The self-contact diagnostics of d at d->x (sinew.h: self_count, self_min, self_force), and
+ * the mesh obstacles' pairs added to contact_count, contact_min and contact_force. */
 void sw_mcontact_state(const sw_model *m, sw_data *d);
-/* (nv) |self-contact force| on each vertex at the last diagnostics, N, or NULL. */
+/* (nv) |self-contact force| + |mesh obstacles' force| on each vertex at the last
+ * diagnostics, N, or NULL. */
 const double *sw_mcontact_vertex_force(const sw_mcontact *mc);
 
 #endif

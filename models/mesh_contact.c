@@ -1,5 +1,5 @@
 /* mesh_contact.c — the term "mesh_contact": the cloth's triangles kept apart from each other
- * (`contact: {self: true}`), after Li et al., "Incremental Potential Contact: Intersection-
+ * (`contact: {self: true}`) and from the mesh obstacles' (`obstacles: - {mesh: file.obj}`), after Li et al., "Incremental Potential Contact: Intersection-
  * and Inversion-free, Large-Deformation Dynamics", SIGGRAPH 2020 (IPC), with the thickness of
  * Li, Kaufman and Jiang, "Codimensional Incremental Potential Contact", SIGGRAPH 2021 (C-IPC):
  *
@@ -15,7 +15,14 @@
  * The pairs change with the configuration, so their Hessian blocks have no fixed stencil: each
  * evaluation lists them (with their positive semi-definite blocks, 12 x 12) in the run's
  * sw_mcontact workspace, and Newton adds them to the system, growing its pattern when a pair
- * couples two vertices it does not hold yet (solvers/newton.c, docs/contact.md). */
+ * couples two vertices it does not hold yet (solvers/newton.c, docs/contact.md).
+ *
+ * Mesh obstacles: their vertices follow the cloth's in one numbering (vertex nv + j) and are
+ * fixed (at their stated place plus the obstacle's displacement at the evaluation's time): a
+ * pair with one of them takes the obstacle's offset as its thickness xi and the mean mass of
+ * its cloth vertices as w_k, and no gradient or Hessian entry goes to them.  Pairs of fixed
+ * vertices only are skipped, and the cloth's own pairs unless self-contact is on
+ * (docs/contact.md, "Mesh obstacles"). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -26,60 +33,109 @@
 #include "terms.h"
 #include "util.h"
 
-/* The term's immutable data: the mesh's edges and its contact constants. */
+/* The term's immutable data: the edges and faces of the cloth and of the mesh obstacles, over
+ * one vertex numbering (the cloth's nv vertices, then each mesh obstacle's in turn). */
 typedef struct mc_param {
+  int nvt;           /* cloth and obstacle vertices */
   int ne;
   int *edge;         /* (ne x 2) */
+  int nf;
+  int *face;         /* (nf x 3): the cloth's, then the obstacles' */
+  int *owner;        /* (nvt - nv) the mesh obstacle of each obstacle vertex */
+  double *rest;      /* ((nvt - nv) x 3) obstacle vertices at their stated place, m */
 } mc_param;
 
 struct sw_mcontact {
   sw_broadphase bp;
-  unsigned char *fixed; /* (nv) 1: pinned (pairs of pinned vertices only are skipped) */
-  double *xa, *xb;      /* (nv x 3) scratch positions */
-  int ne;
-  const int *edge;      /* the term's edges */
+  const mc_param *p;
+  unsigned char *fixed; /* (nvt) 1: pinned or an obstacle's (pairs of those only are skipped) */
+  double *xa, *xb;      /* (nvt x 3) positions of cloth and obstacles, m */
+  double *z;            /* (nv x 3) a step's carried start, m */
+  int *carrier;         /* (nv) the last mesh obstacle that carried each vertex there, or -1 */
+  double *f;            /* (2 x nv x 3) self and obstacle force on each vertex, N */
   sw_mc_pair *pair;     /* (cap) the active pairs of the last evaluation */
   double *block;        /* (cap x 144) their filtered Hessian blocks, when asked for */
   int npair, cap, have_blocks;
   double min_gap;       /* m: the smallest d - xi of the last evaluation's candidates */
   double *vforce;       /* (nv) |contact force| on each vertex at the last diagnostics, N */
+  int limit[4];         /* the pair that limited the last CCD (-1: none) */
 };
 
-double sw_mesh_contact_shat(const sw_contact *c) {
-  double r = c->thickness + c->dhat;
-  return r * r - c->thickness * c->thickness; /* m^2 */
+int sw_mesh_contact_on(const sw_model *m) { return m->contact.self || m->nmesh_obstacle > 0; }
+
+/* The thickness xi of pairs against mesh obstacles without self-contact: the largest offset
+ * (m); with self-contact, the cloth's thickness. */
+static double ref_thickness(const sw_model *m) {
+  double xi = m->contact.thickness;
+  for (int k = 0; !m->contact.self && k < m->nmesh_obstacle; k++)
+    xi = k ? fmax(xi, m->mesh_obstacle[k].offset) : m->mesh_obstacle[k].offset;
+  return xi;
 }
+
+/* shat = (xi + dhat)^2 - xi^2 for thickness xi, m^2. */
+static double shat_of(double xi, double dhat) { return (xi + dhat) * (xi + dhat) - xi * xi; }
+
+double sw_mesh_contact_shat(const sw_contact *c) { return shat_of(c->thickness, c->dhat); }
 
 double sw_mesh_contact_auto_kappa(const sw_model *m) {
   const sw_contact *c = &m->contact;
-  double g = 0.0, db;
+  double g = 0.0, db, xi = ref_thickness(m);
   for (int a = 0; a < m->dim; a++) g += m->gravity[a] * m->gravity[a];
   g = m->has_gravity && g > 0.0 ? sqrt(g) : 9.81; /* m/s^2 */
-  double d = c->thickness + 0.5 * c->dhat;  /* the resting distance, m */
-  sw_barrier(d * d - c->thickness * c->thickness, sw_mesh_contact_shat(c), &db, NULL);
+  double d = xi + 0.5 * c->dhat;  /* the resting distance, m */
+  sw_barrier(d * d - xi * xi, shat_of(xi, c->dhat), &db, NULL);
   return g / (2.0 * d * fabs(db)); /* 1/(s^2 m^2): kappa w |b'| |grad d^2| = w g */
+}
+
+/* The largest thickness of any pair (m): what the broad phase must reach beyond dhat. */
+static double max_thickness(const sw_model *m) {
+  double xi = m->contact.self ? m->contact.thickness : 0.0;
+  for (int k = 0; k < m->nmesh_obstacle; k++) xi = fmax(xi, m->mesh_obstacle[k].offset);
+  return xi;
+}
+
+/* The mesh obstacle of vertex v (< 0: a cloth vertex). */
+static int owner_of(const sw_model *m, const mc_param *p, int v) {
+  return v < m->nv ? -1 : p->owner[v - m->nv];
+}
+
+/* A pair's thickness: a mesh obstacle's offset when it involves one, else the cloth's, m. */
+static double pair_xi(const sw_model *m, const mc_param *p, const int *v) {
+  for (int k = 0; k < 4; k++)
+    if (v[k] >= m->nv) return m->mesh_obstacle[owner_of(m, p, v[k])].offset;
+  return m->contact.thickness;
+}
+
+/* Whether the pair is one the term keeps: a cloth vertex and an obstacle's, or (with
+ * self-contact) the cloth's only. */
+static int pair_wanted(const sw_model *m, const int *v) {
+  int nc = 0;
+  for (int k = 0; k < 4; k++) nc += v[k] < m->nv;
+  return nc == 4 ? m->contact.self : nc > 0;
 }
 
 /* ------------------------------------------------------------------ workspace */
 
 sw_mcontact *sw_mcontact_new(const sw_model *m) {
-  if (!m->contact.self) return NULL;
+  const mc_param *p = NULL;
+  for (int k = 0; k < m->nterm; k++)
+    if (!strcmp(m->term[k].ops->kind, "mesh_contact")) p = m->term[k].param;
+  if (!p) return NULL;
   sw_mcontact *mc = sw_calloc(1, sizeof *mc);
   if (!mc) return NULL;
   sw_broadphase_init(&mc->bp);
-  size_t nv = (size_t)m->nv;
-  mc->fixed = sw_calloc(nv + 1, 1);
-  mc->xa = sw_calloc(3 * nv + 1, sizeof(double));
-  mc->xb = sw_calloc(3 * nv + 1, sizeof(double));
+  mc->p = p;
+  size_t nv = (size_t)m->nv, nvt = (size_t)p->nvt;
+  mc->fixed = sw_calloc(nvt + 1, 1);
+  mc->xa = sw_calloc(3 * nvt + 1, sizeof(double));
+  mc->xb = sw_calloc(3 * nvt + 1, sizeof(double));
+  mc->z = sw_calloc(3 * nv + 1, sizeof(double));
+  mc->carrier = sw_calloc(nv + 1, sizeof(int));
+  mc->f = sw_calloc(6 * nv + 1, sizeof(double));
   mc->vforce = sw_calloc(nv + 1, sizeof(double));
-  if (!mc->fixed || !mc->xa || !mc->xb || !mc->vforce) return sw_mcontact_free(mc), NULL;
-  for (int i = 0; i < m->nv; i++) mc->fixed[i] = (unsigned char)(m->pinned[i] != 0);
-  for (int k = 0; k < m->nterm; k++)
-    if (!strcmp(m->term[k].ops->kind, "mesh_contact")) {
-      const mc_param *p = m->term[k].param;
-      mc->ne = p->ne;
-      mc->edge = p->edge;
-    }
+  if (!mc->fixed || !mc->xa || !mc->xb || !mc->z || !mc->carrier || !mc->f || !mc->vforce)
+    return sw_mcontact_free(mc), NULL;
+  for (int i = 0; i < p->nvt; i++) mc->fixed[i] = (unsigned char)(i >= m->nv || m->pinned[i]);
   return mc;
 }
 
@@ -89,6 +145,9 @@ void sw_mcontact_free(sw_mcontact *mc) {
   sw_free(mc->fixed);
   sw_free(mc->xa);
   sw_free(mc->xb);
+  sw_free(mc->z);
+  sw_free(mc->carrier);
+  sw_free(mc->f);
   sw_free(mc->pair);
   sw_free(mc->block);
   sw_free(mc->vforce);
@@ -118,24 +177,51 @@ static int reserve_pair(sw_mcontact *mc) {
   return 0;
 }
 
-/* Positions x (nv x 3) into the broad phase's input with the given inflation. */
-static sw_bp_input bp_input(const sw_model *m, const sw_mcontact *mc, const double *x0,
-                            const double *x1, double inflate) {
-  sw_bp_input in = {.nv = m->nv, .x0 = x0, .x1 = x1, .ne = mc->ne, .edge = mc->edge,
-                    .nf = m->nf, .face = m->face, .fixed = mc->fixed, .inflate = inflate};
+/* Whether a mesh obstacle moves between times t0 and t1. */
+static int obstacles_move(const sw_model *m, double t0, double t1) {
+  for (int k = 0; k < m->nmesh_obstacle; k++) {
+    double d0[3], d1[3];
+    sw_obstacle_disp(&m->mesh_obstacle[k], t0, d0);
+    sw_obstacle_disp(&m->mesh_obstacle[k], t1, d1);
+    if (d0[0] != d1[0] || d0[1] != d1[1] || d0[2] != d1[2]) return 1;
+  }
+  return 0;
+}
+
+/* The positions of the cloth (x, nv x 3) and of the mesh obstacles at time t: x itself without
+ * obstacles, else [x, obstacles] copied into buf (nvt x 3). */
+static const double *positions(const sw_model *m, const sw_mcontact *mc, const double *x,
+                               double t, double *buf) {
+  const mc_param *p = mc->p;
+  if (p->nvt == m->nv) return x;
+  memcpy(buf, x, (size_t)m->nv * 3 * sizeof(double));
+  double disp[3] = {0.0, 0.0, 0.0};
+  for (int j = 0, k = -1; j < p->nvt - m->nv; j++) {
+    if (p->owner[j] != k) sw_obstacle_disp(&m->mesh_obstacle[k = p->owner[j]], t, disp);
+    for (int a = 0; a < 3; a++) buf[3 * ((size_t)m->nv + j) + a] = p->rest[3 * j + a] + disp[a];
+  }
+  return buf;
+}
+
+/* Positions (nvt x 3) into the broad phase's input with the given inflation. */
+static sw_bp_input bp_input(const sw_mcontact *mc, const double *x0, const double *x1,
+                            double inflate) {
+  const mc_param *p = mc->p;
+  sw_bp_input in = {.nv = p->nvt, .x0 = x0, .x1 = x1, .ne = p->ne, .edge = p->edge,
+                    .nf = p->nf, .face = p->face, .fixed = mc->fixed, .inflate = inflate};
   return in;
 }
 
 /* The vertices of broad-phase pair q of kind k (SW_MC_PT: vertex, face; SW_MC_EE: edge,
  * edge) into v[4]. */
-static void pair_vertices(const sw_model *m, const sw_mcontact *mc, int kind, const int *q,
-                          int *v) {
+static void pair_vertices(const sw_mcontact *mc, int kind, const int *q, int *v) {
+  const mc_param *p = mc->p;
   if (kind == SW_MC_PT) {
     v[0] = q[0];
-    for (int c = 0; c < 3; c++) v[1 + c] = m->face[3 * q[1] + c];
+    for (int c = 0; c < 3; c++) v[1 + c] = p->face[3 * q[1] + c];
   } else {
-    v[0] = mc->edge[2 * q[0]], v[1] = mc->edge[2 * q[0] + 1];
-    v[2] = mc->edge[2 * q[1]], v[3] = mc->edge[2 * q[1] + 1];
+    v[0] = p->edge[2 * q[0]], v[1] = p->edge[2 * q[0] + 1];
+    v[2] = p->edge[2 * q[1]], v[3] = p->edge[2 * q[1] + 1];
   }
 }
 
@@ -143,24 +229,52 @@ static void gather(const double *x, const int *v, double *p) {
   for (int k = 0; k < 4; k++) memcpy(p + 3 * k, x + 3 * (size_t)v[k], 3 * sizeof(double));
 }
 
+/* The rest positions of a pair's vertices (the cloth's x0, the obstacles' stated place). */
+static void gather_rest(const sw_model *m, const mc_param *p, const int *v, double *r) {
+  for (int k = 0; k < 4; k++) {
+    const double *q = v[k] < m->nv ? m->x0 + 3 * (size_t)v[k] : p->rest + 3 * (size_t)(v[k] - m->nv);
+    memcpy(r + 3 * k, q, 3 * sizeof(double));
+  }
+}
+
+/* Call visit(m, mc, kind, v, arg) on every wanted pair of the last broad-phase query; stops at
+ * the first nonzero return and returns it. */
+typedef int (*pair_visit)(const sw_model *m, sw_mcontact *mc, int kind, const int *v, void *arg);
+static int each_pair(const sw_model *m, sw_mcontact *mc, pair_visit visit, void *arg) {
+  for (int kind = SW_MC_PT; kind <= SW_MC_EE; kind++) {
+    const int *q = kind == SW_MC_PT ? mc->bp.pt : mc->bp.ee;
+    int n = kind == SW_MC_PT ? mc->bp.npt : mc->bp.nee;
+    for (int k = 0; k < n; k++) {
+      int v[4];
+      pair_vertices(mc, kind, q + 2 * k, v);
+      if (!pair_wanted(m, v)) continue;
+      int rc = visit(m, mc, kind, v, arg);
+      if (rc) return rc;
+    }
+  }
+  return 0;
+}
+
 /* -------------------------------------------------------------------- the term */
 
-/* The energy of one pair with vertices v at x (J), its gradient g (12) and, when H is not
- * NULL, its Hessian (144); *gap = d - xi (m).  INFINITY when the pair is within xi. */
-static double pair_energy(const sw_model *m, int kind, const int *v, const double *x, double *g,
-                          double *H, double *gap) {
+/* The energy of one pair with vertices v at x (nvt x 3; J), its gradient g (12) and, when H
+ * is not NULL, its Hessian (144); *gap = d - xi (m).  INFINITY when the pair is within xi. */
+static double pair_energy(const sw_model *m, const mc_param *pm, int kind, const int *v,
+                          const double *x, double *g, double *H, double *gap) {
   const sw_contact *c = &m->contact;
   double p[12], g2[12], H2[144], *h2 = H ? H2 : NULL;
   gather(x, v, p);
   double d2 = kind == SW_MC_PT ? sw_d2_point_triangle(p, p + 3, p + 6, p + 9, g2, h2)
                                : sw_d2_edge_edge(p, p + 3, p + 6, p + 9, g2, h2);
-  double xi2 = c->thickness * c->thickness, s = d2 - xi2, shat = sw_mesh_contact_shat(c);
-  *gap = sqrt(fmax(d2, 0.0)) - c->thickness;
+  double xi = pair_xi(m, pm, v), s = d2 - xi * xi, shat = shat_of(xi, c->dhat);
+  *gap = sqrt(fmax(d2, 0.0)) - xi;
   if (!(s > 0.0)) return INFINITY;
   if (s >= shat) return 0.0;
-  double w = 0.0;
-  for (int k = 0; k < 4; k++) w += 0.25 * m->mass[v[k]];
-  w *= c->kappa_mesh; /* kg/(s^2 m^2) */
+  double w = 0.0; /* the mean mass of the pair's cloth vertices, kg */
+  int nc = 0;
+  for (int k = 0; k < 4; k++)
+    if (v[k] < m->nv) w += m->mass[v[k]], nc++;
+  w *= c->kappa_mesh / nc; /* kg/(s^2 m^2) */
   double bg[12], bH[144], b = sw_barrier_of(12, s, g2, h2, shat, bg, H ? bH : NULL);
   if (kind == SW_MC_PT) {
     for (int i = 0; i < 12; i++) g[i] = w * bg[i];
@@ -168,9 +282,8 @@ static double pair_energy(const sw_model *m, int kind, const int *v, const doubl
     return w * b;
   }
   /* edge-edge: the mollifier vanishes as the edges become parallel (IPC sec. 4.3) */
-  const double *q = m->x0;
   double r[12], mg[12], mH[144];
-  gather(q, v, r);
+  gather_rest(m, pm, v, r);
   double eps = sw_ee_mollifier_eps(r, r + 3, r + 6, r + 9);
   double mo = sw_ee_mollifier(p, p + 3, p + 6, p + 9, eps, mg, H ? mH : NULL);
   double e = sw_product_derivs(12, mo, mg, mH, b, bg, bH, g, H);
@@ -179,36 +292,41 @@ static double pair_energy(const sw_model *m, int kind, const int *v, const doubl
   return w * e;
 }
 
-/* Evaluate the pairs of one kind the broad phase found: energy, gradient, the active list. */
-static int eval_pairs(const sw_model *m, const sw_eval *ev, sw_mcontact *mc, int kind,
-                      const int *q, int n, double *e) {
+/* What an evaluation needs of each pair. */
+typedef struct eval_arg {
+  const sw_eval *ev;
+  const double *x;   /* (nvt x 3) */
+  double e;          /* J */
+} eval_arg;
+
+/* One pair of an evaluation: energy, gradient (on the cloth's vertices), the active list. */
+static int eval_pair(const sw_model *m, sw_mcontact *mc, int kind, const int *v, void *arg) {
+  eval_arg *a = arg;
+  const sw_eval *ev = a->ev;
   const int want_h = ev->hess != NULL;
-  for (int k = 0; k < n; k++) {
-    int v[4];
-    double g[12], gap, Hb[144];
-    pair_vertices(m, mc, kind, q + 2 * k, v);
-    double ek = pair_energy(m, kind, v, ev->x, g, want_h ? Hb : NULL, &gap);
-    mc->min_gap = fmin(mc->min_gap, gap);
-    if (!isfinite(ek)) {
-      sw_eval_why(ev, "%s pair (vertices %d %d %d %d) closer than the thickness (gap %g m)",
-                  kind == SW_MC_PT ? "point-triangle" : "edge-edge", v[0], v[1], v[2], v[3],
-                  gap);
-      return SW_RECOVER;
-    }
-    if (gap >= m->contact.dhat) continue;
-    if (reserve_pair(mc)) return SW_FATAL;
-    sw_mc_pair *pr = &mc->pair[mc->npair];
-    pr->kind = kind;
-    memcpy(pr->v, v, sizeof v);
-    pr->gap = gap;
-    if (want_h) {
-      sw_psd_project(Hb, 12, SW_FILTER_CLAMP); /* a barrier's Hessian is indefinite */
-      memcpy(mc->block + (size_t)mc->npair * 144, Hb, sizeof Hb);
-    }
-    mc->npair++;
-    *e += ek;
-    for (int j = 0; ev->grad && j < 12; j++) ev->grad[3 * v[j / 3] + j % 3] += g[j];
+  double g[12], gap, Hb[144];
+  double ek = pair_energy(m, mc->p, kind, v, a->x, g, want_h ? Hb : NULL, &gap);
+  mc->min_gap = fmin(mc->min_gap, gap);
+  if (!isfinite(ek)) {
+    sw_eval_why(ev, "%s pair (vertices %d %d %d %d) closer than the thickness (gap %g m)",
+                kind == SW_MC_PT ? "point-triangle" : "edge-edge", v[0], v[1], v[2], v[3],
+                gap);
+    return SW_RECOVER;
   }
+  if (gap >= m->contact.dhat) return SW_OK;
+  if (reserve_pair(mc)) return SW_FATAL;
+  sw_mc_pair *pr = &mc->pair[mc->npair];
+  pr->kind = kind;
+  memcpy(pr->v, v, sizeof pr->v);
+  pr->gap = gap;
+  if (want_h) {
+    sw_psd_project(Hb, 12, SW_FILTER_CLAMP); /* a barrier's Hessian is indefinite */
+    memcpy(mc->block + (size_t)mc->npair * 144, Hb, sizeof Hb);
+  }
+  mc->npair++;
+  a->e += ek;
+  for (int j = 0; ev->grad && j < 12; j++)
+    if (v[j / 3] < m->nv) ev->grad[3 * v[j / 3] + j % 3] += g[j];
   return SW_OK;
 }
 
@@ -223,14 +341,14 @@ static int mc_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, doubl
   mc->npair = 0;
   mc->have_blocks = ev->hess != NULL;
   mc->min_gap = INFINITY;
-  double r = 0.5 * (m->contact.thickness + m->contact.dhat); /* m */
-  sw_bp_input in = bp_input(m, mc, ev->x, ev->x, r);
+  eval_arg a = {.ev = ev, .x = positions(m, mc, ev->x, ev->t, mc->xa)};
+  sw_bp_input in = bp_input(mc, a.x, a.x, 0.5 * (max_thickness(m) + m->contact.dhat));
   if (sw_broadphase_query(&mc->bp, &in, SW_BP_PT | SW_BP_EE)) {
     sw_eval_why(ev, "the broad phase failed (positions not finite, or out of memory)");
     return SW_RECOVER;
   }
-  int rc = eval_pairs(m, ev, mc, SW_MC_PT, mc->bp.pt, mc->bp.npt, energy);
-  if (!rc) rc = eval_pairs(m, ev, mc, SW_MC_EE, mc->bp.ee, mc->bp.nee, energy);
+  int rc = each_pair(m, mc, eval_pair, &a);
+  *energy = a.e;
   return rc;
 }
 
@@ -238,59 +356,90 @@ static void mc_free(void *param) {
   mc_param *p = param;
   if (!p) return;
   sw_free(p->edge);
+  sw_free(p->face);
+  sw_free(p->owner);
+  sw_free(p->rest);
   sw_free(p);
 }
 
 static const sw_term_ops mc_ops = {.kind = "mesh_contact", .eval = mc_eval,
                                    .free_param = mc_free};
 
+/* The faces of the cloth and of every mesh obstacle over one numbering, the obstacles' owners
+ * and stated vertices into p; -1 when out of memory. */
+static int join_meshes(mc_param *p, const sw_model *m) {
+  int nvo = 0, nfo = 0;
+  for (int k = 0; k < m->nmesh_obstacle; k++)
+    nvo += m->mesh_obstacle[k].mesh_nv, nfo += m->mesh_obstacle[k].mesh_nf;
+  p->nvt = m->nv + nvo;
+  p->nf = m->nf + nfo;
+  p->face = sw_calloc(3 * (size_t)p->nf + 1, sizeof(int));
+  p->owner = sw_calloc((size_t)nvo + 1, sizeof(int));
+  p->rest = sw_calloc(3 * (size_t)nvo + 1, sizeof(double));
+  if (!p->face || !p->owner || !p->rest) return -1;
+  memcpy(p->face, m->face, 3 * (size_t)m->nf * sizeof(int));
+  for (int k = 0, v = 0, f = m->nf; k < m->nmesh_obstacle; k++) {
+    const sw_obstacle *o = &m->mesh_obstacle[k];
+    for (int j = 0; j < 3 * o->mesh_nf; j++) p->face[3 * (size_t)f + j] = m->nv + v + o->mesh_face[j];
+    memcpy(p->rest + 3 * (size_t)v, o->mesh_x, 3 * (size_t)o->mesh_nv * sizeof(double));
+    for (int j = 0; j < o->mesh_nv; j++) p->owner[v + j] = k;
+    v += o->mesh_nv, f += o->mesh_nf;
+  }
+  return 0;
+}
+
 int sw_mesh_contact_build(sw_term *t, const sw_model *m, char *err, size_t errsz) {
   t->ops = &mc_ops;
   snprintf(t->name, sizeof t->name, "%s", "mesh_contact");
-  sw_topology tp;
-  if (sw_term_alloc_stencils(t, 0, 1, m->dim) || sw_topology_build(&tp, m, err, errsz)) {
-    sw_errf(err, errsz, "out of memory for the mesh contact term");
-    return -1;
-  }
   mc_param *p = sw_calloc(1, sizeof *p);
-  if (!p) {
-    sw_topology_free(&tp);
+  t->param = p;
+  if (!p || sw_term_alloc_stencils(t, 0, 1, m->dim) || join_meshes(p, m)) {
     sw_errf(err, errsz, "out of memory for the mesh contact term");
     return -1;
   }
+  sw_model joined = {.nv = p->nvt, .nf = p->nf, .face = p->face}; /* for its edges only */
+  sw_topology tp;
+  if (sw_topology_build(&tp, &joined, err, errsz)) return -1;
   p->ne = tp.ne;
   p->edge = tp.ev;
   tp.ev = NULL;
   sw_topology_free(&tp);
-  t->param = p;
   return 0;
 }
 
 /* ------------------------------------------------------------ the solvers' side */
 
-double sw_mcontact_toi(const sw_model *m, sw_mcontact *mc, const double *x0, const double *x1,
-                       double *time_bp) {
+/* What CCD needs of each pair. */
+typedef struct toi_arg {
+  const double *x0, *x1; /* (nvt x 3) */
+  double toi;
+} toi_arg;
+
+static int toi_pair(const sw_model *m, sw_mcontact *mc, int kind, const int *v, void *arg) {
+  toi_arg *a = arg;
+  double p0[12], p1[12], xi = pair_xi(m, mc->p, v);
+  gather(a->x0, v, p0);
+  gather(a->x1, v, p1);
+  double s = kind == SW_MC_PT ? sw_ccd_point_triangle(p0, p1, xi, a->toi)
+                              : sw_ccd_edge_edge(p0, p1, xi, a->toi);
+  if (s < a->toi) memcpy(mc->limit, v, sizeof mc->limit);
+  a->toi = s;
+  return s > 0.0 ? 0 : 1;
+}
+
+double sw_mcontact_toi(const sw_model *m, sw_mcontact *mc, const double *x0, double t0,
+                       const double *x1, double t1, double *time_bp) {
   if (!mc) return 1.0;
-  double t0 = sw_now();
-  sw_bp_input in = bp_input(m, mc, x0, x1, 0.5 * m->contact.thickness);
+  double start = sw_now();
+  toi_arg a = {.x0 = positions(m, mc, x0, t0, mc->xa), .x1 = positions(m, mc, x1, t1, mc->xb),
+               .toi = 1.0};
+  sw_bp_input in = bp_input(mc, a.x0, a.x1, 0.5 * max_thickness(m));
   int rc = sw_broadphase_query(&mc->bp, &in, SW_BP_PT | SW_BP_EE);
-  *time_bp += sw_now() - t0;
+  *time_bp += sw_now() - start;
+  mc->limit[0] = -1;
   if (rc) return 0.0;
-  double toi = 1.0;
-  for (int kind = SW_MC_PT; kind <= SW_MC_EE; kind++) {
-    const int *q = kind == SW_MC_PT ? mc->bp.pt : mc->bp.ee;
-    int n = kind == SW_MC_PT ? mc->bp.npt : mc->bp.nee;
-    for (int k = 0; k < n && toi > 0.0; k++) {
-      int v[4];
-      double a[12], b[12];
-      pair_vertices(m, mc, kind, q + 2 * k, v);
-      gather(x0, v, a);
-      gather(x1, v, b);
-      toi = kind == SW_MC_PT ? sw_ccd_point_triangle(a, b, m->contact.thickness, toi)
-                             : sw_ccd_edge_edge(a, b, m->contact.thickness, toi);
-    }
-  }
-  return toi;
+  each_pair(m, mc, toi_pair, &a);
+  return a.toi;
 }
 
 int sw_mcontact_settled(const sw_model *m, const sw_mcontact *mc, const double *x0,
@@ -299,6 +448,7 @@ int sw_mcontact_settled(const sw_model *m, const sw_mcontact *mc, const double *
     const sw_mc_pair *p = &mc->pair[k];
     double move = 0.0;
     for (int j = 0; j < 4; j++) {
+      if (p->v[j] >= m->nv) continue; /* an obstacle's: fixed within a solve */
       const double *a = x0 + 3 * (size_t)p->v[j], *b = x1 + 3 * (size_t)p->v[j];
       double s = 0.0;
       for (int c = 0; c < 3; c++) s += (b[c] - a[c]) * (b[c] - a[c]);
@@ -306,22 +456,178 @@ int sw_mcontact_settled(const sw_model *m, const sw_mcontact *mc, const double *
     }
     if (move > SW_CONTACT_SETTLE * p->gap) return 0;
   }
-  (void)m;
   return 1;
 }
 
-int sw_mcontact_begin(const sw_model *m, sw_data *d, double *y) {
-  if (!d->mc) return SW_OK;
-  double s = sw_mcontact_toi(m, d->mc, d->x, y, &d->time_broadphase);
+/* The carry of a step's start: the free cloth vertices near mesh obstacle k (a pair within its
+ * offset + dhat + its motion) move with it. */
+typedef struct carry_arg {
+  const double *x;      /* (nvt x 3) at the step's start */
+  int k;                /* the obstacle */
+  double reach;         /* m */
+  double move[3];       /* its motion over the step, m */
+  unsigned char *done;  /* (nv) vertices carried by k already */
+} carry_arg;
+
+static int carry_pair(const sw_model *m, sw_mcontact *mc, int kind, const int *v, void *arg) {
+  carry_arg *a = arg;
+  int mine = 0;
+  for (int j = 0; j < 4; j++) mine |= owner_of(m, mc->p, v[j]) == a->k;
+  if (!mine) return 0;
+  double p[12];
+  gather(a->x, v, p);
+  double d2 = kind == SW_MC_PT ? sw_d2_point_triangle(p, p + 3, p + 6, p + 9, NULL, NULL)
+                               : sw_d2_edge_edge(p, p + 3, p + 6, p + 9, NULL, NULL);
+  if (d2 >= a->reach * a->reach) return 0;
+  for (int j = 0; j < 4; j++) {
+    int i = v[j];
+    if (i >= m->nv || m->pinned[i] || a->done[i]) continue;
+    a->done[i] = 1;
+    mc->carrier[i] = a->k;
+    for (int c = 0; c < 3; c++) mc->z[3 * (size_t)i + c] += a->move[c];
+  }
+  return 0;
+}
+
+/* mc->z: d->x with the free vertices near each moving mesh obstacle carried along by its
+ * motion from d->t to t1 (the `carry` of the analytic obstacles, models/contact.c).  Uses
+ * mc->f as scratch for the marks. */
+static int carry(const sw_model *m, sw_data *d, double t1) {
+  sw_mcontact *mc = d->mc;
+  memcpy(mc->z, d->x, (size_t)m->nv * 3 * sizeof(double));
+  for (int i = 0; i < m->nv; i++) mc->carrier[i] = -1;
+  const double *x = positions(m, mc, d->x, d->t, mc->xa);
+  for (int k = 0; k < m->nmesh_obstacle; k++) {
+    const sw_obstacle *o = &m->mesh_obstacle[k];
+    carry_arg a = {.x = x, .k = k, .done = (unsigned char *)mc->f};
+    double d0[3], d1[3], len = 0.0;
+    sw_obstacle_disp(o, d->t, d0);
+    sw_obstacle_disp(o, t1, d1);
+    for (int c = 0; c < 3; c++) a.move[c] = d1[c] - d0[c], len += a.move[c] * a.move[c];
+    if (len == 0.0) continue;
+    a.reach = o->offset + m->contact.dhat + sqrt(len); /* m */
+    memset(a.done, 0, (size_t)m->nv);
+    sw_bp_input in = bp_input(mc, x, x, 0.5 * a.reach);
+    if (sw_broadphase_query(&mc->bp, &in, SW_BP_PT | SW_BP_EE)) return -1;
+    each_pair(m, mc, carry_pair, &a);
+  }
+  return 0;
+}
+
+/* Why the carry failed, from the pair that limited its CCD: "obstacles[k] moves into vertex
+ * i", or "obstacles[c] moves vertex i into obstacles[k]" when obstacle c carried the vertex
+ * into one that does not move. */
+static int moves_into(const sw_model *m, const sw_mcontact *mc, sw_data *d, double t1) {
+  int i = -1, k = -1;
+  for (int j = 0; j < 4 && mc->limit[0] >= 0; j++) {
+    int o = owner_of(m, mc->p, mc->limit[j]);
+    if (o < 0 && i < 0) i = mc->limit[j];
+    if (o >= 0 && k < 0) k = o;
+  }
+  int c = i >= 0 ? mc->carrier[i] : -1;
+  double d0[3], d1[3];
+  if (k >= 0) {
+    sw_obstacle_disp(&m->mesh_obstacle[k], d->t, d0);
+    sw_obstacle_disp(&m->mesh_obstacle[k], t1, d1);
+  }
+  int still = k >= 0 && d0[0] == d1[0] && d0[1] == d1[1] && d0[2] == d1[2];
+  if (k < 0)
+    sw_errf(d->err, sizeof d->err, "the cloth cannot follow the mesh obstacles between t = %g s "
+            "and %g s (vertex %d)", d->t, t1, i);
+  else if (still && c >= 0 && c != k)
+    sw_errf(d->err, sizeof d->err, "obstacles[%d] moves vertex %d into obstacles[%d] between "
+            "t = %g s and %g s", m->mesh_obstacle[c].item, i, m->mesh_obstacle[k].item, d->t, t1);
+  else
+    sw_errf(d->err, sizeof d->err, "obstacles[%d] moves into vertex %d between t = %g s and %g s",
+            m->mesh_obstacle[k].item, i, d->t, t1);
+  return SW_RECOVER;
+}
+
+int sw_mcontact_begin(const sw_model *m, sw_data *d, double t1, double *y) {
+  sw_mcontact *mc = d->mc;
+  if (!mc) return SW_OK;
+  double s = sw_mcontact_toi(m, mc, d->x, d->t, y, t1, &d->time_broadphase);
   if (s >= 1.0) return SW_OK;
-  const int nd = m->nv * m->dim;
-  for (int i = 0; i < nd; i++) y[i] = d->x[i] + s * (y[i] - d->x[i]);
+  const int nd = m->nv * 3;
+  if (!obstacles_move(m, d->t, t1)) {
+    for (int i = 0; i < nd; i++) y[i] = d->x[i] + s * (y[i] - d->x[i]);
+    return SW_OK;
+  }
+  /* a moving obstacle: from the carried start, reached safely with the obstacle's motion */
+  if (carry(m, d, t1)) {
+    sw_errf(d->err, sizeof d->err, "the broad phase failed at t = %g s", d->t);
+    return SW_RECOVER;
+  }
+  if (sw_mcontact_toi(m, mc, d->x, d->t, mc->z, t1, &d->time_broadphase) < 1.0)
+    return moves_into(m, mc, d, t1);
+  s = sw_mcontact_toi(m, mc, mc->z, t1, y, t1, &d->time_broadphase);
+  for (int i = 0; i < nd; i++) y[i] = mc->z[i] + s * (y[i] - mc->z[i]);
   return SW_OK;
 }
 
-int sw_mcontact_check_start(const sw_model *m, const double *x, char *err, size_t errsz) {
-  if (!m->contact.self) return 0;
-  long cross = sw_mesh_self_intersections(m->nv, x, m->nf, m->face);
+/* A pair's description for the start check: which primitives of what. */
+static void describe_pair(const sw_model *m, const mc_param *p, int kind, const int *v,
+                          double gap, char *err, size_t errsz) {
+  int k = -1;
+  for (int j = 0; j < 4 && k < 0; j++) k = owner_of(m, p, v[j]);
+  if (k < 0) {
+    sw_errf(err, errsz, "vertices %d %d %d %d (%s) start %g m apart, within the thickness %g m",
+            v[0], v[1], v[2], v[3], kind == SW_MC_PT ? "a point and a triangle" : "two edges",
+            gap + m->contact.thickness, m->contact.thickness);
+    return;
+  }
+  const sw_obstacle *o = &m->mesh_obstacle[k];
+  const char *what = kind == SW_MC_EE ? "an edge (vertices %d %d) starts %g m from obstacles[%d]"
+                   : v[0] < m->nv ? "vertex %d starts %g m from obstacles[%d]"
+                                  : "a triangle (vertices %d %d %d) starts %g m from obstacles[%d]";
+  char head[160];
+  if (kind == SW_MC_EE) snprintf(head, sizeof head, what, v[0], v[1], gap + o->offset, o->item);
+  else if (v[0] < m->nv) snprintf(head, sizeof head, what, v[0], gap + o->offset, o->item);
+  else snprintf(head, sizeof head, what, v[1], v[2], v[3], gap + o->offset, o->item);
+  sw_errf(err, errsz, "%s, within its offset %g m", head, o->offset);
+}
+
+/* What the start check needs of each pair. */
+typedef struct start_arg {
+  const double *x;
+  int obstacles;  /* 1: pairs with an obstacle; 0: the cloth's own */
+  char *err;
+  size_t errsz;
+} start_arg;
+
+static int start_pair(const sw_model *m, sw_mcontact *mc, int kind, const int *v, void *arg) {
+  start_arg *a = arg;
+  int with_obstacle = 0;
+  for (int j = 0; j < 4; j++) with_obstacle |= v[j] >= m->nv;
+  if (with_obstacle != a->obstacles) return 0;
+  double g[12], gap;
+  if (isfinite(pair_energy(m, mc->p, kind, v, a->x, g, NULL, &gap))) return 0;
+  describe_pair(m, mc->p, kind, v, gap, a->err, a->errsz);
+  return 1;
+}
+
+long sw_mcontact_obstacle_intersections(const sw_model *m, sw_mcontact *mc, const double *x,
+                                        double t, int *first) {
+  const double *q = positions(m, mc, x, t, mc->xa);
+  sw_bp_input in = bp_input(mc, q, q, 0.0);
+  if (sw_broadphase_query(&mc->bp, &in, SW_BP_FF)) return -1;
+  long count = 0;
+  for (int k = 0; k < mc->bp.nff; k++) {
+    const int *f = mc->p->face + 3 * mc->bp.ff[2 * k], *g = mc->p->face + 3 * mc->bp.ff[2 * k + 1];
+    if ((f[0] >= m->nv) == (g[0] >= m->nv)) continue; /* the cloth's own, or two obstacles' */
+    if (!sw_triangles_intersect(q + 3 * f[0], q + 3 * f[1], q + 3 * f[2], q + 3 * g[0],
+                                q + 3 * g[1], q + 3 * g[2]))
+      continue;
+    if (first && count == 0) first[0] = mc->bp.ff[2 * k], first[1] = mc->bp.ff[2 * k + 1];
+    count++;
+  }
+  return count;
+}
+
+int sw_mcontact_check_start(const sw_model *m, const double *x, int obstacles, char *err,
+                            size_t errsz) {
+  if (obstacles ? m->nmesh_obstacle == 0 : !m->contact.self) return 0;
+  long cross = obstacles ? 0 : sw_mesh_self_intersections(m->nv, x, m->nf, m->face);
   if (cross != 0) {
     sw_errf(err, errsz, cross < 0 ? "out of memory checking the mesh for self-intersections"
                                   : "the mesh intersects itself (%ld pairs of triangles)", cross);
@@ -329,25 +635,49 @@ int sw_mcontact_check_start(const sw_model *m, const double *x, char *err, size_
   }
   sw_mcontact *mc = sw_mcontact_new(m);
   if (!mc) return sw_errf(err, errsz, "out of memory for the contact workspace"), -1;
-  sw_bp_input in = bp_input(m, mc, x, x, 0.5 * m->contact.thickness);
-  int rc = sw_broadphase_query(&mc->bp, &in, SW_BP_PT | SW_BP_EE);
-  for (int kind = SW_MC_PT; !rc && kind <= SW_MC_EE; kind++) {
-    const int *q = kind == SW_MC_PT ? mc->bp.pt : mc->bp.ee;
-    int n = kind == SW_MC_PT ? mc->bp.npt : mc->bp.nee;
-    for (int k = 0; k < n && !rc; k++) {
-      int v[4];
-      double g[12], gap;
-      pair_vertices(m, mc, kind, q + 2 * k, v);
-      if (!isfinite(pair_energy(m, kind, v, x, g, NULL, &gap))) {
-        sw_errf(err, errsz, "vertices %d %d %d %d (%s) start %g m apart, within the thickness "
-                "%g m", v[0], v[1], v[2], v[3], kind == SW_MC_PT ? "a point and a triangle" :
-                "two edges", gap + m->contact.thickness, m->contact.thickness);
-        rc = 1;
-      }
-    }
+  int ff[2] = {0, 0}, rc = 0;
+  if (obstacles && (cross = sw_mcontact_obstacle_intersections(m, mc, x, 0.0, ff)) != 0) {
+    int f = ff[0] < m->nf ? ff[0] : ff[1], g = ff[0] < m->nf ? ff[1] : ff[0];
+    if (cross < 0) sw_errf(err, errsz, "out of memory checking the cloth against the obstacles");
+    else
+      sw_errf(err, errsz, "face %d of the cloth (vertices %d %d %d) intersects obstacles[%d] "
+              "(%ld pairs of triangles intersect)", f, m->face[3 * f], m->face[3 * f + 1],
+              m->face[3 * f + 2], m->mesh_obstacle[owner_of(m, mc->p, mc->p->face[3 * g])].item,
+              cross);
+    rc = 1;
   }
+  start_arg a = {.x = positions(m, mc, x, 0.0, mc->xa), .obstacles = obstacles, .err = err,
+                 .errsz = errsz};
+  sw_bp_input in = bp_input(mc, a.x, a.x, 0.5 * max_thickness(m));
+  if (!rc && sw_broadphase_query(&mc->bp, &in, SW_BP_PT | SW_BP_EE)) {
+    sw_errf(err, errsz, "the positions are not finite, or out of memory");
+    rc = 1;
+  }
+  if (!rc) rc = each_pair(m, mc, start_pair, &a);
   sw_mcontact_free(mc);
   return rc ? -1 : 0;
+}
+
+/* The diagnostics of one pair within dhat: its force on each cloth vertex into mc->f (the
+ * self-contact or the obstacles' half), counts and smallest gaps into d. */
+static int state_pair(const sw_model *m, sw_mcontact *mc, int kind, const int *v, void *arg) {
+  sw_data *d = arg;
+  double g[12], gap;
+  double e = pair_energy(m, mc->p, kind, v, mc->xa, g, NULL, &gap);
+  if (!isfinite(e) || gap >= m->contact.dhat) return 0;
+  int obst = 0;
+  for (int j = 0; j < 4; j++) obst |= v[j] >= m->nv;
+  if (obst) {
+    d->contact_min = fmin(d->contact_min, gap);
+    d->contact_count++;
+  } else {
+    d->self_min = fmin(d->self_min, gap);
+    d->self_count++;
+  }
+  double *f = mc->f + (obst ? 3 * (size_t)m->nv : 0);
+  for (int j = 0; j < 12; j++)
+    if (v[j / 3] < m->nv) f[3 * v[j / 3] + j % 3] -= g[j];
+  return 0;
 }
 
 void sw_mcontact_state(const sw_model *m, sw_data *d) {
@@ -356,31 +686,28 @@ void sw_mcontact_state(const sw_model *m, sw_data *d) {
   d->self_count = 0;
   d->self_min = INFINITY;
   d->self_force = 0.0;
-  memset(mc->vforce, 0, (size_t)m->nv * sizeof(double));
-  double r = 0.5 * (m->contact.thickness + m->contact.dhat);
-  sw_bp_input in = bp_input(m, mc, d->x, d->x, r);
-  if (sw_broadphase_query(&mc->bp, &in, SW_BP_PT | SW_BP_EE)) return;
-  double *f = mc->xa; /* (nv x 3) the contact force on each vertex, N */
-  memset(f, 0, (size_t)m->nv * 3 * sizeof(double));
-  for (int kind = SW_MC_PT; kind <= SW_MC_EE; kind++) {
-    const int *q = kind == SW_MC_PT ? mc->bp.pt : mc->bp.ee;
-    int n = kind == SW_MC_PT ? mc->bp.npt : mc->bp.nee;
-    for (int k = 0; k < n; k++) {
-      int v[4];
-      double g[12], gap;
-      pair_vertices(m, mc, kind, q + 2 * k, v);
-      double e = pair_energy(m, kind, v, d->x, g, NULL, &gap);
-      if (!isfinite(e) || gap >= m->contact.dhat) continue;
-      d->self_min = fmin(d->self_min, gap);
-      d->self_count++;
-      for (int j = 0; j < 12; j++) f[3 * v[j / 3] + j % 3] -= g[j];
-    }
+  if (m->nobstacle == 0) { /* else sw_contact_state has set them for the shapes */
+    d->contact_count = 0;
+    d->contact_min = INFINITY;
+    memset(d->contact_force, 0, sizeof d->contact_force);
   }
+  memset(mc->vforce, 0, (size_t)m->nv * sizeof(double));
+  const double *x = positions(m, mc, d->x, d->t, mc->xa);
+  if (x != mc->xa) memcpy(mc->xa, x, (size_t)m->nv * 3 * sizeof(double));
+  sw_bp_input in = bp_input(mc, mc->xa, mc->xa, 0.5 * (max_thickness(m) + m->contact.dhat));
+  if (sw_broadphase_query(&mc->bp, &in, SW_BP_PT | SW_BP_EE)) return;
+  memset(mc->f, 0, (size_t)m->nv * 6 * sizeof(double));
+  each_pair(m, mc, state_pair, d);
+  const double *fs = mc->f, *fo = mc->f + 3 * (size_t)m->nv; /* N */
   for (int i = 0; i < m->nv; i++) {
-    double s = 0.0;
-    for (int a = 0; a < 3; a++) s += f[3 * i + a] * f[3 * i + a];
-    mc->vforce[i] = sqrt(s);
-    d->self_force += 0.5 * mc->vforce[i]; /* each pair pushes both sides: half is one side */
+    double s = 0.0, o = 0.0;
+    for (int a = 0; a < 3; a++) {
+      s += fs[3 * i + a] * fs[3 * i + a];
+      o += fo[3 * i + a] * fo[3 * i + a];
+      d->contact_force[a] += fo[3 * i + a];
+    }
+    mc->vforce[i] = sqrt(s) + sqrt(o);
+    d->self_force += 0.5 * sqrt(s); /* each pair pushes both sides: half is one side */
   }
 }
 

@@ -42,8 +42,8 @@ sw_data *sw_data_new(const sw_model *m) {
       !d->stretch_u || !d->stretch_v || !d->shear || !d->rlu || !d->rlv || !d->scratch)
     return sw_data_free(d), NULL;
   if (m->nobstacle > 0 && !(d->lag = sw_contact_lag_new(m))) return sw_data_free(d), NULL;
-  if (m->contact.self && !(d->mc = sw_mcontact_new(m))) return sw_data_free(d), NULL;
-  if (m->nobstacle > 0 || m->contact.self) {
+  if (sw_mesh_contact_on(m) && !(d->mc = sw_mcontact_new(m))) return sw_data_free(d), NULL;
+  if (m->nobstacle > 0 || sw_mesh_contact_on(m)) {
     d->contact_pressure = sw_calloc(nf + 1, sizeof(double));
     d->vertex_area = sw_calloc((size_t)m->nv + 1, sizeof(double));
     if (!d->contact_pressure || !d->vertex_area) return sw_data_free(d), NULL;

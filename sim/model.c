@@ -80,6 +80,14 @@ void sw_model_free(sw_model *m) {
     sw_free(m->obstacle[k].key_d);
   }
   sw_free(m->obstacle);
+  for (int k = 0; k < m->nmesh_obstacle; k++) {
+    sw_obstacle *o = &m->mesh_obstacle[k];
+    sw_free(o->key_t);
+    sw_free(o->key_d);
+    sw_free(o->mesh_x);
+    sw_free(o->mesh_face);
+  }
+  sw_free(m->mesh_obstacle);
   sw_free(m->dof);
   sw_free(m->mat);
   sw_free(m->face_mat);
@@ -238,7 +246,7 @@ static int build_terms(sw_model *m, char *err, size_t errsz) {
     }
     if (add_term(m, sw_contact_build, err, errsz)) return -1;
   }
-  if (m->contact.self) {
+  if (sw_mesh_contact_on(m)) {
     if (m->contact.kappa_mesh <= 0.0) {
       m->contact.kappa_mesh = sw_mesh_contact_auto_kappa(m); /* 1/(s^2 m^2) */
       m->contact.kappa_mesh_auto = 1;
@@ -458,10 +466,15 @@ void sw_model_print(const sw_model *m, void *file) {
   fprintf(fp, "terms      ");
   for (int k = 0; k < m->nterm; k++) fprintf(fp, " %s", m->term[k].name);
   fprintf(fp, "%s\n", m->nterm ? "" : " (none)");
-  for (int k = 0; k < m->nobstacle; k++) {
-    const sw_obstacle *o = &m->obstacle[k];
-    fprintf(fp, "obstacle %d  %s%s, offset %g m\n", k, sw_shape_names()[o->shape],
-            o->nkey > 1 ? " (moving)" : "", o->offset);
+  for (int i = 0, j = 0; i < m->nobstacle || j < m->nmesh_obstacle;) { /* in the scene's order */
+    int shape = j == m->nmesh_obstacle ||
+                (i < m->nobstacle && m->obstacle[i].item <= m->mesh_obstacle[j].item);
+    const sw_obstacle *o = shape ? &m->obstacle[i++] : &m->mesh_obstacle[j++];
+    if (shape)
+      fprintf(fp, "obstacle %d  %s", o->item, sw_shape_names()[o->shape]);
+    else
+      fprintf(fp, "obstacle %d  mesh, %d vertices, %d faces", o->item, o->mesh_nv, o->mesh_nf);
+    fprintf(fp, "%s, offset %g m\n", o->nkey > 1 ? " (moving)" : "", o->offset);
   }
   if (m->nobstacle)
     fprintf(fp, "contact     distance %g m, stiffness %g 1/s^2%s, friction %g\n", m->contact.dhat,
@@ -470,6 +483,9 @@ void sw_model_print(const sw_model *m, void *file) {
     fprintf(fp, "self        distance %g m, thickness %g m, stiffness %g 1/(s^2 m^2)%s\n",
             m->contact.dhat, m->contact.thickness, m->contact.kappa_mesh,
             m->contact.kappa_mesh_auto ? " (automatic)" : "");
+  else if (m->nmesh_obstacle) /* the mesh obstacles' pairs use the same kappa_mesh */
+    fprintf(fp, "mesh        distance %g m, stiffness %g 1/(s^2 m^2)%s\n", m->contact.dhat,
+            m->contact.kappa_mesh, m->contact.kappa_mesh_auto ? " (automatic)" : "");
   if (m->dim == 3 && m->nf > 1) /* an exact test, independent of the solver */
     fprintf(fp, "crossings   %ld face pairs intersect at the start\n",
             sw_mesh_self_intersections(m->nv, m->x0, m->nf, m->face));

@@ -85,9 +85,9 @@ typedef struct sw_eval {
                                   (SW_FILTER_NONE: the exact Hessian) */
   const struct sw_contact_lag *lag; /* contact friction lagged for the current step, or NULL
                                   (models/contact.c; set by the Newton integrators) */
-  sw_mcontact *mc;             /* self-contact's workspace (models/mesh_contact.c): the
+  sw_mcontact *mc;             /* mesh contact's workspace (models/mesh_contact.c): the
                                   term lists its active pairs and their Hessian blocks there;
-                                  NULL without self-contact */
+                                  NULL without self-contact and mesh obstacles */
   char *why;                   /* or NULL: when eval fails, a term may say which element and
                                   why here (whysz bytes, e.g. "face 3 (vertices 0 1 4): energy
                                   inf J"); the first failure is kept */
@@ -150,6 +150,12 @@ typedef struct sw_obstacle {
   double *key_d;               /* (3 x nkey) displacement from the stated place, m: component
                                   a of keyframe k at key_d[a nkey + k] */
   int interp;                  /* SW_INTERP_* of the motion */
+  int item;                    /* its index in the scene's `obstacles` list (for messages) */
+  /* a mesh obstacle (`mesh: file.obj`, models/mesh_contact.c; in m->mesh_obstacle only, never
+     in m->obstacle: sw_obstacle_sdf does not apply to it) */
+  int mesh_nv, mesh_nf;        /* its vertices and triangles (0 for a shape) */
+  double *mesh_x;              /* (mesh_nv x 3) vertices at the stated place, m */
+  int *mesh_face;              /* (mesh_nf x 3) vertex indices */
 } sw_obstacle;
 
 /* Contact (models/contact.c, docs/contact.md): a log barrier on each vertex's distance to each
@@ -168,8 +174,9 @@ typedef struct sw_contact {
   int self;                    /* 1: the cloth's triangles repel each other (self-contact) */
   double thickness;            /* m: self-contact keeps every point-triangle and edge-edge
                                   pair at least this far apart (C-IPC's thickness) */
-  double kappa_mesh;           /* 1/(s^2 m^2): self-contact's barrier stiffness per unit mass
-                                  on squared distances; 0 in the scene: automatic */
+  double kappa_mesh;           /* 1/(s^2 m^2): self-contact's and the mesh obstacles' barrier
+                                  stiffness per unit mass on squared distances (scene key
+                                  self_stiffness); 0 in the scene: automatic */
   int kappa_mesh_auto;         /* 1: kappa_mesh was chosen automatically */
 } sw_contact;
 
@@ -371,8 +378,11 @@ struct sw_model {
   double *load_ramp;           /* (nv) s: vertex i's load grows as sw_ramp(t, load_ramp[i]);
                                   NULL: every load on at t = 0 */
   int nobstacle;
-  sw_obstacle *obstacle;       /* (nobstacle) the scene's `obstacles` */
-  sw_contact contact;          /* the scene's `contact` (used when nobstacle > 0) */
+  sw_obstacle *obstacle;       /* (nobstacle) the scene's `obstacles` with a `shape` */
+  int nmesh_obstacle;
+  sw_obstacle *mesh_obstacle;  /* (nmesh_obstacle) the scene's `obstacles` with a `mesh`:
+                                  rigid triangle meshes (models/mesh_contact.c, 3D only) */
+  sw_contact contact;          /* the scene's `contact` (used with obstacles or self-contact) */
   int nterm;
   sw_term *term;               /* (nterm) energy terms, only those the scene names */
   sw_options opt;
@@ -450,12 +460,17 @@ struct sw_data {
   double *tendon_tension;      /* (ntendon) E'(delta), N */
   /* contact (models/contact.c; only with obstacles) */
   sw_contact_lag *lag;         /* friction lagged for the current step, or NULL */
-  int contact_count;           /* vertex-obstacle pairs closer than dhat at the last diagnostics */
-  double contact_min;          /* m: smallest vertex-obstacle distance (inf: no obstacle) */
-  double contact_force[3];     /* N: total force the obstacles exert (barrier) */
+  int contact_count;           /* vertex-obstacle pairs closer than dhat at the last diagnostics
+                                  (with mesh obstacles: their point-triangle and edge-edge
+                                  pairs too) */
+  double contact_min;          /* m: smallest vertex-obstacle distance, or mesh obstacle pair's
+                                  distance - offset (inf: no obstacle) */
+  double contact_force[3];     /* N: total force the obstacles exert (barrier, mesh obstacles
+                                  included) */
   double friction_force[3];    /* N: total friction force of the last step's lag */
   double friction_power;       /* W: the power friction dissipates at the last diagnostics */
-  sw_mcontact *mc;             /* self-contact's workspace, or NULL (contact: {self: true}) */
+  sw_mcontact *mc;             /* mesh contact's workspace, or NULL (contact: {self: true}
+                                  or a mesh obstacle) */
   int self_count;              /* self-contact pairs closer than dhat beyond the thickness */
   double self_min;             /* m: smallest gap (distance - thickness) of a self-contact
                                   candidate pair (inf: none within thickness + dhat) */

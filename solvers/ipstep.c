@@ -65,11 +65,14 @@ int sw_ipstep_solve(sw_ipstep *s, const sw_model *m, sw_data *d, const sw_newton
   double t1 = sw_now();
   d->time_contact += t1 - t0;
   if (!rc && d->mc) {
-    rc = sw_mcontact_begin(m, d, s->xnew);
+    rc = sw_mcontact_begin(m, d, o->t, s->xnew);
     d->time_ccd += sw_now() - t1;
   }
   if (rc) return rc;
-  rc = sw_newton_damping(&s->nw, m, d, s->xhat, o->t);
+  /* D at the predictor; with contact at the start guess instead, which the contact checks
+   * made admissible (the predictor may be inside an obstacle or through the cloth itself,
+   * where the barriers have no Hessian) */
+  rc = sw_newton_damping(&s->nw, m, d, d->lag || d->mc ? s->xnew : s->xhat, o->t);
   return rc ? rc : sw_newton_solve(&s->nw, m, d, s->xnew, s->xhat, o);
 }
 

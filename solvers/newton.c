@@ -181,14 +181,15 @@ static double contact_check(sw_newton *nw, const sw_model *m, sw_data *d, const 
   return r;
 }
 
-/* Self-contact: the fraction of the step alpha dx from x over which no two of the cloth's
- * primitives come within the thickness (CCD), timed; 1 without self-contact. */
+/* Mesh contact: the fraction of the step alpha dx from x over which no pair of the cloth's
+ * primitives, or of the cloth's and a mesh obstacle's (fixed at time t), comes within its
+ * thickness (CCD), timed; 1 without the term mesh_contact. */
 static double self_bound(sw_newton *nw, const sw_model *m, sw_data *d, const double *x,
-                         double alpha) {
+                         double t, double alpha) {
   if (!d->mc || alpha <= 0.0) return 1.0;
   double t0 = sw_now();
   add_step(m, x, nw->dx, alpha, nw->xtry);
-  double s = sw_mcontact_toi(m, d->mc, x, nw->xtry, &d->time_broadphase);
+  double s = sw_mcontact_toi(m, d->mc, x, t, nw->xtry, t, &d->time_broadphase);
   d->time_ccd += sw_now() - t0;
   return s;
 }
@@ -222,7 +223,7 @@ int sw_newton_line_search(sw_newton *nw, const sw_model *m, sw_data *d, double *
   double noise = 1e-13 * (fabs(phi0) + 1e-300);
   double alpha = contact_check(nw, m, d, x, o->t, STEP_BOUND);
   clip_step(nw, m, d, x, o->t, &alpha, &slope);
-  alpha *= self_bound(nw, m, d, x, alpha);
+  alpha *= self_bound(nw, m, d, x, o->t, alpha);
   for (int k = 0; k < 40 && alpha > 0.0; k++, alpha *= 0.5) {
     add_step(m, x, nw->dx, alpha, nw->xtry);
     double phi;
@@ -319,6 +320,7 @@ static int grow_pattern(sw_newton *nw, const sw_model *m, sw_data *d) {
     for (int i = 0; i < 4; i++)
       for (int j = i + 1; j < 4; j++) {
         int a = pr[k].v[i], b = pr[k].v[j];
+        if (a >= m->nv || b >= m->nv) continue; /* a mesh obstacle's vertex: no DOF */
         if (a != b && !sw_pattern_has_pair(&nw->pat, m, a, b) && push_xpair(nw, a, b)) {
           sw_errf(d->err, sizeof d->err, "out of memory growing the sparsity pattern");
           return SW_FATAL;
@@ -522,7 +524,7 @@ int sw_newton_solve(sw_newton *nw, const sw_model *m, sw_data *d, double *x, con
       if (rc) return rc;
     } else { /* a full step, as far as the obstacles let it go */
       double alpha = contact_check(nw, m, d, x, o->t, STEP_BOUND);
-      add_step(m, x, nw->dx, alpha * self_bound(nw, m, d, x, alpha), x);
+      add_step(m, x, nw->dx, alpha * self_bound(nw, m, d, x, o->t, alpha), x);
     }
     nw->theta = prev > 0.0 ? rate : 0.0;
     prev = step;

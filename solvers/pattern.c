@@ -213,6 +213,7 @@ void sw_pattern_fill(const sw_pattern *p, const sw_model *m, const sw_data *d, d
 long sw_pattern_slot(const sw_pattern *p, int r, int c) { return find_slot(p, r, c); }
 
 int sw_pattern_has_pair(const sw_pattern *p, const sw_model *m, int i, int j) {
+  if (i >= m->nv || j >= m->nv) return 1; /* a mesh obstacle's vertex: no DOF */
   for (int a = 0; a < m->dim; a++)
     for (int b = 0; b < m->dim; b++) {
       int r = m->dof[i * m->dim + a], c = m->dof[j * m->dim + b];
@@ -234,10 +235,10 @@ void sw_pattern_remap(const sw_pattern *from, const double *vfrom, const sw_patt
 void sw_pattern_add_block(const sw_pattern *p, const sw_model *m, const int *v, int nvert,
                           const double *block, double coef, double *values) {
   const int d = m->dim, w = nvert * d;
-  for (int i = 0; i < w; i++) {
-    int r = m->dof[v[i / d] * d + i % d];
+  for (int i = 0; i < w; i++) { /* an index >= nv (a mesh obstacle's vertex) has no DOF */
+    int r = v[i / d] < m->nv ? m->dof[v[i / d] * d + i % d] : -1;
     for (int j = 0; r >= 0 && j < w; j++) {
-      int c = m->dof[v[j / d] * d + j % d];
+      int c = v[j / d] < m->nv ? m->dof[v[j / d] * d + j % d] : -1;
       if (c < r) continue;
       long q = find_slot(p, r, c);
       if (q >= 0) values[q] += coef * block[i * w + j];

@@ -31,13 +31,15 @@ int sw_pattern_build(sw_pattern *p, const sw_model *m, char *err, size_t errsz);
  * the couplings self-contact adds). */
 int sw_pattern_build_ex(sw_pattern *p, const sw_model *m, const int *extra, long nextra,
                         char *err, size_t errsz);
-/* Whether the pattern couples vertices i and j (1 when either has no free component). */
+/* Whether the pattern couples vertices i and j (1 when either has no free component, or is a
+ * mesh obstacle's vertex, index >= nv). */
 int sw_pattern_has_pair(const sw_pattern *p, const sw_model *m, int i, int j);
 /* vto (on pattern to, which holds every entry of from) = vfrom (on pattern from). */
 void sw_pattern_remap(const sw_pattern *from, const double *vfrom, const sw_pattern *to,
                       double *vto);
 /* values += coef * block, a dense (nvert dim)^2 block over vertices v (vertex-major, row-major),
- * on the entries the pattern holds (pinned components dropped). */
+ * on the entries the pattern holds (pinned components and mesh obstacle vertices, index >= nv,
+ * dropped). */
 void sw_pattern_add_block(const sw_pattern *p, const sw_model *m, const int *v, int nvert,
                           const double *block, double coef, double *values);
 void sw_pattern_free(sw_pattern *p, int nterm);
@@ -201,8 +203,9 @@ void sw_ipstep_free(sw_ipstep *s);
  * coefficient cd (1/s), tolerance max |dy| <= tol_scale * newton_tol * h. */
 sw_newton_opts sw_ipstep_opts(const sw_model *m, const sw_ipstep *s, double a, double t,
                               double cd, double h, double tol_scale);
-/* D at xhat (a predictor of the stage state) and Newton from y = y0 (NULL: xhat) on the free
- * DOFs (the pinned components from d->x) into s->xnew. */
+/* D at xhat (a predictor of the stage state; with contact, at the start guess the contact
+ * checks made admissible) and Newton from y = y0 (NULL: xhat) on the free DOFs (the pinned
+ * components from d->x) into s->xnew. */
 int sw_ipstep_solve(sw_ipstep *s, const sw_model *m, sw_data *d, const sw_newton_opts *o,
                     const double *y0);
 /* After a change between steps (SW_CHANGED_*): a kept factorisation is dropped (the Hessian it

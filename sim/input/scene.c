@@ -80,29 +80,34 @@ static int load_grid(const ctx *c, const ynode *y, mesh_in *mi) {
 }
 
 /* The OBJ path relative to the scene file's folder (absolute paths are kept). */
-static int obj_path(const ctx *c, const ynode *y, const char *rel, char *out) {
+static int obj_path(const ctx *c, const ynode *y, const char *what, const char *rel, char *out) {
   const char *slash = strrchr(c->name, '/');
   size_t dir = rel[0] != '/' && slash ? (size_t)(slash - c->name) + 1 : 0;
   if (dir + strlen(rel) >= SW_PATHSZ)
-    return sy_fail(c, y, "mesh obj makes a path longer than %d bytes; expected a shorter path",
-                SW_PATHSZ - 1);
+    return sy_fail(c, y, "%s makes a path longer than %d bytes; expected a shorter path", what,
+                   SW_PATHSZ - 1);
   memcpy(out, c->name, dir);
   strcpy(out + dir, rel);
   return 0;
 }
 
-static int load_obj(const ctx *c, const ynode *y, mesh_in *mi) {
+int sc_read_obj(const ctx *c, const ynode *y, const char *what, sw_mesh *mesh, char *path) {
   const char *rel;
-  if (sy_str(c, y, "mesh obj", SW_PATHSZ, &rel) || obj_path(c, y, rel, mi->obj)) return -1;
-  FILE *f = fopen(mi->obj, "rb");
+  if (sy_str(c, y, what, SW_PATHSZ, &rel) || obj_path(c, y, what, rel, path)) return -1;
+  FILE *f = fopen(path, "rb");
   if (!f)
-    return sy_fail(c, y, "mesh obj '%s' cannot be opened: %s; expected an OBJ file (relative to "
-                "the scene's folder)", mi->obj, strerror(errno));
+    return sy_fail(c, y, "%s '%s' cannot be opened: %s; expected an OBJ file (relative to "
+                   "the scene's folder)", what, path, strerror(errno));
   fclose(f);
   char e[SW_ERRSZ];
-  if (sw_obj_read(mi->obj, &mi->mesh, e, sizeof e)) return sy_fail(c, y, "in mesh obj: %s", e);
-  if (mi->mesh.nv <= 0)
-    return sy_fail(c, y, "mesh obj '%s' has no vertices; expected at least one 'v' line", mi->obj);
+  if (sw_obj_read(path, mesh, e, sizeof e)) return sy_fail(c, y, "in %s: %s", what, e);
+  if (mesh->nv <= 0)
+    return sy_fail(c, y, "%s '%s' has no vertices; expected at least one 'v' line", what, path);
+  return 0;
+}
+
+static int load_obj(const ctx *c, const ynode *y, mesh_in *mi) {
+  if (sc_read_obj(c, y, "mesh obj", &mi->mesh, mi->obj)) return -1;
   if (c->m->dim == 2)
     for (int i = 0; i < mi->mesh.nv; i++)
       if (mi->mesh.x[3 * i + 2] != 0.0)
@@ -622,7 +627,13 @@ sw_model *sw_scene_parse_ex(const char *name, const char *buf, size_t len,
     sw_model_free(c.m);
     return NULL;
   }
-  if (sw_mcontact_check_start(c.m, c.m->x0, e, sizeof e)) {
+  if (sw_mcontact_check_start(c.m, c.m->x0, 1, e, sizeof e)) {
+    sw_errf(err, errsz, "%s:%d:%d: obstacles: %s; expected the cloth to start apart from every "
+            "mesh obstacle by more than its offset", name, ob[0], ob[1], e);
+    sw_model_free(c.m);
+    return NULL;
+  }
+  if (sw_mcontact_check_start(c.m, c.m->x0, 0, e, sizeof e)) {
     sw_errf(err, errsz, "%s:%d:%d: contact: self: %s; expected a starting mesh whose "
             "triangles are apart by more than the thickness", name, ct[0], ct[1], e);
     sw_model_free(c.m);

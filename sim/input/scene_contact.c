@@ -4,6 +4,7 @@
  *     - {shape: sphere, center: [...], radius: r}
  *     - {shape: capsule, ends: [[...], [...]], radius: r}
  *     - {shape: box, center: [...], size: [lx, ly, lz]}     (axis-aligned)
+ *     - {mesh: body.obj, scale: s, translate: [x, y, z]}    (3D: a rigid triangle mesh)
  *   each with offset: m (>= 0) and motion: {keyframes: [[t, dx, dy(, dz)], ...],
  *   interpolation: smooth | linear} (a translation, m, from the stated place);
  *   contact: {distance: m, stiffness: 1/s^2, friction: mu, stick_velocity: m/s, self: bool,
@@ -16,9 +17,11 @@
 #include "scene_material.h"
 #include "util.h"
 
-static const char *const obst_keys[] = {"shape", "point", "normal", "center", "radius",
-                                        "ends",  "size",  "offset", "motion"};
-enum { O_SHAPE, O_POINT, O_NORMAL, O_CENTER, O_RADIUS, O_ENDS, O_SIZE, O_OFFSET, O_MOTION, O_N };
+static const char *const obst_keys[] = {"shape", "point",  "normal", "center", "radius",
+                                        "ends",  "size",   "offset", "motion", "mesh",
+                                        "scale", "translate"};
+enum { O_SHAPE, O_POINT, O_NORMAL, O_CENTER, O_RADIUS, O_ENDS, O_SIZE, O_OFFSET, O_MOTION,
+       O_MESH, O_SCALE, O_TRANSLATE, O_N };
 
 /* The keys each shape needs (and the only shape keys it takes), SW_SHAPE_* order. */
 static const int shape_keys[SW_SHAPE_N][3] = {
@@ -134,13 +137,72 @@ static int load_motion(const ctx *c, const ynode *y, const char *w, sw_obstacle 
   return 0;
 }
 
-static int load_obstacle(const ctx *c, const ynode *y, int k, sw_obstacle *o) {
+/* The obstacle's offset and motion (every obstacle takes them). */
+static int load_offset_motion(const ctx *c, const ynode **v, const char *w, sw_obstacle *o) {
+  char lab[96];
+  snprintf(lab, sizeof lab, "%s offset", w);
+  if (v[O_OFFSET] && sy_num(c, v[O_OFFSET], lab, 0, 0, "m", &o->offset)) return -1;
+  return v[O_MOTION] ? load_motion(c, v[O_MOTION], w, o) : 0;
+}
+
+/* The OBJ's triangles, scaled then translated, into o (a mesh obstacle). */
+static int mesh_from_obj(const ctx *c, const ynode **v, const char *w, const sw_mesh *me,
+                         sw_obstacle *o) {
+  char lab[96];
+  double scale = 1.0, shift[3] = {0.0, 0.0, 0.0};
+  snprintf(lab, sizeof lab, "%s scale", w);
+  if (v[O_SCALE] && sy_num(c, v[O_SCALE], lab, 0, 1, "", &scale)) return -1;
+  snprintf(lab, sizeof lab, "%s translate", w);
+  if (v[O_TRANSLATE] && sy_vec(c, v[O_TRANSLATE], lab, 3, -HUGE_VAL, 0, "m", shift)) return -1;
+  if (me->nf < 1)
+    return sy_fail(c, v[O_MESH], "%s mesh has no faces; expected a triangle mesh ('f' lines)", w);
+  o->mesh_x = sw_calloc(3 * (size_t)me->nv, sizeof(double));
+  o->mesh_face = sw_calloc(3 * (size_t)me->nf, sizeof(int));
+  if (!o->mesh_x || !o->mesh_face) return sy_oom(c, v[O_MESH]);
+  for (int i = 0; i < 3 * me->nv; i++) o->mesh_x[i] = scale * me->x[i] + shift[i % 3]; /* m */
+  memcpy(o->mesh_face, me->f, 3 * (size_t)me->nf * sizeof(int));
+  o->mesh_nv = me->nv;
+  o->mesh_nf = me->nf;
+  return 0;
+}
+
+/* obstacles[k] with a mesh: {mesh: file.obj, scale, translate, offset, motion}. */
+static int load_mesh_obstacle(const ctx *c, const ynode **v, const char *w, sw_obstacle *o) {
+  char lab[96], path[SW_PATHSZ];
+  for (int k = O_SHAPE; k <= O_SIZE; k++)
+    if (v[k])
+      return sy_fail(c, v[k], "%s (a mesh) does not take '%s'; expected mesh: file.obj with "
+                     "scale, translate, offset and motion", w, obst_keys[k]);
+  if (c->m->dim != 3)
+    return sy_fail(c, v[O_MESH], "%s mesh is given in a 2D scene; expected mesh obstacles only "
+                   "in a 3D scene", w);
+  snprintf(lab, sizeof lab, "%s mesh", w);
+  sw_mesh me = {0};
+  int rc = sc_read_obj(c, v[O_MESH], lab, &me, path) || mesh_from_obj(c, v, w, &me, o);
+  sw_mesh_free(&me);
+  return rc ? -1 : load_offset_motion(c, v, w, o);
+}
+
+static int load_obstacle(const ctx *c, const ynode *y, int k) {
   char w[64], lab[96];
   const ynode *v[O_N];
+  sw_model *m = c->m;
   snprintf(w, sizeof w, "obstacles[%d]", k);
-  if (sy_map(c, y, w, obst_keys, O_N, v) ||
-      sy_need(c, y, v[O_SHAPE], w, "shape", "shape: plane, sphere, capsule or box"))
+  if (sy_map(c, y, w, obst_keys, O_N, v)) return -1;
+  if (v[O_MESH]) {
+    sw_obstacle *o = &m->mesh_obstacle[m->nmesh_obstacle++];
+    o->item = k;
+    return load_mesh_obstacle(c, v, w, o);
+  }
+  sw_obstacle *o = &m->obstacle[m->nobstacle++];
+  o->item = k;
+  if (sy_need(c, y, v[O_SHAPE], w, "shape", "shape: plane, sphere, capsule or box, or mesh: "
+              "file.obj"))
     return -1;
+  for (int j = O_SCALE; j <= O_TRANSLATE; j++)
+    if (v[j])
+      return sy_fail(c, v[j], "%s (a shape) does not take '%s'; expected it only with mesh: "
+                     "file.obj", w, obst_keys[j]);
   snprintf(lab, sizeof lab, "%s shape", w);
   if (sy_choice(c, v[O_SHAPE], lab, sw_shape_names(), SW_SHAPE_N, &o->shape) ||
       check_shape_keys(c, y, w, o->shape, v))
@@ -151,23 +213,22 @@ static int load_obstacle(const ctx *c, const ynode *y, int k, sw_obstacle *o) {
   int rc = o->shape == SW_SHAPE_SPHERE
                ? point(c, v[O_CENTER], w, "center", o->a) || load_radius(c, v[O_RADIUS], w, o)
                : loaders[o->shape](c, v, w, o);
-  if (rc) return -1;
-  snprintf(lab, sizeof lab, "%s offset", w);
-  if (v[O_OFFSET] && sy_num(c, v[O_OFFSET], lab, 0, 0, "m", &o->offset)) return -1;
-  return v[O_MOTION] ? load_motion(c, v[O_MOTION], w, o) : 0;
+  return rc ? -1 : load_offset_motion(c, v, w, o);
 }
 
 int sc_load_obstacles(const ctx *c, const ynode *y) {
   sw_model *m = c->m;
-  if (sy_seq(c, y, "obstacles", "a sequence of {shape: plane | sphere | capsule | box, ...}"))
+  if (sy_seq(c, y, "obstacles", "a sequence of {shape: plane | sphere | capsule | box, ...} "
+             "or {mesh: file.obj, ...}"))
     return -1;
   if (y->n < 1) return sy_fail(c, y, "obstacles is empty; expected at least one obstacle");
   if (y->n > SW_MAX_OBSTACLES)
     return sy_fail(c, y, "obstacles has %d items; expected at most %d", y->n, SW_MAX_OBSTACLES);
-  if (!(m->obstacle = sw_calloc((size_t)y->n, sizeof *m->obstacle))) return sy_oom(c, y);
-  m->nobstacle = y->n;
-  for (int k = 0; k < y->n; k++)
-    if (load_obstacle(c, y->kid[k], k, &m->obstacle[k])) return -1;
+  m->obstacle = sw_calloc((size_t)y->n, sizeof *m->obstacle);
+  m->mesh_obstacle = sw_calloc((size_t)y->n, sizeof *m->mesh_obstacle);
+  if (!m->obstacle || !m->mesh_obstacle) return sy_oom(c, y);
+  for (int k = 0; k < y->n; k++) /* shapes into m->obstacle, meshes into m->mesh_obstacle */
+    if (load_obstacle(c, y->kid[k], k)) return -1;
   return 0;
 }
 
@@ -193,9 +254,10 @@ int sc_load_contact(const ctx *c, const ynode *y, int has_obstacles) {
                    "3D scene (a 2D cloth lies in its plane and cannot fold onto itself)");
   const ynode *s3[] = {v[C_THICK], v[C_SSTIFF]};
   for (int k = 0; k < 2; k++)
-    if (s3[k] && !ct->self)
+    if (s3[k] && !ct->self && !(k == 1 && c->m->nmesh_obstacle > 0)) /* kappa_mesh: both */
       return sy_fail(c, s3[k], "contact %s is given without self: true; expected it only with "
-                     "self-contact", k ? "self_stiffness" : "thickness");
+                     "self-contact%s", k ? "self_stiffness" : "thickness",
+                     k ? " or a mesh obstacle" : "");
   if ((v[C_DIST] && sy_num(c, v[C_DIST], "contact distance", 0, 1, "m", &ct->dhat)) ||
       (v[C_STIFF] && sy_num(c, v[C_STIFF], "contact stiffness", 0, 1, "1/s^2", &ct->kappa)) ||
       (v[C_FRIC] && sy_num(c, v[C_FRIC], "contact friction", 0, 0, "", &ct->friction)) ||

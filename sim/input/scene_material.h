@@ -15,6 +15,9 @@ int sc_load_panels(const ctx *c, const ynode *y, const sw_mesh *me, const char *
 int sc_load_damping(const ctx *c, const ynode *y);
 /* `tendons` after the geometry is filled (x0 gives relative rest lengths). */
 int sc_load_tendons(const ctx *c, const ynode *y);
+/* Read the OBJ file that y names (a path relative to the scene's folder) into mesh (its full
+ * path into path, SW_PATHSZ bytes); what names the key in messages ("mesh obj"). */
+int sc_read_obj(const ctx *c, const ynode *y, const char *what, sw_mesh *mesh, char *path);
 /* `obstacles` (scene_contact.c). */
 int sc_load_obstacles(const ctx *c, const ynode *y);
 /* `contact` (y NULL: the defaults), which needs obstacles. */

@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "contact.h"
 #include "util.h"
 #include "writer.h"
 
@@ -259,7 +260,7 @@ static int tendons_write(void *self, sw_output *out, const sw_model *m, const sw
 
 /* ------------------------------------------------------------- contact.csv */
 
-static int contact_wanted(const sw_model *m) { return m->nobstacle > 0 || m->contact.self; }
+static int contact_wanted(const sw_model *m) { return m->nobstacle > 0 || sw_mesh_contact_on(m); }
 
 static int contact_open(void *self, sw_output *out, const sw_model *m, char *err,
                         size_t errsz) {

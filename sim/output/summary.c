@@ -5,6 +5,7 @@
 #include <string.h>
 #include <sys/resource.h>
 
+#include "contact.h"
 #include "contact_geom.h"
 #include "writer.h"
 
@@ -119,7 +120,7 @@ static void summary_counters(out_file *w, const sw_model *m, const sw_data *d, d
   }
   out_puts(w, "}");
   if (m->nobstacle > 0) w_json_num(w, "time_contact_s", d->time_contact);
-  if (m->contact.self) {
+  if (sw_mesh_contact_on(m)) {
     w_json_num(w, "time_self_ccd_s", d->time_ccd);
     w_json_num(w, "time_self_broadphase_s", d->time_broadphase);
     w_json_num(w, "time_pattern_s", d->time_pattern);
@@ -139,6 +140,10 @@ static void summary_intersections(out_file *w, const sw_model *m, const sw_data 
   if (!d || m->dim != 3 || m->nf < 2) return;
   long n = sw_mesh_self_intersections(m->nv, d->x, m->nf, m->face);
   if (n >= 0) w_json_long(w, "self_intersections", n);
+  /* the cloth's triangles against the mesh obstacles' (it cannot pass through them) */
+  n = d->mc && m->nmesh_obstacle ? sw_mcontact_obstacle_intersections(m, d->mc, d->x, d->t, NULL)
+                                 : -1;
+  if (n >= 0) w_json_long(w, "obstacle_intersections", n);
 }
 
 typedef struct file_list {
