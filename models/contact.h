@@ -85,8 +85,6 @@ void sw_contact_lag_free(sw_contact_lag *lag);
 int sw_mesh_contact_build(sw_term *t, const sw_model *m, char *err, size_t errsz);
 /* Whether the model has that term: self-contact or a mesh obstacle. */
 int sw_mesh_contact_on(const sw_model *m);
-/* shat = (xi + dhat)^2 - xi^2, the barrier's reach in squared distance beyond xi^2, m^2. */
-double sw_mesh_contact_shat(const sw_contact *c);
 /* The automatic kappa_mesh: a vertex resting on the cloth under gravity sits dhat / 2 beyond
  * the thickness (without self-contact: beyond the largest mesh obstacle offset), 1/(s^2 m^2). */
 double sw_mesh_contact_auto_kappa(const sw_model *m);
@@ -109,8 +107,6 @@ void sw_mcontact_free(sw_mcontact *mc);
  * (144 doubles each, vertex-major over v[0..3]; NULL unless that evaluation asked for the
  * Hessian). */
 int sw_mcontact_pairs(const sw_mcontact *mc, const sw_mc_pair **pair, const double **block);
-/* The smallest gap (distance - thickness, m) among the last evaluation's candidates. */
-double sw_mcontact_min_gap(const sw_mcontact *mc);
 /* The largest fraction of the straight motion of the cloth x0 -> x1 (nv x 3 each) and of the
  * mesh obstacles from their place at t0 to that at t1 over which no pair comes within its
  * thickness (additive CCD, models/ccd.c); the broad phase's wall time is added to *time_bp.

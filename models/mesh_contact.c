@@ -56,7 +56,6 @@ struct sw_mcontact {
   sw_mc_pair *pair;     /* (cap) the active pairs of the last evaluation */
   double *block;        /* (cap x 144) their filtered Hessian blocks, when asked for */
   int npair, cap, have_blocks;
-  double min_gap;       /* m: the smallest d - xi of the last evaluation's candidates */
   double *vforce;       /* (nv) |contact force| on each vertex at the last diagnostics, N */
   int limit[4];         /* the pair that limited the last CCD (-1: none) */
 };
@@ -75,7 +74,6 @@ static double ref_thickness(const sw_model *m) {
 /* shat = (xi + dhat)^2 - xi^2 for thickness xi, m^2. */
 static double shat_of(double xi, double dhat) { return (xi + dhat) * (xi + dhat) - xi * xi; }
 
-double sw_mesh_contact_shat(const sw_contact *c) { return shat_of(c->thickness, c->dhat); }
 
 double sw_mesh_contact_auto_kappa(const sw_model *m) {
   const sw_contact *c = &m->contact;
@@ -160,8 +158,6 @@ int sw_mcontact_pairs(const sw_mcontact *mc, const sw_mc_pair **pair, const doub
   if (block) *block = mc->have_blocks ? mc->block : NULL;
   return mc->npair;
 }
-
-double sw_mcontact_min_gap(const sw_mcontact *mc) { return mc ? mc->min_gap : INFINITY; }
 
 /* Room for one more pair (and its block); -1 when out of memory. */
 static int reserve_pair(sw_mcontact *mc) {
@@ -306,7 +302,6 @@ static int eval_pair(const sw_model *m, sw_mcontact *mc, int kind, const int *v,
   const int want_h = ev->hess != NULL;
   double g[12], gap, Hb[144];
   double ek = pair_energy(m, mc->p, kind, v, a->x, g, want_h ? Hb : NULL, &gap);
-  mc->min_gap = fmin(mc->min_gap, gap);
   if (!isfinite(ek)) {
     sw_eval_why(ev, "%s pair (vertices %d %d %d %d) closer than the thickness (gap %g m)",
                 kind == SW_MC_PT ? "point-triangle" : "edge-edge", v[0], v[1], v[2], v[3],
@@ -340,7 +335,6 @@ static int mc_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, doubl
   }
   mc->npair = 0;
   mc->have_blocks = ev->hess != NULL;
-  mc->min_gap = INFINITY;
   eval_arg a = {.ev = ev, .x = positions(m, mc, ev->x, ev->t, mc->xa)};
   sw_bp_input in = bp_input(mc, a.x, a.x, 0.5 * (max_thickness(m) + m->contact.dhat));
   if (sw_broadphase_query(&mc->bp, &in, SW_BP_PT | SW_BP_EE)) {
