@@ -3,7 +3,8 @@
 # the shipped scenes, the CSV files, PNG charts and printed tables copied to docs/bench/NAME/.
 #
 #   tools/bench_docs.sh [NAME ...]      NAME: hanging_cloth drawstring membrane_2d
-#                                              membrane_2d_early stiff stiff_stability
+#                                              membrane_2d_forcing membrane_crush_2d
+#                                              stiff stiff_stability
 #                                              drape_sphere drape_sphere_fold scaling
 #                                              (default: all)
 #   JOBS=N  runs N at a time (default 2, both cores: timings are then of runs sharing the
@@ -11,7 +12,7 @@
 #   OUT=DIR where the run folders go (default out/bench_docs; they are not copied)
 #   SINEW=PATH the sinew executable (default build/sinew)
 #
-# Takes about 45 minutes on a 2-core machine, most of it in the references (CVODE at rtol 1e-10)
+# Takes about an hour on a 2-core machine, most of it in the references (CVODE at rtol 1e-10)
 # and in the 512 x 512 grid of the scaling sweep.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -43,17 +44,29 @@ run_one() {
       # 0.12 s: before its buckling amplifies every error to the same size (docs/benchmarks.md)
       bench drawstring "$jobs" scenes/cloth_drawstring.yaml --duration 0.12 \
         --dts 0.01,0.005,0.0025,0.00125 --rtols 1e-3,1e-4,1e-5 --max-halvings 8 --timeout 1800 ;;
-    membrane_2d) # three cables contracting in turn on a 2D membrane; as its users run it, with
-      # step halving (Newton needs it where the cables buckle the membrane)
+    membrane_2d) # three pretensioned cables contracting in turn on a 2D membrane, smooth
+      # throughout: the fixed-step methods' orders over the whole run
       bench membrane_2d "$jobs" scenes/tendon_membrane_2d.yaml --repeat 2 --max-halvings 8 \
         --timeout 1800 ;;
-    membrane_2d_early) # its first 0.45 s (before the first crush), smooth and linear keyframes
-      bench membrane_2d_early "$jobs" scenes/tendon_membrane_2d.yaml --duration 0.45 \
-        --methods backward-euler,bdf2 --max-halvings 8 --timeout 1800
-      sed 's/interpolation: smooth/interpolation: linear/' scenes/tendon_membrane_2d.yaml \
-        >"$out/tendon_membrane_2d_linear.yaml"
-      bench membrane_2d_linear "$jobs" "$out/tendon_membrane_2d_linear.yaml" --duration 0.45 \
-        --methods backward-euler,bdf2 --max-halvings 8 --timeout 1800 ;;
+    membrane_2d_forcing) # the same scene without each of its three smoothing choices in turn
+      # (docs/benchmarks.md, "What a slope jump does"): linear keyframes; no pretension (the
+      # waiting cables go slack and snap taut); no stiffness damping
+      local s=scenes/tendon_membrane_2d.yaml
+      sed 's/interpolation: smooth/interpolation: linear/' $s >"$out/membrane_2d_linear.yaml"
+      sed -e 's/\[\[0, 1.0\], \[0.5, 0.98\], \[1.5, 0.98\], \[2.5, 0.95\]\]/[[1.5, 1.0], [2.5, 0.95]]/' \
+        -e 's/\[\[0, 1.0\], \[0.5, 0.98\], \[2.5, 0.98\], \[3.5, 0.95\]\]/[[2.5, 1.0], [3.5, 0.95]]/' \
+        -e 's/\[\[0, 1.0\], \[0.5, 0.98\], \[1.5, 0.95\]\]/[[0.5, 1.0], [1.5, 0.95]]/' \
+        $s >"$out/membrane_2d_slack.yaml"
+      sed 's/damping: {mass: 2.0, stiffness: 0.001}/damping: {mass: 2.0}/' $s \
+        >"$out/membrane_2d_undamped.yaml"
+      for v in linear slack undamped; do
+        cmp -s $s "$out/membrane_2d_$v.yaml" && { echo "bench_docs: $v: no change" >&2; exit 2; }
+        bench membrane_2d_$v "$jobs" "$out/membrane_2d_$v.yaml" --methods backward-euler,bdf2 \
+          --max-halvings 8 --timeout 1800
+      done ;;
+    membrane_crush_2d) # the membrane as it first shipped: 80 % contractions that crush faces
+      bench membrane_crush_2d "$jobs" scenes/bench/membrane_crush_2d.yaml --repeat 2 \
+        --max-halvings 8 --timeout 1800 ;;
     stiff) # 50 kN/m fabric: symplectic Euler fails at every implicit-sized step
       bench stiff "$jobs" scenes/bench/stiff_cloth.yaml --repeat 2 --timeout 1800 ;;
     stiff_stability) # where each fixed-step method fails, stiffness x 1, 10, 100
@@ -77,7 +90,7 @@ run_one() {
 }
 
 names=("$@")
-((${#names[@]})) || names=(hanging_cloth drawstring membrane_2d membrane_2d_early stiff stiff_stability
+((${#names[@]})) || names=(hanging_cloth drawstring membrane_2d membrane_2d_forcing membrane_crush_2d stiff stiff_stability
                              drape_sphere drape_sphere_fold scaling)
 for n in "${names[@]}"; do run_one "$n"; done
 echo "bench_docs: charts in docs/bench/*/ (docs/benchmarks.md)"
