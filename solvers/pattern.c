@@ -232,16 +232,42 @@ void sw_pattern_remap(const sw_pattern *from, const double *vfrom, const sw_patt
     }
 }
 
+/* The slot of (r, c) when slot q of the same column holds a row above r: a short scan down the
+ * column instead of a search (the rows of one vertex are consecutive DOFs).  -1 if absent. */
+static long next_slot(const sw_pattern *p, long q, int r, int c) {
+  long end = p->colptr[c + 1];
+  while (++q < end && p->rowind[q] < r) {}
+  return q < end && p->rowind[q] == r ? q : -1;
+}
+
 void sw_pattern_add_block(const sw_pattern *p, const sw_model *m, const int *v, int nvert,
                           const double *block, double coef, double *values) {
   const int d = m->dim, w = nvert * d;
-  for (int i = 0; i < w; i++) { /* an index >= nv (a mesh obstacle's vertex) has no DOF */
-    int r = v[i / d] < m->nv ? m->dof[v[i / d] * d + i % d] : -1;
-    for (int j = 0; r >= 0 && j < w; j++) {
-      int c = v[j / d] < m->nv ? m->dof[v[j / d] * d + j % d] : -1;
-      if (c < r) continue;
-      long q = find_slot(p, r, c);
-      if (q >= 0) values[q] += coef * block[i * w + j];
+  int dof[12]; /* an index >= nv (a mesh obstacle's vertex) has no DOF */
+  for (int i = 0; i < w && i < 12; i++) dof[i] = v[i / d] < m->nv ? m->dof[v[i / d] * d + i % d] : -1;
+  if (w > 12) { /* not a contact pair: one search per entry */
+    for (int i = 0; i < w; i++) {
+      int r = v[i / d] < m->nv ? m->dof[v[i / d] * d + i % d] : -1;
+      for (int j = 0; r >= 0 && j < w; j++) {
+        int c = v[j / d] < m->nv ? m->dof[v[j / d] * d + j % d] : -1;
+        long q = c < r ? -1 : find_slot(p, r, c);
+        if (q >= 0) values[q] += coef * block[i * w + j];
+      }
+    }
+    return;
+  }
+  for (int j = 0; j < w; j++) { /* column c: per vertex, one search and then a scan */
+    int c = dof[j];
+    for (int a = 0; c >= 0 && a < nvert; a++) {
+      long q = -1;
+      int rq = -1; /* the row at slot q */
+      for (int i = a * d; i < (a + 1) * d; i++) {
+        int r = dof[i];
+        if (r < 0 || r > c) continue;
+        q = q >= 0 && r > rq ? next_slot(p, q, r, c) : find_slot(p, r, c);
+        rq = r;
+        if (q >= 0) values[q] += coef * block[i * w + j];
+      }
     }
   }
 }

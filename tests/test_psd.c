@@ -480,8 +480,55 @@ static void collapsed_face_system(void **st) {
   for (double rel = 1e-8; rel > 1e-14; rel *= 0.1) collapsed_system(rel);
 }
 
+/* The filter of a symmetric n x n matrix by a full eigen-decomposition (LAPACK dsyev),
+ * V f(Lambda) V^T, into F: the reference for sw_psd_project. */
+static void filter_by_dsyev(const double *A, int n, int mode, double *F) {
+  int lwork = 64 * n, info = 0;
+  double V[144], lam[12], work[64 * 12];
+  memcpy(V, A, sizeof(double) * (size_t)(n * n));
+  dsyev_("V", "U", &n, V, &n, lam, work, &lwork, &info);
+  assert_int_equal(info, 0);
+  for (int i = 0; i < n; i++)
+    for (int j = 0; j < n; j++) {
+      double s = 0.0;
+      for (int k = 0; k < n; k++) s += sw_filter_eigenvalue(lam[k], mode) * V[k * n + i] * V[k * n + j];
+      F[i * n + j] = s;
+    }
+}
+
+/* A block with zero rows (a contact pair whose closest features involve 2 or 3 of its 4
+ * vertices): sw_psd_project filters only its nonzero rows and columns, and the result is the
+ * filter of the whole 12 x 12 block by a full eigen-decomposition, to 1e-12 of its largest
+ * eigenvalue; the zero rows stay exactly zero.  Random indefinite blocks, 6 and 9 nonzero rows
+ * (the ends of the rows, the middle), both filters. */
+static void zero_rows_block(void **st) {
+  (void)st;
+  unsigned long rs = 99;
+  for (int nk = 6; nk <= 9; nk += 3)
+    for (int mode = SW_FILTER_CLAMP; mode <= SW_FILTER_ABS; mode++) {
+      int keep[9];
+      for (int a = 0; a < nk; a++) keep[a] = nk == 9 ? (a < 3 ? a : a + 3) : a + 6;
+      double S[81], F[144] = {0}, want[144];
+      for (int a = 0; a < nk; a++)
+        for (int b = 0; b <= a; b++) S[a * nk + b] = S[b * nk + a] = 2.0 * th_rand(&rs) - 1.0;
+      for (int a = 0; a < nk; a++)
+        for (int b = 0; b < nk; b++) F[keep[a] * 12 + keep[b]] = S[a * nk + b];
+      double amax = 0.0;
+      assert_true(min_eigenvalue(F, 12, &amax) < -0.1 * amax); /* the filter has work to do */
+      filter_by_dsyev(F, 12, mode, want);
+      assert_int_equal(sw_psd_project(F, 12, mode), 0);
+      for (int i = 0; i < 144; i++) {
+        int row = 0, col = 0;
+        for (int a = 0; a < nk; a++) row |= keep[a] == i / 12, col |= keep[a] == i % 12;
+        if (!(row && col)) assert_true(F[i] == 0.0);
+        assert_true(fabs(F[i] - want[i]) <= 1e-12 * amax);
+      }
+    }
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
+      cmocka_unit_test(zero_rows_block),
       cmocka_unit_test(bw98_2d),
       cmocka_unit_test(bw98_3d),
       cmocka_unit_test(stvk_2d),
