@@ -244,18 +244,8 @@ void sw_pattern_add_block(const sw_pattern *p, const sw_model *m, const int *v, 
                           const double *block, double coef, double *values) {
   const int d = m->dim, w = nvert * d;
   int dof[12]; /* an index >= nv (a mesh obstacle's vertex) has no DOF */
-  for (int i = 0; i < w && i < 12; i++) dof[i] = v[i / d] < m->nv ? m->dof[v[i / d] * d + i % d] : -1;
-  if (w > 12) { /* not a contact pair: one search per entry */
-    for (int i = 0; i < w; i++) {
-      int r = v[i / d] < m->nv ? m->dof[v[i / d] * d + i % d] : -1;
-      for (int j = 0; r >= 0 && j < w; j++) {
-        int c = v[j / d] < m->nv ? m->dof[v[j / d] * d + j % d] : -1;
-        long q = c < r ? -1 : find_slot(p, r, c);
-        if (q >= 0) values[q] += coef * block[i * w + j];
-      }
-    }
-    return;
-  }
+  if (w > 12) return; /* at most 4 vertices in 3D (solver.h) */
+  for (int i = 0; i < w; i++) dof[i] = v[i / d] < m->nv ? m->dof[v[i / d] * d + i % d] : -1;
   for (int j = 0; j < w; j++) { /* column c: per vertex, one search and then a scan */
     int c = dof[j];
     for (int a = 0; c >= 0 && a < nvert; a++) {

@@ -37,9 +37,9 @@ int sw_pattern_has_pair(const sw_pattern *p, const sw_model *m, int i, int j);
 /* vto (on pattern to, which holds every entry of from) = vfrom (on pattern from). */
 void sw_pattern_remap(const sw_pattern *from, const double *vfrom, const sw_pattern *to,
                       double *vto);
-/* values += coef * block, a dense (nvert dim)^2 block over vertices v (vertex-major, row-major),
- * on the entries the pattern holds (pinned components and mesh obstacle vertices, index >= nv,
- * dropped). */
+/* values += coef * block, a dense (nvert dim)^2 block over vertices v (vertex-major, row-major;
+ * nvert dim <= 12: a contact pair), on the entries the pattern holds (pinned components and mesh
+ * obstacle vertices, index >= nv, dropped). */
 void sw_pattern_add_block(const sw_pattern *p, const sw_model *m, const int *v, int nvert,
                           const double *block, double coef, double *values);
 void sw_pattern_free(sw_pattern *p, int nterm);
