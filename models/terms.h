@@ -46,8 +46,10 @@ int sw_membrane_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, dou
 void sw_membrane_free(void *param);
 /* Filter the eigenvalues of the symmetric n x n matrix A (row-major, n <= 12) by `mode`
  * (SW_FILTER_*): SW_FILTER_CLAMP gives its nearest positive semi-definite matrix, SW_FILTER_ABS
- * V |Lambda| V^T; A is unchanged when it is PSD already, or for SW_FILTER_NONE (Jacobi
- * eigen-decomposition).  0, or -1 when n is out of range or A is not finite. */
+ * V |Lambda| V^T; A is unchanged when it is PSD already, or for SW_FILTER_NONE.  Only the rows
+ * and columns that are not all zero are decomposed (by Jacobi rotations below 9 of them, LAPACK
+ * dsyev from 9 up); the zero ones stay zero.  0, or -1 when n is out of range or A is not
+ * finite. */
 int sw_psd_project(double *A, int n, int mode);
 /* The filtered P (2d x 2d) of a density that depends on F only through C = F^T F (stvk,
  * corotated), from the filtered in-plane and out-of-plane blocks (sw_psd_project).  0 or -1. */
