@@ -98,7 +98,8 @@ def _outputs(a):
     for p in (obj, scene):
         if os.path.realpath(p) in real:
             raise dxf.PatternError("%s would overwrite the input; expected another path" % p)
-        if not os.path.isdir(os.path.dirname(os.path.abspath(p))):
+        folder = os.path.dirname(os.path.abspath(p))
+        if not os.path.isdir(folder) and not (a.out and folder == os.path.abspath(a.out)):
             raise dxf.PatternError("%s: its folder does not exist" % p)
     if os.path.realpath(obj) == os.path.realpath(scene):
         raise dxf.PatternError("--obj and --scene name the same file %s" % obj)
@@ -109,8 +110,6 @@ def _import(a):
     pat = dxf.read(a.file, units=a.units)
     if a.list:
         return _list(pat)
-    if a.out is not None and not os.path.isdir(a.out):
-        raise dxf.PatternError("--out %s: no such folder" % a.out)
     obj, scene, stem = _outputs(a)
     meshed = mesh(pat, size=a.size, edge=a.edge)
     size = a.size or pat.base_size
@@ -135,6 +134,11 @@ def _import(a):
         return ["%s: the pattern %s, written by" % (os.path.basename(path),
                                                    os.path.basename(a.file))] + body
     obj_rel = os.path.relpath(os.path.abspath(obj), os.path.dirname(os.path.abspath(scene)))
+    if a.out is not None:
+        try:
+            os.makedirs(a.out, exist_ok=True)
+        except OSError as e:
+            raise dxf.PatternError("--out %s: cannot make the folder: %s" % (a.out, e.strerror))
     write_atomic([(obj, obj_text(meshed, positions, header(obj))),
                   (scene, scene_text(meshed, obj_rel, header(scene), stem))])
     if not a.quiet:

@@ -73,10 +73,12 @@ class Piece:
     internal: list = field(default_factory=list)   # (k, 2) open polylines, m
     drills: list = field(default_factory=list)     # (2,) points, m
     grain: tuple = None                            # ((2,), (2,)) m, start and end
+    handles: list = field(default_factory=list)    # of the boundary's DXF entities
 
     @property
     def label(self):
-        return "piece '%s' (block '%s')" % (self.name, self.block)
+        h = ", boundary handle %s" % " ".join(self.handles[:4]) if self.handles else ""
+        return "piece '%s' (block '%s'%s)" % (self.name, self.block, h)
 
 
 @dataclass
@@ -248,7 +250,7 @@ class _BlockReader:
 
     def text(self, e, layer):
         if layer == 15:
-            return self.skip(e, IGNORED[15])
+            return self.skip(e, "ignored: " + IGNORED[15])
         kv = _key_values(_text(e))
         if not kv:
             return self.skip(e, "text without 'Key: value' (%r)" % _text(e)[:40])
@@ -274,6 +276,8 @@ class _BlockReader:
             return self.skip(e, "layer is not an ASTM D6673 layer number")
         if layer in (1, 14, 11, 8) and t in CURVES:
             parts = self.curves(e)
+            if layer in (1, 14):
+                self.piece.handles.append("%s" % e.dxf.get("handle", "?"))
             if layer == 1:
                 self.cut.extend(parts)
             elif layer == 14:
