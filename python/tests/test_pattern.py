@@ -82,6 +82,11 @@ def test_triangles_counter_clockwise_and_edges_near_target(skirt):
         e1, e2 = m.uv[m.tris[:, 1]] - m.uv[m.tris[:, 0]], m.uv[m.tris[:, 2]] - m.uv[m.tris[:, 0]]
         assert (e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]).min() > 0
         b = np.array(m.boundary)
+        assert pattern.geometry.signed_area(m.uv[b]) > 0  # counter-clockwise in (u,v)
+        assert b[0] == m.corners[0] and sorted(set(b)) == sorted(b)
+        at = {v: i for i, v in enumerate(b)}
+        assert [at[c] for c in m.corners] == sorted(at[c] for c in m.corners)
+        assert [at[c] for c in m.notches] == sorted(at[c] for c in m.notches)
         edges = np.hypot(*(m.uv[np.roll(b, -1)] - m.uv[b]).T)
         assert edges.max() <= 1.5 * pattern.DEFAULT_EDGE
 

@@ -204,9 +204,14 @@ def mesh_piece(piece, group, h, skipped):
     cross = e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]
     tris[cross < 0] = tris[cross < 0][:, [0, 2, 1]]
     bnd = [index[t] for t in outer_nodes]
+    corners = {bnd[mark_idx[k]] for k in corner_k}
+    notches = {bnd[mark_idx[k]] for k in notch_k}
+    if corners:  # the boundary starts at a corner; corners and notches in boundary order
+        first = min(bnd.index(c) for c in corners)
+        bnd = bnd[first:] + bnd[:first]
+    at = {v: i for i, v in enumerate(bnd)}
     return Meshed(piece=piece, group=group, xy=xy, uv=uv, tris=tris, boundary=bnd,
-                  corners=[bnd[mark_idx[k]] for k in corner_k],
-                  notches=[bnd[mark_idx[k]] for k in notch_k],
+                  corners=sorted(corners, key=at.get), notches=sorted(notches, key=at.get),
                   drills=[index[emb_nodes[k]] for k in drill_k],
                   internal=[[index[emb_nodes[k]] for k in ln] for ln in line_k],
                   holes=[[index[t] for t in hl] for hl in hole_nodes],
