@@ -91,7 +91,9 @@ def main():
         for edge in sorted((float(e) for e in a.edges.split(",")), reverse=True):
             rows.append(run(front, edge, tmp, a.duration))
             r = rows[-1]
-            print("edge %g: %d vertices, %.1f s" % (edge, r["nv"], r["wall"]), file=sys.stderr)
+            print("edge %g: %d vertices, hem %s, side %s, z %.5g, tension %.5g %.5g, %.1f s" %
+                  (edge, r["nv"], r["hem"], r["side"], r["zc"], r["tmean"], r["t95"], r["wall"]),
+                  file=sys.stderr)
     ref = rows[-1]
     print("| edge (m) | vertices | triangles | hem notch moved (mm) | side notch moved (mm) | "
           "centre of mass z (mm) | mean tension XY (N/m) | 95th pct (N/m) | Newton its | "

@@ -42,14 +42,18 @@ def skirt(fx):
 
 
 def test_areas_match_the_drawn_shapes(fx, skirt):
+    """At the default edge length every piece's mesh area is within 0.05 % of the exact area
+    of the drawn shape (docs/patterns.md, "Meshing"); at 5 cm edges within 0.5 %."""
     folder, expected = fx
-    _, meshed = skirt
+    pat, meshed = skirt
     assert sorted(meshed) == sorted(expected["aama_skirt.dxf"])
+    coarse = {m.group: m for m in pattern.mesh(pat, edge=0.05)}
     for name, area in expected["aama_skirt.dxf"].items():
-        assert meshed[name].area == pytest.approx(area, rel=5e-3), name
+        assert meshed[name].area == pytest.approx(area, rel=5e-4), name
+        assert coarse[name].area == pytest.approx(area, rel=5e-3), name
     sleeve = pattern.mesh(pattern.read(str(folder / "clo_sleeve.dxf")))
     assert [m.group for m in sleeve] == ["Sleeve"]
-    assert sleeve[0].area == pytest.approx(expected["clo_sleeve.dxf"]["Sleeve"], rel=5e-3)
+    assert sleeve[0].area == pytest.approx(expected["clo_sleeve.dxf"]["Sleeve"], rel=5e-4)
 
 
 def test_sew_line_replaces_the_cut_line(skirt):
