@@ -252,3 +252,45 @@ def test_damaged_files_give_messages_not_tracebacks(fx, tmp_path, capsys):
         if rc == 1:
             assert capsys.readouterr().err.startswith("sinew pattern: ")
         capsys.readouterr()
+
+
+def test_turn_points_on_the_boundary_are_corners(tmp_path, capsys):
+    """A layer-2 turn point where the boundary turns by only 7 degrees is a corner; one off the
+    boundary, and a layer-3 curve point, are listed as ignored."""
+    import ezdxf
+    doc = ezdxf.new("R12")
+    b = doc.blocks.new("P")
+    b.add_polyline2d([(0, 0), (10, 0), (10, 10), (5, 10.3), (0, 10)], close=True,
+                     dxfattribs={"layer": "1"})
+    b.add_point((5, 10.3), dxfattribs={"layer": "2"})
+    b.add_point((5, 5), dxfattribs={"layer": "2"})
+    b.add_point((3, 3), dxfattribs={"layer": "3"})
+    doc.modelspace().add_blockref("P", (0, 0))
+    doc.saveas(str(tmp_path / "tp.dxf"))
+    m = pattern.mesh(pattern.read(str(tmp_path / "tp.dxf")))[0]
+    assert len(m.corners) == 5
+    assert [5 * IN, 10.3 * IN] in np.round(m.xy[m.corners], 12).tolist()
+    assert main(["import", str(tmp_path / "tp.dxf"), "--list"]) == 0
+    out = capsys.readouterr().out
+    assert "POINT on layer '2'" in out and "turn point off the boundary" in out
+    assert "POINT on layer '3'" in out and "curve point" in out
+
+
+def test_out_of_spec_integers_are_repaired_and_listed(fx, tmp_path, capsys):
+    """Integers written as reals ("70\\n1.0", as some exporters do) read as the same pattern;
+    what ezdxf repaired is counted on import and listed, with its line, by --list."""
+    lines = (fx[0] / "aama_skirt.dxf").read_text().split("\n")
+    for i in range(1, len(lines)):
+        if lines[i - 1].strip() == "70" and lines[i].strip().lstrip("-").isdigit():
+            lines[i] = lines[i].strip() + ".0"
+    path = tmp_path / "reals.dxf"
+    path.write_text("\n".join(lines))
+    pat = pattern.read(str(path))
+    assert pat.repaired and all("near line" in r for r in pat.repaired)
+    areas = {m.group: m.area for m in pattern.mesh(pat, edge=0.05)}
+    for name, area in fx[1]["aama_skirt.dxf"].items():
+        assert areas[name] == pytest.approx(area, rel=5e-3)
+    assert main(["import", str(path), "--out", str(tmp_path / "o"), "--quiet"]) == 0
+    err = capsys.readouterr().err
+    assert "ezdxf repaired %d things" % len(pat.repaired) in err
+    assert "recovered invalid integer" not in err  # listed by --list, not printed

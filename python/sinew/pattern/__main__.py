@@ -147,6 +147,9 @@ def _import(a):
                   (m.group, len(m.xy), len(m.tris), m.area, len(m.corners), len(m.notches),
                    "" if m.grain_from_line else ", no grain line (u along x)"))
         print("wrote %s and %s" % (obj, scene))
+    if pat.repaired:
+        print("sinew pattern: ezdxf repaired %d things in %s while reading it (--list names "
+              "each)" % (len(pat.repaired), a.file), file=sys.stderr)
     if pat.skipped:
         why = collections.Counter(s.why.split(" (")[0] for s in pat.skipped)
         print("sinew pattern: %d entities not used (sinew pattern import --list %s names "

@@ -19,6 +19,7 @@ with its block, layer, type and handle; nothing is dropped without a word.
 Units, first found: the style text `Units: ENGLISH|METRIC` (AAMA; metric is mm), the header's
 $INSUNITS (1 in, 2 ft, 4 mm, 5 cm, 6 m), its $MEASUREMENT (0 inches, 1 mm), else inches (AAMA's
 default).  Everything returned is in metres."""
+import logging
 import math
 import re
 from dataclasses import dataclass, field
@@ -130,6 +131,10 @@ def _read_doc(path):
     if b"SECTION" not in head.upper() and b"EOF" not in head.upper():
         raise PatternError("%s: not a DXF file (no SECTION in its first 4096 bytes); expected "
                            "an AAMA or ASTM D6673 DXF file" % path)
+    log = logging.getLogger("ezdxf")
+    notes = _Notes()
+    log.addHandler(notes)
+    propagate, log.propagate = log.propagate, False  # its repairs are listed, not printed
     try:
         doc, auditor = recover.readfile(path)
     except ezdxf.DXFStructureError as e:
@@ -137,7 +142,22 @@ def _read_doc(path):
     except Exception as e:  # ezdxf on hostile input: any failure is the file's, said as such
         raise PatternError("%s: not a readable DXF file (%s: %s)" %
                            (path, type(e).__name__, e)) from None
-    return doc, ["%s" % err.message for err in auditor.errors]
+    finally:
+        log.removeHandler(notes)
+        log.propagate = propagate
+    return doc, list(dict.fromkeys(notes.messages + [str(e.message) for e in auditor.errors]))
+
+
+class _Notes(logging.Handler):
+    """What ezdxf's recovery mode logs while it reads ("recovered invalid integer value ...
+    near line 52"), kept for --list."""
+
+    def __init__(self):
+        super().__init__(logging.INFO)
+        self.messages = []
+
+    def emit(self, record):
+        self.messages.append(record.getMessage())
 
 
 def _units(doc, style, override):
@@ -335,6 +355,13 @@ class _BlockReader:
             if self.sew and self.cut else p.boundary
         p.holes = _closed_loops(self.cutouts, "internal cutout (layer 11)", lab, self.skipped)
         p.notches = self.notches_on(cut, lab)
+        on = []
+        for q, e in p.turn_points:
+            if geo.project(p.boundary, q)[0] <= JOIN_TOL:
+                on.append((q, e))
+            else:
+                self.skipped.append(Skipped(lab, _what(e), "ignored: " + IGNORED[2]))
+        p.turn_points = on
         return p
 
     def notches_on(self, cut, lab):
