@@ -7,7 +7,8 @@ import tempfile
 
 # The skeleton's material: scenes/skirt.yaml's front panel, a light woven (150 g/m²), to be
 # replaced by the fabric's own numbers (docs/scenes.md).
-MATERIAL = ("material:                       # the fabric: replace with yours (docs/scenes.md)\n"
+MATERIAL = ("material:                       # the fabric: replace with yours (docs/scenes.md,\n"
+            "                                # or fabric: in measured units, docs/fabrics.md)\n"
             "  density: 0.15                 # kg/m²\n"
             "  membrane: {model: bw98, k_u: 2000, k_v: 1500, k_shear: 50}   # N/m\n"
             "  bending: {model: quadratic, stiffness: 1e-5}                 # N m\n")
