@@ -15,8 +15,9 @@ the tension XY of the faces that touch no pinned vertex, over the last frame (SC
 default), every frame (`run`) or each frame on its own (`frame`).  The default `last:p98` is
 the settled garment's range: see docs/garments.md, "Fit-check pictures".
 
-The obstacles and the panels' names and bias come from the scene that summary.json names (or
---scene); the seams from RUN_DIR/seams.json when it exists."""
+The obstacles and the panels' names and bias come from the run's scene (summary.json's
+scene_file, else restart.bin's absolute path, or --scene); the seams from RUN_DIR/seams.json
+when it exists."""
 import argparse
 import json
 import os
@@ -126,17 +127,27 @@ def read_json(path):
         return None
 
 
+def restart_scene(run_dir):
+    """The scene's absolute path that restart.bin's header holds (after its 8-byte magic
+    SWREST01, NUL-terminated), or None."""
+    try:
+        with open(os.path.join(run_dir, "restart.bin"), "rb") as f:
+            head = f.read(8 + 4096)
+    except OSError:
+        return None
+    if head[:8] != b"SWREST01":
+        return None
+    return head[8:].split(b"\0", 1)[0].decode("utf-8", "replace") or None
+
+
 def find_scene(run_dir, summary, scene=None):
-    """The scene file of the run: scene if given, else summary.json's scene_file (as written,
-    relative to the working folder, then to the run folder's parent); None if not found."""
+    """The scene file of the run: scene if given, else summary.json's scene_file (as the run
+    was given it: relative to the working folder of the run), else the absolute path in
+    restart.bin; None if none of them is a file."""
     if scene:
         return scene
-    name = (summary or {}).get("scene_file")
-    if not name:
-        return None
-    for base in ("", os.getcwd(), os.path.dirname(os.path.abspath(run_dir))):
-        path = os.path.join(base, name)
-        if os.path.isfile(path):
+    for path in ((summary or {}).get("scene_file"), restart_scene(run_dir)):
+        if path and os.path.isfile(path):
             return path
     return None
 
@@ -222,8 +233,9 @@ class Scene:
         if isinstance(doc, dict):
             self.read_scene(doc, os.path.dirname(os.path.abspath(path)))
         elif not path:
-            print("sinew render: the run's scene file is not found (summary.json's scene_file; "
-                  "give it with --scene): no obstacles or panel names drawn", file=sys.stderr)
+            print("sinew render: the run's scene file is not found (summary.json's scene_file, "
+                  "restart.bin; give it with --scene): no obstacles or panel names drawn",
+                  file=sys.stderr)
         seams = read_json(os.path.join(run_dir, "seams.json"))
         self.seams = seams.get("seams", []) if isinstance(seams, dict) else []
 
