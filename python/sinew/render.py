@@ -26,6 +26,7 @@ import shutil
 import sys
 
 import matplotlib
+import matplotlib.ticker
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -544,6 +545,20 @@ def seam_lines(seams, names, lookup):
     return out
 
 
+def outlines(cloth, uv, piece):
+    """Each piece's boundary in the flat view: the segments of the edges that only one face of
+    that piece has."""
+    tri = cloth.connectivity.reshape(len(cloth.offsets), 3)
+    count, where = {}, {}
+    for f in range(len(tri)):
+        for i in range(3):
+            j = (i + 1) % 3
+            key = (int(piece[f]), min(tri[f, i], tri[f, j]), max(tri[f, i], tri[f, j]))
+            count[key] = count.get(key, 0) + 1
+            where[key] = (uv[f, i], uv[f, j])
+    return [where[k] for k, n in count.items() if n == 1]
+
+
 def grain_line(uv_piece, bias_deg):
     """The grain line of a piece: a segment through its centroid along the warp (the u axis
     turned by the bias), half as long as the piece is across in that direction."""
@@ -564,6 +579,8 @@ def draw_flat(ax, cloth, tend, txy_norm, t_norm, scene=None):
     uv, piece, shift = pattern_layout(cloth, piece, box.width * fig_w / (box.height * fig_h))
     ax.add_collection(PolyCollection(uv, array=cloth.cell_data["tension_xy"], cmap="viridis",
                                      norm=txy_norm, edgecolors="face", linewidths=0.2))
+    ax.add_collection(LineCollection(outlines(cloth, uv, piece), colors="black",
+                                     linewidths=0.8))
     for p in sorted(set(piece.tolist())):
         name = names[p] if p < len(names) else None
         a, b = grain_line(uv[piece == p], scene.piece_bias(name))
@@ -620,21 +637,28 @@ def draw_shape(ax, cloth, tend, txy_norm, t_norm, scene=None, t=0.0):
     faces = np.concatenate([tris, body])
     fc = np.concatenate([rgba, shaded_grey(body)])
     ec = np.concatenate([rgba, np.zeros((len(body), 4))])
-    ax.add_collection3d(Poly3DCollection(faces, facecolors=fc, edgecolors=ec, linewidths=0.1))
+    # the faces sorted among themselves; tendons and labels drawn over them
+    ax.computed_zorder = False
+    ax.add_collection3d(Poly3DCollection(faces, facecolors=fc, edgecolors=ec, linewidths=0.1,
+                                         zorder=1))
     if tend is not None:
         lines = [tend.points[c] for c in tend.cells()]
         tension = tend.cell_data["tension"]
         ax.add_collection3d(Line3DCollection(lines, colors=cm.autumn_r(t_norm(tension)),
-                                             linewidths=2.5))
+                                             linewidths=2.5, zorder=2))
         for line, tn in zip(lines, tension):
-            ax.text(*line[len(line) // 2], " %.3g N" % tn, fontsize=9, zorder=10)
+            ax.text(*line[len(line) // 2], " %.3g N" % tn, fontsize=9, zorder=3,
+                    bbox={"boxstyle": "round", "fc": "white", "alpha": 0.7, "lw": 0})
     for setter, a, b in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), lo, hi):
         setter(a, b)
-    ax.set_box_aspect(tuple(np.maximum(hi - lo, 0.05 * float((hi - lo).max()))))
+    extent = hi - lo
+    ax.set_box_aspect(tuple(np.maximum(extent, 0.05 * float(extent.max()))))
+    for axis, e in zip((ax.xaxis, ax.yaxis, ax.zaxis), extent):
+        axis.set_major_locator(matplotlib.ticker.MaxNLocator(max(2, int(6 * e / extent.max()))))
     ax.tick_params(labelsize=7)
     ax.set_xlabel("x (m)", fontsize=8)
     ax.set_ylabel("y (m)", fontsize=8)
-    ax.set_zlabel("z (m)", fontsize=8)
+    ax.set_zlabel("z (m)", fontsize=8, labelpad=8)
     ax.set_title("3D shape%s" % (" on the body (grey)" if len(body) else ""), fontsize=10)
 
 
