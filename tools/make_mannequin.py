@@ -3,13 +3,18 @@
 measurements, for mesh obstacles that garments are fitted on:
 
     /usr/bin/python3 tools/make_mannequin.py [--height 1.70] [--bust 0.88] [--waist 0.70]
-        [--hip 0.96] [--around 32] [--rings 30] [-o scenes/meshes/mannequin.obj]
+        [--hip 0.96] [--around 32] [--rings 30] [--arms none|down|out]
+        [-o scenes/meshes/mannequin.obj]
 
 All lengths in metres.  The form is the body from the knees up: the two thighs together as one
 piece (as on a dress form with legs to the knee), hips, waist, bust, shoulders, neck and head;
-no arms.  Coordinates: z up, z = 0 the floor the body would stand on (the form's flat base is at
-knee height, 0.285 of the height), the body's axis is the z axis, its front faces -y, its left
-side +x.
+with --arms, two arms as separate closed surfaces (surfaces of revolution about a straight
+axis, from a rounded shoulder cap to the fingertips), hung just under the shoulder points at
+6 degrees from the vertical (down) or 45 degrees (out), turned further out and moved outward
+until they clear the torso by 5 mm: the mesh is then three closed surfaces that do not touch.
+Coordinates: z up, z = 0 the floor the body would stand on (the form's flat base is at knee
+height, 0.285 of the height), the body's axis is the z axis, its front faces -y, its left side
++x.
 
 Each horizontal cross section is an ellipse of half-width a (along x), half-depth b (along y)
 and centre (0, c) (c < 0: forward).  At the bust, waist and hip heights (0.72, 0.62 and 0.50 of
@@ -176,8 +181,76 @@ def ring_heights(body, rings, marks):
     return zr
 
 
-def mannequin(height, bust, waist, hip, around, rings):
-    """Vertices (n x 3, m) and triangles (counter-clockwise seen from outside) of the form."""
+def tube(axis_points, radii, around):
+    """A closed surface of revolution: rings of `around` vertices about the polyline
+    axis_points (k x 3, straight) with radii (k, the first and last 0: the two poles);
+    triangles counter-clockwise seen from outside."""
+    d = axis_points[-1] - axis_points[0]
+    d /= np.linalg.norm(d)
+    e1 = np.cross(d, [0.0, 0.0, 1.0]) if abs(d[2]) < 0.99 else np.array([1.0, 0.0, 0.0])
+    e1 /= np.linalg.norm(e1)
+    e2 = np.cross(d, e1)
+    phi = 2.0 * np.pi * np.arange(around) / around
+    k = len(radii)
+    verts = [axis_points[0]]
+    for i in range(1, k - 1):
+        verts += list(axis_points[i] + radii[i] * (np.cos(phi)[:, None] * e1
+                                                   + np.sin(phi)[:, None] * e2))
+    verts.append(axis_points[-1])
+    tris, last = [], 1 + (k - 3) * around
+    for j in range(around):
+        jn = (j + 1) % around
+        tris.append((0, 1 + jn, 1 + j))
+        tris.append((last + j, last + jn, len(verts) - 1))
+        for i in range(k - 3):
+            p, q = 1 + i * around + j, 1 + i * around + jn
+            tris += [(p, q, q + around), (p, q + around, p + around)]
+    return np.array(verts), np.array(tris)
+
+
+# the arm from the shoulder (s = 0, the top of its cap) to the fingertips: (s, radius) as
+# fractions of the height; upper arm, elbow, forearm, wrist, hand
+ARM = [(0.0, 0.0), (0.012, 0.020), (0.03, 0.029), (0.08, 0.028), (0.17, 0.022), (0.21, 0.024),
+       (0.30, 0.016), (0.33, 0.018), (0.37, 0.014), (0.385, 0.008), (0.39, 0.0)]
+ARM_ANGLE = {"down": 6.0, "out": 45.0}  # degrees from the vertical, at least
+ARM_GAP = 0.005  # m: the smallest clearance between an arm and the torso
+
+
+def inside_torso(body, points, clearance):
+    """Which points lie within `clearance` (m) outside the torso's surface, or inside it:
+    the radius from the z axis against the section's radius along that polar angle."""
+    a, b, c, pinch = body.section(points[:, 2])
+    theta = np.arctan2(points[:, 1], points[:, 0])
+    r = np.array([ring(ai, bi, ci, pi, np.array([t]))[0]
+                  for ai, bi, ci, pi, t in zip(a, b, c, pinch, theta)])
+    inside = np.hypot(points[:, 0], points[:, 1]) < r + clearance
+    return inside & (points[:, 2] >= body.bottom) & (points[:, 2] <= body.height)
+
+
+def arm(body, side, pose, around):
+    """One arm (side +1: left, +x; -1: right): its cap's top at shoulder height, tucked under
+    the shoulder as close to the side of the chest as it goes, at the pose's angle from the
+    vertical, turned further out while it would come closer than ARM_GAP to the torso."""
+    h = body.height
+    s = np.array([p[0] for p in ARM]) * h
+    r = np.array([p[1] for p in ARM]) * h
+    upper = r[2]  # m: the upper arm's radius
+    inner = float(body.a(ARMPIT * h)) + upper + ARM_GAP    # axis beside the chest
+    outer = float(body.a(SHOULDER * h)) + upper + ARM_GAP  # axis beyond the shoulder point
+    for angle in np.arange(ARM_ANGLE[pose], 90.0, 1.0):
+        a = np.radians(angle)
+        d = np.array([side * np.sin(a), 0.0, -np.cos(a)])
+        for x in np.arange(inner, outer + 1e-3, 2e-3):
+            start = np.array([side * x, 0.0, SHOULDER * h - 0.3 * upper])
+            verts, tris = tube(start[None, :] + s[:, None] * d, r, around)
+            if not inside_torso(body, verts, ARM_GAP).any():
+                return verts, tris
+    sys.exit("make_mannequin: no arm angle clears the torso")
+
+
+def mannequin(height, bust, waist, hip, around, rings, arms="none"):
+    """Vertices (n x 3, m) and triangles (counter-clockwise seen from outside) of the form:
+    the torso's rings (the first around * rings + 2 vertices), then each arm's."""
     body = Body(height, bust, waist, hip)
     theta = ring_angles(around)
     zr = ring_heights(body, rings, [HIP * height, WAIST * height, BUST * height])
@@ -199,7 +272,13 @@ def mannequin(height, bust, waist, hip, around, rings):
     for j in range(around):
         tris.append((base, (j + 1) % around, j))
         tris.append((top + j, top + (j + 1) % around, crown))
-    return np.array(verts), np.array(tris), zr
+    verts, tris = np.array(verts), np.array(tris)
+    if arms != "none":
+        for side in (1, -1):
+            v, t = arm(body, side, arms, max(8, around // 2))
+            tris = np.concatenate([tris, t + len(verts)])
+            verts = np.concatenate([verts, v])
+    return verts, tris, zr
 
 
 def main(argv=None):
@@ -210,6 +289,8 @@ def main(argv=None):
     ap.add_argument("--hip", type=float, default=0.96, help="hip girth, m")
     ap.add_argument("--around", type=int, default=32, help="vertices around each ring (>= 8)")
     ap.add_argument("--rings", type=int, default=30, help="rings from base to crown (>= 12)")
+    ap.add_argument("--arms", choices=("none", "down", "out"), default="none",
+                    help="no arms (a dress form), arms hanging down, or out at 45 degrees")
     ap.add_argument("-o", "--output", default="scenes/meshes/mannequin.obj")
     args = ap.parse_args(argv)
     if not (1.0 <= args.height <= 2.5):
@@ -221,9 +302,10 @@ def main(argv=None):
     if args.around < 8 or args.rings < 12:
         ap.error("--around must be >= 8 and --rings >= 12")
     verts, tris, _ = mannequin(args.height, args.bust, args.waist, args.hip,
-                               args.around, args.rings)
+                               args.around, args.rings, args.arms)
     cmd = "tools/make_mannequin.py --height %g --bust %g --waist %g --hip %g --around %d " \
-          "--rings %d" % (args.height, args.bust, args.waist, args.hip, args.around, args.rings)
+          "--rings %d --arms %s" % (args.height, args.bust, args.waist, args.hip, args.around,
+                                    args.rings, args.arms)
     with open(args.output, "w") as f:
         f.write("# dress form: /usr/bin/python3 %s\n" % cmd)
         f.write("# %d vertices, %d triangles; z up, z = 0 the floor, front -y, metres; girths at "

@@ -73,17 +73,26 @@ def edge_crosses_triangle(p, q, a, b, c, eps=1e-12):
     return opposite & inside
 
 
-@pytest.fixture(scope="module", params=[(1.70, 0.88, 0.70, 0.96, 32, 30),
-                                        (1.85, 1.02, 0.86, 1.00, 24, 20),
-                                        (1.55, 0.80, 0.62, 0.92, 48, 44)])
+@pytest.fixture(scope="module", params=[(1.70, 0.88, 0.70, 0.96, 32, 30, "none"),
+                                        (1.85, 1.02, 0.86, 1.00, 24, 20, "down"),
+                                        (1.55, 0.80, 0.62, 0.92, 48, 44, "out"),
+                                        (1.70, 0.88, 0.70, 0.96, 32, 30, "down")])
 def body(request):
-    height, bust, waist, hip, around, rings = request.param
-    verts, tris, _ = mm.mannequin(height, bust, waist, hip, around, rings)
+    height, bust, waist, hip, around, rings, arms = request.param
+    verts, tris, _ = mm.mannequin(height, bust, waist, hip, around, rings, arms)
     return request.param, verts, tris
 
 
+def torso(param, tris):
+    """The torso's triangles (its vertices come first: around * rings + 2)."""
+    return tris[np.all(tris < param[4] * param[5] + 2, axis=1)]
+
+
 def test_girths_at_the_stated_heights(body):
-    (height, bust, waist, hip, _, _), verts, tris = body
+    """Measured on the torso: a tape measure goes around the body under the arms."""
+    param, verts, tris = body
+    (height, bust, waist, hip, _, _, _) = param
+    tris = torso(param, tris)
     for frac, girth in ((mm.BUST, bust), (mm.WAIST, waist), (mm.HIP, hip)):
         measured = tape_measure(verts, tris, frac * height)
         assert measured == pytest.approx(girth, rel=0.01), (frac, measured, girth)
@@ -93,16 +102,26 @@ def test_girths_at_the_stated_heights(body):
 
 
 def test_closed_outward_consistent(body):
-    (height, *_), verts, tris = body
+    """Every directed edge once and its reverse once; positive volume, also of the torso
+    alone (so each arm's is too: an inward arm would take its volume off)."""
+    param, verts, tris = body
+    height, arms = param[0], param[6]
     directed = np.concatenate([tris[:, [0, 1]], tris[:, [1, 2]], tris[:, [2, 0]]])
     # consistent winding: each directed edge once, and its reverse present too
     keys = set(map(tuple, directed))
     assert len(keys) == len(directed)
     assert all((j, i) in keys for i, j in keys)
-    a, b, c = verts[tris[:, 0]], verts[tris[:, 1]], verts[tris[:, 2]]
-    volume = np.einsum("ij,ij->i", a, np.cross(b, c)).sum() / 6.0
-    # a body of about 70 % of an adult's volume (no arms, no lower legs): tens of litres
-    assert 0.02 < volume < 0.12
+    def volume(t):
+        a, b, c = verts[t[:, 0]], verts[t[:, 1]], verts[t[:, 2]]
+        return np.einsum("ij,ij->i", a, np.cross(b, c)).sum() / 6.0
+    whole, trunk = volume(tris), volume(torso(param, tris))
+    # a body of about 70 % of an adult's volume (no lower legs): tens of litres; each arm
+    # about 2 litres (an adult's arm: 2 to 4)
+    assert 0.02 < trunk < 0.12
+    if arms == "none":
+        assert whole == trunk
+    else:
+        assert 2 * 0.0015 < whole - trunk < 2 * 0.005
     assert verts[:, 2].min() == pytest.approx(mm.KNEE * height)
     assert verts[:, 2].max() == pytest.approx(height)
     assert 450 <= len(verts) <= 5000
