@@ -105,11 +105,6 @@ def tendon_norm(run):
     return colors.Normalize(0.0, tmax if tmax > 0 else 1.0)
 
 
-def scales(run, spec=None):
-    """The first frame's tension XY range and the tendons' (kept for earlier callers)."""
-    return tension_norms(run, spec or parse_range(DEFAULT_RANGE))[0], tendon_norm(run)
-
-
 def range_label(spec):
     if spec[0] == "fixed":
         return "tension XY (N/m), range set by --range"
@@ -224,11 +219,15 @@ class Scene:
     shape and motion; a mesh as vertices and triangles), the cloth's OBJ groups, each panel's
     bias (degrees) and the seams (seams.json)."""
 
-    def __init__(self, run_dir, scene=None):
+    def __init__(self, run_dir=None, scene=None):
+        """The scene of the run folder run_dir (scene: its file, when not the run's); with no
+        run_dir, none: no name, obstacles, groups or seams."""
+        self.name, self.obstacles, self.groups, self.bias, self.panel_names = "", [], None, {}, None
+        self.dimension, self.seams = 3, []
+        if run_dir is None:
+            return
         summary = read_json(os.path.join(run_dir, "summary.json")) or {}
         self.name = summary.get("scene") or os.path.basename(os.path.normpath(run_dir))
-        self.obstacles, self.groups, self.bias, self.panel_names = [], None, {}, None
-        self.dimension = 3
         path = find_scene(run_dir, summary, scene)
         doc = load_yaml(path) if path else None
         if isinstance(doc, dict):
@@ -300,13 +299,6 @@ class Scene:
     def piece_bias(self, name):
         """The piece's bias, degrees: its panel's, else the material's."""
         return self.bias.get(name, self.bias.get(None, 0.0))
-
-
-def empty_scene():
-    s = Scene.__new__(Scene)
-    s.name, s.obstacles, s.groups, s.bias, s.panel_names = "", [], None, {}, None
-    s.dimension, s.seams = 3, []
-    return s
 
 
 # ------------------------------------------------------------------ obstacle surfaces
@@ -572,7 +564,7 @@ def grain_line(uv_piece, bias_deg):
 
 
 def draw_flat(ax, cloth, tend, txy_norm, t_norm, scene=None):
-    scene = scene or empty_scene()
+    scene = scene or Scene()
     piece, names = scene.pieces(cloth)
     box = ax.get_position()
     fig_w, fig_h = ax.figure.get_size_inches()
@@ -622,7 +614,7 @@ def draw_flat(ax, cloth, tend, txy_norm, t_norm, scene=None):
 # ------------------------------------------------------------------ the 3D shape
 
 def draw_shape(ax, cloth, tend, txy_norm, t_norm, scene=None, t=0.0):
-    scene = scene or empty_scene()
+    scene = scene or Scene()
     nf = len(cloth.offsets)
     tris = cloth.points[cloth.connectivity.reshape(nf, 3)]
     rgba = cm.viridis(txy_norm(cloth.cell_data["tension_xy"]))
