@@ -520,18 +520,27 @@ def corner_lookup(cloth, uv, piece):
     return out
 
 
+def seam_sides(seam):
+    """A seam's two sides as [(panel name, [vertex, ...])], from either form of seams.json:
+    {"panels": [a, b], "curves": [[v, ...], [v, ...]]} (what sinew writes) or
+    {"a": {"panel": a, "vertices": [...]}, "b": {...}}."""
+    if "curves" in seam:
+        return list(zip(seam.get("panels") or [], seam.get("curves") or []))
+    return [((seam.get(k) or {}).get("panel"), (seam.get(k) or {}).get("vertices") or [])
+            for k in ("a", "b")]
+
+
 def seam_lines(seams, names, lookup):
     """Each seam side's polyline in the flat view: [(seam name, colour, points)], the sides
     whose panel or vertices the frame does not have left out."""
     out = []
     for k, seam in enumerate(seams):
         colour = SEAM_COLOURS[k % len(SEAM_COLOURS)]
-        for side in ("a", "b"):
-            s = seam.get(side) or {}
-            if s.get("panel") not in names:
+        for panel, verts in seam_sides(seam):
+            if panel not in names:
                 continue
-            p = names.index(s["panel"])
-            pts = [lookup.get((p, int(v))) for v in s.get("vertices", [])]
+            p = names.index(panel)
+            pts = [lookup.get((p, int(v))) for v in verts]
             if len(pts) >= 2 and all(q is not None for q in pts):
                 out.append((str(seam.get("name", "seam %d" % (k + 1))), colour, np.array(pts)))
     return out

@@ -237,7 +237,8 @@ def test_mesh_obstacle_and_motion():
 
 def test_panels_named_grain_lines_seams_and_fill(skirt_run):
     """skirt_body: its two OBJ groups are labelled on the pattern, each has a grain line (the
-    back's at its 45-degree bias), a seams.json's seam is drawn on both panels, and the
+    back's at its 45-degree bias), seams.json's seams (in either form) are drawn on both
+    panels, one naming a panel or vertex the frames do not have is not, and the
     pattern's pieces fill most of their axes (the side-by-side row would fill about 15 %)."""
     front = render.read_obj(os.path.join(ROOT, "scenes", "meshes", "skirt_developed.obj"))
     tris, groups = front[1], front[2]
@@ -246,7 +247,9 @@ def test_panels_named_grain_lines_seams_and_fill(skirt_run):
     seams = {"seams": [{"name": "side seam", "a": {"panel": "front", "vertices": fverts},
                         "b": {"panel": "back", "vertices": bverts}},
                        {"name": "unknown", "a": {"panel": "sleeve", "vertices": [0, 1]},
-                        "b": {"panel": "back", "vertices": [10 ** 6, 1]}}]}
+                        "b": {"panel": "back", "vertices": [10 ** 6, 1]}},
+                       {"name": "hem", "panels": ["back", "front"],
+                        "curves": [bverts[:2], fverts[:2]]}]}
     (skirt_run / "seams.json").write_text(json.dumps(seams))
     try:
         fig, cloth, sc = drawn(skirt_run)
@@ -255,9 +258,8 @@ def test_panels_named_grain_lines_seams_and_fill(skirt_run):
     flat = fig.axes[0]
     texts = [t.get_text() for t in flat.texts]
     assert "front" in texts and "back" in texts and texts.count("side seam") == 2
-    assert "unknown" not in texts
-    lines = [ln for ln in flat.lines if len(ln.get_xdata()) in (3, 4)]
-    assert sorted(len(ln.get_xdata()) for ln in lines) == [3, 4]
+    assert "unknown" not in texts and texts.count("hem") == 2
+    assert sorted(len(ln.get_xdata()) for ln in flat.lines) == [2, 2, 3, 4]
     arrows = [t for t in flat.texts if t.get_text() == ""]
     assert len(arrows) == 2
     angles = sorted(abs(np.degrees(np.arctan2(*(np.subtract(a.xy, a.xyann)[::-1])))) % 180
