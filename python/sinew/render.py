@@ -531,19 +531,37 @@ def seam_sides(seam):
 
 
 def seam_lines(seams, names, lookup):
-    """Each seam side's polyline in the flat view: [(seam name, colour, points)], the sides
-    whose panel or vertices the frame does not have left out."""
+    """Each seam side's polyline in the flat view: [(seam name, colour, points, piece, side
+    0 or 1)], the sides whose panel or vertices the frame does not have left out."""
     out = []
     for k, seam in enumerate(seams):
         colour = SEAM_COLOURS[k % len(SEAM_COLOURS)]
-        for panel, verts in seam_sides(seam):
+        for side, (panel, verts) in enumerate(seam_sides(seam)):
             if panel not in names:
                 continue
             p = names.index(panel)
             pts = [lookup.get((p, int(v))) for v in verts]
             if len(pts) >= 2 and all(q is not None for q in pts):
-                out.append((str(seam.get("name", "seam %d" % (k + 1))), colour, np.array(pts)))
+                out.append((str(seam.get("name", "seam %d" % (k + 1))), colour, np.array(pts),
+                            p, side))
     return out
+
+
+def label_outside(ax, text, pts, centre, colour, at=0.5):
+    """text beside polyline pts (at that fraction of its points), along it, on the side away
+    from centre (the piece's centroid): a tag in the seam's colour just outside the piece."""
+    m = min(int(at * len(pts)), len(pts) - 1)
+    tangent = pts[min(m + 1, len(pts) - 1)] - pts[max(m - 1, 0)]
+    tangent = tangent / max(np.linalg.norm(tangent), 1e-300)
+    normal = np.array([-tangent[1], tangent[0]])
+    if np.dot(normal, pts[m] - centre) < 0:
+        normal = -normal
+    angle = np.degrees(np.arctan2(tangent[1], tangent[0]))
+    angle = (angle + 90.0) % 180.0 - 90.0  # never upside down
+    ax.annotate(text, pts[m], xytext=tuple(7.0 * normal), textcoords="offset points",
+                ha="center", va="center", rotation=angle, rotation_mode="anchor", fontsize=7,
+                color="black", bbox={"boxstyle": "round,pad=0.15", "fc": colour, "alpha": 0.85,
+                                     "lw": 0})
 
 
 def outlines(cloth, uv, piece):
@@ -593,11 +611,11 @@ def draw_flat(ax, cloth, tend, txy_norm, t_norm, scene=None):
                         bbox={"boxstyle": "round,pad=0.2", "fc": "white", "alpha": 0.8,
                               "lw": 0})
     lookup = corner_lookup(cloth, uv, piece)
-    for name, colour, pts in seam_lines(scene.seams, names, lookup):
+    for name, colour, pts, p, side in seam_lines(scene.seams, names, lookup):
         ax.plot(pts[:, 0], pts[:, 1], color=colour, lw=2.2, solid_capstyle="round")
-        ax.annotate(name, pts[len(pts) // 2], xytext=(3, 3), textcoords="offset points",
-                    fontsize=8, color=colour,
-                    bbox={"boxstyle": "round,pad=0.1", "fc": "black", "alpha": 0.5, "lw": 0})
+        # the two sides' tags a third and two thirds along: apart where two pieces are close
+        label_outside(ax, name, pts, uv[piece == p].reshape(-1, 2).mean(0), colour,
+                      (1 + side) / 3)
     if tend is not None:
         lines = tendon_pattern(cloth, tend, piece, shift)
         tension = tend.cell_data["tension"]
