@@ -126,9 +126,12 @@ def range_label(spec, smooth=False):
     if spec[0] == "fixed":
         return "tension XY (N/m), range set by --range"
     what = {"last": "the last frame", "run": "the run", "frame": "this frame"}[spec[0]]
-    return "tension XY (N/m%s), 0 to the %g-th percentile of %s (faces free of pins)" % (
-        ", smoothed" if smooth else "",
-        spec[1], what)
+    q = spec[1]
+    suffix = "th"
+    if q == int(q) and int(q) % 100 not in (11, 12, 13):
+        suffix = {1: "st", 2: "nd", 3: "rd"}.get(int(q) % 10, "th")
+    return "tension XY (N/m%s), 0 to the %g%s percentile of %s (faces free of pins)" % (
+        ", smoothed" if smooth else "", q, suffix, what)
 
 
 # ------------------------------------------------------------------ the run's scene
