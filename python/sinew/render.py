@@ -7,8 +7,9 @@ XY (N/m, one colour bar), the tendons drawn over them coloured by their tension 
 colour bar) and labelled with it; the title is the scene's name and the time.  Then an
 animation of all of them: a GIF (Pillow) or, where ffmpeg is installed and asked for, an MP4.
 
-    python3 -m sinew.render RUN_DIR [--out DIR] [--every K] [--last] [--range R] [--scene FILE]
-                                    [--animation gif|mp4|none] [--dpi N] [--quiet]
+    python3 -m sinew.render RUN_DIR [--out DIR] [--every K] [--last] [--range R] [--smooth]
+                                    [--scene FILE] [--animation gif|mp4|none] [--dpi N]
+                                    [--quiet]
 
 The colour range (--range): `MIN:MAX` in N/m, or `[SCOPE:]pQ`, 0 to the Q-th percentile of
 the tension XY of the faces that touch no pinned vertex, over the last frame (SCOPE `last`, the
@@ -105,12 +106,32 @@ def tendon_norm(run):
     return colors.Normalize(0.0, tmax if tmax > 0 else 1.0)
 
 
-def range_label(spec):
+def smooth_faces(cloth, values):
+    """Face values averaged over each vertex's faces (weighted by the faces' areas), then over
+    each face's three vertices: a display that trades the per-face detail (a zigzag between
+    neighbouring triangles) for the local mean."""
+    nf = len(cloth.offsets)
+    tri = cloth.connectivity.reshape(nf, 3)
+    p = cloth.points[tri]
+    area = 0.5 * np.linalg.norm(np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), axis=1)
+    num, den = np.zeros(len(cloth.points)), np.zeros(len(cloth.points))
+    for k in range(3):
+        np.add.at(num, tri[:, k], area * values)
+        np.add.at(den, tri[:, k], area)
+    vertex = num / np.maximum(den, 1e-300)
+    return vertex[tri].mean(axis=1)
+
+
+def range_label(spec, smooth=False):
     if spec[0] == "fixed":
         return "tension XY (N/m), range set by --range"
     what = {"last": "the last frame", "run": "the run", "frame": "this frame"}[spec[0]]
-    return "tension XY (N/m), 0 to the %g-th percentile of %s (faces free of pins)" % (
-        spec[1], what)
+    q = spec[1]
+    suffix = "th"
+    if q == int(q) and int(q) % 100 not in (11, 12, 13):
+        suffix = {1: "st", 2: "nd", 3: "rd"}.get(int(q) % 10, "th")
+    return "tension XY (N/m%s), 0 to the %g%s percentile of %s (faces free of pins)" % (
+        ", smoothed" if smooth else "", q, suffix, what)
 
 
 # ------------------------------------------------------------------ the run's scene
@@ -712,12 +733,15 @@ def writer_for(kind, out):
 
 
 def render(run_dir, out=None, every=1, last=False, kind="gif", dpi=100, quiet=False,
-           value_range=DEFAULT_RANGE, scene=None):
+           value_range=DEFAULT_RANGE, scene=None, smooth=False):
     """Render the frames of run_dir into out (default RUN_DIR/render); the files written."""
     spec = parse_range(value_range) if isinstance(value_range, str) else value_range
     out = out or os.path.join(run_dir, "render")
     os.makedirs(out, exist_ok=True)
     run = list(frames.read_run(run_dir))
+    for _, parts in run if smooth else []:
+        c = parts["cloth"]
+        c.cell_data["tension_xy"] = smooth_faces(c, c.cell_data["tension_xy"])
     if not run:
         raise SystemExit("sinew render: %s/frames.pvd lists no frames" % run_dir)
     chosen = [len(run) - 1] if last else list(range(0, len(run), every))
@@ -732,7 +756,7 @@ def render(run_dir, out=None, every=1, last=False, kind="gif", dpi=100, quiet=Fa
         writer.setup(fig, movie, dpi=dpi)
     for i in chosen:
         t, parts = run[i]
-        draw(fig, t, parts, norms[i], t_norm, sc.name, sc, range_label(spec))
+        draw(fig, t, parts, norms[i], t_norm, sc.name, sc, range_label(spec, smooth))
         png = os.path.join(out, "tension_%06d.png" % i)
         fig.savefig(png, dpi=dpi)
         written.append(png)
@@ -767,6 +791,9 @@ def main(argv=None):
                          "Q-th percentile of the faces free of pins in the last frame (SCOPE "
                          "last), the whole run (run) or each frame (frame); default "
                          + DEFAULT_RANGE)
+    ap.add_argument("--smooth", action="store_true",
+                    help="draw tension XY averaged over each vertex's faces (the local mean, "
+                         "without the zigzag between neighbouring triangles)")
     ap.add_argument("--scene", metavar="FILE",
                     help="the run's scene file, for its obstacles and panel names (default: "
                          "summary.json's scene_file)")
@@ -785,7 +812,8 @@ def main(argv=None):
         ap.error("%s has no frames.pvd (a run with --no-frames?)" % a.run_dir)
     if a.scene and not os.path.isfile(a.scene):
         ap.error("--scene %s: no such file" % a.scene)
-    render(a.run_dir, a.out, a.every, a.last, a.animation, a.dpi, a.quiet, spec, a.scene)
+    render(a.run_dir, a.out, a.every, a.last, a.animation, a.dpi, a.quiet, spec, a.scene,
+           a.smooth)
     return 0
 
 

@@ -130,6 +130,16 @@ def test_percentile_range_leaves_out_the_pinned_band():
     assert render.free_faces(strip_frame([1.0, 2.0], 3)).all()
 
 
+def test_smooth_faces():
+    """--smooth: a uniform tension stays as it is; a zigzag between neighbouring triangles
+    (0 and 10 N/m alternating) becomes its local mean, about 5 N/m, away from the ends."""
+    strip = strip_frame([0.0] * 10, 0)
+    assert np.allclose(render.smooth_faces(strip, np.full(20, 7.0)), 7.0)
+    zigzag = np.tile([0.0, 10.0], 10)
+    smooth = render.smooth_faces(strip, zigzag)
+    assert np.all(np.abs(smooth[4:-4] - 5.0) < 2.0) and np.ptp(smooth) < 0.5 * np.ptp(zigzag)
+
+
 def test_range_option_errors(run_dir):
     done = subprocess.run([SINEW, "render", str(run_dir), "--range", "9:3"],
                           capture_output=True, text=True)
@@ -192,7 +202,7 @@ def test_the_sphere_is_drawn(sphere_run):
     import matplotlib.pyplot as plt
     plt.close(fig)
     out = sphere_run / "png"
-    render.render(str(sphere_run), str(out), last=True, quiet=True, dpi=50)
+    render.render(str(sphere_run), str(out), last=True, quiet=True, dpi=50, smooth=True)
     img = np.asarray(Image.open(out / "tension_000002.png").convert("RGB")).astype(int)
     right = img[:, img.shape[1] // 2:]
     is_grey = (np.ptp(right, axis=2) < 6) & (right[..., 0] > 60) & (right[..., 0] < 215)
