@@ -253,38 +253,53 @@ static int each_pair(const sw_model *m, sw_mcontact *mc, pair_visit visit, void 
 
 /* -------------------------------------------------------------------- the term */
 
+/* The mean mass of the pair's cloth vertices times kappa_s, kg/(s^2 m^2). */
+static double pair_weight(const sw_model *m, const int *v) {
+  double w = 0.0;
+  int nc = 0;
+  for (int k = 0; k < 4; k++)
+    if (v[k] < m->nv) w += m->mass[v[k]], nc++;
+  return w * m->contact.kappa_mesh / nc;
+}
+
 /* The energy of one pair with vertices v at x (nvt x 3; J), its gradient g (12) and, when H
- * is not NULL, its Hessian (144); *gap = d - xi (m).  INFINITY when the pair is within xi. */
+ * is not NULL, its filtered (positive semi-definite) Hessian block (144); *gap = d - xi (m).
+ * INFINITY when the pair is within xi.  The block is the closed form of models/barrier_block.c;
+ * an edge-edge pair the mollifier scales (nearly parallel edges) takes its exact Hessian,
+ * clamped. */
 static double pair_energy(const sw_model *m, const mc_param *pm, int kind, const int *v,
                           const double *x, double *g, double *H, double *gap) {
   const sw_contact *c = &m->contact;
-  double p[12], g2[12], H2[144], *h2 = H ? H2 : NULL;
+  double p[12], g2[12];
+  sw_pair_form pf;
   gather(x, v, p);
-  double d2 = kind == SW_MC_PT ? sw_d2_point_triangle(p, p + 3, p + 6, p + 9, g2, h2)
-                               : sw_d2_edge_edge(p, p + 3, p + 6, p + 9, g2, h2);
+  double d2 = H ? sw_pair_d2_form(kind == SW_MC_EE, p, &pf)
+          : kind == SW_MC_PT ? sw_d2_point_triangle(p, p + 3, p + 6, p + 9, g2, NULL)
+                             : sw_d2_edge_edge(p, p + 3, p + 6, p + 9, g2, NULL);
+  if (H) memcpy(g2, pf.g, sizeof g2);
   double xi = pair_xi(m, pm, v), s = d2 - xi * xi, shat = shat_of(xi, c->dhat);
   *gap = sqrt(fmax(d2, 0.0)) - xi;
   if (!(s > 0.0)) return INFINITY;
   if (s >= shat) return 0.0;
-  double w = 0.0; /* the mean mass of the pair's cloth vertices, kg */
-  int nc = 0;
-  for (int k = 0; k < 4; k++)
-    if (v[k] < m->nv) w += m->mass[v[k]], nc++;
-  w *= c->kappa_mesh / nc; /* kg/(s^2 m^2) */
-  double bg[12], bH[144], b = sw_barrier_of(12, s, g2, h2, shat, bg, H ? bH : NULL);
-  if (kind == SW_MC_PT) {
-    for (int i = 0; i < 12; i++) g[i] = w * bg[i];
-    for (int i = 0; H && i < 144; i++) H[i] = w * bH[i];
+  double w = pair_weight(m, v), db, d2b, b = sw_barrier(s, shat, &db, &d2b);
+  double mo = 1.0, mg[12], mH[144], r[12];
+  if (kind == SW_MC_EE) { /* the mollifier vanishes as the edges become parallel (IPC sec. 4.3) */
+    gather_rest(m, pm, v, r);
+    double eps = sw_ee_mollifier_eps(r, r + 3, r + 6, r + 9);
+    mo = sw_ee_mollifier(p, p + 3, p + 6, p + 9, eps, mg, H ? mH : NULL);
+  }
+  if (mo == 1.0) { /* no mollifier: b and its closed-form block */
+    for (int i = 0; i < 12; i++) g[i] = w * db * g2[i];
+    if (H) (void)sw_pair_barrier_block(&pf, db, d2b, w, H); /* not finite: as the clamp's */
     return w * b;
   }
-  /* edge-edge: the mollifier vanishes as the edges become parallel (IPC sec. 4.3) */
-  double r[12], mg[12], mH[144];
-  gather_rest(m, pm, v, r);
-  double eps = sw_ee_mollifier_eps(r, r + 3, r + 6, r + 9);
-  double mo = sw_ee_mollifier(p, p + 3, p + 6, p + 9, eps, mg, H ? mH : NULL);
+  double bg[12], bH[144], H2[144], *h2 = H ? H2 : NULL;
+  if (H) sw_d2_edge_edge(p, p + 3, p + 6, p + 9, NULL, H2);
+  sw_barrier_of(12, s, g2, h2, shat, bg, H ? bH : NULL);
   double e = sw_product_derivs(12, mo, mg, mH, b, bg, bH, g, H);
   for (int i = 0; i < 12; i++) g[i] *= w;
   for (int i = 0; H && i < 144; i++) H[i] *= w;
+  if (H) sw_psd_project(H, 12, SW_FILTER_CLAMP); /* indefinite */
   return w * e;
 }
 
@@ -314,10 +329,7 @@ static int eval_pair(const sw_model *m, sw_mcontact *mc, int kind, const int *v,
   pr->kind = kind;
   memcpy(pr->v, v, sizeof pr->v);
   pr->gap = gap;
-  if (want_h) {
-    sw_psd_project(Hb, 12, SW_FILTER_CLAMP); /* a barrier's Hessian is indefinite */
-    memcpy(mc->block + (size_t)mc->npair * 144, Hb, sizeof Hb);
-  }
+  if (want_h) memcpy(mc->block + (size_t)mc->npair * 144, Hb, sizeof Hb);
   mc->npair++;
   a->e += ek;
   for (int j = 0; ev->grad && j < 12; j++)
