@@ -291,6 +291,26 @@ static int covered(const sw_mcontact *mc, const double *x) {
   return 1;
 }
 
+/* Append the pair to the candidates with its distance at arg (nvt x 3); -1 when out of
+ * memory. */
+static int add_candidate(const sw_model *m, sw_mcontact *mc, int kind, const int *v, void *arg) {
+  (void)m;
+  if (mc->ncand == mc->capcand) {
+    int cap = mc->capcand + mc->capcand / 2 + 256;
+    sw_mc_pair *c = sw_realloc(mc->cand, (size_t)cap, sizeof *c);
+    if (!c) return -1;
+    mc->cand = c, mc->capcand = cap;
+  }
+  sw_mc_pair *c = &mc->cand[mc->ncand++];
+  double p[12];
+  c->kind = kind;
+  memcpy(c->v, v, sizeof c->v);
+  gather(arg, v, p);
+  c->gap = sqrt(kind == SW_MC_PT ? sw_d2_point_triangle(p, p + 3, p + 6, p + 9, NULL, NULL)
+                                 : sw_d2_edge_edge(p, p + 3, p + 6, p + 9, NULL, NULL));
+  return 0;
+}
+
 /* The candidates over the motion x0 -> x1 (nvt x 3 each; x1 == x0 for positions at rest);
  * -1 when the broad phase fails (positions not finite, or out of memory). */
 static int find_candidates(const sw_model *m, sw_mcontact *mc, const double *x0,
@@ -299,29 +319,9 @@ static int find_candidates(const sw_model *m, sw_mcontact *mc, const double *x0,
   mc->ncand = 0;
   double reach = 0.5 * (max_thickness(m) + m->contact.dhat) + mc->slack;
   sw_bp_input in = bp_input(mc, x0, x1, reach);
-  if (sw_broadphase_query(&mc->bp, &in, SW_BP_PT | SW_BP_EE)) return -1;
-  for (int kind = SW_MC_PT; kind <= SW_MC_EE; kind++) {
-    const int *q = kind == SW_MC_PT ? mc->bp.pt : mc->bp.ee;
-    int n = kind == SW_MC_PT ? mc->bp.npt : mc->bp.nee;
-    for (int k = 0; k < n; k++) {
-      int v[4];
-      pair_vertices(mc, kind, q + 2 * k, v);
-      if (!pair_wanted(m, v)) continue;
-      if (mc->ncand == mc->capcand) {
-        int cap = mc->capcand + mc->capcand / 2 + 256;
-        sw_mc_pair *c = sw_realloc(mc->cand, (size_t)cap, sizeof *c);
-        if (!c) return -1;
-        mc->cand = c, mc->capcand = cap;
-      }
-      sw_mc_pair *c = &mc->cand[mc->ncand++];
-      double p[12];
-      c->kind = kind;
-      memcpy(c->v, v, sizeof c->v);
-      gather(x0, v, p);
-      c->gap = sqrt(kind == SW_MC_PT ? sw_d2_point_triangle(p, p + 3, p + 6, p + 9, NULL, NULL)
-                                     : sw_d2_edge_edge(p, p + 3, p + 6, p + 9, NULL, NULL));
-    }
-  }
+  if (sw_broadphase_query(&mc->bp, &in, SW_BP_PT | SW_BP_EE) ||
+      each_pair(m, mc, add_candidate, (void *)x0))
+    return -1;
   for (size_t i = 0; i < 3 * (size_t)mc->p->nvt; i++) {
     double *bi = mc->cbox + 6 * (i / 3) + i % 3;
     bi[0] = x0[i] < x1[i] ? x0[i] : x1[i], bi[3] = x0[i] < x1[i] ? x1[i] : x0[i];
