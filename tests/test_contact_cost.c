@@ -3,7 +3,11 @@
  *    distance and gradient of models/distance.c bit for bit and its exact Hessian to round-off,
  *    on random pairs of every closest-feature type; the block is positive semi-definite (LAPACK
  *    eigenvalues) and equals LAPACK's clamped eigen-decomposition of the exact 12 x 12 barrier
- *    Hessian to 1e-10 of its largest entry. */
+ *    Hessian to 1e-10 of its largest entry;
+ *  - the exact intersection tests on coplanar triangles (the flat cloth's case, decided by zero
+ *    determinants): small-integer triangles in a plane, against an integer separating-axis test,
+ *    in the axis planes and in tilted planes (an integer linear map of the plane: exact). */
+#include <limits.h>
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -116,10 +120,72 @@ static void block_is_clamp(void **st) {
   for (int r = 3; r <= 5; r++) assert_true(rank[r] > 50); /* every form's span */
 }
 
+/* ---------------------------------------------------------------- coplanar intersections */
+
+typedef long long ll;
+
+/* Whether the closed 2D triangles p and q (integer coordinates) meet: no edge normal of either
+ * separates them strictly (the separating axis theorem for convex polygons). */
+static int sat_meet(const ll p[3][2], const ll q[3][2]) {
+  const ll(*t[2])[2] = {p, q};
+  for (int s = 0; s < 2; s++)
+    for (int e = 0; e < 3; e++) {
+      const ll *a = t[s][e], *b = t[s][(e + 1) % 3];
+      ll nx = b[1] - a[1], ny = a[0] - b[0];
+      if (nx == 0 && ny == 0) continue;
+      ll lo[2] = {LLONG_MAX, LLONG_MAX}, hi[2] = {LLONG_MIN, LLONG_MIN};
+      for (int u = 0; u < 2; u++)
+        for (int i = 0; i < 3; i++) {
+          ll d = nx * t[u][i][0] + ny * t[u][i][1];
+          lo[u] = d < lo[u] ? d : lo[u], hi[u] = d > hi[u] ? d : hi[u];
+        }
+      if (hi[0] < lo[1] || hi[1] < lo[0]) return 0;
+    }
+  return 1;
+}
+
+/* 2D point (u, v) into 3D: plane 0, 1, 2 the axis planes z = 0, x = 0, y = 0; plane 3 the
+ * tilted z = u + 2 v (x = u, y = v: exact in doubles). */
+static void embed(int plane, const ll *p, double *x) {
+  double u = (double)p[0], v = (double)p[1];
+  if (plane == 0) x[0] = u, x[1] = v, x[2] = 0.0;
+  if (plane == 1) x[0] = 0.0, x[1] = u, x[2] = v;
+  if (plane == 2) x[0] = v, x[1] = 0.0, x[2] = u;
+  if (plane == 3) x[0] = u, x[1] = v, x[2] = u + 2.0 * v;
+}
+
+static void coplanar_triangles(void **st) {
+  (void)st;
+  unsigned long rs = 3;
+  int meet = 0, apart = 0;
+  for (int rep = 0; rep < 40000; rep++) {
+    ll p[3][2], q[3][2];
+    for (int i = 0; i < 3; i++)
+      for (int a = 0; a < 2; a++) {
+        p[i][a] = (ll)floor(2.5 * (th_rand(&rs) + 1.0));
+        q[i][a] = (ll)floor(2.5 * (th_rand(&rs) + 1.0));
+      }
+    ll ap = (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]);
+    ll aq = (q[1][0] - q[0][0]) * (q[2][1] - q[0][1]) - (q[1][1] - q[0][1]) * (q[2][0] - q[0][0]);
+    if (ap == 0 || aq == 0) continue; /* the separating-axis test wants proper triangles */
+    int want = sat_meet(p, q);
+    for (int plane = 0; plane < 4; plane++) {
+      double x[6][3];
+      for (int i = 0; i < 3; i++) embed(plane, p[i], x[i]), embed(plane, q[i], x[3 + i]);
+      int got = sw_triangles_intersect(x[0], x[1], x[2], x[3], x[4], x[5]);
+      if (got != want) print_error("rep %d plane %d: %d, want %d\n", rep, plane, got, want);
+      assert_int_equal(got, want);
+    }
+    meet += want, apart += !want;
+  }
+  assert_true(meet > 1000 && apart > 1000);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(form_matches_distance),
       cmocka_unit_test(block_is_clamp),
+      cmocka_unit_test(coplanar_triangles),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
