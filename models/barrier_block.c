@@ -185,6 +185,17 @@ int sw_pair_barrier_block(const sw_pair_form *pf, double db, double d2b, double 
   double cc = 0.0;
   for (int i = 0; i < 4; i++) cc += pf->c[i] * pf->c[i];
   if (!(cc > 0.0)) return 0; /* touching: the barrier is infinite there */
+  if (pf->k == 0 && db <= 0.0) { /* two points: Q^T H Q = w (b'' g g^T + 2 b' |c|^2 I_3), whose
+                                    only eigenvalue that may be positive is along g */
+    double gg = 0.0;
+    for (int p = 0; p < 12; p++) gg += pf->g[p] * pf->g[p];
+    double lam = w * (d2b * gg + 2.0 * db * cc);
+    if (!isfinite(lam)) return -1;
+    if (!(lam > 0.0) || !(gg > 0.0)) return 0;
+    for (int p = 0; p < 12; p++)
+      for (int q = 0; q < 12; q++) H[p * 12 + q] = lam / gg * pf->g[p] * pf->g[q];
+    return 0;
+  }
   int r = span_basis(pf, Q);
   for (int j = 0; j < r; j++) { /* the coordinates of g and the v_m in Q */
     gq[j] = vq[0][j] = vq[1][j] = 0.0;

@@ -388,20 +388,21 @@ static double pair_weight(const sw_model *m, const int *v) {
   return w * m->contact.kappa_mesh / nc;
 }
 
-/* The energy of one pair with vertices v at x (nvt x 3; J), its gradient g (12) and, when H
- * is not NULL, its filtered (positive semi-definite) Hessian block (144); *gap = d - xi (m).
- * INFINITY when the pair is within xi.  The block is the closed form of models/barrier_block.c;
- * an edge-edge pair the mollifier scales (nearly parallel edges) takes its exact Hessian,
- * clamped. */
+/* The energy of one pair with vertices v at x (nvt x 3; J), its gradient g (12; NULL: the
+ * energy alone) and, when H is not NULL (g then too), its Hessian block clamped to positive
+ * semi-definite (144); *gap = d - xi (m).  INFINITY when the pair is within xi.  The clamp is
+ * found on the block's span (models/barrier_block.c), except for an edge-edge pair the
+ * mollifier scales (nearly parallel edges): its exact 12 x 12 Hessian, eigen-decomposed. */
 static double pair_energy(const sw_model *m, const mc_param *pm, int kind, const int *v,
                           const double *x, double *g, double *H, double *gap) {
   const sw_contact *c = &m->contact;
   double p[12], g2[12];
   sw_pair_form pf;
   gather(x, v, p);
+  double *gd = g ? g2 : NULL; /* the energy alone (a line search's) needs no gradient */
   double d2 = H ? sw_pair_d2_form(kind == SW_MC_EE, p, &pf)
-          : kind == SW_MC_PT ? sw_d2_point_triangle(p, p + 3, p + 6, p + 9, g2, NULL)
-                             : sw_d2_edge_edge(p, p + 3, p + 6, p + 9, g2, NULL);
+          : kind == SW_MC_PT ? sw_d2_point_triangle(p, p + 3, p + 6, p + 9, gd, NULL)
+                             : sw_d2_edge_edge(p, p + 3, p + 6, p + 9, gd, NULL);
   if (H) memcpy(g2, pf.g, sizeof g2);
   double xi = pair_xi(m, pm, v), s = d2 - xi * xi, shat = shat_of(xi, c->dhat);
   *gap = sqrt(fmax(d2, 0.0)) - xi;
@@ -414,12 +415,13 @@ static double pair_energy(const sw_model *m, const mc_param *pm, int kind, const
     double eps = sw_ee_mollifier_eps(r, r + 3, r + 6, r + 9);
     mo = sw_ee_mollifier(p, p + 3, p + 6, p + 9, eps, mg, H ? mH : NULL);
   }
-  if (mo == 1.0) { /* no mollifier: b and its closed-form block */
-    for (int i = 0; i < 12; i++) g[i] = w * db * g2[i];
+  if (mo == 1.0) { /* no mollifier: b and its clamped block */
+    for (int i = 0; g && i < 12; i++) g[i] = w * db * g2[i];
     if (H) (void)sw_pair_barrier_block(&pf, db, d2b, w, H); /* not finite: as the clamp's */
     return w * b;
   }
   double bg[12], bH[144], H2[144], *h2 = H ? H2 : NULL;
+  if (!g) return w * mo * b; /* the energy alone */
   if (H) sw_d2_edge_edge(p, p + 3, p + 6, p + 9, NULL, H2);
   sw_barrier_of(12, s, g2, h2, shat, bg, H ? bH : NULL);
   double e = sw_product_derivs(12, mo, mg, mH, b, bg, bH, g, H);
@@ -442,7 +444,8 @@ static int eval_pair(const sw_model *m, sw_mcontact *mc, int kind, const int *v,
   const sw_eval *ev = a->ev;
   const int want_h = ev->hess != NULL;
   double g[12], gap, Hb[144];
-  double ek = pair_energy(m, mc->p, kind, v, a->x, g, want_h ? Hb : NULL, &gap);
+  double ek = pair_energy(m, mc->p, kind, v, a->x, ev->grad || want_h ? g : NULL,
+                          want_h ? Hb : NULL, &gap);
   if (!isfinite(ek)) {
     sw_eval_why(ev, "%s pair (vertices %d %d %d %d) closer than the thickness (gap %g m)",
                 kind == SW_MC_PT ? "point-triangle" : "edge-edge", v[0], v[1], v[2], v[3],
@@ -459,7 +462,7 @@ static int eval_pair(const sw_model *m, sw_mcontact *mc, int kind, const int *v,
   mc->npair++;
   a->e += ek;
   for (int j = 0; ev->grad && j < 12; j++)
-    if (v[j / 3] < m->nv) ev->grad[3 * v[j / 3] + j % 3] += g[j];
+    if (v[j / 3] < m->nv) ev->grad[3 * v[j / 3] + j % 3] += g[j]; /* g set when grad is asked */
   return SW_OK;
 }
 

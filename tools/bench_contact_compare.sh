@@ -3,7 +3,8 @@
 # every shipped scene with the triangle-mesh contact term (scenes/fold_self.yaml,
 # scenes/drape_sphere.yaml, scenes/drape_mesh.yaml), run interleaved (old, new, old, new ...,
 # REPS times, default 1) so that both see the same machine load, one BLAS thread each.
-# Durations: FOLD (default 0.3 s: its folds meet from 0.2 s on), DRAPE (1 s), MESH (1.5 s).
+# Durations: FOLD (default 0.3 s: its folds meet from 0.2 s on), DRAPE (1 s), MESH (1.5 s);
+# SCENES picks some of the three (default all).
 # Per run: status, steps, Newton iterations, the mesh_contact term's time (its evaluations:
 # candidates, distances, blocks) and the self CCD's (line searches and steps' starts), both per
 # Newton iteration, the factorisation's time, the contact terms over the factorisation, and the
@@ -22,7 +23,7 @@ declare -A dur=([fold_self]=${FOLD:-0.3} [drape_sphere]=${DRAPE:-1} [drape_mesh]
 csv="$out/compare.csv"
 echo "scene,duration_s,build,rep,status,steps,newton_iterations,mesh_contact_s,self_ccd_s,factor_s,step_s,contact_ms_per_iteration,contact_over_factor,end_max_diff_m" >"$csv"
 for r in $(seq "$reps"); do
-  for s in fold_self drape_sphere drape_mesh; do
+  for s in ${SCENES:-fold_self drape_sphere drape_mesh}; do
     for b in old new; do
       bin=$old; [ "$b" = new ] && bin=$new
       d="$work/$s-$b-$r"
