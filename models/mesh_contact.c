@@ -10,7 +10,8 @@
  * (models/distance.c), m_k IPC's mollifier for edge-edge pairs (1 for point-triangle ones) and
  * w_k the mean mass of the pair's vertices, so that, as for obstacles, kappa sets an
  * acceleration and the term does not depend on the mesh's resolution.  Only pairs closer than
- * xi + dhat contribute: a spatial-hash broad phase finds them at every evaluation.
+ * xi + dhat contribute: a spatial-hash broad phase lists candidates once per Newton update
+ * (boxes swept over it), which later evaluations reuse while they cover the positions.
  *
  * The pairs change with the configuration, so their Hessian blocks have no fixed stencil: each
  * evaluation lists them (with their positive semi-definite blocks, 12 x 12) in the run's
@@ -34,8 +35,8 @@
 #include "util.h"
 
 /* The candidates' slack, in units of dhat: they are found again only when a vertex leaves its
- * box (swept over the motion they were found for) by more than this (docs/contact.md, "Cost",
- * measured). */
+ * box (swept over the motion they were found for) by more than this (docs/contact.md,
+ * "Self-contact"; not tuned). */
 #ifndef SW_MC_SLACK
 #define SW_MC_SLACK 1.0
 #endif
