@@ -285,8 +285,8 @@ static void carry(const sw_model *m, const double *x, int i, double t0, double t
   }
 }
 
-/* The first moving obstacle that the straight motion of a vertex from p0 (at t0) to p1 (at t1)
- * goes deeper than dhat into at some instant (sw_obstacle_swept_toi with floor -dhat), or that
+/* The first obstacle (moving or not) that the straight motion of a vertex from p0 (at t0) to p1
+ * (at t1) goes deeper than dhat into at some instant (sw_obstacle_swept_toi with floor -dhat), or that
  * p1 is not outside of at t1; -1 when none.  The allowance: a vertex sliding over a curved
  * surface cuts a chord under it, ell^2 / (8 R) deep for a relative slide ell over a radius R;
  * passing through an obstacle means going deeper than any allowance. */
@@ -294,7 +294,6 @@ static int swept_hit(const sw_model *m, const double *p0, double t0, const doubl
                      double t1) {
   for (int o = 0; o < m->nobstacle; o++) {
     const sw_obstacle *ob = &m->obstacle[o];
-    if (!sw_obstacle_moves(ob, t0, t1)) continue;
     if (!(sw_obstacle_sdf(ob, m->dim, t1, p1, NULL, NULL) > 0.0) ||
         sw_obstacle_swept_toi(ob, m->dim, t0, t1, p0, p1, -m->contact.dhat) < 1.0)
       return o;

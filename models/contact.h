@@ -95,9 +95,9 @@ int sw_contact_settled(const sw_model *m, const double *x0, const double *x1, do
 int sw_contact_begin(const sw_model *m, sw_data *d, double h, double t1, double *y);
 /* After a step's solve: SW_RECOVER ("obstacles[k] passes through vertex i between t = ... and
  * ... s") when a free vertex moving straight from d->x (at d->t) to y (at t1) goes deeper than
- * dhat into an obstacle moving over the step at some instant (sw_obstacle_swept_toi: the chord
- * of a slide over a curved surface may dip under it, by less than dhat); SW_OK when none does
- * or no obstacle moves. */
+ * dhat into an obstacle, moving over the step or not, at some instant (sw_obstacle_swept_toi:
+ * the chord of a slide over a curved surface may dip under it, by less than dhat); SW_OK when
+ * none does. */
 int sw_contact_swept(const sw_model *m, sw_data *d, const double *y, double t1);
 /* The contact diagnostics of d (sinew.h: contact_count, contact_min, contact_force,
  * friction_force) at d->x, d->t. */
