@@ -197,10 +197,209 @@ static void turning_capsule(void **st) {
   }
 }
 
+/* ------------------------------------------------------------------------ mesh obstacles */
+
+static char dir[64]; /* the mesh tests' folder: scene.yaml's OBJ paths are relative to it */
+
+/* An axis-aligned box lo..hi as 12 triangles wound outwards, into dir/name. */
+static void write_box(const char *name, const double lo[3], const double hi[3]) {
+  char path[128];
+  snprintf(path, sizeof path, "%s/%s", dir, name);
+  FILE *f = fopen(path, "w");
+  assert_non_null(f);
+  for (int k = 0; k < 8; k++)
+    fprintf(f, "v %.17g %.17g %.17g\n", k & 1 ? hi[0] : lo[0], k & 2 ? hi[1] : lo[1],
+            k & 4 ? hi[2] : lo[2]);
+  static const int fc[12][3] = {{1, 3, 4}, {1, 4, 2}, {5, 6, 8}, {5, 8, 7}, {1, 2, 6}, {1, 6, 5},
+                                {3, 7, 8}, {3, 8, 4}, {1, 5, 7}, {1, 7, 3}, {2, 4, 8}, {2, 8, 6}};
+  for (int k = 0; k < 12; k++) fprintf(f, "f %d %d %d\n", fc[k][0], fc[k][1], fc[k][2]);
+  fclose(f);
+}
+
+static sw_model *scene_in_dir(const char *text) {
+  char name[128];
+  snprintf(name, sizeof name, "%s/scene.yaml", dir);
+  return th_scene(name, text);
+}
+
+/* After each step: no cloth triangle intersects the box (exact), and (whole steps, the box
+ * translating linearly) no vertex's straight path relative to the box crosses one of its
+ * triangles (exact segment-triangle test at the box's stated place). */
+typedef struct mesh_arg {
+  sw_sim *sim;
+  int whole;
+} mesh_arg;
+
+static void mesh_check(const sw_model *m, const double *x0, double t0, const double *x1,
+                       double t1, void *arg) {
+  mesh_arg *a = arg;
+  const sw_data *d = sw_sim_data(a->sim);
+  assert_int_equal(sw_mcontact_obstacle_intersections(m, d->mc, d->x, d->t, NULL), 0);
+  if (x0 == x1) return;
+  a->whole++;
+  const sw_obstacle *o = &m->mesh_obstacle[0];
+  double d0[3], d1[3];
+  sw_obstacle_disp(o, t0, d0);
+  sw_obstacle_disp(o, t1, d1);
+  for (int i = 0; i < m->nv; i++) {
+    double p[3], q[3];
+    for (int c = 0; c < 3; c++) p[c] = x0[3 * i + c] - d0[c], q[c] = x1[3 * i + c] - d1[c];
+    for (int f = 0; f < o->mesh_nf; f++) {
+      const int *v = o->mesh_face + 3 * f;
+      assert_false(sw_segment_triangle_intersect(p, q, o->mesh_x + 3 * v[0], o->mesh_x + 3 * v[1],
+                                                 o->mesh_x + 3 * v[2]));
+    }
+  }
+}
+
+/* A mesh box (0.3 m) rising 1 m in 0.05 s through a 0.6 m cloth, linear keyframes. */
+static void rising_mesh_box(void **st) {
+  (void)st;
+  const double lo[3] = {0.15, 0.15, -0.4}, hi[3] = {0.45, 0.45, -0.1}, dts[] = {0.05, 0.02};
+  write_box("box.obj", lo, hi);
+  for (int k = 0; k < 2; k++) {
+    char text[1024], err[SW_ERRSZ];
+    snprintf(text, sizeof text,
+             "dimension: 3\nmesh: {grid: {size: [0.6, 0.6], vertices: [7, 7], plane: xy}}\n"
+             "material: {density: 0.1, membrane: {model: bw98, k_u: 2000, k_v: 2000, "
+             "k_shear: 50}}\ngravity: [0, 0, -9.81]\n"
+             "obstacles: [{mesh: box.obj, motion: {keyframes: [[0, 0, 0, 0], [0.05, 0, 0, 1]], "
+             "interpolation: linear}}]\n"
+             "integrator: {method: backward-euler, dt: %g}\nduration: 0.06\n", dts[k]);
+    sw_model *m = scene_in_dir(text);
+    assert_non_null(m);
+    sw_sim *s = sw_sim_new(m, 0, err, sizeof err);
+    assert_non_null(s);
+    mesh_arg a = {.sim = s};
+    const sw_data *d = sw_sim_data(s);
+    double *x0 = malloc((size_t)m->nv * 3 * sizeof(double));
+    int failed = 0;
+    while (d->t < 0.06 - 1e-9) {
+      memcpy(x0, d->x, (size_t)m->nv * 3 * sizeof(double));
+      double t0 = d->t;
+      long n0 = d->nstep;
+      if (sw_sim_step(s, err, sizeof err)) {
+        failed = 1;
+        break;
+      }
+      if (d->nstep == n0 + 1) mesh_check(m, x0, t0, d->x, d->t, &a);
+      else mesh_check(m, d->x, d->t, d->x, d->t, &a);
+    }
+    double top = 1.0 - 0.1 + 0.0, zmid = d->x[3 * 24 + 2]; /* the box's top at the end */
+    print_message("mesh box dt %g: %s (%d whole steps checked), middle vertex at z = %.3g (box "
+                  "top %.3g)\n", dts[k], failed ? err : "ok", a.whole, zmid, top);
+    if (failed) assert_non_null(strstr(err, "obstacles[0]") ? err : strstr(err, "Newton"));
+    else assert_true(zmid > top);
+    free(x0);
+    sw_sim_free(s);
+    sw_model_free(m);
+  }
+}
+
+/* A cloth lying on a mesh box that turns 90 degrees about z in 0.2 s (smooth): no cloth
+ * triangle ever intersects the box, and the cloth stays on its top. */
+static void turning_mesh_box(void **st) {
+  (void)st;
+  const double lo[3] = {-0.15, -0.15, -0.3}, hi[3] = {0.45, 0.45, -0.0015};
+  write_box("turn.obj", lo, hi);
+  char err[SW_ERRSZ];
+  sw_model *m = scene_in_dir(
+      "dimension: 3\nmesh: {grid: {size: [0.3, 0.3], vertices: [7, 7], plane: xy}}\n"
+      "material: {density: 0.1, membrane: {model: bw98, k_u: 2000, k_v: 2000, k_shear: 50}}\n"
+      "gravity: [0, 0, -9.81]\n"
+      "obstacles: [{mesh: turn.obj, motion: {rotation: {axis: [0, 0, 1], center: [0.15, 0.15, 0],"
+      " keyframes: [[0, 0], [0.2, 90]]}}}]\n"
+      "integrator: {method: backward-euler, dt: 0.01}\nduration: 0.25\n");
+  assert_non_null(m);
+  sw_sim *s = sw_sim_new(m, 0, err, sizeof err);
+  assert_non_null(s);
+  const sw_data *d = sw_sim_data(s);
+  while (d->t < 0.25 - 1e-9) {
+    int rc = sw_sim_step(s, err, sizeof err);
+    if (rc) print_error("%s\n", err);
+    assert_int_equal(rc, 0);
+    assert_int_equal(sw_mcontact_obstacle_intersections(m, d->mc, d->x, d->t, NULL), 0);
+  }
+  double zmin = INFINITY;
+  for (int i = 0; i < m->nv; i++) zmin = fmin(zmin, d->x[3 * i + 2]);
+  print_message("turning mesh box: ok, lowest vertex z = %.3g m (top at -0.0015)\n", zmin);
+  assert_true(zmin > -0.0015);
+  sw_sim_free(s);
+  sw_model_free(m);
+}
+
+static int setup(void **st) {
+  (void)st;
+  snprintf(dir, sizeof dir, "/tmp/sinew_moving_XXXXXX");
+  return mkdtemp(dir) ? 0 : -1;
+}
+
+static int teardown(void **st) {
+  (void)st;
+  th_remove_tree(dir);
+  return 0;
+}
+
+/* ------------------------------------------------------------------ rotation keys */
+
+/* A box turned 90 degrees about z through (1, 0, 0) and moved up 1: its distance, normal and
+ * the carry of a point against the test's own rotation; and the keys' errors with their place. */
+static void rotation_keys(void **st) {
+  (void)st;
+  sw_model *m = th_scene("rot.yaml",
+      "dimension: 3\nmesh: {points: [[0, 0, 5]]}\npins: [{select: {vertices: [0]}}]\n"
+      "obstacles: [{shape: box, center: [2, 0, 0], size: [2, 0.5, 0.5], motion: {keyframes: "
+      "[[0, 0, 0, 0], [1, 0, 0, 1]], rotation: {axis: [0, 0, 2], center: [1, 0, 0], keyframes: "
+      "[[0, 0], [1, 90]]}, interpolation: linear}}]\n");
+  assert_non_null(m);
+  const sw_obstacle *o = &m->obstacle[0];
+  /* at t = 1 the box's long side lies along y from (1, 0, 1) to (1, 2, 1): a point at
+   * (1.6, 1, 1) is 0.6 from the axis, 0.35 beyond the face x = 1.25 */
+  double p[3] = {1.6, 1.0, 1.0}, n[3], H[9];
+  double phi = sw_obstacle_sdf(o, 3, 1.0, p, n, H);
+  assert_true(fabs(phi - 0.35) < 1e-12);
+  assert_true(fabs(n[0] - 1.0) < 1e-12 && fabs(n[1]) < 1e-12 && fabs(n[2]) < 1e-12);
+  /* halfway (45 degrees, up 0.5): the body point (3, 0, 0) (the far end of the axis) */
+  double q[3] = {3.0, 0.0, 0.0}, w[3], c = sqrt(0.5);
+  sw_obstacle_place(o, 0.5, q, w);
+  assert_true(fabs(w[0] - (1 + 2 * c)) < 1e-12 && fabs(w[1] - 2 * c) < 1e-12 &&
+              fabs(w[2] - 0.5) < 1e-12);
+  double back[3];
+  sw_obstacle_carry(o, 0.5, 0.0, w, back); /* carried back to the start */
+  for (int a = 0; a < 3; a++) assert_true(fabs(back[a] - q[a]) < 1e-12);
+  sw_model_free(m);
+  const struct { const char *text, *want; } bad[] = {
+      {"dimension: 3\nmesh: {points: [[0, 0, 5]]}\npins: [{select: {vertices: [0]}}]\nobstacles: [{shape: sphere, center: [0, 0, 0], "
+       "radius: 1, motion: {rotation: {center: [0, 0, 0], keyframes: [[0, 0]]}}}]\n",
+       "rot.yaml:4:78: obstacles[0] motion rotation has no 'axis'"},
+      {"dimension: 3\nmesh: {points: [[0, 0, 5]]}\npins: [{select: {vertices: [0]}}]\nobstacles: [{shape: sphere, center: [0, 0, 0], "
+       "radius: 1, motion: {rotation: {axis: [0, 0, 0], center: [0, 0, 0], keyframes: [[0, 0]]}}}]\n",
+       "axis is zero"},
+      {"dimension: 3\nmesh: {points: [[0, 0, 5]]}\npins: [{select: {vertices: [0]}}]\nobstacles: [{shape: sphere, center: [0, 0, 0], "
+       "radius: 1, motion: {rotation: {axis: [0, 0, 1], center: [0, 0, 0], keyframes: [[1, 0], "
+       "[0, 5]]}}}]\n", "expected increasing times"},
+      {"dimension: 3\nmesh: {points: [[0, 0, 5]]}\npins: [{select: {vertices: [0]}}]\nobstacles: [{shape: sphere, center: [0, 0, 0], "
+       "radius: 1, motion: {interpolation: linear}}]\n", "has neither keyframes nor rotation"},
+      {"dimension: 2\nmesh: {points: [[0, 5]]}\npins: [{select: {vertices: [0]}}]\nobstacles: [{shape: sphere, center: [0, 0], "
+       "radius: 1, motion: {rotation: {axis: [0, 0, 1], center: [0, 0], keyframes: [[0, 0]]}}}]\n",
+       "axis is given in a 2D scene"},
+  };
+  for (size_t k = 0; k < sizeof bad / sizeof *bad; k++) {
+    char err[SW_ERRSZ];
+    sw_model *b = sw_scene_parse("rot.yaml", bad[k].text, strlen(bad[k].text), err, sizeof err);
+    if (b || !strstr(err, bad[k].want)) print_error("case %zu: %s\n", k, err);
+    assert_null(b);
+    assert_non_null(strstr(err, bad[k].want));
+  }
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
+      cmocka_unit_test(rotation_keys),
       cmocka_unit_test(rising_sphere),
       cmocka_unit_test(turning_capsule),
+      cmocka_unit_test(rising_mesh_box),
+      cmocka_unit_test(turning_mesh_box),
   };
-  return cmocka_run_group_tests(tests, NULL, NULL);
+  return cmocka_run_group_tests(tests, setup, teardown);
 }
