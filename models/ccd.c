@@ -12,14 +12,29 @@
 
 #include "contact_geom.h"
 
+/* Each returns a lower bound of the squared distance: the value computed, less its round-off
+ * (edge-edge: also the parallel switch's overestimate, sw_d2_edge_edge_lower), so that an
+ * advance computed from it never passes a contact. */
 typedef double (*d2_fn)(const double *x);
 
-static double d2_pp(const double *x) { return sw_d2_point_point(x, x + 3, NULL, NULL); }
-static double d2_pe(const double *x) { return sw_d2_point_edge(x, x + 3, x + 6, NULL, NULL); }
-static double d2_pt(const double *x) {
-  return sw_d2_point_triangle(x, x + 3, x + 6, x + 9, NULL, NULL);
+/* d2 less a round-off margin of 1e-12 (extent + d) in d, m^2: extent is the largest
+ * coordinate difference among the n vertices. */
+static double lower(double d2, int n, const double *x) {
+  double ext = 0.0;
+  for (int v = 1; v < n; v++)
+    for (int a = 0; a < 3; a++) ext = fmax(ext, fabs(x[3 * v + a] - x[a]));
+  double d = sqrt(fmax(d2, 0.0)), margin = 1e-12 * (ext + d);
+  return d > margin ? (d - margin) * (d - margin) : 0.0;
 }
-static double d2_ee(const double *x) { return sw_d2_edge_edge(x, x + 3, x + 6, x + 9, NULL, NULL); }
+
+static double d2_pp(const double *x) { return sw_d2_point_point(x, x + 3, NULL, NULL); }
+static double d2_pe(const double *x) {
+  return lower(sw_d2_point_edge(x, x + 3, x + 6, NULL, NULL), 3, x);
+}
+static double d2_pt(const double *x) {
+  return lower(sw_d2_point_triangle(x, x + 3, x + 6, x + 9, NULL, NULL), 4, x);
+}
+static double d2_ee(const double *x) { return sw_d2_edge_edge_lower(x, x + 3, x + 6, x + 9); }
 
 /* Iterations before giving up with the (still conservative) time reached: reached only when
  * the starting gap is tiny against the motion. */

@@ -81,11 +81,12 @@ static double slip(const sw_model *m, const sw_contact_lag *lag, int i, int o, c
                    double t, double *u) {
   const int dim = m->dim;
   const double *n0 = lag->normal + 3 * ((size_t)i * m->nobstacle + o);
-  double d1[3], d0[3], dn = 0.0, y = 0.0;
-  sw_obstacle_disp(&m->obstacle[o], t, d1);
-  sw_obstacle_disp(&m->obstacle[o], lag->t0, d0);
+  double c[3] = {0.0, 0.0, 0.0}, dn = 0.0, y = 0.0;
+  /* where the obstacle's material point under the vertex at the step's start has gone */
+  memcpy(c, lag->x0 + (size_t)i * dim, (size_t)dim * sizeof(double));
+  sw_obstacle_carry(&m->obstacle[o], lag->t0, t, c, c);
   for (int a = 0; a < dim; a++) {
-    u[a] = x[i * dim + a] - lag->x0[i * dim + a] - (d1[a] - d0[a]);
+    u[a] = x[i * dim + a] - c[a];
     dn += u[a] * n0[a];
   }
   for (int a = 0; a < dim; a++) {
@@ -266,22 +267,38 @@ static void lag_friction(const sw_model *m, sw_data *d, double h) {
 }
 
 /* Vertex i of x at t0 carried by every moving obstacle it is near (within dhat plus that
- * obstacle's motion from t0 to t1) into z. */
+ * obstacle's motion at the vertex from t0 to t1) into z. */
 static void carry(const sw_model *m, const double *x, int i, double t0, double t1, double *z) {
   const int dim = m->dim;
-  memcpy(z, x + (size_t)i * dim, (size_t)dim * sizeof(double));
+  const double *xi = x + (size_t)i * dim;
+  memcpy(z, xi, (size_t)dim * sizeof(double));
   for (int o = 0; o < m->nobstacle; o++) {
     const sw_obstacle *ob = &m->obstacle[o];
-    if (ob->nkey < 2) continue;
-    double d0[3], d1[3], move = 0.0;
-    sw_obstacle_disp(ob, t0, d0);
-    sw_obstacle_disp(ob, t1, d1);
-    for (int a = 0; a < dim; a++) move += (d1[a] - d0[a]) * (d1[a] - d0[a]);
+    if (!sw_obstacle_moves(ob, t0, t1)) continue;
+    double p[3] = {0.0, 0.0, 0.0}, q[3], move = 0.0;
+    memcpy(p, xi, (size_t)dim * sizeof(double));
+    sw_obstacle_carry(ob, t0, t1, p, q);
+    for (int a = 0; a < dim; a++) move += (q[a] - p[a]) * (q[a] - p[a]);
     move = sqrt(move); /* m */
-    if (move == 0.0) continue;
-    if (sw_obstacle_sdf(ob, dim, t0, x + (size_t)i * dim, NULL, NULL) < m->contact.dhat + move)
-      for (int a = 0; a < dim; a++) z[a] += d1[a] - d0[a];
+    if (sw_obstacle_sdf(ob, dim, t0, xi, NULL, NULL) < m->contact.dhat + move)
+      for (int a = 0; a < dim; a++) z[a] += q[a] - p[a];
   }
+}
+
+/* The first obstacle (moving or not) that the straight motion of a vertex from p0 (at t0) to p1
+ * (at t1) goes deeper than dhat into at some instant (sw_obstacle_swept_toi with floor -dhat), or that
+ * p1 is not outside of at t1; -1 when none.  The allowance: a vertex sliding over a curved
+ * surface cuts a chord under it, ell^2 / (8 R) deep for a relative slide ell over a radius R;
+ * passing through an obstacle means going deeper than any allowance. */
+static int swept_hit(const sw_model *m, const double *p0, double t0, const double *p1,
+                     double t1) {
+  for (int o = 0; o < m->nobstacle; o++) {
+    const sw_obstacle *ob = &m->obstacle[o];
+    if (!(sw_obstacle_sdf(ob, m->dim, t1, p1, NULL, NULL) > 0.0) ||
+        sw_obstacle_swept_toi(ob, m->dim, t0, t1, p0, p1, -m->contact.dhat) < 1.0)
+      return o;
+  }
+  return -1;
 }
 
 /* The guess yi (dim) moved out to dhat / 2 from every obstacle it is inside of, along the
@@ -299,26 +316,60 @@ static int lift(const sw_model *m, double t1, double *yi) {
   return 1;
 }
 
+/* Vertex i's start guess yi when lifting the guess is not enough (between obstacles) or would
+ * take it through a moving one: from its carried start z, which must be reachable over the
+ * step, the part of the path to the guess that the obstacles at t1 allow, halved until the
+ * straight motion from x_n is clear of the moving obstacles too. */
+static int guess_from_carry(const sw_model *m, sw_data *d, int i, double t1, const double *z,
+                            const double *guess, double *yi) {
+  const int dim = m->dim;
+  const double *xi = d->x + (size_t)i * dim;
+  double s = 1.0;
+  for (int o = 0; o < m->nobstacle; o++) {
+    double dist = sw_obstacle_sdf(&m->obstacle[o], dim, t1, z, NULL, NULL);
+    int k = dist > 0.0 ? swept_hit(m, xi, d->t, z, t1) : o;
+    if (k >= 0) {
+      sw_errf(d->err, sizeof d->err, "obstacles[%d] moves into vertex %d between t = %g s "
+              "and %g s", m->obstacle[k].item, i, d->t, t1);
+      return SW_RECOVER;
+    }
+    s = fmin(s, sw_obstacle_toi(&m->obstacle[o], dim, t1, z, guess, SW_CONTACT_KEEP));
+  }
+  for (int it = 0; it < 30; it++, s *= 0.5) {
+    for (int a = 0; a < dim; a++) yi[a] = z[a] + s * (guess[a] - z[a]);
+    if (swept_hit(m, xi, d->t, yi, t1) < 0) return SW_OK;
+  }
+  memcpy(yi, z, (size_t)dim * sizeof(double));
+  return SW_OK;
+}
+
 int sw_contact_begin(const sw_model *m, sw_data *d, double h, double t1, double *y) {
   if (!d->lag) return SW_OK;
   const int dim = m->dim;
   lag_friction(m, d, h);
   for (int i = 0; i < m->nv; i++) {
     if (m->pinned[i]) continue;
-    double z[3], *yi = y + (size_t)i * dim, s = 1.0, guess[3];
+    double z[3], *yi = y + (size_t)i * dim, guess[3];
     carry(m, d->x, i, d->t, t1, z);
     memcpy(guess, yi, (size_t)dim * sizeof(double));
-    if (lift(m, t1, yi)) continue;
-    for (int o = 0; o < m->nobstacle; o++) { /* between obstacles: the path's safe part */
-      double dist = sw_obstacle_sdf(&m->obstacle[o], dim, t1, z, NULL, NULL);
-      if (!(dist > 0.0)) {
-        sw_errf(d->err, sizeof d->err, "obstacles[%d] moves into vertex %d between t = %g s "
-                "and %g s", m->obstacle[o].item, i, d->t, t1);
-        return SW_RECOVER;
-      }
-      s = fmin(s, sw_obstacle_toi(&m->obstacle[o], dim, t1, z, guess, SW_CONTACT_KEEP));
-    }
-    for (int a = 0; a < dim; a++) yi[a] = z[a] + s * (guess[a] - z[a]);
+    /* lifted out of the obstacles at t1, unless the lift or the motion to it passes through a
+     * moving one (a fast obstacle can leave the guess on its far side) */
+    if (lift(m, t1, yi) && swept_hit(m, d->x + (size_t)i * dim, d->t, yi, t1) < 0) continue;
+    int rc = guess_from_carry(m, d, i, t1, z, guess, yi);
+    if (rc) return rc;
+  }
+  return SW_OK;
+}
+
+int sw_contact_swept(const sw_model *m, sw_data *d, const double *y, double t1) {
+  if (!d->lag) return SW_OK;
+  for (int i = 0; i < m->nv; i++) {
+    if (m->pinned[i]) continue;
+    int o = swept_hit(m, d->x + (size_t)i * m->dim, d->t, y + (size_t)i * m->dim, t1);
+    if (o < 0) continue;
+    sw_errf(d->err, sizeof d->err, "obstacles[%d] passes through vertex %d between t = %g s and "
+            "%g s", m->obstacle[o].item, i, d->t, t1);
+    return SW_RECOVER;
   }
   return SW_OK;
 }

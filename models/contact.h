@@ -8,6 +8,7 @@
 #define SW_OBSTACLE_MAXKEY 4096 /* motion keyframes per obstacle at most (scene loader) */
 #define SW_MAX_OBSTACLES 64     /* obstacles per scene at most (scene loader) */
 #define SW_TOI_MAX_ITERS 64     /* conservative advancement steps before giving up (safe) */
+#define SW_SWEPT_MAX_ITERS 400  /* the same against a moving obstacle over a step */
 #define SW_CONTACT_KEEP 0.1     /* a step may close at most 90 % of a vertex's distance */
 #ifndef SW_CONTACT_SETTLE
 #define SW_CONTACT_SETTLE 0.5   /* Newton's last update moves a vertex in contact by at most this
@@ -18,6 +19,25 @@
 
 /* The displacement of obstacle o at time t (its motion keyframes), m. */
 void sw_obstacle_disp(const sw_obstacle *o, double t, double disp[3]);
+/* The obstacle's pose at time t: a body point q (stated place) is at R (q - center) + c,
+ * R (3 x 3, row-major) its rotation, c = center + displacement (m). */
+void sw_obstacle_pose(const sw_obstacle *o, double t, double R[9], double c[3]);
+/* The world position p at time t of the body point q (its stated place), m. */
+void sw_obstacle_place(const sw_obstacle *o, double t, const double q[3], double p[3]);
+/* Where the body point at p at time t0 is at time t1 (the obstacle's rigid motion), m. */
+void sw_obstacle_carry(const sw_obstacle *o, double t0, double t1, const double p[3],
+                       double out[3]);
+/* Whether the obstacle is at another place (or angle) at t1 than at t0. */
+int sw_obstacle_moves(const sw_obstacle *o, double t0, double t1);
+/* Bounds of an obstacle's motion over [t0, t1] (h = t1 - t0): the translation's largest speed
+ * times h (m), its speed's largest departure from (c(t1) - c(t0)) / h times h (m), its largest
+ * distance from the chord joining c(t0) and c(t1) uniformly in time (m); the angle's largest
+ * rate times h, its largest distance from its own chord (rad), and |angle(t1) - angle(t0)|. */
+typedef struct sw_motion_bounds {
+  double move, rate_dev, pos_dev;
+  double turn, turn_dev, dangle;
+} sw_motion_bounds;
+void sw_obstacle_bounds(const sw_obstacle *o, double t0, double t1, sw_motion_bounds *b);
 /* Signed distance (m) from p (dim components) to o's contact surface at time t, negative
  * inside; its gradient (the outward unit normal, dim) into n and Hessian (dim x dim) into H,
  * each when not NULL. */
@@ -28,6 +48,15 @@ double sw_obstacle_sdf(const sw_obstacle *o, int dim, double t, const double *p,
  * outside. */
 double sw_obstacle_toi(const sw_obstacle *o, int dim, double t, const double *p0,
                        const double *p1, double keep);
+
+/* The fraction s in [0, 1] of a step from t0 to t1 over which the point p0 + s (p1 - p0), with
+ * the obstacle where its motion puts it at t0 + s (t1 - t0), stays more than floor (m) from its
+ * contact surface (1: the whole step; 0 if p0 is not beyond floor at t0).  Conservative
+ * advancement on the swept distance, whose rate is bounded by the point's motion relative to
+ * the body and the body's departure from uniform motion (sw_obstacle_bounds): nothing
+ * passes through, however fast the obstacle moves or turns. */
+double sw_obstacle_swept_toi(const sw_obstacle *o, int dim, double t0, double t1,
+                             const double *p0, const double *p1, double floor);
 
 /* IPC's barrier b(d) = -(d - dhat)^2 ln(d / dhat) on 0 < d < dhat (0 beyond; +inf at d <= 0)
  * and its first and second derivatives (m, 1), as functions of the distance d (m). */
@@ -64,6 +93,12 @@ int sw_contact_settled(const sw_model *m, const double *x0, const double *x1, do
  * that the obstacles allow, from where it was (carried along by an obstacle moving near it).
  * SW_RECOVER when an obstacle would move into a vertex within the step. */
 int sw_contact_begin(const sw_model *m, sw_data *d, double h, double t1, double *y);
+/* After a step's solve: SW_RECOVER ("obstacles[k] passes through vertex i between t = ... and
+ * ... s") when a free vertex moving straight from d->x (at d->t) to y (at t1) goes deeper than
+ * dhat into an obstacle, moving over the step or not, at some instant (sw_obstacle_swept_toi:
+ * the chord of a slide over a curved surface may dip under it, by less than dhat); SW_OK when
+ * none does. */
+int sw_contact_swept(const sw_model *m, sw_data *d, const double *y, double t1);
 /* The contact diagnostics of d (sinew.h: contact_count, contact_min, contact_force,
  * friction_force) at d->x, d->t. */
 void sw_contact_state(const sw_model *m, sw_data *d);
@@ -123,6 +158,12 @@ int sw_mcontact_settled(const sw_model *m, const sw_mcontact *mc, const double *
  * obstacle carried along by its motion, once CCD has found that carry safe; SW_RECOVER
  * ("obstacles[k] moves into vertex i") when it is not. */
 int sw_mcontact_begin(const sw_model *m, sw_data *d, double t1, double *y);
+/* After a step's solve, with a mesh obstacle moving over it: SW_RECOVER ("obstacles[k] passes
+ * through vertex i between t = ... and ... s") when a pair of the cloth moving straight from
+ * d->x to y and the obstacles moving from their place at d->t to that at t1 comes within its
+ * thickness (additive CCD, restarted; the obstacles' vertices taken on straight lines with the
+ * thickness widened by how far their true paths stray from those, sw_obstacle_bounds). */
+int sw_mcontact_swept(const sw_model *m, sw_data *d, const double *y, double t1);
 /* Nonzero with err when x (at t = 0) has intersecting triangles or a pair within its
  * thickness: the cloth's own pairs (obstacles 0, with self-contact) or the cloth's against
  * the mesh obstacles (obstacles 1). */

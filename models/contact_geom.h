@@ -68,6 +68,13 @@ double sw_d2_point_triangle(const double p[3], const double t0[3], const double 
 double sw_d2_edge_edge(const double a0[3], const double a1[3], const double b0[3],
                        const double b1[3], double *g, double *H);
 
+/* A lower bound of sw_d2_edge_edge's true squared distance (m^2): below the parallel switch
+ * (sin^2 of the angle < 1e-14) the end points' distance exceeds the segments' by at most
+ * 2 sin^2 min(|ea|, |eb|)^2 in d^2, and round-off by 1e-11 (longer edge + d) in d; both are
+ * taken off.  What continuous collision detection uses, so that it never steps past a contact. */
+double sw_d2_edge_edge_lower(const double a0[3], const double a1[3], const double b0[3],
+                             const double b1[3]);
+
 /* IPC's edge-edge mollifier (Li et al. 2020, sec. 4.3): with c = |(a1 - a0) x (b1 - b0)|^2
  * (m^4) and eps_x = 1e-3 |a1 - a0|^2 |b1 - b0|^2 at rest (sw_ee_mollifier_eps, m^4),
  * m = (2 - c/eps_x) c/eps_x for c < eps_x and 1 beyond; it multiplies the edge-edge barrier

@@ -19,6 +19,7 @@ typedef struct form {
 } form;
 
 static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+static double sq(double a) { return a * a; }
 
 static void cross3(const double *a, const double *b, double *c) {
   c[0] = a[1] * b[2] - a[2] * b[1];
@@ -32,9 +33,60 @@ static void combine(const double *c, const double *const *x, int n, double *r) {
     for (int a = 0; a < 3; a++) r[a] += c[i] * x[i][a];
 }
 
-/* The minimising parameters s (k of them) of |r0 + sum s_j R_j|^2; Ginv = (R^T R)^-1.  Returns
- * 0, or -1 when the directions are (numerically) dependent. */
-static int solve_params(int k, const double *r0, double R[2][3], double *s, double Ginv[2][2]) {
+/* Below this sin^2 of the angle between the two directions of a 2-parameter form, its
+ * parameters are recomputed in long double from the vertices themselves: in double, the
+ * directions' own rounding (relative 1e-16) turns into an error of 1e-16 / sin^2 in the
+ * parameters. */
+static const double NEAR_SIN2 = 1e-8;
+
+/* The minimiser of |r + s0 R0 + s1 R1|^2 by Gram-Schmidt: s1 along R1's part q orthogonal to
+ * R0, then s0 exactly for that s1.  The error of nearly dependent directions then stays in the
+ * soft direction (s0 R0 + s1 R1 nearly constant), where it changes the distance only to second
+ * order in sin; Cramer's rule spreads it over both and costs digits of the distance itself.
+ * Returns 0, or -1 when the directions are dependent.  T is double or long double. */
+#define GRAM_SCHMIDT_2(T, r, R, s)                                                        \
+  do {                                                                                    \
+    T uu = 0, ur = 0, c, q[3], qq = 0, qr = 0, s1;                                        \
+    for (int a_ = 0; a_ < 3; a_++) uu += R[0][a_] * R[0][a_], ur += R[0][a_] * R[1][a_];  \
+    if (!(uu > 0)) return -1;                                                             \
+    c = ur / uu;                                                                          \
+    for (int a_ = 0; a_ < 3; a_++) q[a_] = R[1][a_] - c * R[0][a_];                       \
+    for (int a_ = 0; a_ < 3; a_++) qq += q[a_] * q[a_], qr += q[a_] * r[a_];              \
+    if (!(qq > 0)) return -1;                                                             \
+    s1 = -qr / qq;                                                                        \
+    T p0 = 0;                                                                             \
+    for (int a_ = 0; a_ < 3; a_++) p0 += (r[a_] + s1 * R[1][a_]) * R[0][a_];              \
+    s[0] = (double)(-p0 / uu), s[1] = (double)s1;                                         \
+  } while (0)
+
+/* The parameters s of form L at the vertices x in long double (x87's 64-bit mantissa on x86-64,
+ * binary128 on arm64): r and R from the coordinates, Ginv = (R^T R)^-1.  -1 when dependent. */
+static int solve_params_ld(const form *L, const double *const *x, double *s, double Ginv[2][2]) {
+  long double r[3] = {0, 0, 0}, R[2][3] = {{0, 0, 0}, {0, 0, 0}};
+  for (int i = 0; i < L->n; i++)
+    for (int a = 0; a < 3; a++) {
+      r[a] += (long double)L->c0[i] * x[i][a];
+      for (int j = 0; j < 2; j++) R[j][a] += (long double)L->dc[j][i] * x[i][a];
+    }
+  long double G00 = 0, G11 = 0, G01 = 0, w[3];
+  for (int a = 0; a < 3; a++)
+    G00 += R[0][a] * R[0][a], G11 += R[1][a] * R[1][a], G01 += R[0][a] * R[1][a];
+  w[0] = R[0][1] * R[1][2] - R[0][2] * R[1][1];
+  w[1] = R[0][2] * R[1][0] - R[0][0] * R[1][2];
+  w[2] = R[0][0] * R[1][1] - R[0][1] * R[1][0];
+  long double det = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+  if (!(det > 0)) return -1;
+  GRAM_SCHMIDT_2(long double, r, R, s);
+  Ginv[0][0] = (double)(G11 / det), Ginv[1][1] = (double)(G00 / det);
+  Ginv[0][1] = Ginv[1][0] = (double)(-G01 / det);
+  return 0;
+}
+
+/* The minimising parameters s (k of them) of |r0 + sum s_j R_j|^2; Ginv = (R^T R)^-1.  Nearly
+ * dependent directions (sin^2 < NEAR_SIN2) take the long double path when the form L and its
+ * vertices x are given.  Returns 0, or -1 when the directions are (numerically) dependent. */
+static int solve_params(int k, const double *r0, double R[2][3], double *s, double Ginv[2][2],
+                        const form *L, const double *const *x) {
   if (k == 0) return 0;
   double G00 = dot3(R[0], R[0]), b0 = -dot3(R[0], r0);
   if (k == 1) {
@@ -42,13 +94,13 @@ static int solve_params(int k, const double *r0, double R[2][3], double *s, doub
     Ginv[0][0] = 1.0 / G00, s[0] = b0 / G00;
     return 0;
   }
-  double G11 = dot3(R[1], R[1]), G01 = dot3(R[0], R[1]), b1 = -dot3(R[1], r0), w[3];
+  double G11 = dot3(R[1], R[1]), G01 = dot3(R[0], R[1]), w[3];
   cross3(R[0], R[1], w);
   double det = dot3(w, w); /* = G00 G11 - G01^2 without its cancellation */
+  if (L && det < NEAR_SIN2 * G00 * G11) return solve_params_ld(L, x, s, Ginv);
   if (!(det > 0.0)) return -1;
   Ginv[0][0] = G11 / det, Ginv[1][1] = G00 / det, Ginv[0][1] = Ginv[1][0] = -G01 / det;
-  s[0] = Ginv[0][0] * b0 + Ginv[0][1] * b1;
-  s[1] = Ginv[1][0] * b0 + Ginv[1][1] * b1;
+  GRAM_SCHMIDT_2(double, r0, R, s);
   return 0;
 }
 
@@ -77,7 +129,7 @@ static double form_eval(const form *L, const double *const *x, double *g, double
   double r[3], R[2][3], s[2] = {0.0, 0.0}, Ginv[2][2] = {{0.0, 0.0}, {0.0, 0.0}}, c[4];
   combine(L->c0, x, L->n, r);
   for (int j = 0; j < L->k; j++) combine(L->dc[j], x, L->n, R[j]);
-  int k = solve_params(L->k, r, R, s, Ginv) ? 0 : L->k;
+  int k = solve_params(L->k, r, R, s, Ginv, L, x) ? 0 : L->k;
   form M = *L;
   M.k = k;
   for (int i = 0; i < L->n; i++) c[i] = L->c0[i] + s[0] * L->dc[0][i] + s[1] * L->dc[1][i];
@@ -147,7 +199,7 @@ static int plane_param(const double *p, const double *t0, const double *t1, cons
   double r[3], R[2][3], s[2], Ginv[2][2];
   combine(PPLANE.c0, x, 4, r);
   for (int j = 0; j < 2; j++) combine(PPLANE.dc[j], x, 4, R[j]);
-  if (solve_params(2, r, R, s, Ginv)) return -1;
+  if (solve_params(2, r, R, s, Ginv, &PPLANE, x)) return -1;
   *u = s[0], *v = s[1];
   return 0;
 }
@@ -170,36 +222,72 @@ sw_pt_type sw_point_triangle_type(const double p[3], const double t0[3], const d
   return type;
 }
 
-/* Relative sin^2 of the angle below which two edges count as parallel (the line-line form
- * is then ill-conditioned and the minimum is reached at an end point anyway). */
-static const double PARALLEL_SIN2 = 1e-20;
+/* Relative sin^2 of the angle below which two edges count as parallel: their distance is then
+ * the smallest of the four end-point-to-segment distances.  Above it the line-line parameters
+ * (long double below NEAR_SIN2) are accurate to 5e-20 / sin^2 = 5e-6; below it the end points
+ * overestimate the squared distance by at most 2 sin^2 min(|ea|, |eb|)^2 (the quadratic over the
+ * parameter square rises by at most its smallest curvature times the square's diameter^2), and
+ * IPC's mollifier (2e3 sin^2 or less there) makes the switch invisible to the barrier. */
+static const double PARALLEL_SIN2 = 1e-14;
 
-sw_ee_type sw_edge_edge_type(const double a0[3], const double a1[3], const double b0[3],
-                             const double b1[3]) {
-  const double *x[4] = {a0, a1, b0, b1};
-  double r[3], R[2][3], s[2], Ginv[2][2], w[3];
-  combine(LL.c0, x, 4, r);
-  for (int j = 0; j < 2; j++) combine(LL.dc[j], x, 4, R[j]);
-  cross3(R[0], R[1], w);
-  int parallel = !(dot3(w, w) > PARALLEL_SIN2 * dot3(R[0], R[0]) * dot3(R[1], R[1]));
-  if (!parallel && !solve_params(2, r, R, s, Ginv) && s[0] >= 0.0 && s[0] <= 1.0 &&
-      s[1] >= 0.0 && s[1] <= 1.0)
-    return SW_EE_LINES;
-  /* the minimum over the unit square is on its boundary: an end point against a segment */
+/* The end-point-to-segment type of two edges closest to each other, and its squared distance. */
+static sw_ee_type edge_edge_ends(const double *const *x, double *best) {
   static const sw_ee_type END[4][3] = {{SW_EE_A0B0, SW_EE_A0B1, SW_EE_A0_B},
                                        {SW_EE_A1B0, SW_EE_A1B1, SW_EE_A1_B},
                                        {SW_EE_A0B0, SW_EE_A1B0, SW_EE_A_B0},
                                        {SW_EE_A0B1, SW_EE_A1B1, SW_EE_A_B1}};
-  double best = INFINITY;
   sw_ee_type type = SW_EE_A0B0;
+  *best = INFINITY;
   for (int q = 0; q < 4; q++) {
     const double *p = x[q], *e0 = x[q < 2 ? 2 : 0], *e1 = x[q < 2 ? 3 : 1];
     double d2, t = segment_param(p, e0, e1, &d2);
-    if (!(d2 < best)) continue;
-    best = d2;
+    if (!(d2 < *best)) continue;
+    *best = d2;
     type = END[q][t <= 0.0 ? 0 : t >= 1.0 ? 1 : 2];
   }
   return type;
+}
+
+/* sin^2 of the angle between the edges (0 for a degenerate edge) and their smaller squared
+ * length. */
+static double edge_sin2(const double *const *x, double *lmin2) {
+  double ea[3], eb[3], w[3];
+  for (int a = 0; a < 3; a++) ea[a] = x[1][a] - x[0][a], eb[a] = x[3][a] - x[2][a];
+  cross3(ea, eb, w);
+  double aa = dot3(ea, ea), bb = dot3(eb, eb);
+  *lmin2 = fmin(aa, bb);
+  return aa > 0.0 && bb > 0.0 ? dot3(w, w) / (aa * bb) : 0.0;
+}
+
+/* The closest features: both interiors when the line-line minimiser lies in the parameter
+ * square (edges not parallel) and is no farther than the best end point; else that end point.
+ * The smallest candidate is taken, so round-off in the parameters of nearly parallel edges can
+ * only choose between distances that are all real distances between points of the edges. */
+sw_ee_type sw_edge_edge_type(const double a0[3], const double a1[3], const double b0[3],
+                             const double b1[3]) {
+  const double *x[4] = {a0, a1, b0, b1};
+  double best, lmin2, r[3], R[2][3], s[2], Ginv[2][2];
+  sw_ee_type type = edge_edge_ends(x, &best);
+  if (!(edge_sin2(x, &lmin2) >= PARALLEL_SIN2)) return type;
+  combine(LL.c0, x, 4, r);
+  for (int j = 0; j < 2; j++) combine(LL.dc[j], x, 4, R[j]);
+  if (solve_params(2, r, R, s, Ginv, &LL, x) || !(s[0] >= 0.0 && s[0] <= 1.0 && s[1] >= 0.0 &&
+                                                   s[1] <= 1.0))
+    return type;
+  for (int a = 0; a < 3; a++) r[a] += s[0] * R[0][a] + s[1] * R[1][a];
+  return dot3(r, r) <= best ? SW_EE_LINES : type;
+}
+
+double sw_d2_edge_edge_lower(const double a0[3], const double a1[3], const double b0[3],
+                             const double b1[3]) {
+  const double *x[4] = {a0, a1, b0, b1};
+  double lmin2, sin2 = edge_sin2(x, &lmin2), la2 = 0.0, lb2 = 0.0;
+  double d2 = sw_d2_edge_edge(a0, a1, b0, b1, NULL, NULL);
+  if (sin2 < PARALLEL_SIN2) d2 -= 2.0 * sin2 * lmin2; /* the end points' overestimate */
+  for (int a = 0; a < 3; a++) la2 += sq(a1[a] - a0[a]), lb2 += sq(b1[a] - b0[a]);
+  /* round-off: 5e-20 L / sin (>= 1e-7) in long double, 1e-16 L / sin (>= 1e-4) in double */
+  double d = sqrt(fmax(d2, 0.0)), margin = 1e-11 * (sqrt(fmax(la2, lb2)) + d);
+  return d > margin ? sq(d - margin) : 0.0;
 }
 
 /* ------------------------------------------------------------- distances of closed primitives */

@@ -201,12 +201,8 @@ static int reserve_pair(sw_mcontact *mc) {
 
 /* Whether a mesh obstacle moves between times t0 and t1. */
 static int obstacles_move(const sw_model *m, double t0, double t1) {
-  for (int k = 0; k < m->nmesh_obstacle; k++) {
-    double d0[3], d1[3];
-    sw_obstacle_disp(&m->mesh_obstacle[k], t0, d0);
-    sw_obstacle_disp(&m->mesh_obstacle[k], t1, d1);
-    if (d0[0] != d1[0] || d0[1] != d1[1] || d0[2] != d1[2]) return 1;
-  }
+  for (int k = 0; k < m->nmesh_obstacle; k++)
+    if (sw_obstacle_moves(&m->mesh_obstacle[k], t0, t1)) return 1;
   return 0;
 }
 
@@ -217,10 +213,14 @@ static const double *positions(const sw_model *m, const sw_mcontact *mc, const d
   const mc_param *p = mc->p;
   if (p->nvt == m->nv) return x;
   memcpy(buf, x, (size_t)m->nv * 3 * sizeof(double));
-  double disp[3] = {0.0, 0.0, 0.0};
+  double R[9], c[3];
   for (int j = 0, k = -1; j < p->nvt - m->nv; j++) {
-    if (p->owner[j] != k) sw_obstacle_disp(&m->mesh_obstacle[k = p->owner[j]], t, disp);
-    for (int a = 0; a < 3; a++) buf[3 * ((size_t)m->nv + j) + a] = p->rest[3 * j + a] + disp[a];
+    const sw_obstacle *o = &m->mesh_obstacle[p->owner[j]];
+    if (p->owner[j] != k) sw_obstacle_pose(o, t, R, c), k = p->owner[j];
+    const double *q = p->rest + 3 * (size_t)j;
+    double r[3] = {q[0] - o->center[0], q[1] - o->center[1], q[2] - o->center[2]};
+    for (int a = 0; a < 3; a++) /* R (q - center) + c, m */
+      buf[3 * ((size_t)m->nv + j) + a] = R[3 * a] * r[0] + R[3 * a + 1] * r[1] + R[3 * a + 2] * r[2] + c[a];
   }
   return buf;
 }
@@ -593,13 +593,103 @@ int sw_mcontact_settled(const sw_model *m, const sw_mcontact *mc, const double *
   return 1;
 }
 
+/* The largest distance from mesh obstacle k's rotation axis of its vertices (m), and bounds of
+ * its vertices' motion over [t0, t1]: how far one moves (m) and how far one strays from the
+ * straight line between its places at t0 and t1, joined uniformly in time (m: the
+ * translation's departure from its chord plus the arc's from its chord, rho (dev + dangle^2 /
+ * 8) for an angle that departs dev from its own chord). */
+static double mesh_radius(const sw_model *m, const mc_param *p, int k) {
+  const sw_obstacle *o = &m->mesh_obstacle[k];
+  double rho2 = 0.0;
+  for (int j = 0; o->nrot && j < p->nvt - m->nv; j++) {
+    if (p->owner[j] != k) continue;
+    double r[3], along = 0.0, rr = 0.0;
+    for (int a = 0; a < 3; a++) r[a] = p->rest[3 * (size_t)j + a] - o->center[a], along += r[a] * o->axis[a];
+    for (int a = 0; a < 3; a++) rr += (r[a] - along * o->axis[a]) * (r[a] - along * o->axis[a]);
+    rho2 = fmax(rho2, rr);
+  }
+  return sqrt(rho2);
+}
+
+static double mesh_motion(const sw_model *m, const mc_param *p, int k, double t0, double t1) {
+  sw_motion_bounds b;
+  sw_obstacle_bounds(&m->mesh_obstacle[k], t0, t1, &b);
+  return b.move + b.turn * mesh_radius(m, p, k);
+}
+
+static double mesh_stray(const sw_model *m, const mc_param *p, int k, double t0, double t1) {
+  sw_motion_bounds b;
+  sw_obstacle_bounds(&m->mesh_obstacle[k], t0, t1, &b);
+  return b.pos_dev + mesh_radius(m, p, k) * (b.turn_dev + 0.125 * b.dangle * b.dangle);
+}
+
+/* What the swept check needs of each pair: the step's start and end (nvt x 3), and how far the
+ * obstacles' vertices may stray from straight lines, m. */
+typedef struct swept_arg {
+  const double *x0, *x1;
+  double stray;
+} swept_arg;
+
+/* A pair is clear over the step when additive CCD, restarted from where it stops (each start
+ * resets its scaling), reaches the step's end within 12 restarts without the pair coming
+ * within its thickness, widened by the obstacles' stray for pairs with an obstacle. */
+static int swept_pair(const sw_model *m, sw_mcontact *mc, int kind, const int *v, void *arg) {
+  swept_arg *a = arg;
+  double p0[12], p1[12], q[12], xi = pair_xi(m, mc->p, v), t = 0.0;
+  int obst = 0;
+  for (int j = 0; j < 4; j++) obst |= v[j] >= m->nv;
+  gather(a->x0, v, p0);
+  gather(a->x1, v, p1);
+  for (int r = 0; r < 12; r++) {
+    for (int i = 0; i < 12; i++) q[i] = p0[i] + t * (p1[i] - p0[i]);
+    double dmin = xi + (obst ? a->stray : 0.0);
+    double s = kind == SW_MC_PT ? sw_ccd_point_triangle(q, p1, dmin, 1.0)
+                                : sw_ccd_edge_edge(q, p1, dmin, 1.0);
+    if (s >= 1.0) return 0;
+    if (!(s > 0.0)) break;
+    t += s * (1.0 - t);
+  }
+  memcpy(mc->limit, v, sizeof mc->limit);
+  return 1;
+}
+
+int sw_mcontact_swept(const sw_model *m, sw_data *d, const double *y, double t1) {
+  sw_mcontact *mc = d->mc;
+  if (!mc || !obstacles_move(m, d->t, t1)) return SW_OK;
+  double start = sw_now();
+  swept_arg a = {.x0 = positions(m, mc, d->x, d->t, mc->xa), .x1 = positions(m, mc, y, t1, mc->xb)};
+  for (int k = 0; k < m->nmesh_obstacle; k++) a.stray = fmax(a.stray, mesh_stray(m, mc->p, k, d->t, t1));
+  sw_bp_input in = bp_input(mc, a.x0, a.x1, 0.5 * (max_thickness(m) + a.stray));
+  int rc = sw_broadphase_query(&mc->bp, &in, SW_BP_PT | SW_BP_EE);
+  d->time_broadphase += sw_now() - start;
+  if (rc) {
+    sw_errf(d->err, sizeof d->err, "the broad phase failed at t = %g s", d->t);
+    return SW_RECOVER;
+  }
+  mc->limit[0] = -1;
+  if (!each_pair(m, mc, swept_pair, &a)) return SW_OK;
+  int i = -1, k = -1;
+  for (int j = 0; j < 4; j++) {
+    int o = owner_of(m, mc->p, mc->limit[j]);
+    if (o < 0 && i < 0) i = mc->limit[j];
+    if (o >= 0 && k < 0) k = o;
+  }
+  if (k < 0)
+    sw_errf(d->err, sizeof d->err, "the cloth passes through itself near vertex %d between t = %g s "
+            "and %g s", i, d->t, t1);
+  else
+    sw_errf(d->err, sizeof d->err, "obstacles[%d] passes through vertex %d between t = %g s and "
+            "%g s", m->mesh_obstacle[k].item, i, d->t, t1);
+  return SW_RECOVER;
+}
+
 /* The carry of a step's start: the free cloth vertices near mesh obstacle k (a pair within its
  * offset + dhat + its motion) move with it. */
 typedef struct carry_arg {
   const double *x;      /* (nvt x 3) at the step's start */
   int k;                /* the obstacle */
   double reach;         /* m */
-  double move[3];       /* its motion over the step, m */
+  double t0, t1;        /* the step, s */
   unsigned char *done;  /* (nv) vertices carried by k already */
 } carry_arg;
 
@@ -618,7 +708,9 @@ static int carry_pair(const sw_model *m, sw_mcontact *mc, int kind, const int *v
     if (i >= m->nv || m->pinned[i] || a->done[i]) continue;
     a->done[i] = 1;
     mc->carrier[i] = a->k;
-    for (int c = 0; c < 3; c++) mc->z[3 * (size_t)i + c] += a->move[c];
+    double q[3]; /* the obstacle's rigid motion applied to the vertex */
+    sw_obstacle_carry(&m->mesh_obstacle[a->k], a->t0, a->t1, a->x + 3 * (size_t)i, q);
+    for (int c = 0; c < 3; c++) mc->z[3 * (size_t)i + c] += q[c] - a->x[3 * (size_t)i + c];
   }
   return 0;
 }
@@ -633,13 +725,9 @@ static int carry(const sw_model *m, sw_data *d, double t1) {
   const double *x = positions(m, mc, d->x, d->t, mc->xa);
   for (int k = 0; k < m->nmesh_obstacle; k++) {
     const sw_obstacle *o = &m->mesh_obstacle[k];
-    carry_arg a = {.x = x, .k = k, .done = (unsigned char *)mc->f};
-    double d0[3], d1[3], len = 0.0;
-    sw_obstacle_disp(o, d->t, d0);
-    sw_obstacle_disp(o, t1, d1);
-    for (int c = 0; c < 3; c++) a.move[c] = d1[c] - d0[c], len += a.move[c] * a.move[c];
-    if (len == 0.0) continue;
-    a.reach = o->offset + m->contact.dhat + sqrt(len); /* m */
+    carry_arg a = {.x = x, .k = k, .done = (unsigned char *)mc->f, .t0 = d->t, .t1 = t1};
+    if (!sw_obstacle_moves(o, d->t, t1)) continue;
+    a.reach = o->offset + m->contact.dhat + mesh_motion(m, mc->p, k, d->t, t1); /* m */
     memset(a.done, 0, (size_t)m->nv);
     sw_bp_input in = bp_input(mc, x, x, 0.5 * a.reach);
     if (sw_broadphase_query(&mc->bp, &in, SW_BP_PT | SW_BP_EE)) return -1;
@@ -659,12 +747,7 @@ static int moves_into(const sw_model *m, const sw_mcontact *mc, sw_data *d, doub
     if (o >= 0 && k < 0) k = o;
   }
   int c = i >= 0 ? mc->carrier[i] : -1;
-  double d0[3], d1[3];
-  if (k >= 0) {
-    sw_obstacle_disp(&m->mesh_obstacle[k], d->t, d0);
-    sw_obstacle_disp(&m->mesh_obstacle[k], t1, d1);
-  }
-  int still = k >= 0 && d0[0] == d1[0] && d0[1] == d1[1] && d0[2] == d1[2];
+  int still = k >= 0 && !sw_obstacle_moves(&m->mesh_obstacle[k], d->t, t1);
   if (k < 0)
     sw_errf(d->err, sizeof d->err, "the cloth cannot follow the mesh obstacles between t = %g s "
             "and %g s (vertex %d)", d->t, t1, i);

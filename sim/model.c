@@ -78,12 +78,16 @@ void sw_model_free(sw_model *m) {
   for (int k = 0; k < m->nobstacle; k++) {
     sw_free(m->obstacle[k].key_t);
     sw_free(m->obstacle[k].key_d);
+    sw_free(m->obstacle[k].rot_t);
+    sw_free(m->obstacle[k].rot_a);
   }
   sw_free(m->obstacle);
   for (int k = 0; k < m->nmesh_obstacle; k++) {
     sw_obstacle *o = &m->mesh_obstacle[k];
     sw_free(o->key_t);
     sw_free(o->key_d);
+    sw_free(o->rot_t);
+    sw_free(o->rot_a);
     sw_free(o->mesh_x);
     sw_free(o->mesh_face);
   }
@@ -474,7 +478,7 @@ void sw_model_print(const sw_model *m, void *file) {
       fprintf(fp, "obstacle %d  %s", o->item, sw_shape_names()[o->shape]);
     else
       fprintf(fp, "obstacle %d  mesh, %d vertices, %d faces", o->item, o->mesh_nv, o->mesh_nf);
-    fprintf(fp, "%s, offset %g m\n", o->nkey > 1 ? " (moving)" : "", o->offset);
+    fprintf(fp, "%s, offset %g m\n", o->nkey > 1 && o->nrot > 1 ? " (moving and turning)" : o->nkey > 1 ? " (moving)" : o->nrot > 1 ? " (turning)" : "", o->offset);
   }
   if (m->nobstacle)
     fprintf(fp, "contact     distance %g m, stiffness %g 1/s^2%s, friction %g\n", m->contact.dhat,

@@ -128,9 +128,9 @@ struct sw_term {
 /* ---------------------------------------------------------------- contact */
 
 /* Obstacles (models/obstacle.c, docs/contact.md): rigid shapes the cloth's vertices cannot
- * enter.  Each sits where the scene puts it, translated by its motion keyframes (a
- * displacement, m, interpolated as sw_keyframe_value); its contact surface is the shape grown
- * by `offset`.  In 2D, a plane is a line, a sphere a circle, a capsule a stadium and a box a
+ * enter.  Each sits where the scene puts it, turned by its rotation keyframes about an axis
+ * through `center` and translated by its motion keyframes (a displacement, m), both
+ * interpolated as sw_keyframe_value; its contact surface is the shape grown by `offset`.  In 2D, a plane is a line, a sphere a circle, a capsule a stadium and a box a
  * rectangle (the third components are 0). */
 enum { SW_SHAPE_PLANE = 0, SW_SHAPE_SPHERE, SW_SHAPE_CAPSULE, SW_SHAPE_BOX, SW_SHAPE_N };
 /* The scene's names of the SW_SHAPE_* ("plane", "sphere", "capsule", "box"), in order. */
@@ -149,7 +149,13 @@ typedef struct sw_obstacle {
   double *key_t;               /* (nkey) s, increasing */
   double *key_d;               /* (3 x nkey) displacement from the stated place, m: component
                                   a of keyframe k at key_d[a nkey + k] */
-  int interp;                  /* SW_INTERP_* of the motion */
+  int interp;                  /* SW_INTERP_* of the motion (translation and rotation) */
+  int nrot;                    /* rotation keyframes (0: no rotation) */
+  double *rot_t;               /* (nrot) s, increasing */
+  double *rot_a;               /* (nrot) angle about the axis, rad (right-handed) */
+  double axis[3];              /* unit rotation axis ([0, 0, 1] in 2D) */
+  double center[3];            /* a point of the axis at the stated place, m (it moves with the
+                                  translation: the body turns about center + displacement) */
   int item;                    /* its index in the scene's `obstacles` list (for messages) */
   /* a mesh obstacle (`mesh: file.obj`, models/mesh_contact.c; in m->mesh_obstacle only, never
      in m->obstacle: sw_obstacle_sdf does not apply to it) */

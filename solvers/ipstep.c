@@ -73,7 +73,16 @@ int sw_ipstep_solve(sw_ipstep *s, const sw_model *m, sw_data *d, const sw_newton
    * made admissible (the predictor may be inside an obstacle or through the cloth itself,
    * where the barriers have no Hessian) */
   rc = sw_newton_damping(&s->nw, m, d, d->lag || d->mc ? s->xnew : s->xhat, o->t);
-  return rc ? rc : sw_newton_solve(&s->nw, m, d, s->xnew, s->xhat, o);
+  if (!rc) rc = sw_newton_solve(&s->nw, m, d, s->xnew, s->xhat, o);
+  /* the solve keeps the obstacles at the stage time: a moving one must not have passed
+   * through the cloth on the way there (recoverable: the step is retried smaller) */
+  if (!rc && (d->lag || d->mc)) {
+    double t2 = sw_now();
+    rc = sw_contact_swept(m, d, s->xnew, o->t);
+    if (!rc) rc = sw_mcontact_swept(m, d, s->xnew, o->t);
+    d->time_contact += sw_now() - t2;
+  }
+  return rc;
 }
 
 int sw_ipstep_commit(sw_ipstep *s, const sw_model *m, sw_data *d, double h, int check_energy) {

@@ -6,7 +6,9 @@
  *     - {shape: box, center: [...], size: [lx, ly, lz]}     (axis-aligned)
  *     - {mesh: body.obj, scale: s, translate: [x, y, z]}    (3D: a rigid triangle mesh)
  *   each with offset: m (>= 0) and motion: {keyframes: [[t, dx, dy(, dz)], ...],
- *   interpolation: smooth | linear} (a translation, m, from the stated place);
+ *   rotation: {axis: [x, y, z], center: [...], keyframes: [[t, degrees], ...]},
+ *   interpolation: smooth | linear} (a rotation about the axis through center, then a
+ *   translation, m, from the stated place);
  *   contact: {distance: m, stiffness: 1/s^2, friction: mu, stick_velocity: m/s, self: bool,
  *             thickness: m, self_stiffness: 1/(s^2 m^2)}. */
 #include <math.h>
@@ -14,6 +16,10 @@
 #include <string.h>
 
 #include "contact.h"
+
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
 #include "scene_material.h"
 #include "util.h"
 
@@ -100,41 +106,93 @@ static int load_box(const ctx *c, const ynode **v, const char *w, sw_obstacle *o
   return 0;
 }
 
-static const char *const motion_keys[] = {"keyframes", "interpolation"};
+static const char *const motion_keys[] = {"keyframes", "interpolation", "rotation"};
 static const char *const interps[] = {"linear", "smooth"}; /* SW_INTERP_* order */
+static const char *const rot_keys[] = {"axis", "center", "keyframes"};
 
-/* motion: {keyframes: [[t, dx, dy(, dz)], ...], interpolation: smooth | linear}. */
+/* keyframes: [[t, v_1, ..., v_ncomp], ...] with increasing times into *kt and kv (component a
+ * of keyframe j at kv[a n + j]), each value times scale; what names the values. */
+static int load_keys(const ctx *c, const ynode *k, const char *kl, int ncomp, double scale,
+                     const char *what, const char *units, double **kt, double **kv, int *n) {
+  char lab[192];
+  snprintf(lab, sizeof lab, "a sequence of %s", what);
+  if (sy_seq(c, k, kl, lab)) return -1;
+  if (k->n < 1 || k->n > SW_OBSTACLE_MAXKEY)
+    return sy_fail(c, k, "%s has %d keyframes; expected 1 to %d", kl, k->n, SW_OBSTACLE_MAXKEY);
+  *kt = sw_calloc((size_t)k->n, sizeof(double));
+  *kv = sw_calloc((size_t)k->n * (size_t)ncomp, sizeof(double));
+  if (!*kt || !*kv) return sy_oom(c, k);
+  for (int j = 0; j < k->n; j++) {
+    double row[4];
+    snprintf(lab, sizeof lab, "%s[%d]", kl, j);
+    if (sy_vec(c, k->kid[j], lab, ncomp + 1, -HUGE_VAL, 0, units, row)) return -1;
+    if (j > 0 && !(row[0] > (*kt)[j - 1]))
+      return sy_fail(c, k->kid[j], "%s has time %g s after %g s; expected increasing times",
+                     lab, row[0], (*kt)[j - 1]);
+    (*kt)[j] = row[0]; /* s */
+    for (int a = 0; a < ncomp; a++) (*kv)[a * k->n + j] = scale * row[1 + a];
+  }
+  *n = k->n;
+  return 0;
+}
+
+/* rotation: {axis: [x, y, z] (3D only), center: [...], keyframes: [[t, angle], ...]} (degrees,
+ * right-handed about the axis; in 2D about z, counter-clockwise). */
+static int load_rotation(const ctx *c, const ynode *y, const char *w, sw_obstacle *o) {
+  char lab[128], kl[192];
+  const ynode *v[3];
+  const int dim = c->m->dim;
+  snprintf(lab, sizeof lab, "%s motion rotation", w);
+  if (sy_map(c, y, lab, rot_keys, 3, v) ||
+      sy_need(c, y, v[2], lab, "keyframes", "keyframes: [[t, angle], ...] in s and degrees") ||
+      sy_need(c, y, v[1], lab, "center", "center: a point of the axis, m"))
+    return -1;
+  o->axis[0] = o->axis[1] = 0.0, o->axis[2] = 1.0;
+  if (dim == 2 && v[0])
+    return sy_fail(c, v[0], "%s axis is given in a 2D scene; expected no axis (a 2D body turns "
+                   "about z)", lab);
+  if (dim == 3) {
+    if (sy_need(c, y, v[0], lab, "axis", "axis: [x, y, z] (normalised)")) return -1;
+    snprintf(kl, sizeof kl, "%s axis", lab);
+    if (sy_vec(c, v[0], kl, 3, -HUGE_VAL, 0, "", o->axis)) return -1;
+    double len = sqrt(o->axis[0] * o->axis[0] + o->axis[1] * o->axis[1] + o->axis[2] * o->axis[2]);
+    if (!(len > 0.0) || !isfinite(len))
+      return sy_fail(c, v[0], "%s is zero; expected a nonzero vector (it is normalised)", kl);
+    for (int a = 0; a < 3; a++) o->axis[a] /= len;
+  }
+  snprintf(kl, sizeof kl, "%s center", lab);
+  if (sy_vec(c, v[1], kl, dim, -HUGE_VAL, 0, "m", o->center)) return -1;
+  snprintf(kl, sizeof kl, "%s keyframes", lab);
+  return load_keys(c, v[2], kl, 1, M_PI / 180.0, "[t, angle] (s, degrees)", "s, degrees",
+                   &o->rot_t, &o->rot_a, &o->nrot);
+}
+
+/* motion: {keyframes: [[t, dx, dy(, dz)], ...], rotation: {...}, interpolation: smooth |
+ * linear}: a translation, a rotation or both. */
 static int load_motion(const ctx *c, const ynode *y, const char *w, sw_obstacle *o) {
   char lab[160], kl[128];
-  const ynode *v[2];
+  const ynode *v[3];
   const int dim = c->m->dim;
   snprintf(lab, sizeof lab, "%s motion", w);
-  if (sy_map(c, y, lab, motion_keys, 2, v) ||
-      sy_need(c, y, v[0], lab, "keyframes", "keyframes: [[t, dx, dy(, dz)], ...] in s and m"))
-    return -1;
+  if (sy_map(c, y, lab, motion_keys, 3, v)) return -1;
+  if (!v[0] && !v[2])
+    return sy_fail(c, y, "%s has neither keyframes nor rotation; expected keyframes: [[t, dx, "
+                   "dy(, dz)], ...] in s and m, rotation: {...}, or both", lab);
   o->interp = SW_INTERP_SMOOTH;
   snprintf(kl, sizeof kl, "%s motion interpolation", w);
   if (v[1] && sy_choice(c, v[1], kl, interps, 2, &o->interp)) return -1;
   snprintf(kl, sizeof kl, "%s motion keyframes", w);
-  const ynode *k = v[0];
-  if (sy_seq(c, k, kl, "a sequence of [t, dx, dy(, dz)]")) return -1;
-  if (k->n < 1 || k->n > SW_OBSTACLE_MAXKEY)
-    return sy_fail(c, k, "%s has %d keyframes; expected 1 to %d", kl, k->n, SW_OBSTACLE_MAXKEY);
-  o->key_t = sw_calloc((size_t)k->n, sizeof(double));
-  o->key_d = sw_calloc((size_t)k->n * 3, sizeof(double));
-  if (!o->key_t || !o->key_d) return sy_oom(c, k);
-  for (int j = 0; j < k->n; j++) {
-    double row[4];
-    snprintf(lab, sizeof lab, "%s[%d]", kl, j);
-    if (sy_vec(c, k->kid[j], lab, dim + 1, -HUGE_VAL, 0, "s, m", row)) return -1;
-    if (j > 0 && !(row[0] > o->key_t[j - 1]))
-      return sy_fail(c, k->kid[j], "%s has time %g s after %g s; expected increasing times",
-                     lab, row[0], o->key_t[j - 1]);
-    o->key_t[j] = row[0];                                   /* s */
-    for (int a = 0; a < dim; a++) o->key_d[a * k->n + j] = row[1 + a]; /* m */
+  if (v[0] && load_keys(c, v[0], kl, dim, 1.0, dim == 3 ? "[t, dx, dy, dz]" : "[t, dx, dy]",
+                        "s, m", &o->key_t, &o->key_d, &o->nkey))
+    return -1;
+  if (o->key_d && dim == 2) { /* stored 3 x nkey: the z row stays 0 */
+    double *kd = sw_calloc((size_t)o->nkey * 3, sizeof(double));
+    if (!kd) return sy_oom(c, v[0]);
+    memcpy(kd, o->key_d, (size_t)o->nkey * 2 * sizeof(double));
+    sw_free(o->key_d);
+    o->key_d = kd;
   }
-  o->nkey = k->n;
-  return 0;
+  return v[2] ? load_rotation(c, v[2], w, o) : 0;
 }
 
 /* The obstacle's offset and motion (every obstacle takes them). */
