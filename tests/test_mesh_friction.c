@@ -234,6 +234,78 @@ static void inclined_plane(void **st) {
   assert_true(fabs(go.drift) < 0.02 * go.dissipated);
 }
 
+/* A UV sphere of radius r about the origin, `rings` rings of latitude and `seg` segments of
+ * longitude, wound outwards, into name. */
+static void write_sphere(const char *name, double r, int rings, int seg) {
+  size_t cap = (size_t)(rings * seg + 2) * 64 + (size_t)(2 * rings * seg) * 40, n = 0;
+  char *text = malloc(cap);
+  assert_non_null(text);
+  const double pi = acos(-1.0);
+  n += (size_t)snprintf(text + n, cap - n, "v 0 0 %.17g\n", r); /* 1: the top */
+  for (int i = 1; i < rings; i++)
+    for (int j = 0; j < seg; j++) {
+      double th = pi * i / rings, ph = 2 * pi * j / seg;
+      n += (size_t)snprintf(text + n, cap - n, "v %.17g %.17g %.17g\n", r * sin(th) * cos(ph),
+                            r * sin(th) * sin(ph), r * cos(th));
+    }
+  int bottom = 2 + (rings - 1) * seg;
+  n += (size_t)snprintf(text + n, cap - n, "v 0 0 %.17g\n", -r);
+  for (int j = 0; j < seg; j++) { /* ring i, segment j is vertex 2 + (i - 1) seg + j */
+    int a = 2 + j, b = 2 + (j + 1) % seg;
+    n += (size_t)snprintf(text + n, cap - n, "f 1 %d %d\n", a, b);
+    for (int i = 1; i < rings - 1; i++) {
+      int p = 2 + (i - 1) * seg + j, q = 2 + (i - 1) * seg + (j + 1) % seg;
+      n += (size_t)snprintf(text + n, cap - n, "f %d %d %d\nf %d %d %d\n", p, p + seg, q + seg, p,
+                            q + seg, q);
+    }
+    a = 2 + (rings - 2) * seg + j, b = 2 + (rings - 2) * seg + (j + 1) % seg;
+    n += (size_t)snprintf(text + n, cap - n, "f %d %d %d\n", a, bottom, b);
+  }
+  write_file(name, text);
+  free(text);
+}
+
+/* A 5 cm cloth laid on the top of a mesh sphere (R = 0.2 m) under gravity tilted by 15 degrees
+ * (tan = 0.27), for 1 s: how far its centre moves sideways (m). */
+static double sphere_slide(double mu) {
+  char text[2048];
+  const double g = 9.81, th = 15.0 * acos(-1.0) / 180.0;
+  write_sphere("sphere.obj", 0.2, 24, 48);
+  snprintf(text, sizeof text,
+           "dimension: 3\n"
+           "mesh: {grid: {size: [0.05, 0.05], vertices: [5, 5], plane: xy}}\n"
+           "material: {density: 0.2, membrane: {model: bw98, k_u: 1000, k_v: 1000, k_shear: 50}}\n"
+           "gravity: [%.17g, 0, %.17g]\n"
+           "obstacles: [{mesh: sphere.obj, translate: [0.025, 0.025, -0.2015]}]\n"
+           "contact: {distance: 2e-3, friction: %g}\n"
+           "integrator: {method: backward-euler, dt: 0.01}\nduration: 1\n",
+           g * sin(th), -g * cos(th), mu);
+  sw_model *m = scene(text);
+  assert_non_null(m);
+  char err[SW_ERRSZ];
+  sw_sim *s = sw_sim_new(m, 0, err, sizeof err);
+  if (!s) print_error("%s\n", err);
+  assert_non_null(s);
+  int rc = sw_sim_run(s, 1.0, err, sizeof err);
+  if (rc) print_error("%s\n", err);
+  assert_int_equal(rc, 0);
+  const sw_data *d = sw_sim_data(s);
+  double move = 0.0;
+  for (int i = 0; i < m->nv; i++) move += (d->x[3 * i] - m->x0[3 * i]) / m->nv;
+  sw_sim_free(s);
+  sw_model_free(m);
+  return move;
+}
+
+static void mesh_sphere(void **st) {
+  (void)st;
+  double stays = sphere_slide(0.5), slides = sphere_slide(0.0);
+  print_message("mesh sphere: the cloth's centre moves %.3g m with mu = 0.5, %.3g m with mu = 0 "
+                "in 1 s\n", stays, slides);
+  assert_true(fabs(stays) < SW_CONTACT_EPS_V * 1.0); /* creeps below eps_v over 1 s */
+  assert_true(slides > 0.05);
+}
+
 static int setup(void **st) {
   (void)st;
   snprintf(dir, sizeof dir, "/tmp/sinew_meshfric_XXXXXX");
@@ -251,6 +323,7 @@ int main(void) {
       cmocka_unit_test(pair_derivatives),
       cmocka_unit_test(term_gradient),
       cmocka_unit_test(inclined_plane),
+      cmocka_unit_test(mesh_sphere),
   };
   return cmocka_run_group_tests(tests, setup, teardown);
 }
