@@ -157,7 +157,7 @@ sw_mcontact *sw_mcontact_new(const sw_model *m) {
       !mc->cbox || !mc->xref || !mc->umove)
     return sw_mcontact_free(mc), NULL;
   for (int i = 0; i < p->nvt; i++) mc->fixed[i] = (unsigned char)(i >= m->nv || m->pinned[i]);
-  if (m->contact.friction > 0.0 && !(mc->fr = sw_mfriction_new(p->nvt)))
+  if (sw_contact_friction_on(m) && !(mc->fr = sw_mfriction_new(p->nvt)))
     return sw_mcontact_free(mc), NULL;
   return mc;
 }
@@ -482,7 +482,7 @@ static int eval_friction(const sw_model *m, sw_mcontact *mc, const sw_eval *ev, 
     double g[12], *H = NULL;
     if (ev->hess && reserve_pair(mc)) return SW_FATAL;
     if (ev->hess) H = mc->block + (size_t)mc->npair * 144;
-    *e += sw_mfriction_pair(mc->fr, m->contact.friction, m->contact.eps_v, k, x, g, H);
+    *e += sw_mfriction_pair(mc->fr, m->contact.eps_v, k, x, g, H);
     for (int j = 0; ev->grad && j < 12; j++)
       if (v[j / 3] < m->nv) ev->grad[3 * v[j / 3] + j % 3] += g[j];
     if (!ev->hess) continue;
@@ -966,9 +966,12 @@ const double *sw_mcontact_vertex_force(const sw_mcontact *mc) { return mc ? mc->
 
 static int lag_pair(const sw_model *m, sw_mcontact *mc, int kind, const int *v, void *arg) {
   double p[12], xi = pair_xi(m, mc->p, v);
+  int self = 1;
+  for (int j = 0; j < 4; j++) self &= v[j] < m->nv;
   gather(arg, v, p);
   return sw_mfriction_lag_pair(mc->fr, kind, v, p, xi, shat_of(xi, m->contact.dhat),
-                               pair_weight(m, v));
+                               pair_weight(m, v),
+                               self ? m->contact.self_friction : m->contact.friction);
 }
 
 int sw_mcontact_lag(const sw_model *m, sw_data *d, double h) {
@@ -995,7 +998,7 @@ static void state_friction(const sw_model *m, sw_data *d, const double *x) {
   for (int k = 0; k < nf; k++) {
     const int *v = sw_mfriction_vertices(mc->fr, k);
     double g[12];
-    sw_mfriction_pair(mc->fr, m->contact.friction, m->contact.eps_v, k, x, g, NULL);
+    sw_mfriction_pair(mc->fr, m->contact.eps_v, k, x, g, NULL);
     for (int j = 0; j < 12; j++) {
       if (v[j / 3] >= m->nv) continue;
       d->friction_force[j % 3] -= g[j];

@@ -3,8 +3,10 @@
  * "Incremental Potential Contact: Intersection- and Inversion-free, Large-Deformation
  * Dynamics", SIGGRAPH 2020, section 5:
  *
- *   E_f = sum_k mu lambda_k f0(|P_k u_k|),   u_k = sum_j c_kj (x_j - x_j^0)
+ *   E_f = sum_k mu_k lambda_k f0(|P_k u_k|),   u_k = sum_j c_kj (x_j - x_j^0)
  *
+ * (mu_k: contact.friction for a pair with a mesh obstacle, contact.self_friction for the
+ * cloth's own),
  * over the pairs k active (closer than thickness + dhat) at the step's start x^0.  Lagged
  * there, per pair: the closest points' coefficients c_kj (the pair's r = sum_j c_kj x_j joins
  * its closest points: (1, -b1, -b2, -b3) for a point and a triangle, (1 - a, a, -(1 - b), -b)
@@ -20,6 +22,7 @@
 #include <string.h>
 
 #include "contact.h"
+#include "terms.h"
 #include "contact_geom.h"
 #include "util.h"
 
@@ -28,7 +31,7 @@ typedef struct mf_pair {
   int v[4];       /* the pair's vertices (>= nv: a mesh obstacle's) */
   double c[4];    /* the closest points' coefficients at the step's start */
   double n[3];    /* the unit normal there */
-  double lambda;  /* the normal force there, N */
+  double mul;     /* mu times the normal force there, N */
 } mf_pair;
 
 struct sw_mfriction {
@@ -62,7 +65,8 @@ void sw_mfriction_begin(sw_mfriction *f, double h, const double *x) {
 }
 
 int sw_mfriction_lag_pair(sw_mfriction *f, int kind, const int *v, const double *p, double xi,
-                          double shat, double w) {
+                          double shat, double w, double mu) {
+  if (!(mu > 0.0)) return 0;
   sw_pair_form pf;
   double d2 = sw_pair_d2_form(kind == SW_MC_EE, p, &pf), s = d2 - xi * xi, db;
   if (!(s > 0.0) || s >= shat) return 0;
@@ -82,7 +86,7 @@ int sw_mfriction_lag_pair(sw_mfriction *f, int kind, const int *v, const double 
   memcpy(q->v, v, sizeof q->v);
   memcpy(q->c, pf.c, sizeof q->c);
   for (int a = 0; a < 3; a++) q->n[a] = r[a] / len;
-  q->lambda = w * fabs(db) * 2.0 * d; /* N: kappa_s w |b'(s)| |ds/dd| */
+  q->mul = mu * w * fabs(db) * 2.0 * d; /* N: mu kappa_s w |b'(s)| |ds/dd| */
   return 0;
 }
 
@@ -99,8 +103,8 @@ static double f0_of(double y, double eps, double *q, double *c) {
   return -y * y * y / (3.0 * eps * eps) + y * y / eps + eps / 3.0;
 }
 
-double sw_mfriction_pair(const sw_mfriction *f, double mu, double eps_v, int k, const double *x,
-                         double *g, double *H) {
+double sw_mfriction_pair(const sw_mfriction *f, double eps_v, int k, const double *x, double *g,
+                         double *H) {
   const mf_pair *q = &f->pair[k];
   double u[3] = {0.0, 0.0, 0.0}, un = 0.0, y = 0.0;
   for (int j = 0; j < 4; j++)
@@ -111,7 +115,7 @@ double sw_mfriction_pair(const sw_mfriction *f, double mu, double eps_v, int k, 
   for (int a = 0; a < 3; a++) un += u[a] * q->n[a];
   for (int a = 0; a < 3; a++) u[a] -= un * q->n[a], y += u[a] * u[a];
   y = sqrt(y);
-  double eps = eps_v * f->h, qy, cy, mul = mu * q->lambda; /* m, 1/m, 1/m, N */
+  double eps = eps_v * f->h, qy, cy, mul = q->mul; /* m, 1/m, 1/m, N */
   double e = mul * f0_of(y, eps, &qy, &cy);
   if (g)
     for (int j = 0; j < 4; j++)
@@ -128,4 +132,10 @@ double sw_mfriction_pair(const sw_mfriction *f, double mu, double eps_v, int k, 
         for (int b = 0; b < 3; b++)
           H[(3 * i + a) * 12 + 3 * j + b] = q->c[i] * q->c[j] * B[3 * a + b];
   return e;
+}
+
+int sw_contact_friction_on(const sw_model *m) {
+  const sw_contact *c = &m->contact;
+  return (c->friction > 0.0 && (m->nobstacle > 0 || m->nmesh_obstacle > 0)) ||
+         (c->self && c->self_friction > 0.0);
 }

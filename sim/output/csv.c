@@ -170,8 +170,7 @@ static int tension_write(void *self, sw_output *out, const sw_model *m, const sw
 
 /* Whether energy.csv logs dissipation: damping, or contact friction. */
 static int dissipates(const sw_model *m) {
-  return sw_damped(m) ||
-         ((m->nobstacle > 0 || sw_mesh_contact_on(m)) && m->contact.friction > 0.0);
+  return sw_damped(m) || sw_contact_friction_on(m);
 }
 
 static void energy_header(csv_log *o, const sw_model *m) {
