@@ -965,12 +965,17 @@ const double *sw_mcontact_vertex_force(const sw_mcontact *mc) { return mc ? mc->
 /* ------------------------------------------------------------------- friction */
 
 static int lag_pair(const sw_model *m, sw_mcontact *mc, int kind, const int *v, void *arg) {
-  double p[12], xi = pair_xi(m, mc->p, v);
+  double p[12], r[12], xi = pair_xi(m, mc->p, v), mo = 1.0;
   int self = 1;
   for (int j = 0; j < 4; j++) self &= v[j] < m->nv;
   gather(arg, v, p);
+  if (kind == SW_MC_EE) { /* the normal force of the pair's barrier, mollified as it is */
+    gather_rest(m, mc->p, v, r);
+    double eps = sw_ee_mollifier_eps(r, r + 3, r + 6, r + 9);
+    mo = sw_ee_mollifier(p, p + 3, p + 6, p + 9, eps, NULL, NULL);
+  }
   return sw_mfriction_lag_pair(mc->fr, kind, v, p, xi, shat_of(xi, m->contact.dhat),
-                               pair_weight(m, v),
+                               mo * pair_weight(m, v),
                                self ? m->contact.self_friction : m->contact.friction);
 }
 
