@@ -10,7 +10,7 @@
  *   interpolation: smooth | linear} (a rotation about the axis through center, then a
  *   translation, m, from the stated place);
  *   contact: {distance: m, stiffness: 1/s^2, friction: mu, stick_velocity: m/s, self: bool,
- *             thickness: m, self_stiffness: 1/(s^2 m^2)}. */
+ *             thickness: m, self_stiffness: 1/(s^2 m^2), self_friction: mu}. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
