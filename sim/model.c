@@ -484,12 +484,13 @@ void sw_model_print(const sw_model *m, void *file) {
     fprintf(fp, "contact     distance %g m, stiffness %g 1/s^2%s, friction %g\n", m->contact.dhat,
             m->contact.kappa, m->contact.kappa_auto ? " (automatic)" : "", m->contact.friction);
   if (m->contact.self)
-    fprintf(fp, "self        distance %g m, thickness %g m, stiffness %g 1/(s^2 m^2)%s\n",
-            m->contact.dhat, m->contact.thickness, m->contact.kappa_mesh,
-            m->contact.kappa_mesh_auto ? " (automatic)" : "");
+    fprintf(fp, "self        distance %g m, thickness %g m, stiffness %g 1/(s^2 m^2)%s, "
+            "friction %g\n", m->contact.dhat, m->contact.thickness, m->contact.kappa_mesh,
+            m->contact.kappa_mesh_auto ? " (automatic)" : "", m->contact.self_friction);
   else if (m->nmesh_obstacle) /* the mesh obstacles' pairs use the same kappa_mesh */
-    fprintf(fp, "mesh        distance %g m, stiffness %g 1/(s^2 m^2)%s\n", m->contact.dhat,
-            m->contact.kappa_mesh, m->contact.kappa_mesh_auto ? " (automatic)" : "");
+    fprintf(fp, "mesh        distance %g m, stiffness %g 1/(s^2 m^2)%s, friction %g\n",
+            m->contact.dhat, m->contact.kappa_mesh,
+            m->contact.kappa_mesh_auto ? " (automatic)" : "", m->contact.friction);
   if (m->dim == 3 && m->nf > 1) /* an exact test, independent of the solver */
     fprintf(fp, "crossings   %ld face pairs intersect at the start\n",
             sw_mesh_self_intersections(m->nv, m->x0, m->nf, m->face));
