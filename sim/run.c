@@ -41,7 +41,8 @@ static int run_to_end(const sw_model *m, int progress, int resume, char *err, si
   sw_sim *s = resume ? sw_sim_resume((sw_model *)m, flags, &start, err, errsz)
                      : sw_sim_start((sw_model *)m, flags, &start, err, errsz);
   if (!s) return start;
-  int rc = sw_sim_run(s, m->opt.duration, err, errsz);
+  /* the duration counts from the end of the fit stage (0 without one) */
+  int rc = sw_sim_run(s, sw_sim_data(s)->fit_end + m->opt.duration, err, errsz);
   char cerr[SW_ERRSZ];
   int crc = sw_sim_close(s, cerr, sizeof cerr);
   if (!rc && crc) sw_errf(err, errsz, "%s", cerr), rc = SW_FATAL;
