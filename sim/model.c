@@ -260,7 +260,7 @@ static int build_terms(sw_model *m, char *err, size_t errsz) {
   }
   if (sw_mesh_contact_on(m)) {
     if (m->contact.kappa_mesh <= 0.0) {
-      m->contact.kappa_mesh = sw_mesh_contact_auto_kappa(m); /* 1/(s^2 m^2) */
+      m->contact.kappa_mesh = sw_mesh_contact_auto_kappa(m) * sw_seam_contact_scale(m);
       m->contact.kappa_mesh_auto = 1;
     }
     if (add_term(m, sw_mesh_contact_build, err, errsz)) return -1;

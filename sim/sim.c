@@ -307,8 +307,6 @@ static int fit_step(sw_sim *s, double end, char *err, size_t errsz) {
   return rc;
 }
 
-#define SW_FIT_NEWTON_TOL 0.5 /* Newton's tolerance in the fit, relative to fit.speed */
-
 /* The fit stage (sinew.h, sw_fit; docs/garments.md): backward Euler steps of fit.dt with the
  * fit's mass damping added, from the arrangement until the seams are closed to fit.gap and the
  * RMS speed is below fit.speed (after the seams' ramp), logged as the run's first steps; the
@@ -330,8 +328,7 @@ static int fit_stage(sw_sim *s, char *err, size_t errsz) {
   m->gravity_delay = m->seam_ramp;
   m->gravity_ramp = fmax(g_ramp, m->seam_ramp);
   const double t_min = m->gravity_delay + m->gravity_ramp; /* s: gravity on in full */
-  /* Newton's error in the velocities stays below the speed the fit ends at */
-  m->opt.newton_tol = fmin(tol, SW_FIT_NEWTON_TOL * f->speed);
+  m->opt.newton_tol = fmin(tol, f->newton_tol);
   int rc = ops ? ops->init(&st, m, d, err, errsz) : SW_FATAL;
   s->ops = ops, s->st = st;
   long n = 0;

@@ -278,6 +278,7 @@ typedef struct sw_fit {
   double gap;                  /* m: largest seam gap at the end */
   double speed;                /* m/s: RMS speed at the end */
   double max_time;             /* s */
+  double newton_tol;           /* m/s: Newton's tolerance during the fit (at most the scene's) */
 } sw_fit;
 
 enum { SW_INTERP_LINEAR = 0, SW_INTERP_SMOOTH = 1 };

@@ -27,6 +27,7 @@
 #define FIT_GAP 5e-4        /* m */
 #define FIT_SPEED 1e-3      /* m/s */
 #define FIT_MAX_TIME 10.0   /* s */
+#define FIT_NEWTON_TOL 1e-2 /* m/s */
 
 /* A panel's boundary: per vertex its (at most two) boundary neighbours and the face of each
  * boundary edge. */
@@ -270,22 +271,24 @@ static int load_sewing(const ctx *c, const ynode *y) {
   return 0;
 }
 
-static const char *const fit_keys[] = {"enabled", "dt", "damping", "gap", "speed", "max_time"};
+static const char *const fit_keys[] = {"enabled", "dt", "damping", "gap", "speed", "max_time",
+                                       "newton_tol"};
 static const char *const on_off[] = {"false", "true"};
 
 static int load_fit(const ctx *c, const ynode *y) {
   sw_fit *f = &c->m->fit;
-  const ynode *v[6];
+  const ynode *v[7];
   *f = (sw_fit){.on = c->m->nseam > 0, .dt = FIT_DT, .damping = FIT_DAMPING, .gap = FIT_GAP,
-                .speed = FIT_SPEED, .max_time = FIT_MAX_TIME};
+                .speed = FIT_SPEED, .max_time = FIT_MAX_TIME, .newton_tol = FIT_NEWTON_TOL};
   if (!y) return 0;
-  if (sy_map(c, y, "fit", fit_keys, 6, v)) return -1;
+  if (sy_map(c, y, "fit", fit_keys, 7, v)) return -1;
   if (v[0] && sy_choice(c, v[0], "fit enabled", on_off, 2, &f->on)) return -1;
   if (v[1] && sy_num(c, v[1], "fit dt", 0, 1, "s", &f->dt)) return -1;
   if (v[2] && sy_num(c, v[2], "fit damping", 0, 0, "1/s", &f->damping)) return -1;
   if (v[3] && sy_num(c, v[3], "fit gap", 0, 1, "m", &f->gap)) return -1;
   if (v[4] && sy_num(c, v[4], "fit speed", 0, 1, "m/s", &f->speed)) return -1;
   if (v[5] && sy_num(c, v[5], "fit max_time", 0, 1, "s", &f->max_time)) return -1;
+  if (v[6] && sy_num(c, v[6], "fit newton_tol", 0, 1, "m/s", &f->newton_tol)) return -1;
   if (c->m->dim != 3 && f->on)
     return sy_fail(c, y, "fit is on in a 2D scene; expected fit only with dimension: 3");
   return 0;
