@@ -20,7 +20,7 @@
 #include <string.h>
 
 /* The defaults of `sewing` and `fit` (docs/garments.md, "Defaults", has the measurements). */
-#define SEAM_RAMP 0.3       /* s */
+#define SEAM_RAMP 1.0       /* s */
 #define SEAM_EASE_MAX 0.1
 #define FIT_DT 0.01         /* s */
 #define FIT_DAMPING 10.0    /* 1/s */
