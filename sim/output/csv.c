@@ -62,6 +62,14 @@ static void line_long(csv_log *o, size_t *len, long v) {
   *len += (size_t)snprintf(o->line + *len, o->linesz - *len, "%ld", v);
 }
 
+/* Start a line of a per-item log (appended at *len): the time, then the item's name. */
+static void line_time_name(csv_log *o, size_t *len, double t, const char *name) {
+  *len += (size_t)out_fmt_num(o->line + *len, o->linesz - *len, t); /* first field: no comma */
+  o->line[(*len)++] = ',';
+  o->line[*len] = '\0';
+  line_csv_name(o, len, name);
+}
+
 static void line_end(csv_log *o, size_t len) {
   o->line[len] = '\n';
   o->line[len + 1] = '\0';
@@ -247,10 +255,7 @@ static int tendons_write(void *self, sw_output *out, const sw_model *m, const sw
   csv_log *o = self;
   size_t len = 0;
   for (int k = 0; k < m->ntendon; k++) {
-    len += (size_t)out_fmt_num(o->line + len, o->linesz - len, d->t); /* first field: no comma */
-    o->line[len++] = ',';
-    o->line[len] = '\0';
-    line_csv_name(o, &len, m->tendon[k].name);
+    line_time_name(o, &len, d->t, m->tendon[k].name);
     line_num(o, &len, d->tendon_length[k]);
     line_num(o, &len, d->tendon_delta[k]);
     line_num(o, &len, d->tendon_tension[k]);
@@ -315,10 +320,7 @@ static int seams_write(void *self, sw_output *out, const sw_model *m, const sw_d
   csv_log *o = self;
   size_t len = 0;
   for (int k = 0; k < m->nseam; k++) {
-    len += (size_t)out_fmt_num(o->line + len, o->linesz - len, d->t); /* first field: no comma */
-    o->line[len++] = ',';
-    o->line[len] = '\0';
-    line_csv_name(o, &len, m->seam[k].name);
+    line_time_name(o, &len, d->t, m->seam[k].name);
     for (int q = 0; q < 4; q++) line_num(o, &len, d->seam_state[4 * k + q]);
     o->line[len++] = '\n';
   }
