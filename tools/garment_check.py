@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """garment_check.py — the fit check of a garment run (docs/garments.md, tools/bench_garment.sh):
 
-    /usr/bin/python3 tools/garment_check.py RUN_DIR --hip-z 0.884 [--band 0.02] [--gap 1e-3]
+    /usr/bin/python3 tools/garment_check.py RUN_DIR --hip-z 0.85 [--band 0.02] [--gap 1e-3]
 
 From the run folder's summary.json: the largest seam gap at the end (m) below --gap and no
 self- or obstacle intersection; from its last frame: the mean tension XY (N/m) of the faces
