@@ -501,6 +501,15 @@ void sw_model_print(const sw_model *m, void *file) {
   else if (m->nmesh_obstacle) /* the mesh obstacles' pairs use the same kappa_mesh */
     fprintf(fp, "mesh        distance %g m, stiffness %g 1/(s^2 m^2)%s\n", m->contact.dhat,
             m->contact.kappa_mesh, m->contact.kappa_mesh_auto ? " (automatic)" : "");
+  for (int k = 0; k < m->nseam; k++) {
+    const sw_seam *sm = &m->seam[k];
+    fprintf(fp, "seam %-7s %s %d vertices (%.4g m) to %s %d vertices (%.4g m), %d pairs\n",
+            sm->name, sm->group[0], sm->n[0], sm->length[0], sm->group[1], sm->n[1],
+            sm->length[1], sm->npair);
+  }
+  if (m->nseam)
+    fprintf(fp, "sewing      stiffness %g N/m^2, ramp %g s; fit %s\n", m->seam_stiffness,
+            m->seam_ramp, m->fit.on ? "on" : "off");
   if (m->dim == 3 && m->nf > 1) /* an exact test, independent of the solver */
     fprintf(fp, "crossings   %ld face pairs intersect at the start\n",
             sw_mesh_self_intersections_sewn(m->nv, m->x0, m->nf, m->face, m->sewn_ptr,
