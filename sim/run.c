@@ -32,9 +32,10 @@ void sw_set_threads(int blas_threads) {
   else if (!getenv("OPENBLAS_NUM_THREADS")) openblas_set_num_threads(1);
 }
 
-/* The scene to its duration through the stepping API, writing the run folder.  sw_run does not
- * change m: the sim changes its model only through the sw_sim_set_* calls, which it makes
- * none of. */
+/* The scene to its duration through the stepping API, writing the run folder.  sw_run leaves m
+ * as it was: the sim changes its model only through the sw_sim_set_* calls, which it makes
+ * none of, and for the fit stage's length (its damping, Newton tolerance and gravity ramp,
+ * restored when it ends, sim.c). */
 static int run_to_end(const sw_model *m, int progress, int resume, char *err, size_t errsz) {
   int flags = SW_SIM_OUTPUT | (progress ? SW_SIM_PROGRESS : 0);
   int start = SW_OK;
