@@ -123,6 +123,31 @@ static void tube_fit(void **st) {
   sw_model_free(m);
 }
 
+/* The arrangement places each piece from its pattern: on the cylinder every vertex at the
+ * radius, its height top + (v - v_top), its angle that of the reference point plus (u - u_mid)
+ * / R (so the wrap keeps the pattern's lengths along u); rigidly, R (u - u_mid, v - v_top, 0)
+ * + translate.  The tube's pieces are 0.3 x 0.2 m, u in [-0.15, 0.15], v in [-0.2, 0]. */
+static void arrangement(void **st) {
+  (void)st;
+  sw_model *m = th_scene("tests/data/tube.yaml", TUBE_HEAD
+                         "arrange:\n"
+                         "  front: {cylinder: {angle: 270, top: 0.1, radius: 0.11, center: [0.01, 0.02]}}\n"
+                         "  back: {rigid: {rotate: [90, 0, 90], translate: [0.5, 0, 1]}}\n");
+  assert_non_null(m);
+  for (int i = 0; i < 35; i++) { /* front: vertex (c, r) = 7 r + c at u = -0.15 + 0.05 c */
+    const double *x = m->x0 + 3 * i, u = -0.15 + 0.05 * (i % 7), v = -0.05 * (i / 7);
+    double th = atan2(x[1] - 0.02, x[0] - 0.01), want = 1.5 * 3.14159265358979 + u / 0.11;
+    assert_true(fabs(hypot(x[0] - 0.01, x[1] - 0.02) - 0.11) < 1e-12);
+    assert_true(fabs(x[2] - (0.1 + v)) < 1e-12);
+    assert_true(fabs(remainder(th - want, 2.0 * 3.14159265358979)) < 1e-12);
+  }
+  for (int i = 35; i < 70; i++) { /* back: x first (u, 0, v), then z by 90: (0, u, v) */
+    const double *x = m->x0 + 3 * i, u = -0.15 + 0.05 * ((i - 35) % 7), v = -0.05 * ((i - 35) / 7);
+    assert_true(fabs(x[0] - 0.5) < 1e-12 && fabs(x[1] - u) < 1e-12 && fabs(x[2] - (1 + v)) < 1e-12);
+  }
+  sw_model_free(m);
+}
+
 /* A bad scene's message: at the line and column given, naming `name`. */
 static void bad(const char *text, const char *where, const char *name) {
   char err[SW_ERRSZ];
@@ -184,6 +209,7 @@ int main(void) {
       cmocka_unit_test(conformance_ramp),
       cmocka_unit_test(conformance_closed),
       cmocka_unit_test(pairing),
+      cmocka_unit_test(arrangement),
       cmocka_unit_test(tube_fit),
       cmocka_unit_test(bad_input),
   };
