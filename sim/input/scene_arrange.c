@@ -284,18 +284,10 @@ int sc_load_arrange(const ctx *c, const ynode *y) {
   for (int p = 0; !rc && p < y->n / 2; p++) {
     const ynode *key = y->kid[2 * p], *val = y->kid[2 * p + 1];
     const char *name;
-    char w[SW_NAMESZ + 16], list[512];
+    char w[SW_NAMESZ + 16];
     if (sy_str(c, key, "arrange key", SW_NAMESZ, &name)) { rc = -1; break; }
     int g = 0;
-    while (g < c->ngroup && strcmp(c->group[g], name)) g++;
-    if (g == c->ngroup) {
-      const char *names[16];
-      int n = c->ngroup < 16 ? c->ngroup : 16;
-      for (int i = 0; i < n; i++) names[i] = c->group[i];
-      rc = sy_fail(c, key, "arrange names '%s', which is no group of the mesh; expected one of: "
-                   "%s", name, sy_join(names, n, list, sizeof list));
-      break;
-    }
+    if (sc_find_group(c, key, "arrange", "names", name, &g)) { rc = -1; break; }
     if (arranged[g]) { rc = sy_fail(c, key, "arrange names '%s' twice; expected each piece "
                                     "once", name); break; }
     snprintf(w, sizeof w, "arrange %s", name);

@@ -101,6 +101,18 @@ static int walk(const sw_model *m, const boundary *bd, int from, int to, int s, 
   return 0;
 }
 
+int sc_find_group(const ctx *c, const ynode *at, const char *w, const char *says,
+                  const char *name, int *g) {
+  char list[512];
+  for (*g = 0; c->fgroup && *g < c->ngroup; ++*g)
+    if (!strcmp(c->group[*g], name)) return 0;
+  const char *names[16];
+  int n = c->ngroup < 16 ? c->ngroup : 16;
+  for (int i = 0; i < n; i++) names[i] = c->group[i];
+  return sy_fail(c, at, "%s %s '%s', which is no group of the mesh; expected one of: %s", w,
+                 says, name, sy_join(names, n, list, sizeof list));
+}
+
 static const char *const side_keys[] = {"panel", "from", "to"};
 
 /* One side of a seam: its curve into sm->curve[k], sm->n[k], its rest edge lengths into *el. */
@@ -109,23 +121,16 @@ static int load_side(const ctx *c, const ynode *y, const char *w, sw_seam *sm, i
   sw_model *m = c->m;
   const ynode *v[3];
   const char *name;
-  char lab[SW_NAMESZ + 64], list[512];
+  char lab[SW_NAMESZ + 64];
   snprintf(lab, sizeof lab, "%s %s", w, k ? "b" : "a");
   if (sy_map(c, y, lab, side_keys, 3, v) ||
       sy_need(c, y, v[0], lab, "panel", "panel: an OBJ group name") ||
       sy_need(c, y, v[1], lab, "from", "from: a vertex index on the panel's boundary") ||
       sy_need(c, y, v[2], lab, "to", "to: a vertex index on the panel's boundary"))
     return -1;
-  if (sy_str(c, v[0], lab, SW_NAMESZ, &name)) return -1;
   int g = 0;
-  while (g < c->ngroup && strcmp(c->group[g], name)) g++;
-  if (g == c->ngroup || !c->fgroup) {
-    const char *names[16];
-    int n = c->ngroup < 16 ? c->ngroup : 16;
-    for (int i = 0; i < n; i++) names[i] = c->group[i];
-    return sy_fail(c, v[0], "%s panel is '%s', which is no group of the mesh; expected one of: "
-                   "%s", w, name, sy_join(names, n, list, sizeof list));
-  }
+  if (sy_str(c, v[0], lab, SW_NAMESZ, &name) || sc_find_group(c, v[0], w, "panel is", name, &g))
+    return -1;
   int ends[2];
   for (int e = 0; e < 2; e++) {
     char l2[SW_NAMESZ + 80];
