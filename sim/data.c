@@ -36,7 +36,8 @@ sw_data *sw_data_new(const sw_model *m) {
   d->tendon_length = sw_calloc(nt, sizeof(double));
   d->tendon_delta = sw_calloc(nt, sizeof(double));
   d->tendon_tension = sw_calloc(nt, sizeof(double));
-  if (!d->tendon_length || !d->tendon_delta || !d->tendon_tension)
+  d->seam_state = sw_calloc(4 * (size_t)m->nseam + 1, sizeof(double));
+  if (!d->tendon_length || !d->tendon_delta || !d->tendon_tension || !d->seam_state)
     return sw_data_free(d), NULL;
   if (!d->x || !d->v || !d->grad || !d->hess || !d->lowrank || !d->term_energy || !d->term_time || !d->txy ||
       !d->stretch_u || !d->stretch_v || !d->shear || !d->rlu || !d->rlv || !d->scratch)
@@ -81,6 +82,7 @@ void sw_data_free(sw_data *d) {
   sw_free(d->tendon_length);
   sw_free(d->tendon_delta);
   sw_free(d->tendon_tension);
+  sw_free(d->seam_state);
   sw_contact_lag_free(d->lag);
   sw_mcontact_free(d->mc);
   sw_free(d->contact_pressure);

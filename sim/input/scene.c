@@ -205,9 +205,11 @@ static const char *const top_keys[] = {"name",     "dimension", "mesh",     "mat
                                        "gravity",  "pins",      "initial_velocity",
                                        "integrator", "duration", "output",  "tension_xy",
                                        "panels",   "damping",   "tendons",  "loads",
-                                       "masses",   "perturb",   "obstacles", "contact"};
+                                       "masses",   "perturb",   "obstacles", "contact",
+                                       "seams",    "sewing",    "fit",      "arrange"};
 enum { K_NAME, K_DIM, K_MESH, K_MAT, K_GRAV, K_PINS, K_IV, K_INT, K_DUR, K_OUT, K_TXY, K_PANELS,
-       K_DAMP, K_TENDONS, K_LOADS, K_MASSES, K_PERTURB, K_OBST, K_CONTACT, K_N };
+       K_DAMP, K_TENDONS, K_LOADS, K_MASSES, K_PERTURB, K_OBST, K_CONTACT, K_SEAMS, K_SEWING,
+       K_FIT, K_ARRANGE, K_N };
 
 static int load_name_dim(const ctx *c, const ynode **v) {
   sw_model *m = c->m;
@@ -243,6 +245,9 @@ static int load_geometry(ctx *c, const ynode **v) {
   if (!rc) rc = fill_geometry(c, &mi, uv_scale);
   memcpy(c->grid, mi.grid, sizeof c->grid);
   if (!rc && v[K_PANELS]) rc = sc_load_panels(c, v[K_PANELS], &mi.mesh, mi.obj, uv_scale);
+  c->ngroup = mi.mesh.ngroup; /* kept for the seams and the arrangement */
+  c->group = mi.mesh.group, mi.mesh.group = NULL;
+  c->fgroup = mi.mesh.fgroup, mi.mesh.fgroup = NULL;
   sw_mesh_free(&mi.mesh);
   if (!rc && !(c->sel = sw_calloc((size_t)c->m->nv, 1))) rc = sy_oom(c, c->root);
   return rc;
@@ -540,6 +545,9 @@ static int load_scene(ctx *c) {
   const ynode *v[K_N];
   if (sy_map(c, c->root, "the scene", top_keys, K_N, v)) return -1;
   if (load_name_dim(c, v) || load_geometry(c, v) || load_gravity(c, v[K_GRAV])) return -1;
+  /* the arrangement places pieces around the obstacles, before pins select by position */
+  if (v[K_OBST] && sc_load_obstacles(c, v[K_OBST])) return -1;
+  if (v[K_ARRANGE] && sc_load_arrange(c, v[K_ARRANGE])) return -1;
   if (v[K_PINS] && load_pins(c, v[K_PINS])) return -1;
   if (v[K_IV] && load_velocities(c, v[K_IV])) return -1;
   if (v[K_DAMP] && sc_load_damping(c, v[K_DAMP])) return -1;
@@ -547,8 +555,8 @@ static int load_scene(ctx *c) {
   if (v[K_LOADS] && load_loads(c, v[K_LOADS])) return -1;
   if (v[K_MASSES] && load_masses(c, v[K_MASSES])) return -1;
   if (v[K_PERTURB] && load_perturb(c, v[K_PERTURB])) return -1;
-  if (v[K_OBST] && sc_load_obstacles(c, v[K_OBST])) return -1;
   if (sc_load_contact(c, v[K_CONTACT], v[K_OBST] != NULL)) return -1;
+  if (sc_load_seams(c, v[K_SEAMS], v[K_SEWING], v[K_FIT])) return -1;
   return load_options(c, v);
 }
 
@@ -610,6 +618,8 @@ sw_model *sw_scene_parse_ex(const char *name, const char *buf, size_t len,
     if (p) p[0] = root->kid[k + 1]->line, p[1] = root->kid[k + 1]->col;
   }
   sw_free(c.sel);
+  sw_free(c.group);
+  sw_free(c.fgroup);
   sy_free(root);
   if (!rc && ov && ov->stiffness_scale > 0.0) sc_scale_stiffness(c.m, ov->stiffness_scale);
   if (rc) {

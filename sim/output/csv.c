@@ -5,6 +5,8 @@
  *   tendons.csv  a scene with tendons only: per tendon time, name, length, delta, tension
  *   contact.csv  a scene with obstacles or self-contact only: time, contacts, smallest
  *                distance, total contact and friction force; self-contact pairs, gap, force
+ *   seams.csv    a scene with seams only: per seam time, name, largest and mean gap, force,
+ *                length ratio of its curves
  * Each is a log (file.c): NAME.part until the run closes, a line in one write(2).  Numbers are
  * the shortest that read back exactly; "nan", "inf", "-inf" as such. */
 #include <math.h>
@@ -58,6 +60,14 @@ static void line_long(csv_log *o, size_t *len, long v) {
   if (*len + NUMSZ >= o->linesz) return;
   if (*len) o->line[(*len)++] = ',';
   *len += (size_t)snprintf(o->line + *len, o->linesz - *len, "%ld", v);
+}
+
+/* Start a line of a per-item log (appended at *len): the time, then the item's name. */
+static void line_time_name(csv_log *o, size_t *len, double t, const char *name) {
+  *len += (size_t)out_fmt_num(o->line + *len, o->linesz - *len, t); /* first field: no comma */
+  o->line[(*len)++] = ',';
+  o->line[*len] = '\0';
+  line_csv_name(o, len, name);
 }
 
 static void line_end(csv_log *o, size_t len) {
@@ -170,7 +180,7 @@ static int tension_write(void *self, sw_output *out, const sw_model *m, const sw
 
 /* Whether energy.csv logs dissipation: damping, or contact friction. */
 static int dissipates(const sw_model *m) {
-  return sw_damped(m) || (m->nobstacle > 0 && m->contact.friction > 0.0);
+  return sw_damped(m) || m->fit.on || (m->nobstacle > 0 && m->contact.friction > 0.0);
 }
 
 static void energy_header(csv_log *o, const sw_model *m) {
@@ -245,10 +255,7 @@ static int tendons_write(void *self, sw_output *out, const sw_model *m, const sw
   csv_log *o = self;
   size_t len = 0;
   for (int k = 0; k < m->ntendon; k++) {
-    len += (size_t)out_fmt_num(o->line + len, o->linesz - len, d->t); /* first field: no comma */
-    o->line[len++] = ',';
-    o->line[len] = '\0';
-    line_csv_name(o, &len, m->tendon[k].name);
+    line_time_name(o, &len, d->t, m->tendon[k].name);
     line_num(o, &len, d->tendon_length[k]);
     line_num(o, &len, d->tendon_delta[k]);
     line_num(o, &len, d->tendon_tension[k]);
@@ -295,6 +302,32 @@ static int contact_write(void *self, sw_output *out, const sw_model *m, const sw
   return put_line(o, out, err, errsz);
 }
 
+/* ------------------------------------------------------------- seams.csv */
+
+static int seams_wanted(const sw_model *m) { return m->nseam > 0; }
+
+static int seams_open(void *self, sw_output *out, const sw_model *m, char *err, size_t errsz) {
+  (void)m;
+  static const char head[] = "time,seam,gap_max,gap_mean,force,length_ratio\n";
+  csv_log *o = self;
+  return out_log_open(&o->log, "seams.csv", out, head, strlen(head), err, errsz);
+}
+
+/* One line per seam (time s, name, largest and mean gap m, force N, curve length ratio b/a),
+ * written in one piece. */
+static int seams_write(void *self, sw_output *out, const sw_model *m, const sw_data *d,
+                       char *err, size_t errsz) {
+  csv_log *o = self;
+  size_t len = 0;
+  for (int k = 0; k < m->nseam; k++) {
+    line_time_name(o, &len, d->t, m->seam[k].name);
+    for (int q = 0; q < 4; q++) line_num(o, &len, d->seam_state[4 * k + q]);
+    o->line[len++] = '\n';
+  }
+  o->line[len] = '\0';
+  return put_line(o, out, err, errsz);
+}
+
 /* ---------------------------------------------------- operations of all four */
 
 static int csv_init(void *self, const sw_model *m) {
@@ -303,6 +336,8 @@ static int csv_init(void *self, const sw_model *m) {
   o->linesz = ((size_t)m->nterm + 18) * (NUMSZ + SW_NAMESZ);
   size_t tendon_lines = (size_t)m->ntendon * (4 * NUMSZ + SW_NAMESZ + 4) + 64;
   if (tendon_lines > o->linesz) o->linesz = tendon_lines;
+  size_t seam_lines = (size_t)m->nseam * (5 * NUMSZ + SW_NAMESZ + 4) + 64;
+  if (seam_lines > o->linesz) o->linesz = seam_lines;
   o->line = sw_calloc(o->linesz, 1);
   o->log.fd = -1;
   return o->line ? 0 : -1;
@@ -333,3 +368,4 @@ const sw_out_ops sw_out_tension = {CSV_OPS(tension)};
 const sw_out_ops sw_out_energy = {CSV_OPS(energy)};
 const sw_out_ops sw_out_tendons = {CSV_OPS(tendons), .wanted = tendons_wanted};
 const sw_out_ops sw_out_contact = {CSV_OPS(contact), .wanted = contact_wanted};
+const sw_out_ops sw_out_seams = {CSV_OPS(seams), .wanted = seams_wanted};
