@@ -15,8 +15,16 @@
  * compressed spring) the filtered Hessian (SW_FILTER_*) drops that part (clamp) or takes
  * |E'| d2 Delta (absolute eigenvalues).
  *
- * A zero-length segment (coincident waypoints: |s_k| <= 1e-12 of the coordinates' size) has
- * no direction: it counts its length (~0) in l and contributes s^_k = 0 and zeta_k = 0, i.e.
+ * A segment's length is smoothed at zero: |s_k| is taken as sqrt(|s_k|^2 + eps^2), eps =
+ * SW_TENDON_SMOOTH x the tendon's initial rest length per segment, so s^_k = s_k / |s_k|_eps
+ * and zeta_k = (I - s^_k s^_k^T) / |s_k|_eps hold unchanged (|s^_k| < 1).  |s| itself is a
+ * cone at s = 0: a taut cable gathering cloth pulls two waypoints together until they meet,
+ * its energy's minimiser then sits on the cone's tip, and Newton's iterates jump across it
+ * without converging (their updates do not shrink, the line search cuts every step to
+ * nothing).  The smoothing lengthens a segment of length L by about eps^2 / (2L) (3.5e-8 m on
+ * a 7 cm segment) and gives the tip a curvature E'/eps that Newton resolves.  With eps = 0 (a
+ * tendon of zero rest length) a zero-length segment (|s_k| <= 1e-12 of the coordinates' size)
+ * has no direction: it counts its length (~0) in l and contributes s^_k = 0 and zeta_k = 0,
  * the subgradient 0 of |s| at s = 0 and no stiffness, so nothing is NaN or Inf.
  *
  * Storage (sparse factor, docs/tendons.md): a tendon of at most opt.tendon_dense_max waypoints
@@ -31,6 +39,8 @@
 #include "util.h"
 
 #define SEG_EPS 1e-12 /* a segment shorter than this times its ends' size is degenerate */
+/* eps / (rest length per segment) of the smoothed segment length (the header) */
+#define SW_TENDON_SMOOTH 1e-3
 
 typedef struct tendon_param {
   int *first;   /* (ntendon) first stencil of each tendon */
@@ -45,16 +55,24 @@ double sw_tendon_rest_rate(const sw_tendon *td, double t) {
   return sw_keyframe_rate(td->key_t, td->key_rest, td->nkey, td->interp, t); /* m/s */
 }
 
-/* s_k = x_{w_k} - x_{w_{k+1}}: its length |s_k| (m) and, into sh, s^_k (0 if degenerate). */
+/* The smoothing width eps of a tendon's segment lengths, m (the header). */
+static double smooth_width(const sw_tendon *td) {
+  double rest = td->nkey > 0 ? fabs(td->key_rest[0]) : 0.0; /* m */
+  return td->nway > 1 ? SW_TENDON_SMOOTH * rest / (td->nway - 1) : 0.0;
+}
+
+/* s_k = x_{w_k} - x_{w_{k+1}}: its smoothed length |s_k|_eps (m) and, into sh,
+ * s_k / |s_k|_eps (0 if degenerate without smoothing). */
 static double segment(const sw_tendon *td, const double *x, int d, int k, double *sh) {
   const double *a = x + (size_t)td->way[k] * d, *b = x + (size_t)td->way[k + 1] * d;
+  const double eps = smooth_width(td);
   double l = 0.0, size = 0.0;
   for (int c = 0; c < d; c++) {
     sh[c] = a[c] - b[c];
     l += sh[c] * sh[c];
     size = fmax(size, fmax(fabs(a[c]), fabs(b[c])));
   }
-  l = sqrt(l);
+  l = sqrt(l + eps * eps);
   int degenerate = !(l > SEG_EPS * size); /* also l = 0 and NaN */
   for (int c = 0; c < d; c++) sh[c] = degenerate ? 0.0 : sh[c] / l;
   return l;
@@ -93,12 +111,8 @@ static double law(const sw_tendon *td, double delta, double *e1, double *e2) {
   return 0.5 * K * delta * delta;
 }
 
-/* c zeta_k = c (I - s^ s^T) / |s_k| into the (d x d) block at B (leading dimension ld);
- * nothing for a degenerate segment (s^ = 0). */
+/* c zeta_k = c (I - s^ s^T) / |s_k|_eps into the (d x d) block at B (leading dimension ld). */
 static void add_zeta(double *B, int ld, int d, const double *sh, double len, double c) {
-  double n2 = 0.0;
-  for (int a = 0; a < d; a++) n2 += sh[a] * sh[a];
-  if (n2 == 0.0) return;
   for (int a = 0; a < d; a++)
     for (int b = 0; b < d; b++) B[a * ld + b] += c * ((a == b) - sh[a] * sh[b]) / len;
 }
@@ -108,6 +122,8 @@ static void add_zeta(double *B, int ld, int d, const double *sh, double len, dou
 static void add_segment_band(const sw_tendon *td, const double *x, int d, int k, double c,
                              double *blk, int ld, int i0, int i1) {
   double sh[3], len = segment(td, x, d, k, sh);
+  if (smooth_width(td) == 0.0 && sh[0] == 0.0 && sh[1] == 0.0 && (d < 3 || sh[2] == 0.0))
+    return; /* degenerate without smoothing: no stiffness */
   add_zeta(blk + (i0 * d) * ld + i0 * d, ld, d, sh, len, c);
   add_zeta(blk + (i1 * d) * ld + i1 * d, ld, d, sh, len, c);
   add_zeta(blk + (i0 * d) * ld + i1 * d, ld, d, sh, len, -c);
