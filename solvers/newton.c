@@ -128,8 +128,9 @@ void sw_newton_history(sw_newton *nw, sw_io *io) {
     return;
   }
   sw_io_bytes(io, sw_chol_values(&nw->chol), (size_t)nw->pat.nnz * sizeof(double));
-  sw_io_bytes(io, sw_chol_lowrank(&nw->chol, 1.0),
-              (size_t)nw->pat.lrptr[nw->pat.nlr] * sizeof(double));
+  if (nw->pat.nlr)
+    sw_io_bytes(io, sw_chol_lowrank(&nw->chol, 1.0),
+                (size_t)nw->pat.lrptr[nw->pat.nlr] * sizeof(double));
   if (io->load) {
     char err[SW_ERRSZ];
     nw->fac_valid = sw_chol_factor(&nw->chol, err, sizeof err) == SW_OK;
@@ -417,8 +418,9 @@ static int assemble(sw_newton *nw, const sw_model *m, sw_data *d, double a) {
 static int factor(sw_newton *nw, sw_data *d) {
   double t0 = sw_now();
   memcpy(sw_chol_values(&nw->chol), nw->sval, (size_t)nw->pat.nnz * sizeof(double));
-  memcpy(sw_chol_lowrank(&nw->chol, 1.0), nw->lrcur,
-         (size_t)nw->pat.lrptr[nw->pat.nlr] * sizeof(double));
+  if (nw->pat.nlr) /* the low-rank vectors (CHOLMOD's copy is NULL without them) */
+    memcpy(sw_chol_lowrank(&nw->chol, 1.0), nw->lrcur,
+           (size_t)nw->pat.lrptr[nw->pat.nlr] * sizeof(double));
   int rc = sw_chol_factor(&nw->chol, d->err, sizeof d->err);
   d->time_factor += sw_now() - t0;
   d->nfactor++;
