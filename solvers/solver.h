@@ -118,7 +118,8 @@ int sw_hessian_filter(int hessian);
  * xd = x_n) and D is frozen for the step (sw_newton_damping), so Phi stays a potential whose
  * gradient is the residual a M (x - xhat) + grad U + D v and whose Hessian is a M + H + cd D.
  * The solver (docs/integrators.md, "Newton"): S from the Hessian the mode asks for, filtered
- * per element; a factorisation kept across iterations and steps while Newton contracts well;
+ * per element; each direction by a fresh factorisation of S, or (reuse) by conjugate
+ * gradients on S preconditioned with a factorisation kept across iterations and steps;
  * a line search on Phi; converged when max |dx| <= tol_dx, or when the decrease Newton
  * predicts is below the round-off of Phi. */
 typedef struct sw_newton {
