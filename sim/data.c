@@ -52,6 +52,7 @@ sw_data *sw_data_new(const sw_model *m) {
       for (int c = 0; c < 3; c++) d->vertex_area[m->face[3 * f + c]] += m->area[f] / 3.0;
   }
   d->contact_min = d->self_min = INFINITY;
+  d->factor_super = -1;
   memcpy(d->x, m->x0, nd * sizeof(double));
   memcpy(d->v, m->v0, nd * sizeof(double));
   for (int i = 0; i < m->nv; i++)

@@ -14,6 +14,11 @@ const char *const *sw_hessian_names(void) {
   return names;
 }
 
+const char *const *sw_factor_names(void) {
+  static const char *const names[SW_FACTOR_N + 1] = {"auto", "simplicial", "supernodal", NULL};
+  return names;
+}
+
 const char *const *sw_norm_names(void) {
   static const char *const names[SW_NORM_N + 1] = {"rms", "max", NULL};
   return names;
@@ -39,7 +44,7 @@ sw_model *sw_model_new(void) {
   o->newton_force_tol = 1e-10;
   o->max_halvings = 8;
   o->hessian = SW_HESSIAN_DEFAULT; /* abs in 3D, projected in 2D (sw_model_finish) */
-  o->newton_reuse = 0;
+  o->newton_reuse = SW_REUSE_OFF;
   o->rtol = 1e-6;
   o->atol = 1e-8;
   o->max_order = 0; /* automatic: sw_max_order */

@@ -334,6 +334,16 @@ SW_API const char *const *sw_hessian_names(void);
 enum { SW_NORM_RMS = 0, SW_NORM_MAX = 1, SW_NORM_N = 2 };
 #define SW_NEWTON_RMS_CAP 10.0
 SW_API const char *const *sw_norm_names(void);
+/* The sparse Cholesky factorisation (docs/performance.md, "Simplicial or supernodal"): auto
+ * picks from the matrix, by the flops its factorisation takes per nonzero of its factor
+ * (simplicial below SW_FACTOR_SWITCH, supernodal with coarse supernodes above); or forced. */
+enum { SW_FACTOR_AUTO = 0, SW_FACTOR_SIMPLICIAL = 1, SW_FACTOR_SUPERNODAL = 2, SW_FACTOR_N = 3 };
+SW_API const char *const *sw_factor_names(void);
+/* Newton's linear solves (docs/integrators.md, "Newton-Krylov"): off, a factorisation per
+ * iteration; on, conjugate gradients preconditioned by the last factorisation; auto, on when
+ * the factorisation is simplicial (small systems, where a solve costs little against a
+ * factorisation), off when supernodal.  Scene names false/true/auto, CLI off/on/auto. */
+enum { SW_REUSE_OFF = 0, SW_REUSE_ON = 1, SW_REUSE_AUTO = 2 };
 
 /* The encoding of the frames (sim/output/vtu.c, docs/scenes.md "Frames"): VTK XML with its
  * arrays appended raw and zlib-compressed (as ParaView writes), every real exact (Float64) or
@@ -356,7 +366,10 @@ typedef struct sw_options {
                                   at its round-off floor, docs/integrators.md) */
   int max_halvings;            /* a failed step is retried with dt/2 at most this many times */
   int hessian;                 /* SW_HESSIAN_*: which Hessian Newton's systems use */
-  int newton_reuse;            /* 1: keep a factorisation while Newton contracts well */
+  int newton_reuse;            /* SW_REUSE_*: Newton-Krylov, each direction by conjugate
+                                  gradients preconditioned with the last factorisation, or a
+                                  fresh factorisation per iteration */
+  int factorization;           /* SW_FACTOR_* */
   int blas_threads;            /* OpenBLAS threads; 0: $OPENBLAS_NUM_THREADS if set, else 1 */
   double rtol, atol;           /* adaptive methods (CVODE, IDA): relative, absolute (m, m/s) */
   int max_order;               /* adaptive methods: largest BDF order (1..5); 0: automatic,
@@ -552,6 +565,7 @@ struct sw_data {
   double fit_wall;             /* s of wall time in the fit stage */
   /* counters (cumulative over the run) */
   long nstep, nnewton, nfactor, nassemble, nforce, nretry, nlinesearch;
+  long ncg;                    /* conjugate-gradient iterations of Newton-Krylov (reuse) */
   long nerrfail;               /* error-test failures of adaptive methods */
   long nsetup;                 /* linear-solver setups of SUNDIALS methods */
   long nstep_order[5];         /* adaptive methods: steps taken at BDF order 1..5 */
@@ -570,6 +584,7 @@ struct sw_data {
   long factor_nnz;             /* nonzeros of the Cholesky factor L of the last factorisation
                                   (CHOLMOD's count for its ordering; 0: no factor yet, or a
                                   method without one) */
+  int factor_super;            /* 1: the factor is supernodal, 0: simplicial (-1: none yet) */
   char err[SW_ERRSZ];          /* why the last failing call failed */
 };
 
@@ -690,7 +705,7 @@ SW_API int sw_term_find(const sw_model *m, const char *name);
 SW_API double *sw_sim_array(sw_sim *s, const char *name, int *rows, int *cols);
 SW_API int *sw_sim_iarray(sw_sim *s, const char *name, int *rows, int *cols);
 /* A counter of sw_data by its field name ("nstep", "nnewton", "nfactor", "nassemble",
- * "nforce", "nretry", "nlinesearch", "nerrfail", "nsetup"), or -1. */
+ * "nforce", "nretry", "nlinesearch", "nerrfail", "nsetup", "ncg"), or -1. */
 SW_API long sw_sim_counter(const sw_sim *s, const char *name);
 /* Sizes and names: "nv", "dim", "nf", "ntendon", "nterm", "ndof"; names of tendon or term k. */
 SW_API int sw_sim_size(const sw_sim *s, const char *name);

@@ -430,9 +430,9 @@ static int load_gravity(const ctx *c, const ynode *y) {
 
 static const char *const int_keys[] = {"method", "dt", "max_halvings", "newton", "hessian",
                                        "rtol", "atol", "max_order", "max_step", "energy_bound",
-                                       "tendon_dense_max", "setup_every"};
+                                       "tendon_dense_max", "setup_every", "factorization"};
 static const char *const newton_keys[] = {"max_iterations", "tol", "reuse", "force_tol", "norm"};
-static const char *const on_off[] = {"false", "true"};
+static const char *const reuse_names[] = {"false", "true", "auto"};
 
 static int load_method(const ctx *c, const ynode *y) {
   const char *const *names = sw_method_names();
@@ -456,8 +456,10 @@ static int load_max_order(const ctx *c, const ynode *y, int *out) {
 
 static int load_integrator(const ctx *c, const ynode *y) {
   sw_options *o = &c->m->opt;
-  const ynode *v[12], *nv[5];
-  if (sy_map(c, y, "integrator", int_keys, 12, v)) return -1;
+  const ynode *v[13], *nv[5];
+  if (sy_map(c, y, "integrator", int_keys, 13, v)) return -1;
+  if (v[12] && sy_choice(c, v[12], "integrator factorization", sw_factor_names(), SW_FACTOR_N,
+                         &o->factorization)) return -1;
   if (v[11] && sy_int(c, v[11], "integrator setup_every", 1, INT_MAX, &o->setup_every))
     return -1;
   if (v[10] && sy_int(c, v[10], "integrator tendon_dense_max", 0, INT_MAX, &o->tendon_dense_max))
@@ -477,7 +479,8 @@ static int load_integrator(const ctx *c, const ynode *y) {
   if (sy_map(c, v[3], "integrator newton", newton_keys, 5, nv)) return -1;
   if (nv[4] && sy_choice(c, nv[4], "integrator newton norm", sw_norm_names(), SW_NORM_N,
                          &o->newton_norm)) return -1;
-  if (nv[2] && sy_choice(c, nv[2], "integrator newton reuse", on_off, 2, &o->newton_reuse))
+  if (nv[2] && sy_choice(c, nv[2], "integrator newton reuse", reuse_names, 3,
+                         &o->newton_reuse))
     return -1;
   if (nv[0] &&
       sy_int(c, nv[0], "integrator newton max_iterations", 1, INT_MAX, &o->newton_max))

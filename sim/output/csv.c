@@ -23,7 +23,7 @@ typedef struct csv_log {
   out_log log;           /* first: the log operations of file.c take the state as an out_log */
   char *line;            /* (linesz) one line (or header), formatted before writing */
   size_t linesz;
-  long prev[6];          /* energy.csv: cumulative counters at the previous line */
+  long prev[7];          /* energy.csv: cumulative counters at the previous line */
   double prev_time_step; /* energy.csv: cumulative step wall time at the previous line, s */
 } csv_log;
 
@@ -191,7 +191,8 @@ static void energy_header(csv_log *o, const sw_model *m) {
     line_csv_name(o, &len, m->term[i].name);
   }
   line_str(o, &len, ",potential,total,dt,steps,newton_iterations,factorizations,"
-                    "force_evaluations,error_test_failures,linesearch_backtracks,step_wall_s");
+                    "force_evaluations,error_test_failures,linesearch_backtracks,cg_iterations,"
+                    "step_wall_s");
   if (dissipates(m)) line_str(o, &len, ",damping_power,dissipated");
   if (sw_actuated(m)) line_str(o, &len, ",actuation_power,work_in");
   line_end(o, len);
@@ -219,8 +220,9 @@ static int energy_write(void *self, sw_output *out, const sw_model *m, const sw_
   line_num(o, &len, kin + pot);
   line_num(o, &len, d->last_dt);
   /* what this line's interval cost: differences of the cumulative counters */
-  const long now[6] = {d->nstep, d->nnewton, d->nfactor, d->nforce, d->nerrfail, d->nlinesearch};
-  for (int k = 0; k < 6; k++) line_long(o, &len, now[k] - o->prev[k]);
+  const long now[7] = {d->nstep,   d->nnewton,     d->nfactor, d->nforce,
+                       d->nerrfail, d->nlinesearch, d->ncg};
+  for (int k = 0; k < 7; k++) line_long(o, &len, now[k] - o->prev[k]);
   line_num(o, &len, d->time_step - o->prev_time_step);
   if (dissipates(m)) {
     line_num(o, &len, d->damp_power); /* W */
@@ -232,7 +234,7 @@ static int energy_write(void *self, sw_output *out, const sw_model *m, const sw_
   }
   line_end(o, len);
   if (put_line(o, out, err, errsz)) return -1;
-  for (int k = 0; k < 6; k++) o->prev[k] = now[k];
+  for (int k = 0; k < 7; k++) o->prev[k] = now[k];
   o->prev_time_step = d->time_step;
   return 0;
 }

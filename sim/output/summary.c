@@ -101,6 +101,7 @@ static void summary_counters(out_file *w, const sw_model *m, const sw_data *d, d
   w_json_long(w, "force_evaluations", d->nforce);
   w_json_long(w, "retries", d->nretry);
   w_json_long(w, "linesearch_backtracks", d->nlinesearch);
+  w_json_long(w, "cg_iterations", d->ncg);
   w_json_long(w, "error_test_failures", d->nerrfail);
   w_json_long(w, "linear_setups", d->nsetup);
   if (sw_method_adaptive(m->opt.method) == 1) { /* steps at BDF order 1..5 */
@@ -128,6 +129,10 @@ static void summary_counters(out_file *w, const sw_model *m, const sw_data *d, d
   }
   w_json_num(w, "time_step_s", d->time_step);
   w_json_long(w, "factor_nnz", d->factor_nnz);
+  if (d->factor_super >= 0) {
+    w_key(w, "factorization");
+    w_json_str(w, d->factor_super ? "supernodal" : "simplicial", 16);
+  }
   w_json_num(w, "wall_time_s", wall);
   w_json_num(w, "max_rss_mb", max_rss_mb());
 }
