@@ -131,7 +131,7 @@ static void summary_counters(out_file *w, const sw_model *m, const sw_data *d, d
   w_json_long(w, "factor_nnz", d->factor_nnz);
   if (d->factor_super >= 0) {
     w_key(w, "factorization");
-    w_json_str(w, d->factor_super ? "supernodal" : "simplicial", 16);
+    out_json_str(w, d->factor_super ? "supernodal" : "simplicial", 16);
   }
   w_json_num(w, "wall_time_s", wall);
   w_json_num(w, "max_rss_mb", max_rss_mb());
