@@ -76,6 +76,8 @@ struct sw_mcontact {
   double *umove;        /* (nvt) how far each vertex is from xref (at most), m */
   double slack;         /* m */
   sw_mfriction *fr;     /* the step's lagged friction (contact.friction > 0), or NULL */
+  int nsewn;            /* the seams' sewn vertices (sw_model.sewn_ptr): pairs skipped */
+  const int *sewn_ptr, *sewn_idx;
 };
 
 int sw_mesh_contact_on(const sw_model *m) { return m->contact.self || m->nmesh_obstacle > 0; }
@@ -159,6 +161,7 @@ sw_mcontact *sw_mcontact_new(const sw_model *m) {
   for (int i = 0; i < p->nvt; i++) mc->fixed[i] = (unsigned char)(i >= m->nv || m->pinned[i]);
   if (sw_contact_friction_on(m) && !(mc->fr = sw_mfriction_new(p->nvt)))
     return sw_mcontact_free(mc), NULL;
+  mc->nsewn = m->nv, mc->sewn_ptr = m->sewn_ptr, mc->sewn_idx = m->sewn_idx;
   return mc;
 }
 
@@ -234,7 +237,8 @@ static sw_bp_input bp_input(const sw_mcontact *mc, const double *x0, const doubl
                             double inflate) {
   const mc_param *p = mc->p;
   sw_bp_input in = {.nv = p->nvt, .x0 = x0, .x1 = x1, .ne = p->ne, .edge = p->edge,
-                    .nf = p->nf, .face = p->face, .fixed = mc->fixed, .inflate = inflate};
+                    .nf = p->nf, .face = p->face, .fixed = mc->fixed, .inflate = inflate,
+                    .nsewn = mc->nsewn, .sewn_ptr = mc->sewn_ptr, .sewn_idx = mc->sewn_idx};
   return in;
 }
 
@@ -872,7 +876,8 @@ long sw_mcontact_obstacle_intersections(const sw_model *m, sw_mcontact *mc, cons
 int sw_mcontact_check_start(const sw_model *m, const double *x, int obstacles, char *err,
                             size_t errsz) {
   if (obstacles ? m->nmesh_obstacle == 0 : !m->contact.self) return 0;
-  long cross = obstacles ? 0 : sw_mesh_self_intersections(m->nv, x, m->nf, m->face);
+  long cross = obstacles ? 0 : sw_mesh_self_intersections_sewn(m->nv, x, m->nf, m->face,
+                                                               m->sewn_ptr, m->sewn_idx);
   if (cross != 0) {
     sw_errf(err, errsz, cross < 0 ? "out of memory checking the mesh for self-intersections"
                                   : "the mesh intersects itself (%ld pairs of triangles)", cross);
