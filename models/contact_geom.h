@@ -104,6 +104,30 @@ double sw_barrier(double d2, double dhat2, double *db, double *d2b);
 double sw_barrier_of(int n, double d2, const double *g2, const double *H2, double dhat2,
                      double *g, double *H);
 
+/* ------------------------------------------------- barrier blocks (barrier_block.c) */
+
+/* A pair's squared distance as distance.c's form r = sum_i c_i x_i (closest points), with what
+ * its Hessian and a closed-form positive semi-definite barrier block need: Hess d2 =
+ * 2 c c^T (x) I - 2 sum_m v_m v_m^T (models/barrier_block.c).  Over the pair's 4 vertices,
+ * vertex-major (a vertex the closest features leave out has zeros). */
+typedef struct sw_pair_form {
+  double d2;        /* m^2 */
+  double g[12];     /* grad d2, m */
+  double c[4];      /* the closest points' coefficients (1) */
+  int k;            /* parameters of the closest features (0, 1, 2) */
+  double v[2][12];  /* the sliding directions' factors (dimensionless) */
+} sw_pair_form;
+/* The form of a point-triangle (edge_edge 0: p, t0, t1, t2) or edge-edge (1: a0, a1, b0, b1)
+ * pair at x (12 values); returns d2 (as sw_d2_point_triangle / sw_d2_edge_edge). */
+double sw_pair_d2_form(int edge_edge, const double *x, sw_pair_form *pf);
+/* The exact Hessian of d2 from its form (144), for tests. */
+void sw_pair_hess_d2(const sw_pair_form *pf, double *H);
+/* The exact Hessian of the barrier w b(d2 - xi^2) (db = b', d2b = b'' at d2 - xi^2) with its
+ * negative eigenvalues clamped at 0 (the nearest positive semi-definite matrix), into H (144),
+ * found on the span of its columns (at most 5: models/barrier_block.c).  0, or -1 when not
+ * finite. */
+int sw_pair_barrier_block(const sw_pair_form *pf, double db, double d2b, double w, double *H);
+
 /* ------------------------------------------------------------------------- CCD (ccd.c) */
 
 /* C-IPC's scaling s (Li, Kaufman, Jiang 2021, Algorithm 1): CCD stops before the gap

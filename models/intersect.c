@@ -115,6 +115,11 @@ static int cross_term(const double *u, const double *v, const double *w, const d
 /* Sign of det[b - a; c - a] of the points projected along axis k (coordinates k+1, k+2). */
 static int orient2(const double *a, const double *b, const double *c, int k) {
   int i = (k + 1) % 3, j = (k + 2) % 3;
+  /* a zero column or row (x - y == 0 exactly iff x == y): zero exactly, with no expansion
+   * (a flat cloth's faces in an axis plane, its edges along the axes) */
+  if ((a[i] == c[i] && b[i] == c[i]) || (a[j] == c[j] && b[j] == c[j]) ||
+      (a[i] == c[i] && a[j] == c[j]) || (b[i] == c[i] && b[j] == c[j]))
+    return 0;
   double l = (a[i] - c[i]) * (b[j] - c[j]), r = (a[j] - c[j]) * (b[i] - c[i]), det = l - r;
   double bound = (3.0 + 16.0 * EPS) * EPS * (fabs(l) + fabs(r));
   if (det > bound || -det > bound) return det > 0.0 ? 1 : -1;
@@ -127,8 +132,15 @@ int sw_orient3d(const double a[3], const double b[3], const double c[3], const d
   /* = Shewchuk's orient3d(b, c, d, a) = det[b - a; c - a; d - a] */
   const double *P[3] = {b, c, d};
   double m[3][3], pr[6];
+  int zrow[3] = {1, 1, 1}, zcol[3] = {1, 1, 1};
   for (int r = 0; r < 3; r++)
-    for (int k = 0; k < 3; k++) m[r][k] = P[r][k] - a[k];
+    for (int k = 0; k < 3; k++) {
+      m[r][k] = P[r][k] - a[k];
+      zrow[r] &= m[r][k] == 0.0, zcol[k] &= m[r][k] == 0.0;
+    }
+  /* a zero row or column (x - y == 0 exactly iff x == y): zero exactly, with no expansion
+   * (four points of a flat cloth in an axis plane, or a repeated point) */
+  if (zrow[0] || zrow[1] || zrow[2] || zcol[0] || zcol[1] || zcol[2]) return 0;
   for (int r = 0; r < 3; r++) {
     int s = (r + 1) % 3, t = (r + 2) % 3;
     pr[2 * r] = m[s][0] * m[t][1], pr[2 * r + 1] = m[t][0] * m[s][1];
@@ -201,14 +213,6 @@ static int segment_triangle2(const double *a, const double *b, const double *con
 
 /* ------------------------------------------------------------------------- 3D predicates */
 
-/* Sets lying in one plane meet iff their projections along every axis meet: one of the
- * projections is one-to-one on that plane, and a common point projects to a common point. */
-static int coplanar_segment_triangle(const double *a, const double *b, const double *const *t) {
-  for (int k = 0; k < 3; k++)
-    if (!segment_triangle2(a, b, t, k)) return 0;
-  return 1;
-}
-
 static int segments_meet3(const double *p, const double *q, const double *r, const double *s) {
   if (sw_orient3d(p, q, r, s) != 0) return 0;
   for (int k = 0; k < 3; k++)
@@ -219,8 +223,9 @@ static int segments_meet3(const double *p, const double *q, const double *r, con
 int sw_segment_triangle_intersect(const double a[3], const double b[3], const double t0[3],
                                   const double t1[3], const double t2[3]) {
   const double *t[3] = {t0, t1, t2};
-  int flat = 1;
-  for (int k = 0; k < 3; k++) flat = flat && orient2(t0, t1, t2, k) == 0;
+  int flat = 1, kp = 0; /* kp: an axis along which t projects to a triangle */
+  for (int k = 0; k < 3 && flat; k++)
+    if (orient2(t0, t1, t2, k) != 0) flat = 0, kp = k;
   if (flat) { /* collinear corners: the triangle is its edges */
     for (int e = 0; e < 3; e++)
       if (segments_meet3(a, b, t[e], t[(e + 1) % 3])) return 1;
@@ -228,7 +233,9 @@ int sw_segment_triangle_intersect(const double a[3], const double b[3], const do
   }
   int oa = sw_orient3d(t0, t1, t2, a), ob = sw_orient3d(t0, t1, t2, b);
   if (oa * ob > 0) return 0;
-  if (oa == 0 && ob == 0) return coplanar_segment_triangle(a, b, t);
+  /* both in t's plane: sets in a plane meet iff their projections along an axis that is
+   * one-to-one on that plane meet (kp keeps t a triangle, so it is) */
+  if (oa == 0 && ob == 0) return segment_triangle2(a, b, t, kp);
   /* ab meets the plane at one point: inside iff the line passes on one side of every edge */
   int pos = 0, neg = 0;
   for (int e = 0; e < 3; e++) {

@@ -10,7 +10,8 @@
  * (models/distance.c), m_k IPC's mollifier for edge-edge pairs (1 for point-triangle ones) and
  * w_k the mean mass of the pair's vertices, so that, as for obstacles, kappa sets an
  * acceleration and the term does not depend on the mesh's resolution.  Only pairs closer than
- * xi + dhat contribute: a spatial-hash broad phase finds them at every evaluation.
+ * xi + dhat contribute: a spatial-hash broad phase lists candidates once per Newton update
+ * (boxes swept over it), which later evaluations reuse while they cover the positions.
  *
  * The pairs change with the configuration, so their Hessian blocks have no fixed stencil: each
  * evaluation lists them (with their positive semi-definite blocks, 12 x 12) in the run's
@@ -32,6 +33,13 @@
 #include "contact_geom.h"
 #include "terms.h"
 #include "util.h"
+
+/* The candidates' slack, in units of dhat: they are found again only when a vertex leaves its
+ * box (swept over the motion they were found for) by more than this (docs/contact.md,
+ * "Self-contact"; not tuned). */
+#ifndef SW_MC_SLACK
+#define SW_MC_SLACK 1.0
+#endif
 
 /* The term's immutable data: the edges and faces of the cloth and of the mesh obstacles, over
  * one vertex numbering (the cloth's nv vertices, then each mesh obstacle's in turn). */
@@ -58,6 +66,15 @@ struct sw_mcontact {
   int npair, cap, have_blocks;
   double *vforce;       /* (nv) |contact force| on each vertex at the last diagnostics, N */
   int limit[4];         /* the pair that limited the last CCD (-1: none) */
+  /* the candidates: every wanted pair whose boxes, swept over a motion x0 -> x1 and padded by
+     (xi + dhat)/2 + slack, overlap; they hold every pair within reach at any positions whose
+     vertices each lie within `slack` of their swept box (`covered`) */
+  sw_mc_pair *cand;     /* (ncand) kind, vertices and their distance at xref (m, in gap) */
+  int ncand, capcand, cand_ok;
+  double *cbox;         /* (nvt x 6) each vertex's box over x0 -> x1, m */
+  double *xref;         /* (nvt x 3) x0 of the candidates' motion, m */
+  double *umove;        /* (nvt) how far each vertex is from xref (at most), m */
+  double slack;         /* m */
 };
 
 int sw_mesh_contact_on(const sw_model *m) { return m->contact.self || m->nmesh_obstacle > 0; }
@@ -131,7 +148,12 @@ sw_mcontact *sw_mcontact_new(const sw_model *m) {
   mc->carrier = sw_calloc(nv + 1, sizeof(int));
   mc->f = sw_calloc(6 * nv + 1, sizeof(double));
   mc->vforce = sw_calloc(nv + 1, sizeof(double));
-  if (!mc->fixed || !mc->xa || !mc->xb || !mc->z || !mc->carrier || !mc->f || !mc->vforce)
+  mc->cbox = sw_calloc(6 * nvt + 1, sizeof(double));
+  mc->xref = sw_calloc(3 * nvt + 1, sizeof(double));
+  mc->umove = sw_calloc(nvt + 1, sizeof(double));
+  mc->slack = SW_MC_SLACK * m->contact.dhat;
+  if (!mc->fixed || !mc->xa || !mc->xb || !mc->z || !mc->carrier || !mc->f || !mc->vforce ||
+      !mc->cbox || !mc->xref || !mc->umove)
     return sw_mcontact_free(mc), NULL;
   for (int i = 0; i < p->nvt; i++) mc->fixed[i] = (unsigned char)(i >= m->nv || m->pinned[i]);
   return mc;
@@ -149,6 +171,10 @@ void sw_mcontact_free(sw_mcontact *mc) {
   sw_free(mc->pair);
   sw_free(mc->block);
   sw_free(mc->vforce);
+  sw_free(mc->cand);
+  sw_free(mc->cbox);
+  sw_free(mc->xref);
+  sw_free(mc->umove);
   sw_free(mc);
 }
 
@@ -251,40 +277,158 @@ static int each_pair(const sw_model *m, sw_mcontact *mc, pair_visit visit, void 
   return 0;
 }
 
+/* ------------------------------------------------------------------- candidates */
+
+/* Whether every vertex of x (nvt x 3) lies within mc->slack of its box in mc->cbox: then the
+ * candidates hold every pair within reach at x. */
+static int covered(const sw_mcontact *mc, const double *x) {
+  if (!mc->cand_ok) return 0;
+  const double h = mc->slack;
+  for (int i = 0; i < mc->p->nvt; i++) {
+    const double *b = mc->cbox + 6 * (size_t)i, *p = x + 3 * (size_t)i;
+    for (int a = 0; a < 3; a++)
+      if (!(p[a] >= b[a] - h && p[a] <= b[3 + a] + h)) return 0;
+  }
+  return 1;
+}
+
+/* Append the pair to the candidates with its distance at arg (nvt x 3); -1 when out of
+ * memory. */
+static int add_candidate(const sw_model *m, sw_mcontact *mc, int kind, const int *v, void *arg) {
+  (void)m;
+  if (mc->ncand == mc->capcand) {
+    int cap = mc->capcand + mc->capcand / 2 + 256;
+    sw_mc_pair *c = sw_realloc(mc->cand, (size_t)cap, sizeof *c);
+    if (!c) return -1;
+    mc->cand = c, mc->capcand = cap;
+  }
+  sw_mc_pair *c = &mc->cand[mc->ncand++];
+  double p[12];
+  c->kind = kind;
+  memcpy(c->v, v, sizeof c->v);
+  gather(arg, v, p);
+  c->gap = sqrt(kind == SW_MC_PT ? sw_d2_point_triangle(p, p + 3, p + 6, p + 9, NULL, NULL)
+                                 : sw_d2_edge_edge(p, p + 3, p + 6, p + 9, NULL, NULL));
+  return 0;
+}
+
+/* The candidates over the motion x0 -> x1 (nvt x 3 each; x1 == x0 for positions at rest);
+ * -1 when the broad phase fails (positions not finite, or out of memory). */
+static int find_candidates(const sw_model *m, sw_mcontact *mc, const double *x0,
+                           const double *x1) {
+  mc->cand_ok = 0;
+  mc->ncand = 0;
+  double reach = 0.5 * (max_thickness(m) + m->contact.dhat) + mc->slack;
+  sw_bp_input in = bp_input(mc, x0, x1, reach);
+  if (sw_broadphase_query(&mc->bp, &in, SW_BP_PT | SW_BP_EE) ||
+      each_pair(m, mc, add_candidate, (void *)x0))
+    return -1;
+  for (size_t i = 0; i < 3 * (size_t)mc->p->nvt; i++) {
+    double *bi = mc->cbox + 6 * (i / 3) + i % 3;
+    bi[0] = x0[i] < x1[i] ? x0[i] : x1[i], bi[3] = x0[i] < x1[i] ? x1[i] : x0[i];
+  }
+  memcpy(mc->xref, x0, 3 * (size_t)mc->p->nvt * sizeof(double));
+  mc->cand_ok = 1;
+  return 0;
+}
+
+/* mc->umove: how far each vertex of x0 and x1 (nvt x 3 each) is from xref, at most (so on the
+ * whole motion x0 -> x1 too), m. */
+static void moves(sw_mcontact *mc, const double *x0, const double *x1) {
+  for (int i = 0; i < mc->p->nvt; i++) {
+    const double *r = mc->xref + 3 * (size_t)i, *p = x0 + 3 * (size_t)i, *q = x1 + 3 * (size_t)i;
+    double s = 0.0, t = 0.0;
+    for (int a = 0; a < 3; a++) s += (p[a] - r[a]) * (p[a] - r[a]), t += (q[a] - r[a]) * (q[a] - r[a]);
+    mc->umove[i] = sqrt(s > t ? s : t);
+  }
+}
+
+/* Whether candidate c stays farther apart than `reach` (m) on the motion mc->umove was made
+ * for: a point of a primitive moves at most as far as its farthest vertex, so the distance
+ * falls by at most the two primitives' largest moves. */
+static int stays_beyond(const sw_mcontact *mc, const sw_mc_pair *c, double reach) {
+  int na = c->kind == SW_MC_PT ? 1 : 2;
+  double ua = 0.0, ub = 0.0;
+  for (int j = 0; j < 4; j++) {
+    double u = mc->umove[c->v[j]];
+    if (j < na) ua = u > ua ? u : ua;
+    else ub = u > ub ? u : ub;
+  }
+  return c->gap - ua - ub > reach;
+}
+
+/* The candidates for the motion x0 -> x1: the kept ones when they cover both ends (so every
+ * position between: the boxes are convex), else new ones; -1 as find_candidates. */
+static int candidates(const sw_model *m, sw_mcontact *mc, const double *x0, const double *x1) {
+  if (covered(mc, x0) && (x1 == x0 || covered(mc, x1))) return 0;
+  return find_candidates(m, mc, x0, x1);
+}
+
+/* Call visit on every candidate that may come within its thickness plus `dhat` (m) on the
+ * motion x0 -> x1 (nvt x 3 each), as each_pair does. */
+static int each_candidate(const sw_model *m, sw_mcontact *mc, const double *x0,
+                          const double *x1, double dhat, pair_visit visit, void *arg) {
+  moves(mc, x0, x1);
+  for (int k = 0; k < mc->ncand; k++) {
+    const sw_mc_pair *c = &mc->cand[k];
+    if (stays_beyond(mc, c, pair_xi(m, mc->p, c->v) + dhat)) continue;
+    int rc = visit(m, mc, c->kind, c->v, arg);
+    if (rc) return rc;
+  }
+  return 0;
+}
+
 /* -------------------------------------------------------------------- the term */
 
-/* The energy of one pair with vertices v at x (nvt x 3; J), its gradient g (12) and, when H
- * is not NULL, its Hessian (144); *gap = d - xi (m).  INFINITY when the pair is within xi. */
+/* The mean mass of the pair's cloth vertices times kappa_s, kg/(s^2 m^2). */
+static double pair_weight(const sw_model *m, const int *v) {
+  double w = 0.0;
+  int nc = 0;
+  for (int k = 0; k < 4; k++)
+    if (v[k] < m->nv) w += m->mass[v[k]], nc++;
+  return w * m->contact.kappa_mesh / nc;
+}
+
+/* The energy of one pair with vertices v at x (nvt x 3; J), its gradient g (12; NULL: the
+ * energy alone) and, when H is not NULL (g then too), its Hessian block clamped to positive
+ * semi-definite (144); *gap = d - xi (m).  INFINITY when the pair is within xi.  The clamp is
+ * found on the block's span (models/barrier_block.c), except for an edge-edge pair the
+ * mollifier scales (nearly parallel edges): its exact 12 x 12 Hessian, eigen-decomposed. */
 static double pair_energy(const sw_model *m, const mc_param *pm, int kind, const int *v,
                           const double *x, double *g, double *H, double *gap) {
   const sw_contact *c = &m->contact;
-  double p[12], g2[12], H2[144], *h2 = H ? H2 : NULL;
+  double p[12], g2[12];
+  sw_pair_form pf;
   gather(x, v, p);
-  double d2 = kind == SW_MC_PT ? sw_d2_point_triangle(p, p + 3, p + 6, p + 9, g2, h2)
-                               : sw_d2_edge_edge(p, p + 3, p + 6, p + 9, g2, h2);
+  double *gd = g ? g2 : NULL; /* the energy alone (a line search's) needs no gradient */
+  double d2 = H ? sw_pair_d2_form(kind == SW_MC_EE, p, &pf)
+          : kind == SW_MC_PT ? sw_d2_point_triangle(p, p + 3, p + 6, p + 9, gd, NULL)
+                             : sw_d2_edge_edge(p, p + 3, p + 6, p + 9, gd, NULL);
+  if (H) memcpy(g2, pf.g, sizeof g2);
   double xi = pair_xi(m, pm, v), s = d2 - xi * xi, shat = shat_of(xi, c->dhat);
   *gap = sqrt(fmax(d2, 0.0)) - xi;
   if (!(s > 0.0)) return INFINITY;
   if (s >= shat) return 0.0;
-  double w = 0.0; /* the mean mass of the pair's cloth vertices, kg */
-  int nc = 0;
-  for (int k = 0; k < 4; k++)
-    if (v[k] < m->nv) w += m->mass[v[k]], nc++;
-  w *= c->kappa_mesh / nc; /* kg/(s^2 m^2) */
-  double bg[12], bH[144], b = sw_barrier_of(12, s, g2, h2, shat, bg, H ? bH : NULL);
-  if (kind == SW_MC_PT) {
-    for (int i = 0; i < 12; i++) g[i] = w * bg[i];
-    for (int i = 0; H && i < 144; i++) H[i] = w * bH[i];
+  double w = pair_weight(m, v), db, d2b, b = sw_barrier(s, shat, &db, &d2b);
+  double mo = 1.0, mg[12], mH[144], r[12];
+  if (kind == SW_MC_EE) { /* the mollifier vanishes as the edges become parallel (IPC sec. 4.3) */
+    gather_rest(m, pm, v, r);
+    double eps = sw_ee_mollifier_eps(r, r + 3, r + 6, r + 9);
+    mo = sw_ee_mollifier(p, p + 3, p + 6, p + 9, eps, mg, H ? mH : NULL);
+  }
+  if (mo == 1.0) { /* no mollifier: b and its clamped block */
+    for (int i = 0; g && i < 12; i++) g[i] = w * db * g2[i];
+    if (H) (void)sw_pair_barrier_block(&pf, db, d2b, w, H); /* not finite: as the clamp's */
     return w * b;
   }
-  /* edge-edge: the mollifier vanishes as the edges become parallel (IPC sec. 4.3) */
-  double r[12], mg[12], mH[144];
-  gather_rest(m, pm, v, r);
-  double eps = sw_ee_mollifier_eps(r, r + 3, r + 6, r + 9);
-  double mo = sw_ee_mollifier(p, p + 3, p + 6, p + 9, eps, mg, H ? mH : NULL);
+  double bg[12], bH[144], H2[144], *h2 = H ? H2 : NULL;
+  if (!g) return w * mo * b; /* the energy alone */
+  if (H) sw_d2_edge_edge(p, p + 3, p + 6, p + 9, NULL, H2);
+  sw_barrier_of(12, s, g2, h2, shat, bg, H ? bH : NULL);
   double e = sw_product_derivs(12, mo, mg, mH, b, bg, bH, g, H);
   for (int i = 0; i < 12; i++) g[i] *= w;
   for (int i = 0; H && i < 144; i++) H[i] *= w;
+  if (H) sw_psd_project(H, 12, SW_FILTER_CLAMP); /* indefinite */
   return w * e;
 }
 
@@ -301,7 +445,8 @@ static int eval_pair(const sw_model *m, sw_mcontact *mc, int kind, const int *v,
   const sw_eval *ev = a->ev;
   const int want_h = ev->hess != NULL;
   double g[12], gap, Hb[144];
-  double ek = pair_energy(m, mc->p, kind, v, a->x, g, want_h ? Hb : NULL, &gap);
+  double ek = pair_energy(m, mc->p, kind, v, a->x, ev->grad || want_h ? g : NULL,
+                          want_h ? Hb : NULL, &gap);
   if (!isfinite(ek)) {
     sw_eval_why(ev, "%s pair (vertices %d %d %d %d) closer than the thickness (gap %g m)",
                 kind == SW_MC_PT ? "point-triangle" : "edge-edge", v[0], v[1], v[2], v[3],
@@ -314,14 +459,11 @@ static int eval_pair(const sw_model *m, sw_mcontact *mc, int kind, const int *v,
   pr->kind = kind;
   memcpy(pr->v, v, sizeof pr->v);
   pr->gap = gap;
-  if (want_h) {
-    sw_psd_project(Hb, 12, SW_FILTER_CLAMP); /* a barrier's Hessian is indefinite */
-    memcpy(mc->block + (size_t)mc->npair * 144, Hb, sizeof Hb);
-  }
+  if (want_h) memcpy(mc->block + (size_t)mc->npair * 144, Hb, sizeof Hb);
   mc->npair++;
   a->e += ek;
   for (int j = 0; ev->grad && j < 12; j++)
-    if (v[j / 3] < m->nv) ev->grad[3 * v[j / 3] + j % 3] += g[j];
+    if (v[j / 3] < m->nv) ev->grad[3 * v[j / 3] + j % 3] += g[j]; /* g set when grad is asked */
   return SW_OK;
 }
 
@@ -336,12 +478,11 @@ static int mc_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, doubl
   mc->npair = 0;
   mc->have_blocks = ev->hess != NULL;
   eval_arg a = {.ev = ev, .x = positions(m, mc, ev->x, ev->t, mc->xa)};
-  sw_bp_input in = bp_input(mc, a.x, a.x, 0.5 * (max_thickness(m) + m->contact.dhat));
-  if (sw_broadphase_query(&mc->bp, &in, SW_BP_PT | SW_BP_EE)) {
+  if (candidates(m, mc, a.x, a.x)) {
     sw_eval_why(ev, "the broad phase failed (positions not finite, or out of memory)");
     return SW_RECOVER;
   }
-  int rc = each_pair(m, mc, eval_pair, &a);
+  int rc = each_candidate(m, mc, a.x, a.x, m->contact.dhat, eval_pair, &a);
   *energy = a.e;
   return rc;
 }
@@ -427,12 +568,11 @@ double sw_mcontact_toi(const sw_model *m, sw_mcontact *mc, const double *x0, dou
   double start = sw_now();
   toi_arg a = {.x0 = positions(m, mc, x0, t0, mc->xa), .x1 = positions(m, mc, x1, t1, mc->xb),
                .toi = 1.0};
-  sw_bp_input in = bp_input(mc, a.x0, a.x1, 0.5 * max_thickness(m));
-  int rc = sw_broadphase_query(&mc->bp, &in, SW_BP_PT | SW_BP_EE);
+  int rc = candidates(m, mc, a.x0, a.x1);
   *time_bp += sw_now() - start;
   mc->limit[0] = -1;
   if (rc) return 0.0;
-  each_pair(m, mc, toi_pair, &a);
+  each_candidate(m, mc, a.x0, a.x1, 0.0, toi_pair, &a);
   return a.toi;
 }
 
@@ -771,10 +911,9 @@ void sw_mcontact_state(const sw_model *m, sw_data *d) {
   memset(mc->vforce, 0, (size_t)m->nv * sizeof(double));
   const double *x = positions(m, mc, d->x, d->t, mc->xa);
   if (x != mc->xa) memcpy(mc->xa, x, (size_t)m->nv * 3 * sizeof(double));
-  sw_bp_input in = bp_input(mc, mc->xa, mc->xa, 0.5 * (max_thickness(m) + m->contact.dhat));
-  if (sw_broadphase_query(&mc->bp, &in, SW_BP_PT | SW_BP_EE)) return;
+  if (candidates(m, mc, mc->xa, mc->xa)) return;
   memset(mc->f, 0, (size_t)m->nv * 6 * sizeof(double));
-  each_pair(m, mc, state_pair, d);
+  each_candidate(m, mc, mc->xa, mc->xa, m->contact.dhat, state_pair, d);
   const double *fs = mc->f, *fo = mc->f + 3 * (size_t)m->nv; /* N */
   for (int i = 0; i < m->nv; i++) {
     double s = 0.0, o = 0.0;

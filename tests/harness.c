@@ -210,6 +210,27 @@ sw_model *th_scene(const char *name, const char *text) {
   return m;
 }
 
+double th_peirce_angle(const sw_model *m) {
+  char err[SW_ERRSZ];
+  sw_data *d = sw_data_new(m);
+  double reaction[3], xmax = 0.0, h = 1e9, tip[3] = {0};
+  int ntip = 0;
+  if (!d || sw_static_solve(m, d, reaction, err, sizeof err)) {
+    fprintf(stderr, "%s\n", d ? err : "out of memory for the state");
+    sw_data_free(d);
+    return NAN;
+  }
+  for (int i = 0; i < m->nv; i++) {
+    xmax = fmax(xmax, m->x0[3 * i]);
+    if (m->x0[3 * i] > 1e-12) h = fmin(h, m->x0[3 * i]);
+  }
+  for (int i = 0; i < m->nv; i++)
+    if (m->x0[3 * i] > xmax - 1e-12)
+      for (int a = 0; a < 3; a++) tip[a] += d->x[3 * i + a], ntip += a == 0;
+  sw_data_free(d);
+  return atan2(-tip[2] / ntip, tip[0] / ntip - 0.5 * h) * 180.0 / 3.14159265358979323846;
+}
+
 sw_data *th_start(const sw_integrator_ops *ops, const sw_model *m, void **s) {
   char err[SW_ERRSZ];
   sw_data *d = sw_data_new(m);

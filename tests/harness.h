@@ -42,6 +42,12 @@ sw_data *th_start(const sw_integrator_ops *ops, const sw_model *m, void **s);
 /* sw_static_solve of m from d (pin reactions into r[3], N), its message printed on failure. */
 int th_static(const sw_model *m, sw_data *d, double r[3]);
 
+/* Peirce's cantilever (scenes/peirce_cantilever.yaml): m a strip along x whose columns at
+ * x <= h (h the first grid spacing) are pinned, solved statically; the angle (degrees) below
+ * the horizontal of the chord from the ledge (x = h/2, z = 0) to the tip's mean position, or
+ * NAN with the message printed when the solve fails. */
+double th_peirce_angle(const sw_model *m);
+
 /* Files: the whole of path (NUL-terminated, malloc'ed), or NULL; the same for dir/name. */
 char *th_slurp(const char *path);
 /* The same for a file that may hold NUL bytes (a binary frame): its size in *size. */

@@ -12,5 +12,7 @@ int cli_known_method(const char *name);
 /* `sinew render ARGS` (render.c): runs Python's sinew.render in this process; returns only on
  * failure (2). */
 int cli_render(int argc, char **argv);
+/* `sinew pattern ARGS` (render.c): runs Python's sinew.pattern (DXF pattern import) likewise. */
+int cli_pattern(int argc, char **argv);
 
 #endif

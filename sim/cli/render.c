@@ -1,8 +1,8 @@
-/* render.c — `sinew render RUN_DIR ...`: the pictures of a run folder are drawn by the Python
- * module sinew.render (python/sinew/render.py, matplotlib); this runs it as
- * `PYTHON -m sinew.render ARGS` with the package's folders (the source tree's python/, then
- * where meson install puts it) before any PYTHONPATH already set.  SW_PYTHON and
- * SW_PYTHONPATH are set by meson.build. */
+/* render.c — the subcommands written in Python: `sinew render RUN_DIR ...` (the pictures of a
+ * run folder, python/sinew/render.py, matplotlib) and `sinew pattern ...` (pattern import from
+ * DXF, python/sinew/pattern/, ezdxf and gmsh).  Each runs as `PYTHON -m sinew.MODULE ARGS`
+ * with the package's folders (the source tree's python/, then where meson install puts it)
+ * before any PYTHONPATH already set.  SW_PYTHON and SW_PYTHONPATH are set by meson.build. */
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -11,21 +11,26 @@
 
 #include "cli.h"
 
-int cli_render(int argc, char **argv) {
+/* Replace this process by `SW_PYTHON -m module argv[2:]`; returns 2 only on failure. */
+static int run_module(const char *cmd, const char *module, int argc, char **argv) {
   const char *old = getenv("PYTHONPATH");
   size_t n = strlen(SW_PYTHONPATH) + (old ? strlen(old) + 2 : 1);
   char *path = malloc(n);
   char **args = calloc((size_t)argc + 2, sizeof *args);
-  if (!path || !args) return fprintf(stderr, "sinew render: out of memory\n"), 2;
+  if (!path || !args) return fprintf(stderr, "sinew %s: out of memory\n", cmd), 2;
   snprintf(path, n, "%s%s%s", SW_PYTHONPATH, old && *old ? ":" : "", old && *old ? old : "");
   if (setenv("PYTHONPATH", path, 1))
-    return fprintf(stderr, "sinew render: cannot set PYTHONPATH: %s\n", strerror(errno)), 2;
+    return fprintf(stderr, "sinew %s: cannot set PYTHONPATH: %s\n", cmd, strerror(errno)), 2;
   args[0] = SW_PYTHON;
   args[1] = "-m";
-  args[2] = "sinew.render";
+  args[2] = (char *)module;
   for (int i = 2; i < argc; i++) args[i + 1] = argv[i];
   execv(SW_PYTHON, args);
-  fprintf(stderr, "sinew render: cannot run %s: %s (the meson option python names it)\n",
+  fprintf(stderr, "sinew %s: cannot run %s: %s (the meson option python names it)\n", cmd,
           SW_PYTHON, strerror(errno));
   return 2;
 }
+
+int cli_render(int argc, char **argv) { return run_module("render", "sinew.render", argc, argv); }
+
+int cli_pattern(int argc, char **argv) { return run_module("pattern", "sinew.pattern", argc, argv); }

@@ -8,6 +8,7 @@
  * Units are SI: m, s, kg, N. */
 #include "scene.h"
 #include "scene_material.h"
+#include "scene_fabric.h"
 #include "contact.h"
 
 #include "util.h"
@@ -598,6 +599,7 @@ sw_model *sw_scene_parse_ex(const char *name, const char *buf, size_t len,
   c.m = sw_model_new();
   int rc = c.m ? load_scene(&c) : sy_oom(&c, root);
   if (!rc && by_index && ov && ov->grid[0] > 0) grid_warning(&c, by_index);
+  if (!rc) sc_plausibility(&c); /* the scene's own numbers, before --stiffness-scale */
   int at[2] = {0, 0}; /* line and column of the mesh, for the model's own checks */
   int ob[2] = {0, 0}, ct[2] = {0, 0}; /* and of the obstacles and of contact */
   for (int k = 0; root->kind == Y_MAP && k + 1 < root->n; k += 2) {

@@ -2,6 +2,7 @@
  * (docs/scenes.md).  The material is mat[0]; each panel (an OBJ usemtl/g group) is a copy of it
  * with the keys the panel gives.  A membrane or bending block replaces the whole block. */
 #include "scene_material.h"
+#include "scene_fabric.h"
 
 #include <math.h>
 #include <stddef.h>
@@ -160,8 +161,26 @@ static int check_uv(const ctx *c, const ynode *at, const sw_mesh *me, const char
                  obj);
 }
 
-static const char *const mat_keys[] = {"density", "membrane", "bending", "bias", "uv_scale"};
-enum { MK_DENSITY, MK_MEMB, MK_BEND, MK_BIAS, MK_UVSCALE, MK_N };
+static const char *const mat_keys[] = {"density", "membrane", "bending", "bias", "fabric",
+                                       "uv_scale"};
+enum { MK_DENSITY, MK_MEMB, MK_BEND, MK_BIAS, MK_FABRIC, MK_UVSCALE, MK_N };
+
+/* A fabric (scene_fabric.c) instead of the density, and instead of the membrane and bending
+ * it gives. */
+static int load_fabric(const ctx *c, const ynode *const *v, const char *w, sw_material *mat) {
+  int set;
+  if (v[MK_DENSITY])
+    return sy_fail(c, v[MK_DENSITY], "%s gives density and fabric (whose mass is the density); "
+                   "expected one of them", w);
+  if (sc_load_fabric(c, v[MK_FABRIC], w, mat, &set)) return -1;
+  if ((set & SC_FABRIC_MEMBRANE) && v[MK_MEMB])
+    return sy_fail(c, v[MK_MEMB], "%s gives membrane and a fabric with kes_g and a tensile "
+                   "stiffness; expected one of them", w);
+  if ((set & SC_FABRIC_BENDING) && v[MK_BEND])
+    return sy_fail(c, v[MK_BEND], "%s gives bending and a fabric with a bending rigidity; "
+                   "expected one of them", w);
+  return 0;
+}
 
 /* The keys of a material or panel map into mat.  A panel (panel = 1) may give any subset and
  * a uv_scale; the material must give the density. */
@@ -170,8 +189,11 @@ static int load_keys(const ctx *c, const ynode *y, const char *w, int panel, con
   const ynode *v[MK_N] = {0};
   char lab[160];
   if (sy_map(c, y, w, mat_keys, panel ? MK_N : MK_UVSCALE, v)) return -1;
-  if (!panel && sy_need(c, y, v[MK_DENSITY], w, "density", "density: a number > 0 in kg/m^2"))
+  if (!panel && !v[MK_FABRIC] &&
+      sy_need(c, y, v[MK_DENSITY], w, "density", "density: a number > 0 in kg/m^2 (or "
+              "fabric: {mass: g/m^2, ...})"))
     return -1;
+  if (v[MK_FABRIC] && load_fabric(c, v, w, mat)) return -1;
   snprintf(lab, sizeof lab, "%s density", w);
   if (v[MK_DENSITY] && sy_num(c, v[MK_DENSITY], lab, 0, 1, "kg/m^2", &mat->density)) return -1;
   if (v[MK_MEMB] && load_membrane(c, v[MK_MEMB], w, mat)) return -1;
@@ -184,8 +206,8 @@ static int load_keys(const ctx *c, const ynode *y, const char *w, int panel, con
   snprintf(lab, sizeof lab, "%s uv_scale", w);
   if (v[MK_UVSCALE] && sy_num(c, v[MK_UVSCALE], lab, 0, 1, "m per OBJ (u,v) unit", uv_scale))
     return -1;
-  static const int need_uv[] = {MK_MEMB, MK_BEND, MK_DENSITY, MK_UVSCALE};
-  for (int q = 0; q < 4; q++) {
+  static const int need_uv[] = {MK_MEMB, MK_BEND, MK_DENSITY, MK_FABRIC, MK_UVSCALE};
+  for (int q = 0; q < 5; q++) {
     int k = need_uv[q];
     snprintf(lab, sizeof lab, "%s %s", w, mat_keys[k]);
     if (v[k] && check_uv(c, v[k], me, obj, lab)) return -1;

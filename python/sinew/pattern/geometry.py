@@ -1,0 +1,114 @@
+"""Plane polygon helpers of the pattern importer: areas, corners, projection onto a boundary,
+resampling at a target edge length, self-intersection and inside tests.
+
+Polygons are (n, 2) arrays of distinct points, closed implicitly (the last point connects to the
+first), in metres.  None of this triangulates: gmsh meshes (mesh.py)."""
+import numpy as np
+
+
+def signed_area(p):
+    """Shoelace area, m²: positive when p runs counter-clockwise."""
+    x, y = p[:, 0], p[:, 1]
+    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
+
+
+def dedupe(p, tol):
+    """p without points within tol of their predecessor (and without a last point repeating the
+    first: the duplicate closing points exporters write)."""
+    keep = [p[0]]
+    for q in p[1:]:
+        if np.hypot(*(q - keep[-1])) > tol:
+            keep.append(q)
+    while len(keep) > 1 and np.hypot(*(keep[-1] - keep[0])) <= tol:
+        keep.pop()
+    return np.array(keep)
+
+
+def turn_angles(p):
+    """Angle (rad, in [0, pi]) by which the boundary turns at each point."""
+    a = p - np.roll(p, 1, axis=0)
+    b = np.roll(p, -1, axis=0) - p
+    cross = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
+    dot = (a * b).sum(1)
+    return np.abs(np.arctan2(cross, dot))
+
+
+def arclength(p):
+    """Cumulative length at each point of the closed polygon, and the perimeter, m."""
+    seg = np.hypot(*(np.roll(p, -1, axis=0) - p).T)
+    return np.concatenate(([0.0], np.cumsum(seg)[:-1])), float(seg.sum())
+
+
+def project(p, q):
+    """Nearest point of the closed polygon p to q: (distance m, arc-length position m)."""
+    a, b = p, np.roll(p, -1, axis=0)
+    d = b - a
+    dd = np.maximum((d * d).sum(1), 1e-300)
+    t = np.clip(((q - a) * d).sum(1) / dd, 0.0, 1.0)
+    near = a + t[:, None] * d
+    dist = np.hypot(*(near - q).T)
+    k = int(np.argmin(dist))
+    s, _ = arclength(p)
+    return float(dist[k]), float(s[k] + t[k] * np.sqrt(dd[k]))
+
+
+def point_at(p, s):
+    """Points at arc-length positions s (array, m) along the closed polygon p."""
+    s0, total = arclength(p)
+    s = np.mod(s, total)
+    k = np.clip(np.searchsorted(s0, s, side="right") - 1, 0, len(p) - 1)
+    a, b = p[k], p[(k + 1) % len(p)]
+    seg = np.hypot(*(b - a).T)
+    t = np.where(seg > 0, (s - s0[k]) / np.maximum(seg, 1e-300), 0.0)
+    return a + t[:, None] * (b - a)
+
+
+def resample(p, marks, h):
+    """The closed polygon p resampled at edge length about h (m) between the marks (sorted
+    arc-length positions that must be points: corners and notches).  Each stretch from one
+    mark to the next is cut into max(1, round(length / h)) equal arc-length parts.  Returns the
+    points and the index of each mark among them."""
+    _, total = arclength(p)
+    marks = np.asarray(marks, float)
+    pos, mark_idx = [], []
+    for i, s in enumerate(marks):
+        end = marks[i + 1] if i + 1 < len(marks) else marks[0] + total
+        k = max(1, int(round((end - s) / h)))
+        mark_idx.append(len(pos))
+        pos.extend(s + (end - s) * np.arange(k) / k)
+    return point_at(p, np.array(pos)), mark_idx
+
+
+def _segments_cross(a, b, c, d):
+    """Whether segment ab properly crosses or touches each segment c[i]d[i] (vectorised)."""
+    def orient(p, q, r):
+        return (q[..., 0] - p[..., 0]) * (r[..., 1] - p[..., 1]) - \
+            (q[..., 1] - p[..., 1]) * (r[..., 0] - p[..., 0])
+    o1, o2 = orient(a, b, c), orient(a, b, d)
+    o3, o4 = orient(c, d, a), orient(c, d, b)
+    return (o1 * o2 <= 0) & (o3 * o4 <= 0) & ~((o1 == 0) & (o2 == 0))
+
+
+def self_intersection(p):
+    """A point where the closed polygon p crosses itself (two non-adjacent edges meet), or
+    None."""
+    n = len(p)
+    b = np.roll(p, -1, axis=0)
+    for i in range(n - 2):
+        j = np.arange(i + 2, n if i > 0 else n - 1)  # edges that share no end with edge i
+        if len(j) == 0:
+            continue
+        hit = _segments_cross(p[i], b[i], p[j], b[j])
+        if hit.any():
+            k = j[np.argmax(hit)]
+            return (p[i] + b[i] + p[k] + b[k]) / 4
+    return None
+
+
+def inside(p, q):
+    """Whether q is inside the closed polygon p (even-odd rule)."""
+    a, b = p, np.roll(p, -1, axis=0)
+    up = (a[:, 1] > q[1]) != (b[:, 1] > q[1])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        x = a[:, 0] + (q[1] - a[:, 1]) * (b[:, 0] - a[:, 0]) / (b[:, 1] - a[:, 1])
+    return bool(np.count_nonzero(up & (q[0] < x)) % 2)

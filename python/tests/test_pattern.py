@@ -1,0 +1,296 @@
+"""sinew pattern import on DXF files written by tests/data/patterns/make_patterns.py (ezdxf):
+areas against the exact areas of the drawn shapes, the grain line as the u direction, units,
+graded sizes, a mirrored INSERT, notches as mesh vertices, the entities not used listed, bad
+files refused with nothing written, the skeleton accepted by `sinew check`, and random damage
+answered by a message, never a traceback."""
+import importlib.util
+import math
+import os
+import random
+import re
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+pytest.importorskip("ezdxf")
+pytest.importorskip("gmsh")
+from sinew import pattern  # noqa: E402
+from sinew.pattern.__main__ import main  # noqa: E402
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+SINEW = os.environ.get("SINEW_EXE", os.path.join(ROOT, "build", "sinew"))
+IN = 0.0254
+
+
+@pytest.fixture(scope="module")
+def fx(tmp_path_factory):
+    """(folder of the DXF files, {file: {piece: exact area m²}})."""
+    spec = importlib.util.spec_from_file_location(
+        "make_patterns", os.path.join(ROOT, "tests", "data", "patterns", "make_patterns.py"))
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    out = tmp_path_factory.mktemp("patterns")
+    return out, mod.main(str(out))
+
+
+@pytest.fixture(scope="module")
+def skirt(fx):
+    pat = pattern.read(str(fx[0] / "aama_skirt.dxf"))
+    return pat, {m.group: m for m in pattern.mesh(pat)}
+
+
+def test_areas_match_the_drawn_shapes(fx, skirt):
+    """At the default edge length every piece's mesh area is within 0.05 % of the exact area
+    of the drawn shape (docs/patterns.md, "Meshing"); at 5 cm edges within 0.5 %."""
+    folder, expected = fx
+    pat, meshed = skirt
+    assert sorted(meshed) == sorted(expected["aama_skirt.dxf"])
+    coarse = {m.group: m for m in pattern.mesh(pat, edge=0.05)}
+    for name, area in expected["aama_skirt.dxf"].items():
+        assert meshed[name].area == pytest.approx(area, rel=5e-4), name
+        assert coarse[name].area == pytest.approx(area, rel=5e-3), name
+    sleeve = pattern.mesh(pattern.read(str(folder / "clo_sleeve.dxf")))
+    assert [m.group for m in sleeve] == ["Sleeve"]
+    assert sleeve[0].area == pytest.approx(expected["clo_sleeve.dxf"]["Sleeve"], rel=5e-4)
+
+
+def test_sew_line_replaces_the_cut_line(skirt):
+    pat, meshed = skirt
+    back = meshed["Back"]
+    assert back.piece.boundary_from.startswith("sew line")
+    # the sew line is 0.5 in inside the 22 in wide cut line
+    w = back.xy[:, 0].max() - back.xy[:, 0].min()
+    assert w == pytest.approx(21 * IN, rel=1e-6)
+
+
+def rotation_of(m):
+    """The 2x2 map from file-plane offsets to (u,v) offsets, fitted over all vertices."""
+    dxy, duv = m.xy - m.xy[0], m.uv - m.uv[0]
+    r, *_ = np.linalg.lstsq(dxy, duv, rcond=None)
+    return r.T
+
+
+@pytest.mark.parametrize("piece,angle", [("Front", 90.0), ("Back", 30.0)])
+def test_grain_line_is_u(skirt, piece, angle):
+    m = skirt[1][piece]
+    a = math.radians(angle)
+    expect = np.array([[math.cos(a), math.sin(a)], [-math.sin(a), math.cos(a)]])
+    assert np.allclose(rotation_of(m), expect, atol=1e-9)
+    assert m.grain_from_line and m.grain_deg == pytest.approx(angle)
+
+
+def test_triangles_counter_clockwise_and_edges_near_target(skirt):
+    for m in skirt[1].values():
+        e1, e2 = m.uv[m.tris[:, 1]] - m.uv[m.tris[:, 0]], m.uv[m.tris[:, 2]] - m.uv[m.tris[:, 0]]
+        assert (e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]).min() > 0
+        b = np.array(m.boundary)
+        assert pattern.geometry.signed_area(m.uv[b]) > 0  # counter-clockwise in (u,v)
+        assert b[0] == m.corners[0] and sorted(set(b)) == sorted(b)
+        at = {v: i for i, v in enumerate(b)}
+        assert [at[c] for c in m.corners] == sorted(at[c] for c in m.corners)
+        assert [at[c] for c in m.notches] == sorted(at[c] for c in m.notches)
+        edges = np.hypot(*(m.uv[np.roll(b, -1)] - m.uv[b]).T)
+        assert edges.max() <= 1.5 * pattern.DEFAULT_EDGE
+
+
+def test_clo_sleeve_in_mm_with_grain_at_30_degrees(fx):
+    pat = pattern.read(str(fx[0] / "clo_sleeve.dxf"))
+    assert pat.scale == 1e-3 and "INSUNITS" in pat.units
+    m = pattern.mesh(pat)[0]
+    a = math.radians(30)
+    assert np.allclose(rotation_of(m), [[math.cos(a), math.sin(a)],
+                                        [-math.sin(a), math.cos(a)]], atol=1e-9)
+    assert m.xy[:, 0].max() == pytest.approx(0.4)
+
+
+def test_units(fx):
+    folder, expected = fx
+    assert pattern.read(str(folder / "aama_skirt.dxf")).scale == IN   # 'Units: ENGLISH'
+    nu = pattern.read(str(folder / "no_units.dxf"))
+    assert nu.scale == IN and "default" in nu.units
+    mm = pattern.read(str(folder / "no_units.dxf"), units="mm")
+    area = pattern.geometry.signed_area(mm.pieces[0].boundary)
+    assert area == pytest.approx(expected["no_units.dxf"]["Front"] / IN ** 2 * 1e-6, rel=1e-3)
+
+
+def test_sizes(fx, skirt, capsys):
+    pat, _ = skirt
+    assert pat.sizes == ["S", "M"] and pat.base_size == "M"
+    small = {m.group: m for m in pattern.mesh(pat, size="S")}
+    assert sorted(small) == ["Back", "Front", "Pocket"]
+    assert small["Pocket"].area == pytest.approx(6.5 * 7 * IN * IN, rel=5e-3)
+    with pytest.raises(pattern.PatternError, match="no size 'XL'; expected one of: S, M"):
+        pattern.mesh(pat, size="XL")
+    assert main(["import", str(fx[0] / "aama_skirt.dxf"), "--list"]) == 0
+    assert "sizes: S, M (base M)" in capsys.readouterr().out
+
+
+def test_mirrored_insert(skirt):
+    meshed = skirt[1]
+    a, b = meshed["Pocket"], meshed["Pocket_2"]
+    assert not a.piece.mirrored and b.piece.mirrored
+    # placed at x = 10 in and, mirrored, at x = 30 in: mirror images about x = 20 in
+    assert sorted(np.round(40 * IN - a.xy[a.boundary, 0], 9)) == \
+        sorted(np.round(b.xy[b.boundary, 0], 9))
+    assert a.xy[a.notches[0], 0] == pytest.approx(10 * IN)
+    assert b.xy[b.notches[0], 0] == pytest.approx(30 * IN)
+    # the mirrored pocket's (u,v) are the mirror image: its slanted side on the other side
+    assert a.area == pytest.approx(b.area, rel=1e-9)
+
+
+def test_notches_and_corners_are_vertices(skirt):
+    front = skirt[1]["Front"]
+    w, h = 20 * IN, 24 * IN
+    notch_xy = sorted(map(tuple, np.round(front.xy[front.notches], 9)))
+    assert notch_xy == sorted([(round(w, 9), round(h / 2, 9)), (round(w / 2, 9), 0.0)])
+    corners = np.round(front.xy[front.corners], 9)
+    assert sorted(map(tuple, corners)) == sorted([(0.0, 0.0), (round(w, 9), 0.0),
+                                                  (round(w, 9), round(h, 9)),
+                                                  (0.0, round(h, 9))])
+    assert set(front.notches) <= set(front.boundary)
+    back = skirt[1]["Back"]
+    assert len(back.drills) == 1 and len(back.internal) == 1 and len(back.internal[0]) >= 3
+
+
+def test_skipped_entities_are_listed(fx, capsys):
+    assert main(["import", str(fx[0] / "aama_skirt.dxf"), "--list"]) == 0
+    out = capsys.readouterr().out
+    assert "skipped: 5" in out
+    for what in ("CIRCLE on layer '0'", "3DFACE on layer '1'", "TEXT on layer '15'",
+                 "POLYLINE on layer '9'", "LINE on layer 'CUT'"):
+        assert re.search(re.escape(what) + r" \(handle [0-9A-F]+\)", out), what
+
+
+def test_import_writes_obj_and_skeleton_that_sinew_check_loads(fx, tmp_path):
+    out = tmp_path / "out"
+    r = subprocess.run([SINEW, "pattern", "import", str(fx[0] / "aama_skirt.dxf"),
+                        "--out", str(out), "--edge", "0.03"], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    assert "4 entities not used" not in r.stderr and "5 entities not used" in r.stderr
+    assert sorted(os.listdir(out)) == ["aama_skirt.obj", "aama_skirt.yaml"]
+    obj = (out / "aama_skirt.obj").read_text()
+    assert re.findall(r"^g (\S+)$", obj, re.M) == ["Front", "Back", "Pocket", "Pocket_2"]
+    chk = subprocess.run([SINEW, "check", str(out / "aama_skirt.yaml")],
+                         capture_output=True, text=True)
+    assert chk.returncode == 0, chk.stderr
+    areas = dict(re.findall(r"panel (\S+)\s+([0-9.e-]+) m\^2", chk.stdout))
+    for name, area in fx[1]["aama_skirt.dxf"].items():
+        assert float(areas[name]) == pytest.approx(area, rel=5e-3), name
+    # the skeleton's corner indices are the vertices at the Front's corners
+    scene = (out / "aama_skirt.yaml").read_text()
+    corners = [int(i) for i in re.search(r'"Front".*?corners: \[([^\]]*)\]', scene,
+                                          re.S).group(1).split(",")]
+    v = np.array([[float(x) for x in ln.split()[1:3]]
+                  for ln in obj.splitlines() if ln.startswith("v ")])
+    box = v[corners]
+    assert np.ptp(box[:, 0]) == pytest.approx(20 * IN) and np.ptp(box[:, 1]) == \
+        pytest.approx(24 * IN)
+
+
+def test_python_m_and_explicit_paths(fx, tmp_path):
+    env = dict(os.environ, PYTHONPATH=os.path.join(ROOT, "python"))
+    r = subprocess.run([sys.executable, "-m", "sinew.pattern", "import",
+                        str(fx[0] / "clo_sleeve.dxf"), "--obj", str(tmp_path / "a.obj"),
+                        "--scene", str(tmp_path / "b.yaml"), "--quiet"],
+                       capture_output=True, text=True, env=env)
+    assert r.returncode == 0 and r.stdout == "", r.stderr
+    assert 'mesh: {obj: "a.obj"}' in (tmp_path / "b.yaml").read_text()
+
+
+@pytest.mark.parametrize("name,message", [
+    ("bad_not_dxf.dxf", "not a DXF file"),
+    ("bad_no_pieces.dxf", "no pieces"),
+    ("bad_open.dxf", "open boundary"),
+    ("bad_self_crossing.dxf", "crosses itself"),
+    ("bad_grain_outside.dxf", "grain line .* lies outside the piece"),
+    ("bad_tiny.dxf", "too small for edges of 0.02 m"),
+    ("missing.dxf", "cannot read"),
+])
+def test_bad_files_write_nothing(fx, tmp_path, capsys, name, message):
+    out = tmp_path / "out"
+    assert main(["import", str(fx[0] / name), "--out", str(out)]) == 1
+    err = capsys.readouterr().err
+    assert re.search(message, err) and str(fx[0] / name) in err and "Traceback" not in err
+    assert not out.exists()
+
+
+def test_a_failed_write_leaves_nothing(fx, tmp_path, capsys):
+    assert main(["import", str(fx[0] / "clo_sleeve.dxf"), "--obj", str(tmp_path / "a.obj"),
+                 "--scene", str(tmp_path / "none" / "b.yaml")]) == 1
+    assert "folder does not exist" in capsys.readouterr().err
+    assert os.listdir(tmp_path) == []
+
+
+def test_damaged_files_give_messages_not_tracebacks(fx, tmp_path, capsys):
+    """Random bytes, and the skirt file with lines deleted, swapped or overwritten: every
+    outcome is exit 0 or 1 with a message, never an exception."""
+    rng = random.Random(7)
+    lines = (fx[0] / "aama_skirt.dxf").read_text().splitlines()
+    for k in range(40):
+        path = tmp_path / ("damaged_%d.dxf" % k)
+        if k < 8:
+            path.write_bytes(bytes(rng.randrange(256) for _ in range(rng.randrange(1, 3000))))
+        else:
+            ln = list(lines)
+            for _ in range(rng.randrange(1, 6)):
+                i = rng.randrange(len(ln))
+                op = rng.randrange(3)
+                if op == 0:
+                    del ln[i]
+                elif op == 1:
+                    ln[i] = rng.choice(["-1e300", "nan", "999999999999", "ABC", "", "1.5.6",
+                                        "  8", "SECTION", "EOF", "POLYLINE"])
+                else:
+                    j = rng.randrange(len(ln))
+                    ln[i], ln[j] = ln[j], ln[i]
+            path.write_text("\n".join(ln) + "\n")
+        rc = main(["import", str(path), "--out", str(tmp_path / "o"), "--edge", "0.05",
+                   "--quiet"])
+        assert rc in (0, 1)
+        if rc == 1:
+            assert capsys.readouterr().err.startswith("sinew pattern: ")
+        capsys.readouterr()
+
+
+def test_turn_points_on_the_boundary_are_corners(tmp_path, capsys):
+    """A layer-2 turn point where the boundary turns by only 7 degrees is a corner; one off the
+    boundary, and a layer-3 curve point, are listed as ignored."""
+    import ezdxf
+    doc = ezdxf.new("R12")
+    b = doc.blocks.new("P")
+    b.add_polyline2d([(0, 0), (10, 0), (10, 10), (5, 10.3), (0, 10)], close=True,
+                     dxfattribs={"layer": "1"})
+    b.add_point((5, 10.3), dxfattribs={"layer": "2"})
+    b.add_point((5, 5), dxfattribs={"layer": "2"})
+    b.add_point((3, 3), dxfattribs={"layer": "3"})
+    doc.modelspace().add_blockref("P", (0, 0))
+    doc.saveas(str(tmp_path / "tp.dxf"))
+    m = pattern.mesh(pattern.read(str(tmp_path / "tp.dxf")))[0]
+    assert len(m.corners) == 5
+    assert [5 * IN, 10.3 * IN] in np.round(m.xy[m.corners], 12).tolist()
+    assert main(["import", str(tmp_path / "tp.dxf"), "--list"]) == 0
+    out = capsys.readouterr().out
+    assert "POINT on layer '2'" in out and "turn point off the boundary" in out
+    assert "POINT on layer '3'" in out and "curve point" in out
+
+
+def test_out_of_spec_integers_are_repaired_and_listed(fx, tmp_path, capsys):
+    """Integers written as reals ("70\\n1.0", as some exporters do) read as the same pattern;
+    what ezdxf repaired is counted on import and listed, with its line, by --list."""
+    lines = (fx[0] / "aama_skirt.dxf").read_text().split("\n")
+    for i in range(1, len(lines)):
+        if lines[i - 1].strip() == "70" and lines[i].strip().lstrip("-").isdigit():
+            lines[i] = lines[i].strip() + ".0"
+    path = tmp_path / "reals.dxf"
+    path.write_text("\n".join(lines))
+    pat = pattern.read(str(path))
+    assert pat.repaired and all("near line" in r for r in pat.repaired)
+    areas = {m.group: m.area for m in pattern.mesh(pat, edge=0.05)}
+    for name, area in fx[1]["aama_skirt.dxf"].items():
+        assert areas[name] == pytest.approx(area, rel=5e-3)
+    assert main(["import", str(path), "--out", str(tmp_path / "o"), "--quiet"]) == 0
+    err = capsys.readouterr().err
+    assert "ezdxf repaired %d things" % len(pat.repaired) in err
+    assert "recovered invalid integer" not in err  # listed by --list, not printed
