@@ -139,7 +139,14 @@ static int overlaps(const float *f, const double *b) {
   return 1;
 }
 
-int sw_bvh_query(const sw_bvh *t, const double b[6], sw_bvh_hit_fn hit, void *arg) {
+static int boxes_meet(const double *p, const double *q) {
+  for (int a = 0; a < 3; a++)
+    if (!(p[a] <= q[3 + a] && q[a] <= p[3 + a])) return 0;
+  return 1;
+}
+
+int sw_bvh_query(const sw_bvh *t, const double b[6], sw_bvh_box_fn box, const void *ctx,
+                 sw_bvh_hit_fn hit, void *arg) {
   if (t->nnode == 0) return 0;
   int stack[SW_BVH_DEPTH + 2], top = 0;
   stack[top++] = 0;
@@ -152,6 +159,8 @@ int sw_bvh_query(const sw_bvh *t, const double b[6], sw_bvh_hit_fn hit, void *ar
       continue;
     }
     for (int i = first; i < first + count; i++) {
+      double pb[6];
+      if (box && (box(ctx, t->prim[i], pb), !boxes_meet(pb, b))) continue;
       int rc = hit(arg, t->prim[i]);
       if (rc) return rc;
     }

@@ -332,13 +332,14 @@ static int cloth_box(const sw_mcontact *mc, const sw_bp_input *in, const int *v,
 static int query_tree(const sw_model *m, sw_mcontact *mc, const sw_bp_input *in, int k,
                       const int *idx, int per, int n, hit_arg *h) {
   sw_bvh t = tree_view(mc, k);
+  tree_ctx c = {mc->p, m->nv, m->nf, k, 0, in->x0, in->x1};
   h->offset = k == 0 ? m->nv : k == 1 ? mc->p->ne_cloth : m->nf;
   for (int i = 0; i < n; i++) {
     double b[6];
     int v = i, rc = cloth_box(mc, in, idx ? idx + per * (size_t)i : &v, per, 2.0 * in->inflate, b);
     if (rc < 0) return -1;
     h->cloth = i;
-    if (rc && sw_bvh_query(&t, b, hit_pair, h)) return -1;
+    if (rc && sw_bvh_query(&t, b, tree_box, &c, hit_pair, h)) return -1;
   }
   return 0;
 }
@@ -672,6 +673,8 @@ static int build_trees(mc_param *p, const sw_model *m, char *err, size_t errsz) 
     tree_ctx c = {p, m->nv, m->nf, k, m->nv, p->rest, p->rest};
     if (sw_bvh_build(&p->tree[k], n[k], tree_box, &c))
       return sw_errf(err, errsz, "out of memory for the mesh obstacles' trees"), -1;
+    sw_free(p->tree[k].box); /* each workspace fits its own (fit_trees) */
+    p->tree[k].box = NULL;
   }
   return 0;
 }
