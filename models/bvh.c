@@ -28,23 +28,30 @@ void sw_bvh_free(sw_bvh *t) {
   memset(t, 0, sizeof *t);
 }
 
-/* Centre of primitive i's box along axis a (from the scratch array c, n x 3 floats). */
+/* The centre of the box of prim[i] along axis a: c (n x 3 floats) is kept in prim's order,
+ * so the passes over a node's primitives read memory in sequence. */
 static float centre(const float *c, int i, int a) { return c[3 * (size_t)i + a]; }
 
-/* Reorder prim[lo, hi) so that the element at k has its rank along axis a (Hoare's quickselect
- * with the middle element as pivot). */
-static void select_k(int *prim, const float *c, int lo, int hi, int k, int a) {
+static void swap_prims(int *prim, float *c, int i, int j) {
+  int s = prim[i];
+  prim[i] = prim[j], prim[j] = s;
+  for (int a = 0; a < 3; a++) {
+    float f = c[3 * (size_t)i + a];
+    c[3 * (size_t)i + a] = c[3 * (size_t)j + a], c[3 * (size_t)j + a] = f;
+  }
+}
+
+/* Reorder prim[lo, hi) (and c) so that the element at k has its rank along axis a (Hoare's
+ * quickselect with the middle element as pivot). */
+static void select_k(int *prim, float *c, int lo, int hi, int k, int a) {
   hi--;
   while (lo < hi) {
-    float pv = centre(c, prim[lo + (hi - lo) / 2], a);
+    float pv = centre(c, lo + (hi - lo) / 2, a);
     int i = lo, j = hi;
     while (i <= j) {
-      while (centre(c, prim[i], a) < pv) i++;
-      while (centre(c, prim[j], a) > pv) j--;
-      if (i <= j) {
-        int s = prim[i];
-        prim[i++] = prim[j], prim[j--] = s;
-      }
+      while (centre(c, i, a) < pv) i++;
+      while (centre(c, j, a) > pv) j--;
+      if (i <= j) swap_prims(prim, c, i++, j--);
     }
     if (k <= j) hi = j;
     else if (k >= i) lo = i;
@@ -53,12 +60,12 @@ static void select_k(int *prim, const float *c, int lo, int hi, int k, int a) {
 }
 
 /* The axis along which the centres of prim[lo, hi) spread most. */
-static int widest_axis(const int *prim, const float *c, int lo, int hi) {
+static int widest_axis(const float *c, int lo, int hi) {
   float mn[3] = {INFINITY, INFINITY, INFINITY}, mx[3] = {-INFINITY, -INFINITY, -INFINITY};
   for (int i = lo; i < hi; i++)
     for (int a = 0; a < 3; a++) {
-      float v = centre(c, prim[i], a);
-      mn[a] = fminf(mn[a], v), mx[a] = fmaxf(mx[a], v);
+      float v = centre(c, i, a);
+      mn[a] = v < mn[a] ? v : mn[a], mx[a] = v > mx[a] ? v : mx[a]; /* not fminf: a call */
     }
   int best = 0;
   for (int a = 1; a < 3; a++)
@@ -94,7 +101,7 @@ int sw_bvh_build(sw_bvh *t, int n, sw_bvh_box_fn box, const void *ctx) {
       continue;
     }
     int mid = lo + SW_BVH_LEAF * ((hi - lo + 2 * SW_BVH_LEAF - 1) / (2 * SW_BVH_LEAF)), child = t->nnode;
-    select_k(t->prim, c, lo, hi, mid, widest_axis(t->prim, c, lo, hi));
+    select_k(t->prim, c, lo, hi, mid, widest_axis(c, lo, hi));
     t->node[2 * k] = child, t->node[2 * k + 1] = 0;
     t->nnode += 2;
     stack[top][0] = child, stack[top][1] = lo, stack[top][2] = mid, top++;
@@ -121,13 +128,15 @@ void sw_bvh_refit(sw_bvh *t, sw_bvh_box_fn box, const void *ctx) {
     const int first = t->node[2 * k], count = t->node[2 * k + 1];
     if (count == 0) { /* internal: the union of its children's */
       const float *l = t->box + 6 * (size_t)first, *r = l + 6;
-      for (int a = 0; a < 3; a++) f[a] = fminf(l[a], r[a]), f[3 + a] = fmaxf(l[3 + a], r[3 + a]);
+      for (int a = 0; a < 3; a++)
+        f[a] = l[a] < r[a] ? l[a] : r[a], f[3 + a] = l[3 + a] > r[3 + a] ? l[3 + a] : r[3 + a];
       continue;
     }
     double u[6] = {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY}, b[6];
     for (int i = first; i < first + count; i++) {
       box(ctx, t->prim[i], b);
-      for (int a = 0; a < 3; a++) u[a] = fmin(u[a], b[a]), u[3 + a] = fmax(u[3 + a], b[3 + a]);
+      for (int a = 0; a < 3; a++)
+        u[a] = b[a] < u[a] ? b[a] : u[a], u[3 + a] = b[3 + a] > u[3 + a] ? b[3 + a] : u[3 + a];
     }
     round_out(u, f);
   }

@@ -81,6 +81,7 @@ struct sw_mcontact {
   double slack;         /* m */
   float *tbox[3];       /* the node boxes of p->tree[k] at the obstacles' places last queried */
   int tree_fit;         /* 1: tbox holds the obstacles' places (static obstacles: fit once) */
+  int placed;           /* static obstacles: bit 0 (1) set once xa (xb) holds their places */
 };
 
 int sw_mesh_contact_on(const sw_model *m) { return m->contact.self || m->nmesh_obstacle > 0; }
@@ -218,11 +219,14 @@ static int obstacles_move(const sw_model *m, double t0, double t1) {
 
 /* The positions of the cloth (x, nv x 3) and of the mesh obstacles at time t: x itself without
  * obstacles, else [x, obstacles] copied into buf (nvt x 3). */
-static const double *positions(const sw_model *m, const sw_mcontact *mc, const double *x,
+static const double *positions(const sw_model *m, sw_mcontact *mc, const double *x,
                                double t, double *buf) {
   const mc_param *p = mc->p;
   if (p->nvt == m->nv) return x;
   memcpy(buf, x, (size_t)m->nv * 3 * sizeof(double));
+  int bit = buf == mc->xa ? 1 : 2; /* static obstacles stay where they were placed once */
+  if (!p->moving && (mc->placed & bit)) return buf;
+  if (!p->moving) mc->placed |= bit;
   double R[9], c[3];
   for (int j = 0, k = -1; j < p->nvt - m->nv; j++) {
     const sw_obstacle *o = &m->mesh_obstacle[p->owner[j]];
@@ -263,9 +267,10 @@ static void tree_box(const void *arg, int i, double *b) {
   for (int j = 0; c->kind == 2 && j < 3; j++) v[j] = c->p->face[3 * ((size_t)c->nf + i) + j];
   for (int a = 0; a < 3; a++) b[a] = INFINITY, b[3 + a] = -INFINITY;
   for (int j = 0; j < n; j++)
-    for (int a = 0; a < 3; a++) {
+    for (int a = 0; a < 3; a++) { /* finite: comparisons, not fmin's calls */
       double p = c->x0[3 * (size_t)(v[j] - c->off) + a], q = c->x1[3 * (size_t)(v[j] - c->off) + a];
-      b[a] = fmin(b[a], fmin(p, q)), b[3 + a] = fmax(b[3 + a], fmax(p, q));
+      double lo = p < q ? p : q, hi = p < q ? q : p;
+      b[a] = lo < b[a] ? lo : b[a], b[3 + a] = hi > b[3 + a] ? hi : b[3 + a];
     }
 }
 
@@ -417,12 +422,17 @@ static int each_pair(const sw_model *m, sw_mcontact *mc, pair_visit visit, void 
 
 /* ------------------------------------------------------------------- candidates */
 
+/* The vertices whose places may change: the cloth's, and the obstacles' when one moves. */
+static int nmoving(const sw_model *m, const sw_mcontact *mc) {
+  return mc->p->moving ? mc->p->nvt : m->nv;
+}
+
 /* Whether every vertex of x (nvt x 3) lies within mc->slack of its box in mc->cbox: then the
  * candidates hold every pair within reach at x. */
-static int covered(const sw_mcontact *mc, const double *x) {
+static int covered(const sw_model *m, const sw_mcontact *mc, const double *x) {
   if (!mc->cand_ok) return 0;
   const double h = mc->slack;
-  for (int i = 0; i < mc->p->nvt; i++) {
+  for (int i = 0, n = nmoving(m, mc); i < n; i++) {
     const double *b = mc->cbox + 6 * (size_t)i, *p = x + 3 * (size_t)i;
     for (int a = 0; a < 3; a++)
       if (!(p[a] >= b[a] - h && p[a] <= b[3 + a] + h)) return 0;
@@ -461,19 +471,19 @@ static int find_candidates(const sw_model *m, sw_mcontact *mc, const double *x0,
   if (broad_phase(m, mc, &in, SW_BP_PT | SW_BP_EE) ||
       each_pair(m, mc, add_candidate, (void *)x0))
     return -1;
-  for (size_t i = 0; i < 3 * (size_t)mc->p->nvt; i++) {
+  for (size_t i = 0; i < 3 * (size_t)nmoving(m, mc); i++) {
     double *bi = mc->cbox + 6 * (i / 3) + i % 3;
     bi[0] = x0[i] < x1[i] ? x0[i] : x1[i], bi[3] = x0[i] < x1[i] ? x1[i] : x0[i];
   }
-  memcpy(mc->xref, x0, 3 * (size_t)mc->p->nvt * sizeof(double));
+  memcpy(mc->xref, x0, 3 * (size_t)nmoving(m, mc) * sizeof(double));
   mc->cand_ok = 1;
   return 0;
 }
 
 /* mc->umove: how far each vertex of x0 and x1 (nvt x 3 each) is from xref, at most (so on the
  * whole motion x0 -> x1 too), m. */
-static void moves(sw_mcontact *mc, const double *x0, const double *x1) {
-  for (int i = 0; i < mc->p->nvt; i++) {
+static void moves(const sw_model *m, sw_mcontact *mc, const double *x0, const double *x1) {
+  for (int i = 0, n = nmoving(m, mc); i < n; i++) { /* the others' stay 0 */
     const double *r = mc->xref + 3 * (size_t)i, *p = x0 + 3 * (size_t)i, *q = x1 + 3 * (size_t)i;
     double s = 0.0, t = 0.0;
     for (int a = 0; a < 3; a++) s += (p[a] - r[a]) * (p[a] - r[a]), t += (q[a] - r[a]) * (q[a] - r[a]);
@@ -498,7 +508,7 @@ static int stays_beyond(const sw_mcontact *mc, const sw_mc_pair *c, double reach
 /* The candidates for the motion x0 -> x1: the kept ones when they cover both ends (so every
  * position between: the boxes are convex), else new ones; -1 as find_candidates. */
 static int candidates(const sw_model *m, sw_mcontact *mc, const double *x0, const double *x1) {
-  if (covered(mc, x0) && (x1 == x0 || covered(mc, x1))) return 0;
+  if (covered(m, mc, x0) && (x1 == x0 || covered(m, mc, x1))) return 0;
   return find_candidates(m, mc, x0, x1);
 }
 
@@ -506,7 +516,7 @@ static int candidates(const sw_model *m, sw_mcontact *mc, const double *x0, cons
  * motion x0 -> x1 (nvt x 3 each), as each_pair does. */
 static int each_candidate(const sw_model *m, sw_mcontact *mc, const double *x0,
                           const double *x1, double dhat, pair_visit visit, void *arg) {
-  moves(mc, x0, x1);
+  moves(m, mc, x0, x1);
   for (int k = 0; k < mc->ncand; k++) {
     const sw_mc_pair *c = &mc->cand[k];
     if (stays_beyond(mc, c, pair_xi(m, mc->p, c->v) + dhat)) continue;
