@@ -14,6 +14,7 @@ clamp's axis.
     r = coefficient("out/cusick_drape")     # dict: dc, nodes, shadow_area, ...
 
     python3 -m sinew.drape out/cusick_drape [--pixel 2.5e-4] [--disc-radius 0.09] [--json]
+    sinew drape out/cusick_drape        (the same)
 
 The shadow is the union of the cloth's triangles projected along the vertical (the axis of
 gravity, z), rasterised on a square grid of `pixel` metres: a pixel counts when its centre lies
@@ -150,7 +151,7 @@ def coefficient(run_dir, disc_radius=DISC_RADIUS, pixel=PIXEL, **options):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(prog="python3 -m sinew.drape",
+    ap = argparse.ArgumentParser(prog="sinew drape",
                                  description="drape coefficient and nodes of a sinew run")
     ap.add_argument("run_dir")
     ap.add_argument("--disc-radius", type=float, default=DISC_RADIUS, help="m (default 0.09)")

@@ -99,3 +99,34 @@ def test_radius_profile_of_a_polygon(disc):
     r = drape.radius_profile(x[:, :2], tri, (0, 0))
     n = len(outline(x[:, :2], tri))
     assert r.max() <= 0.15 + 1e-3 and r.min() >= 0.15 * np.cos(np.pi / n) - 1e-3
+
+
+SINEW = os.environ.get("SINEW_EXE", os.path.join(ROOT, "build", "sinew"))
+SCENE = os.path.join(ROOT, "scenes", "cusick_drape.yaml")
+
+
+def test_shipped_scene_clamps_the_inner_nine_rings():
+    """The disc selection of the shipped scene pins the centre and the rings 1 to 9 (radius up
+    to 0.09 m), round(2 pi k) vertices on ring k: 284 vertices, all within 0.09 m."""
+    import sinew
+    sim = sinew.load(SCENE)
+    want = 1 + sum(int(round(2 * np.pi * k)) for k in range(1, 10))
+    assert want == 284 and sim.pinned.sum() == want
+    r = np.hypot(sim.positions[:, 0], sim.positions[:, 1])
+    assert r[sim.pinned].max() < 0.09 + 1e-8 and r[~sim.pinned].min() > 0.0999
+
+
+def test_command_on_the_start_of_the_shipped_scene(tmp_path):
+    """`sinew drape` on the scene's first frame (run for no time): the specimen is flat but for
+    the 1 mm perturbation, so DC = 1 within the raster's error and there is no node."""
+    out = tmp_path / "run"
+    subprocess.run([SINEW, "run", SCENE, "--duration", "0", "--out", str(out), "--quiet"],
+                   check=True)
+    p = subprocess.run([SINEW, "drape", str(out), "--json"], check=True, capture_output=True,
+                       text=True)
+    import json
+    r = json.loads(p.stdout)
+    assert abs(r["dc"] - 1) < 1e-3 and r["nodes"] == 0 and r["time"] == 0
+    bad = subprocess.run([SINEW, "drape", str(tmp_path / "none")], capture_output=True,
+                         text=True)
+    assert bad.returncode != 0 and "frames.pvd" in bad.stderr
