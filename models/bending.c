@@ -19,7 +19,17 @@
  * edges: the natural condition of a free edge, zero moment.  Keeping only the diagonal of W
  * (an energy per edge) is the discrete-shells energy; the off-diagonal terms are what make
  * II_T exact for every quadratic surface on a translation-invariant mesh, the diagonal alone
- * is exact only for cylinders about mesh lines. */
+ * is exact only for cylinders about mesh lines.
+ *
+ * Anisotropic bending replaces k_b |II|^2 by II : D : II, D the orthotropic plate's rigidity in
+ * the warp/weft frame (u,v) with no coupling of the two curvatures (zero bending Poisson ratio,
+ * as above): in the basis (II_uu, II_vv, sqrt(2) II_uv), D = diag(D_u, D_v, 2 G), so
+ *   C_ij = D_u nu_i^2 nu_j^2 + D_v nv_i^2 nv_j^2 + 4 G nu_i nv_i nu_j nv_j
+ * (isotropic: D_u = D_v = 2 G = k_b, C = k_b (n_i . n_j)^2).  A narrow strip cut at angle t to
+ * warp carries the moment M t t^T alone (free long edges) and reads the rigidity D(t),
+ *   1 / D(t) = cos^4 t / D_u + sin^4 t / D_v + cos^2 t sin^2 t / G,
+ * so D_u, D_v are the warp and weft strips' and the bias strip's D_45 gives
+ *   1 / G = 4 / D_45 - 1 / D_u - 1 / D_v. */
 #include <math.h>
 #include <string.h>
 
@@ -76,12 +86,24 @@ static void condense(const double C[3][3], const int in[3], double S[3][3]) {
     }
 }
 
+/* The rigidities (N m) of material mt in the basis (II_uu, II_vv, sqrt(2) II_uv):
+ * D = (D_u, D_v, 2 G) (see the top of the file). */
+static void plate_rigidity(const sw_material *mt, double D[3]) {
+  if (!(mt->k_bend_u > 0.0)) {
+    D[0] = D[1] = D[2] = mt->k_bend;
+    return;
+  }
+  D[0] = mt->k_bend_u, D[1] = mt->k_bend_v;
+  D[2] = 2.0 / (4.0 / mt->k_bend_bias - 1.0 / mt->k_bend_u - 1.0 / mt->k_bend_v);
+}
+
 /* Fill triangle f's hinges and weights; returns its number of hinges (0: no bending). */
 static int make_tri(const sw_model *m, const sw_topology *tp, const int *fe, int f,
                     sw_bend_tri *t) {
   const sw_material *mt = &m->mat[m->face_mat[f]];
-  double n[3][2], C[3][3], S[3][3], c[3] = {0};
+  double n[3][2], C[3][3], S[3][3], c[3] = {0}, D[3];
   int in[3] = {0};
+  plate_rigidity(mt, D);
   memset(t, 0, sizeof *t);
   t->face = f, t->kb = mt->k_bend, t->rest_flat = mt->bend_rest == SW_BEND_REST_FLAT;
   for (int i = 0; i < 3; i++) t->v[i] = m->face[3 * f + i];
@@ -103,14 +125,15 @@ static int make_tri(const sw_model *m, const sw_topology *tp, const int *fe, int
   }
   for (int i = 0; i < 3; i++)
     for (int j = 0; j < 3; j++) {
-      double d = n[i][0] * n[j][0] + n[i][1] * n[j][1];
-      C[i][j] = d * d;
+      C[i][j] = D[0] * n[i][0] * n[i][0] * n[j][0] * n[j][0] +
+                D[1] * n[i][1] * n[i][1] * n[j][1] * n[j][1] +
+                2.0 * D[2] * n[i][0] * n[i][1] * n[j][0] * n[j][1]; /* N m */
     }
   condense(C, in, S);
   for (int a = 0; a < t->nh; a++)
     for (int b = 0; b < t->nh; b++) {
       int i = t->h[a].k, j = t->h[b].k;
-      t->W[a][b] = t->kb * m->area[f] * c[i] * c[j] * S[i][j]; /* J/rad^2 */
+      t->W[a][b] = m->area[f] * c[i] * c[j] * S[i][j]; /* J/rad^2 */
     }
   return t->nh;
 }
@@ -127,7 +150,7 @@ sw_bend_tri *sw_bend_tris(const sw_model *m, int model, int *n, char *err, size_
   }
   for (int f = 0; f < m->nf; f++) {
     const sw_material *mt = &m->mat[m->face_mat[f]];
-    if (mt->bending != model || !(mt->k_bend > 0.0)) continue;
+    if (mt->bending != model || !(mt->k_bend > 0.0 || mt->k_bend_u > 0.0)) continue;
     if (make_tri(m, &tp, fe, f, &out[*n]) > 0) (*n)++;
   }
   sw_free(fe);

@@ -224,7 +224,11 @@ typedef struct sw_material {
   double k_corot;              /* corotated: k/2 |U - I|^2 per unit area, N/m */
   double ks_stretch, ks_shear, ks_bend; /* springs: stiffness of each kind of spring, N/m */
   int bending;                 /* SW_BENDING_* */
-  double k_bend;               /* bending stiffness, N m (= J) */
+  double k_bend;               /* bending stiffness, N m (= J); the largest of the three
+                                  below when they are set */
+  double k_bend_u, k_bend_v, k_bend_bias; /* orthotropic bending: the rigidity a strip cut
+                                  along warp, weft and at 45 degrees reads, N m (0: isotropic
+                                  k_bend; docs/models.md "Anisotropic bending") */
   int bend_rest;               /* SW_BEND_REST_*: dihedral rest angle from x0 or flat */
   double bias;                 /* rad: the warp axis is the u axis rotated by bias */
   double tx_k_u, tx_k_v;       /* stiffness tension XY uses on this panel, N/m (set by

@@ -96,6 +96,29 @@ static void fold(const sw_model *m, double u0, double phi, double amp, double *x
   }
 }
 
+/* Orthotropic bending (warp 3x weft, a bias rigidity between) on a panel cut at a bias of
+ * 0.3 rad: both models' derivatives by the conformance harness, the dihedral also folded. */
+static void orthotropic_conformance(void **st) {
+  (void)st;
+  const int model[3] = {SW_BENDING_QUADRATIC, SW_BENDING_QUADRATIC, SW_BENDING_DIHEDRAL};
+  const int dim[3] = {2, 3, 3};
+  const char *name[3] = {"quadratic", "quadratic", "dihedral"};
+  for (int k = 0; k < 3; k++) {
+    sw_material mt = bending_mat(model[k], 6e-3, SW_BEND_REST_FLAT);
+    mt.k_bend_u = 6e-3, mt.k_bend_v = 2e-3, mt.k_bend_bias = 3e-3, mt.bias = 0.3; /* N m, rad */
+    sw_model *m = th_grid_model_mat(dim[k], 4, 3, 0.3, 0.2, &mt);
+    assert_non_null(m);
+    th_conformance(m, name[k], TH_INTERNAL | TH_REST_FREE, 0.3, 55 + (unsigned long)k);
+    if (dim[k] == 3 && model[k] == SW_BENDING_DIHEDRAL) {
+      double *x = calloc((size_t)m->nv * 3, sizeof *x);
+      fold(m, 0.1, 2.6, 1e-3, x);
+      th_conformance_at(m, name[k], 0, 0.3, x);
+      free(x);
+    }
+    sw_model_free(m);
+  }
+}
+
 static void dihedral_states(void **st) {
   (void)st;
   sw_material mt = bending_mat(SW_BENDING_DIHEDRAL, 2e-3, SW_BEND_REST_FLAT);
@@ -389,7 +412,7 @@ int main(void) {
       cmocka_unit_test(dihedral_curved_rest), cmocka_unit_test(seam_rest),
       cmocka_unit_test(springs_counts),      cmocka_unit_test(springs_stretch_2d),
       cmocka_unit_test(springs_stretch_3d),  cmocka_unit_test(arc_dihedral),
-      cmocka_unit_test(arc_quadratic),
+      cmocka_unit_test(arc_quadratic),       cmocka_unit_test(orthotropic_conformance),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -110,7 +110,22 @@ typedef struct cantilever {
   int bending;        /* SW_BENDING_* */
   int tip;            /* 1: tip load, 0: own weight */
   double angle;       /* the strip's direction in the plane, rad */
+  int aniso;          /* 1: orthotropic bending (KB_U, KB_V, KB_BIAS) */
+  double bias;        /* the panel's bias: warp is the x axis rotated by it, rad */
 } cantilever;
+
+/* Orthotropic rigidities of the anisotropic cases, N m: warp 3x weft, the bias in between. */
+#define KB_U (3.0 * KB)
+#define KB_V KB
+#define KB_BIAS (2.0 * KB)
+
+/* The rigidity a strip at `angle` to warp reads (models/bending.c), N m. */
+static double strip_rigidity(const cantilever *c) {
+  if (!c->aniso) return KB;
+  const double cs = cos(c->angle - c->bias), sn = sin(c->angle - c->bias);
+  const double inv_g = 4.0 / KB_BIAS - 1.0 / KB_U - 1.0 / KB_V; /* 1/G, 1/(N m) */
+  return 1.0 / (pow(cs, 4) / KB_U + pow(sn, 4) / KB_V + cs * cs * sn * sn * inv_g);
+}
 
 /* The strip's model: stiff bw98 membrane, bending k_b = KB, the strip's direction `angle`
  * in the xy plane, gravity or a tip load along -z sized for a deflection of 1e-4 LEN. */
@@ -140,9 +155,11 @@ static sw_model *strip_model(const strip *g, const cantilever *c, double *width)
   sw_material *mt = &m->mat[0];
   mt->membrane = SW_MEMBRANE_BW98, mt->k_u = mt->k_v = mt->k_shear = 1e4; /* N/m */
   mt->bending = c->bending, mt->k_bend = KB, mt->bend_rest = SW_BEND_REST_FLAT;
-  const double delta = 1e-4 * LEN; /* target deflection, m */
+  if (c->aniso) mt->k_bend_u = KB_U, mt->k_bend_v = KB_V, mt->k_bend_bias = KB_BIAS;
+  mt->bias = c->bias;
+  const double delta = 1e-4 * LEN, D = strip_rigidity(c); /* target deflection m, rigidity N m */
   if (c->tip) {
-    const double P = delta * 3.0 * KB * *width / (L * L * L); /* N */
+    const double P = delta * 3.0 * D * *width / (L * L * L); /* N */
     mt->density = 0.1; /* kg/m^2: a static solve needs no mass, the model does */
     m->load = calloc(3 * (size_t)m->nv, sizeof(double));
     for (int f = 0; f < m->nf; f++) /* the tip edges, each half to its ends */
@@ -153,7 +170,7 @@ static sw_model *strip_model(const strip *g, const cantilever *c, double *width)
         m->load[3 * a + 2] -= 0.5 * P * l / *width, m->load[3 * b + 2] -= 0.5 * P * l / *width;
       }
   } else {
-    mt->density = delta * 8.0 * KB / (G * pow(L, 4)); /* kg/m^2 */
+    mt->density = delta * 8.0 * D / (G * pow(L, 4)); /* kg/m^2 */
     m->has_gravity = 1, m->gravity[2] = -G;
   }
   m->opt.newton_force_tol = 1e-12;
@@ -187,22 +204,23 @@ static const char *model_name(int b) { return b == SW_BENDING_DIHEDRAL ? "dihedr
 
 /* Square cells along x (angle 0) or y (pi/2), and the 45-degree lattice: 20 and 40 cells
  * along, errors within 1 % at 20 and falling. */
-static void check(int bending, int tip, int kind) {
+static void check_as(int bending, int tip, int kind, int aniso, double bias) {
   double err[2];
   for (int r = 0; r < 2; r++) {
     int n = 10 << (r + 1); /* cells along */
     double h = LEN / n;
     strip g = kind == 2 ? lattice45(n, n / 5, h) : grid_strip(n, n / 5, h, h, DIAG_A, 0.0);
-    cantilever c = {bending, tip, kind == 1 ? 0.5 * PI : kind == 2 ? 0.25 * PI : 0.0};
+    cantilever c = {bending, tip, kind == 1 ? 0.5 * PI : kind == 2 ? 0.25 * PI : 0.0, aniso, bias};
     err[r] = tip_error(&g, &c);
-    print_message("%-9s %s strip %s, %d cells along: tip deflection error %+.4f %%\n",
-                  model_name(bending), tip ? "tip load " : "own weight",
+    print_message("%-9s %s%s strip %s, %d cells along: tip deflection error %+.4f %%\n",
+                  model_name(bending), aniso ? "orthotropic " : "", tip ? "tip load " : "own weight",
                   kind == 0 ? "along x" : kind == 1 ? "along y" : "at 45  ", n, 100 * err[r]);
     strip_free(&g);
   }
   assert_true(fabs(err[0]) < 0.01);
   assert_true(fabs(err[1]) < 0.6 * fabs(err[0]));
 }
+static void check(int bending, int tip, int kind) { check_as(bending, tip, kind, 0, 0.0); }
 
 /* scenes/peirce_cantilever.yaml: overhang 2c (c the bending length), solved statically; the
  * chord from the ledge (x = h/2, z = 0) to the tip's mean position makes 41.487 degrees with
@@ -234,6 +252,39 @@ CASE(quadratic_weight_y, SW_BENDING_QUADRATIC, 0, 1)
 CASE(quadratic_tip_45, SW_BENDING_QUADRATIC, 1, 2)
 CASE(quadratic_weight_45, SW_BENDING_QUADRATIC, 0, 2)
 
+/* Orthotropic bending (warp 3x weft): strips along warp and weft as check(); the bias strip,
+ * whose bending couples to twist in its own frame, reads D_45 only as it narrows, the clamp
+ * holding it untwisted over about its width: tip within 1 % at width L/40 (40 and 80 cells
+ * along, 2 and 4 across), and the deficit halves (within 0.4-0.6) from width L/20 to L/40 at
+ * 80 cells along, as the clamp's share of the strip does. */
+static void check_bias(int bending) {
+  cantilever c = {bending, 1, 0.25 * PI, 1, 0.0};
+  double err[3];
+  const int n[3] = {40, 80, 80}, rows[3] = {2, 4, 8};
+  for (int r = 0; r < 3; r++) {
+    strip g = lattice45(n[r], rows[r], LEN / n[r]);
+    err[r] = tip_error(&g, &c);
+    print_message("%-9s orthotropic tip load strip at 45, %d cells along, width L/%d: tip "
+                  "deflection error %+.4f %%\n", model_name(bending), n[r], 2 * n[r] / rows[r],
+                  100 * err[r]);
+    strip_free(&g);
+  }
+  assert_true(fabs(err[0]) < 0.01 && fabs(err[1]) < 0.01);
+  assert_true(err[1] / err[2] > 0.4 && err[1] / err[2] < 0.6);
+}
+#define ACASE(name, b, kind) \
+  static void name(void **st) { (void)st, kind == 2 ? check_bias(b) : check_as(b, 1, kind, 1, 0.0); }
+ACASE(ortho_dihedral_0, SW_BENDING_DIHEDRAL, 0)
+ACASE(ortho_dihedral_90, SW_BENDING_DIHEDRAL, 1)
+ACASE(ortho_dihedral_45, SW_BENDING_DIHEDRAL, 2)
+ACASE(ortho_quadratic_0, SW_BENDING_QUADRATIC, 0)
+ACASE(ortho_quadratic_90, SW_BENDING_QUADRATIC, 1)
+ACASE(ortho_quadratic_45, SW_BENDING_QUADRATIC, 2)
+/* A panel cut on a bias of 90 degrees: the strip along x is then weft and reads KB_V. */
+static void ortho_quadratic_panel_bias(void **st) {
+  (void)st, check_as(SW_BENDING_QUADRATIC, 1, 0, 1, 0.5 * PI);
+}
+
 /* The convergence study: tip-load error (%) of both models on each mesh at 10, 20, 40, 80 cells
  * along a strip 1/5 as wide. */
 static int study(void) {
@@ -252,7 +303,7 @@ static int study(void) {
                   : k == 5 ? grid_strip(n, 1, h, 0.2 * LEN, DIAG_A, 0.0)
                   : k == 7 ? grid_strip(n, n / 5, h, h, DIAG_RANDOM, 0.25)
                            : grid_strip(n, n / 5, h, h, k == 1 ? DIAG_B : k == 2 ? DIAG_ALT : DIAG_A, 0.0);
-        cantilever c = {b ? SW_BENDING_QUADRATIC : SW_BENDING_DIHEDRAL, 1, k == 1 ? 0.5 * PI : 0.0};
+        cantilever c = {b ? SW_BENDING_QUADRATIC : SW_BENDING_DIHEDRAL, 1, k == 1 ? 0.5 * PI : 0.0, 0, 0.0};
         e[b] = tip_error(&g, &c);
         strip_free(&g);
       }
@@ -272,6 +323,10 @@ int main(int argc, char **argv) {
       cmocka_unit_test(quadratic_tip_x),   cmocka_unit_test(quadratic_weight_x),
       cmocka_unit_test(quadratic_tip_y),   cmocka_unit_test(quadratic_weight_y),
       cmocka_unit_test(quadratic_tip_45),  cmocka_unit_test(quadratic_weight_45),
+      cmocka_unit_test(ortho_dihedral_0),  cmocka_unit_test(ortho_dihedral_90),
+      cmocka_unit_test(ortho_dihedral_45), cmocka_unit_test(ortho_quadratic_0),
+      cmocka_unit_test(ortho_quadratic_90), cmocka_unit_test(ortho_quadratic_45),
+      cmocka_unit_test(ortho_quadratic_panel_bias),
       cmocka_unit_test(peirce),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

@@ -19,6 +19,7 @@
 #include "harness.h"
 #include "scene.h"
 #include "scene_fabric.h"
+#include "scene_material.h"
 #include "sinew.h"
 
 #define PI 3.14159265358979323846
@@ -103,6 +104,36 @@ static void cantilever_bending_length(void **st) {
   sw_model_free(m);
 }
 
+/* Orthotropic bending from a scene: stiffness_u/v/bias, the default bias, fabric [warp, weft]. */
+static void orthotropic_keys(void **st) {
+  (void)st;
+  char err[SW_ERRSZ];
+  sw_model *m = parse("mesh: {grid: {size: [1, 1], vertices: [4, 4]}}\n"
+                      "material:\n  density: 0.1\n"
+                      "  bending: {model: quadratic, stiffness_u: 3e-5, stiffness_v: 1e-5, "
+                      "stiffness_bias: 2e-5}\n", err);
+  if (!m) fail_msg("%s", err);
+  near(m->mat[0].k_bend_u, 3e-5, 0), near(m->mat[0].k_bend_v, 1e-5, 0);
+  near(m->mat[0].k_bend_bias, 2e-5, 0), near(m->mat[0].k_bend, 3e-5, 0);
+  sw_model_free(m);
+  /* without a bias: twisting rigidity sqrt(D_u D_v)/2, D_45 = 4/(D_u^-1/2 + D_v^-1/2)^2 */
+  m = parse("mesh: {grid: {size: [1, 1], vertices: [4, 4]}}\n"
+            "material:\n  density: 0.1\n"
+            "  bending: {model: dihedral, stiffness_u: 4e-5, stiffness_v: 1e-5}\n", err);
+  if (!m) fail_msg("%s", err);
+  near(m->mat[0].k_bend_bias, 4.0 / pow(1.0 / sqrt(4e-5) + 1.0 / sqrt(1e-5), 2), 1e-14);
+  near(1.0 / (4.0 / m->mat[0].k_bend_bias - 1.0 / 4e-5 - 1.0 / 1e-5), 0.5 * sqrt(4e-5 * 1e-5),
+       1e-12);
+  sw_model_free(m);
+  m = parse("mesh: {grid: {size: [1, 1], vertices: [4, 4]}}\n"
+            "material:\n  fabric: {mass: 200, kes_b: [0.12, 0.04]}\n", err);
+  if (!m) fail_msg("%s", err);
+  near(m->mat[0].k_bend_u, 0.12 * 9.80665e-5, 1e-14);
+  near(m->mat[0].k_bend_v, 0.04 * 9.80665e-5, 1e-14);
+  near(m->mat[0].k_bend_bias, sc_bend_bias_default(0.12 * 9.80665e-5, 0.04 * 9.80665e-5), 0);
+  sw_model_free(m);
+}
+
 typedef struct bad_case {
   const char *text;
   int line, col;
@@ -129,6 +160,15 @@ static void bad_fabrics(void **st) {
       {GRID "  fabric: {mass: 100, kes_g: 1, tensile: [1, 2]}\n"
             "  membrane: {model: bw98, k_u: 1, k_v: 1, k_shear: 1}\n", 4, 13, "membrane and a "},
       {GRID "  fabric: {mass: 100, gsm: 3}\n", 3, 23, "unknown key 'gsm'"},
+      {GRID "  density: 0.1\n  bending: {model: quadratic, stiffness: 1, stiffness_u: 2}\n", 4,
+       58, "rigidity per direction"},
+      {GRID "  density: 0.1\n  bending: {model: quadratic, stiffness_u: 2}\n", 4, 44,
+       "only one of"},
+      {GRID "  density: 0.1\n  bending: {model: quadratic, stiffness_u: 3, stiffness_v: 1, "
+            "stiffness_bias: 3}\n", 4, 79, "stiffest bias strip"},
+      {GRID "  density: 0.1\n  bending: {model: quadratic, stiffness_u: 0, stiffness_v: 1}\n",
+       4, 44, "stiffness_u"},
+      {GRID "  fabric: {mass: 100, kes_b: [0.1, 0]}\n", 3, 36, "kes_b[1]"},
   };
   for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
     char err[SW_ERRSZ], prefix[64];
@@ -198,6 +238,7 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(conversions),  cmocka_unit_test(fabric_block),
       cmocka_unit_test(cantilever_bending_length), cmocka_unit_test(bad_fabrics),
+      cmocka_unit_test(orthotropic_keys),
       cmocka_unit_test(warnings),     cmocka_unit_test(shipped_scenes_are_plausible),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

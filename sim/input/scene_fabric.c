@@ -5,6 +5,8 @@
  * rigidity in N m) and its membrane (bw98: warp, weft and shear stiffness in N/m) from:
  *   mass            g/m^2                      -> density  = mass * 1e-3 kg/m^2
  *   kes_b           KES-F B, gf cm^2/cm        -> k_bend   = kes_b * 9.80665e-5 N m
+ * (each of the three bending keys takes one number, or [warp, weft]: the warp and weft
+ * strips' rigidities, the bias one by sc_bend_bias_default, docs/models.md)
  *   fast_b          FAST bending rigidity, uN m -> k_bend  = fast_b * 1e-6 N m
  *   bending_length  cantilever (ASTM D1388), cm -> k_bend  = rho g c^3 (rho kg/m^2, c m)
  *   kes_g           KES-F G, gf/(cm deg)       -> k_shear  = kes_g * 56.1880 N/m per rad
@@ -19,6 +21,7 @@
  * angle gamma, which is what KES-F G measures; its warp and weft conditions give k_u and k_v
  * as tensile stiffnesses (N/m), which is what `tensile` and FAST's secant at 100 gf/cm give. */
 #include "scene_fabric.h"
+#include "scene_material.h"
 
 #include <math.h>
 #include <stdarg.h>
@@ -54,17 +57,26 @@ static int fabric_bending(const ctx *c, const ynode *y, const ynode *const *v, c
   if (n > 1)
     return sy_fail(c, y, "%s gives %d bending rigidities; expected one of kes_b, fast_b or "
                    "bending_length", w, n);
-  double x;
   int k = v[F_KES_B] ? F_KES_B : v[F_FAST_B] ? F_FAST_B : F_BLEN;
   static const char *const unit[] = {[F_KES_B] = "gf cm^2/cm (KES-F B)",
                                      [F_FAST_B] = "uN m (FAST)",
                                      [F_BLEN] = "cm (cantilever bending length)"};
   snprintf(lab, sizeof lab, "%s %s", w, fab_keys[k]);
-  if (sy_num(c, v[k], lab, 0, k == F_BLEN, unit[k], &x)) return -1;
+  double x[2]; /* warp, weft: one number is both (isotropic) */
+  int two = v[k]->kind == Y_SEQ;
+  if (two ? sy_vec(c, v[k], lab, 2, 0, 1, unit[k], x) : sy_num(c, v[k], lab, 0, k == F_BLEN, unit[k], x))
+    return -1;
   mat->bending = SW_BENDING_QUADRATIC;
   mat->bend_rest = SW_BEND_REST_FLAT;
-  mat->k_bend = k == F_KES_B ? sc_fabric_kes_b(x)
-                : k == F_FAST_B ? x * 1e-6 : sc_fabric_cantilever(gsm, x);
+  double kb[2];
+  for (int i = 0; i < 2; i++) {
+    double xi = x[two ? i : 0];
+    kb[i] = k == F_KES_B ? sc_fabric_kes_b(xi) : k == F_FAST_B ? xi * 1e-6
+                                                : sc_fabric_cantilever(gsm, xi);
+  }
+  mat->k_bend_u = two ? kb[0] : 0.0, mat->k_bend_v = two ? kb[1] : 0.0;
+  mat->k_bend_bias = two ? sc_bend_bias_default(kb[0], kb[1]) : 0.0;
+  mat->k_bend = fmax(kb[0], kb[1]);
   return 0;
 }
 

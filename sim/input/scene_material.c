@@ -120,34 +120,82 @@ static int load_membrane(const ctx *c, const ynode *y, const char *what, sw_mate
   return mm->type == SW_MEMBRANE_STVK ? check_stvk(c, y, v[8], w, mat) : 0;
 }
 
-static const char *const bend_keys[] = {"model", "stiffness", "rest"};
+static const char *const bend_keys[] = {"model", "stiffness", "rest", "stiffness_u",
+                                        "stiffness_v", "stiffness_bias"};
+enum { BK_MODEL, BK_K, BK_REST, BK_KU, BK_KV, BK_KBIAS, BK_N };
 static const char *const bend_models[] = {"dihedral", "quadratic"};
 static const char *const bend_rests[] = {"initial", "flat"}; /* SW_BEND_REST_* order */
 
+/* The default bias rigidity (N m): a twisting rigidity G = sqrt(D_u D_v)/2, the geometric mean
+ * of the isotropic ones, so D_45 = 4 / (1/sqrt(D_u) + 1/sqrt(D_v))^2 (models/bending.c). */
+double sc_bend_bias_default(double ku, double kv) {
+  double s = 1.0 / sqrt(ku) + 1.0 / sqrt(kv);
+  return 4.0 / (s * s);
+}
+
+/* A positive twisting rigidity needs 4/D_45 > 1/D_u + 1/D_v (models/bending.c).  0 or -1. */
+static int check_bias(const ctx *c, const ynode *at, const char *w, const sw_material *mat) {
+  double top = 4.0 / (1.0 / mat->k_bend_u + 1.0 / mat->k_bend_v); /* N m */
+  if (mat->k_bend_bias < top) return 0;
+  return sy_fail(c, at, "%s stiffness_bias %g N m is not below 4/(1/stiffness_u + "
+                 "1/stiffness_v) = %g N m, the stiffest bias strip an orthotropic plate with "
+                 "these warp and weft rigidities has; expected a smaller stiffness_bias", w,
+                 mat->k_bend_bias, top);
+}
+
+/* Either stiffness (isotropic) or stiffness_u and stiffness_v (and stiffness_bias). */
+static int bend_rigidity(const ctx *c, const ynode *y, const ynode *const *v, const char *w,
+                         sw_material *mat) {
+  char lab[160];
+  mat->k_bend_u = mat->k_bend_v = mat->k_bend_bias = 0.0;
+  if (v[BK_K]) {
+    const ynode *extra = v[BK_KU] ? v[BK_KU] : v[BK_KV] ? v[BK_KV] : v[BK_KBIAS];
+    if (extra)
+      return sy_fail(c, extra, "%s gives stiffness (isotropic) and a rigidity per direction; "
+                     "expected stiffness, or stiffness_u and stiffness_v", w);
+    snprintf(lab, sizeof lab, "%s stiffness", w);
+    return sy_num(c, v[BK_K], lab, 0, 0, "N m", &mat->k_bend);
+  }
+  if (!v[BK_KU] || !v[BK_KV])
+    return sy_fail(c, v[BK_KU] ? v[BK_KU] : v[BK_KV] ? v[BK_KV] : v[BK_KBIAS] ? v[BK_KBIAS] : y,
+                   "%s has no stiffness, or only one of stiffness_u and stiffness_v; expected "
+                   "stiffness: a number >= 0 (N m), or both stiffness_u and stiffness_v (N m, "
+                   "> 0)", w);
+  snprintf(lab, sizeof lab, "%s stiffness_u", w);
+  if (sy_num(c, v[BK_KU], lab, 0, 1, "N m", &mat->k_bend_u)) return -1;
+  snprintf(lab, sizeof lab, "%s stiffness_v", w);
+  if (sy_num(c, v[BK_KV], lab, 0, 1, "N m", &mat->k_bend_v)) return -1;
+  mat->k_bend_bias = sc_bend_bias_default(mat->k_bend_u, mat->k_bend_v);
+  snprintf(lab, sizeof lab, "%s stiffness_bias", w);
+  if (v[BK_KBIAS] && (sy_num(c, v[BK_KBIAS], lab, 0, 1, "N m", &mat->k_bend_bias) ||
+                      check_bias(c, v[BK_KBIAS], w, mat)))
+    return -1;
+  mat->k_bend = fmax(fmax(mat->k_bend_u, mat->k_bend_v), mat->k_bend_bias);
+  return 0;
+}
+
 static int load_bending(const ctx *c, const ynode *y, const char *what, sw_material *mat) {
-  const ynode *v[3];
+  const ynode *v[BK_N];
   char w[128], lab[160];
   int model = 0;
   snprintf(w, sizeof w, "%s bending", what);
-  if (sy_map(c, y, w, bend_keys, 3, v) ||
-      sy_need(c, y, v[0], w, "model", "model: dihedral or quadratic") ||
-      sy_need(c, y, v[1], w, "stiffness", "stiffness: a number >= 0 (N m)"))
+  if (sy_map(c, y, w, bend_keys, BK_N, v) ||
+      sy_need(c, y, v[BK_MODEL], w, "model", "model: dihedral or quadratic"))
     return -1;
   snprintf(lab, sizeof lab, "%s model", w);
-  if (sy_choice(c, v[0], lab, bend_models, 2, &model)) return -1;
+  if (sy_choice(c, v[BK_MODEL], lab, bend_models, 2, &model)) return -1;
   mat->bending = model == 0 ? SW_BENDING_DIHEDRAL : SW_BENDING_QUADRATIC;
   if (model == 0 && c->m->dim == 2)
-    return sy_fail(c, v[0], "%s model dihedral needs a 3D scene (a planar mesh cannot fold); "
-                   "expected dimension: 3, or model quadratic", w);
-  snprintf(lab, sizeof lab, "%s stiffness", w);
-  if (sy_num(c, v[1], lab, 0, 0, "N m", &mat->k_bend)) return -1;
+    return sy_fail(c, v[BK_MODEL], "%s model dihedral needs a 3D scene (a planar mesh cannot "
+                   "fold); expected dimension: 3, or model quadratic", w);
+  if (bend_rigidity(c, y, v, w, mat)) return -1;
   mat->bend_rest = model == 0 ? SW_BEND_REST_INITIAL : SW_BEND_REST_FLAT;
-  if (!v[2]) return 0;
+  if (!v[BK_REST]) return 0;
   if (model == 1)
-    return sy_fail(c, v[2], "%s rest is given for model quadratic, whose rest state is always "
-                   "the flat (u,v) layout; expected rest only with model dihedral", w);
+    return sy_fail(c, v[BK_REST], "%s rest is given for model quadratic, whose rest state is "
+                   "always the flat (u,v) layout; expected rest only with model dihedral", w);
   snprintf(lab, sizeof lab, "%s rest", w);
-  return sy_choice(c, v[2], lab, bend_rests, 2, &mat->bend_rest);
+  return sy_choice(c, v[BK_REST], lab, bend_rests, 2, &mat->bend_rest);
 }
 
 /* The (u,v) rest layout is needed for masses, membranes and bending. */
@@ -279,7 +327,8 @@ int sc_load_panels(const ctx *c, const ynode *y, const sw_mesh *me, const char *
 /* The stiffnesses of a material (N/m, bending N m); an explicit tension XY stiffness too. */
 static void scale_material(sw_material *mt, double s) {
   double *k[] = {&mt->k_u, &mt->k_v, &mt->k_shear, &mt->e_u, &mt->e_v, &mt->g_uv, &mt->k_corot,
-                 &mt->ks_stretch, &mt->ks_shear, &mt->ks_bend, &mt->k_bend};
+                 &mt->ks_stretch, &mt->ks_shear, &mt->ks_bend, &mt->k_bend,
+                 &mt->k_bend_u, &mt->k_bend_v, &mt->k_bend_bias};
   for (size_t i = 0; i < sizeof k / sizeof k[0]; i++) *k[i] *= s;
   if (mt->tx_k_u >= 0) mt->tx_k_u *= s; /* < 0: derived from the (scaled) membrane */
   if (mt->tx_k_v >= 0) mt->tx_k_v *= s;

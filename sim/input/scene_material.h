@@ -35,5 +35,8 @@ int sc_load_arrange(const ctx *c, const ynode *y);
 /* Multiply every elastic stiffness of a loaded model (before sw_model_finish) by s > 0 and
  * record s in m->stiffness_scale (sw_scene_overrides in sinew.h says which). */
 void sc_scale_stiffness(sw_model *m, double s);
+/* The bias bending rigidity when a scene gives only warp and weft ones (N m; docs/models.md
+ * "Anisotropic bending"). */
+double sc_bend_bias_default(double ku, double kv);
 
 #endif
