@@ -199,12 +199,19 @@ static int boxes_overlap(const double *p, const double *q) {
   return 1;
 }
 
-/* Vertices u (nu) and w (nw) share one, or are all fixed. */
+/* Vertex a is sewn to b (models/seam.c). */
+static int sewn(const sw_bp_input *in, int a, int b) {
+  if (!in->sewn_ptr || a >= in->nsewn || b >= in->nsewn) return 0;
+  for (int k = in->sewn_ptr[a]; k < in->sewn_ptr[a + 1]; k++) if (in->sewn_idx[k] == b) return 1;
+  return 0;
+}
+
+/* Vertices u (nu) and w (nw) share (or sew) one, or are all fixed. */
 static int skip_pair(const sw_bp_input *in, const int *u, int nu, const int *w, int nw) {
   int fixed = in->fixed != NULL;
   for (int i = 0; i < nu; i++) {
     fixed = fixed && in->fixed[u[i]];
-    for (int j = 0; j < nw; j++) if (u[i] == w[j]) return 1;
+    for (int j = 0; j < nw; j++) if (u[i] == w[j] || sewn(in, u[i], w[j])) return 1;
   }
   for (int j = 0; j < nw; j++) fixed = fixed && in->fixed[w[j]];
   return fixed;

@@ -162,6 +162,8 @@ typedef struct sw_bp_input {
   const int *face;             /* (nf x 3) vertices of each face */
   const unsigned char *fixed;  /* (nv) 1 = obstacle vertex, or NULL */
   double inflate;              /* m */
+  int nsewn;                   /* vertices below this may be sewn (sw_model.sewn_ptr) */
+  const int *sewn_ptr, *sewn_idx; /* vertices sewn together count as shared, or NULL */
 } sw_bp_input;
 
 enum { SW_BP_PT = 1, SW_BP_EE = 2, SW_BP_FF = 4 }; /* which pairs a query finds */
@@ -169,7 +171,7 @@ enum { SW_BP_PT = 1, SW_BP_EE = 2, SW_BP_FF = 4 }; /* which pairs a query finds 
 /* A uniform grid hashed by integer cell: each primitive goes into the cells its box covers,
  * entries are sorted by cell (radix sort), and each cell's primitives are paired when their
  * boxes overlap; a pair is reported only in the cell of its boxes' overlap's lower corner, so
- * once.  Pairs with a shared vertex, or whose vertices are all fixed, are skipped.  Buffers
+ * once.  Pairs with a shared (or sewn) vertex, or whose vertices are all fixed, are skipped.  Buffers
  * persist across queries: no allocation once the capacity suffices. */
 typedef struct sw_broadphase {
   int npt, nee, nff;           /* pairs found by the last query */
@@ -233,5 +235,9 @@ int sw_triangles_intersect(const double p0[3], const double p1[3], const double 
 /* The number of pairs of faces with no shared vertex that intersect (x: nv x 3, faces:
  * nf x 3), with the broad phase; -1 when out of memory. */
 long sw_mesh_self_intersections(int nv, const double *x, int nf, const int *faces);
+/* The same where faces with vertices sewn together (sw_model.sewn_ptr, sewn_idx over the
+ * first nv vertices; NULL: none) count as sharing one: a closed seam's two sides touch. */
+long sw_mesh_self_intersections_sewn(int nv, const double *x, int nf, const int *faces,
+                                     const int *sewn_ptr, const int *sewn_idx);
 
 #endif

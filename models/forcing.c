@@ -59,7 +59,7 @@ double sw_ramp_rate(double t, double T) {
 }
 
 int sw_actuated(const sw_model *m) {
-  int a = m->has_gravity && m->gravity_ramp > 0.0;
+  int a = m->has_gravity && (m->gravity_ramp > 0.0 || m->fit.on); /* the fit ramps it */
   for (int k = 0; k < m->ntendon; k++) a |= m->tendon[k].nkey > 1;
   for (int i = 0; m->load && m->load_ramp && i < m->nv; i++) a |= m->load_ramp[i] > 0.0;
   return a;
@@ -77,7 +77,7 @@ double sw_actuation_power(const sw_model *m, const double *x, double t) {
   const int d = m->dim;
   double p = 0.0; /* W */
   for (int k = 0; k < m->ntendon; k++) p += tendon_power(&m->tendon[k], x, d, t);
-  double rg = m->has_gravity ? sw_ramp_rate(t, m->gravity_ramp) : 0.0; /* 1/s */
+  double rg = m->has_gravity ? sw_ramp_rate(t - m->gravity_delay, m->gravity_ramp) : 0.0; /* 1/s */
   for (int i = 0; rg != 0.0 && i < m->nv; i++)
     for (int a = 0; a < d; a++) p -= rg * m->mass[i] * m->gravity[a] * x[i * d + a];
   for (int i = 0; m->load && m->load_ramp && i < m->nv; i++) {

@@ -1,5 +1,5 @@
 /* gravity.c — uniform gravity on the lumped masses: E = -r(t) sum_i m_i g.x_i (J), r(t) the
- * ramp sw_ramp(t, m->gravity_ramp) (1 without one).  Linear in x: no Hessian, so it declares
+ * ramp sw_ramp(t - m->gravity_delay, m->gravity_ramp) (1 without one).  Linear in x: no Hessian, so it declares
  * no stencils. */
 #include <stdio.h>
 
@@ -8,7 +8,7 @@
 static int gravity_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, double *energy) {
   (void)t;
   const int d = m->dim;
-  const double r = sw_ramp(ev->t, m->gravity_ramp);
+  const double r = sw_ramp(ev->t - m->gravity_delay, m->gravity_ramp);
   double e = 0.0;
   for (int i = 0; i < m->nv; i++)
     for (int a = 0; a < d; a++) {

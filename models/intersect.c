@@ -256,9 +256,15 @@ int sw_triangles_intersect(const double p0[3], const double p1[3], const double 
 }
 
 long sw_mesh_self_intersections(int nv, const double *x, int nf, const int *faces) {
+  return sw_mesh_self_intersections_sewn(nv, x, nf, faces, NULL, NULL);
+}
+
+long sw_mesh_self_intersections_sewn(int nv, const double *x, int nf, const int *faces,
+                                     const int *sewn_ptr, const int *sewn_idx) {
   sw_broadphase bp;
   sw_broadphase_init(&bp);
-  sw_bp_input in = {.nv = nv, .x0 = x, .x1 = x, .nf = nf, .face = faces};
+  sw_bp_input in = {.nv = nv, .x0 = x, .x1 = x, .nf = nf, .face = faces, .nsewn = nv,
+                    .sewn_ptr = sewn_ptr, .sewn_idx = sewn_idx};
   long count = -1;
   if (!sw_broadphase_query(&bp, &in, SW_BP_FF)) {
     count = 0;

@@ -75,13 +75,15 @@ struct sw_mcontact {
      vertices each lie within `slack` of their swept box (`covered`) */
   sw_mc_pair *cand;     /* (ncand) kind, vertices and their distance at xref (m, in gap) */
   int ncand, capcand, cand_ok;
-  double *cbox;         /* (nvt x 6) each vertex's box over x0 -> x1, m */
-  double *xref;         /* (nvt x 3) x0 of the candidates' motion, m */
+  double *cbox;         /* (nmoving x 6) each vertex's box over x0 -> x1, m */
+  double *xref;         /* (nmoving x 3) x0 of the candidates' motion, m */
   double *umove;        /* (nvt) how far each vertex is from xref (at most), m */
   double slack;         /* m */
   float *tbox[3];       /* the node boxes of p->tree[k] at the obstacles' places last queried */
   int tree_fit;         /* 1: tbox holds the obstacles' places (static obstacles: fit once) */
   int placed;           /* static obstacles: bit 0 (1) set once xa (xb) holds their places */
+  int nsewn;            /* the seams' sewn vertices (sw_model.sewn_ptr): pairs skipped */
+  const int *sewn_ptr, *sewn_idx;
 };
 
 int sw_mesh_contact_on(const sw_model *m) { return m->contact.self || m->nmesh_obstacle > 0; }
@@ -155,8 +157,9 @@ sw_mcontact *sw_mcontact_new(const sw_model *m) {
   mc->carrier = sw_calloc(nv + 1, sizeof(int));
   mc->f = sw_calloc(6 * nv + 1, sizeof(double));
   mc->vforce = sw_calloc(nv + 1, sizeof(double));
-  mc->cbox = sw_calloc(6 * nvt + 1, sizeof(double));
-  mc->xref = sw_calloc(3 * nvt + 1, sizeof(double));
+  size_t nmov = p->moving ? nvt : nv; /* static obstacles' boxes are never needed */
+  mc->cbox = sw_calloc(6 * nmov + 1, sizeof(double));
+  mc->xref = sw_calloc(3 * nmov + 1, sizeof(double));
   mc->umove = sw_calloc(nvt + 1, sizeof(double));
   mc->slack = SW_MC_SLACK * m->contact.dhat;
   for (int k = 0; k < 3; k++)
@@ -166,6 +169,7 @@ sw_mcontact *sw_mcontact_new(const sw_model *m) {
       !mc->cbox || !mc->xref || !mc->umove)
     return sw_mcontact_free(mc), NULL;
   for (int i = 0; i < p->nvt; i++) mc->fixed[i] = (unsigned char)(i >= m->nv || m->pinned[i]);
+  mc->nsewn = m->nv, mc->sewn_ptr = m->sewn_ptr, mc->sewn_idx = m->sewn_idx;
   return mc;
 }
 
@@ -244,7 +248,8 @@ static sw_bp_input bp_input(const sw_mcontact *mc, const double *x0, const doubl
                             double inflate) {
   const mc_param *p = mc->p;
   sw_bp_input in = {.nv = p->nvt, .x0 = x0, .x1 = x1, .ne = p->ne, .edge = p->edge,
-                    .nf = p->nf, .face = p->face, .fixed = mc->fixed, .inflate = inflate};
+                    .nf = p->nf, .face = p->face, .fixed = mc->fixed, .inflate = inflate,
+                    .nsewn = mc->nsewn, .sewn_ptr = mc->sewn_ptr, .sewn_idx = mc->sewn_idx};
   return in;
 }
 
@@ -1010,7 +1015,8 @@ long sw_mcontact_obstacle_intersections(const sw_model *m, sw_mcontact *mc, cons
 int sw_mcontact_check_start(const sw_model *m, const double *x, int obstacles, char *err,
                             size_t errsz) {
   if (obstacles ? m->nmesh_obstacle == 0 : !m->contact.self) return 0;
-  long cross = obstacles ? 0 : sw_mesh_self_intersections(m->nv, x, m->nf, m->face);
+  long cross = obstacles ? 0 : sw_mesh_self_intersections_sewn(m->nv, x, m->nf, m->face,
+                                                               m->sewn_ptr, m->sewn_idx);
   if (cross != 0) {
     sw_errf(err, errsz, cross < 0 ? "out of memory checking the mesh for self-intersections"
                                   : "the mesh intersects itself (%ld pairs of triangles)", cross);

@@ -15,9 +15,16 @@
  * compressed spring) the filtered Hessian (SW_FILTER_*) drops that part (clamp) or takes
  * |E'| d2 Delta (absolute eigenvalues).
  *
- * A zero-length segment (coincident waypoints: |s_k| <= 1e-12 of the coordinates' size) has
- * no direction: it counts its length (~0) in l and contributes s^_k = 0 and zeta_k = 0, i.e.
- * the subgradient 0 of |s| at s = 0 and no stiffness, so nothing is NaN or Inf.
+ * A segment shorter than eps = SW_TENDON_SMOOTH x the tendon's initial rest length per
+ * segment counts the length (|s_k|^2 + eps^2) / (2 eps) instead of |s_k| (the same value and
+ * gradient at |s_k| = eps): its gradient is s_k / eps in place of s^_k and its second
+ * partials I / eps in place of zeta_k.  |s| itself is a cone at s = 0: a taut cable gathering
+ * cloth pulls two waypoints together until they meet, its energy's minimiser then sits on the
+ * cone's tip, and Newton's iterates jump across it without converging (their updates do not
+ * shrink, the line search cuts every step to nothing).  Longer segments are untouched.  With
+ * eps = 0 (a tendon of zero rest length) a zero-length segment (|s_k| <= 1e-12 of the
+ * coordinates' size) has no direction: it counts its length (~0) in l and contributes s^_k = 0
+ * and zeta_k = 0, the subgradient 0 of |s| at s = 0 and no stiffness, so nothing is NaN or Inf.
  *
  * Storage (sparse factor, docs/tendons.md): a tendon of at most opt.tendon_dense_max waypoints
  * is one dense stencil holding all of H; a longer one has one 2-vertex stencil per segment
@@ -31,6 +38,8 @@
 #include "util.h"
 
 #define SEG_EPS 1e-12 /* a segment shorter than this times its ends' size is degenerate */
+/* eps / (rest length per segment) of the smoothed segment length (the header) */
+#define SW_TENDON_SMOOTH 1e-3
 
 typedef struct tendon_param {
   int *first;   /* (ntendon) first stencil of each tendon */
@@ -45,9 +54,20 @@ double sw_tendon_rest_rate(const sw_tendon *td, double t) {
   return sw_keyframe_rate(td->key_t, td->key_rest, td->nkey, td->interp, t); /* m/s */
 }
 
-/* s_k = x_{w_k} - x_{w_{k+1}}: its length |s_k| (m) and, into sh, s^_k (0 if degenerate). */
-static double segment(const sw_tendon *td, const double *x, int d, int k, double *sh) {
+/* The smoothing width eps of a tendon's segment lengths, m (the header). */
+static double smooth_width(const sw_tendon *td) {
+  double rest = td->nkey > 0 ? fabs(td->key_rest[0]) : 0.0; /* m */
+  return td->nway > 1 ? SW_TENDON_SMOOTH * rest / (td->nway - 1) : 0.0;
+}
+
+/* s_k = x_{w_k} - x_{w_{k+1}}: its (smoothed) length l_k (m), into sh its gradient dl_k/ds_k
+ * (s^_k; s_k / eps when shorter than eps; 0 if degenerate) and, when p is not NULL, its
+ * second partials as (I - p p^T) / *hl (p = s^_k, *hl = |s_k|; p = 0, *hl = eps when shorter
+ * than eps; *hl = inf, no stiffness, if degenerate). */
+static double segment(const sw_tendon *td, const double *x, int d, int k, double *sh, double *p,
+                      double *hl) {
   const double *a = x + (size_t)td->way[k] * d, *b = x + (size_t)td->way[k + 1] * d;
+  const double eps = smooth_width(td); /* m */
   double l = 0.0, size = 0.0;
   for (int c = 0; c < d; c++) {
     sh[c] = a[c] - b[c];
@@ -55,14 +75,21 @@ static double segment(const sw_tendon *td, const double *x, int d, int k, double
     size = fmax(size, fmax(fabs(a[c]), fabs(b[c])));
   }
   l = sqrt(l);
-  int degenerate = !(l > SEG_EPS * size); /* also l = 0 and NaN */
-  for (int c = 0; c < d; c++) sh[c] = degenerate ? 0.0 : sh[c] / l;
-  return l;
+  double scale, h; /* sh *= scale; the second partials' length */
+  if (l < eps) scale = 1.0 / eps, h = eps;
+  else if (!(l > SEG_EPS * size)) scale = 0.0, h = INFINITY; /* also l = 0 and NaN */
+  else scale = 1.0 / l, h = l;
+  for (int c = 0; c < d; c++) sh[c] *= scale;
+  if (p) {
+    for (int c = 0; c < d; c++) p[c] = l < eps ? 0.0 : sh[c];
+    *hl = h;
+  }
+  return l < eps ? (l * l + eps * eps) / (2.0 * eps) : l;
 }
 
 double sw_tendon_length(const sw_tendon *td, const double *x, int dim) {
   double len = 0.0, sh[3];
-  for (int k = 0; k + 1 < td->nway; k++) len += segment(td, x, dim, k, sh);
+  for (int k = 0; k + 1 < td->nway; k++) len += segment(td, x, dim, k, sh, NULL, NULL);
   return len;
 }
 
@@ -71,11 +98,11 @@ void sw_tendon_grad(const sw_tendon *td, const double *x, int d, int a, double *
   double sh[3];
   for (int c = 0; c < d; c++) g[c] = 0.0;
   if (a + 1 < td->nway) {
-    segment(td, x, d, a, sh);
+    segment(td, x, d, a, sh, NULL, NULL);
     for (int c = 0; c < d; c++) g[c] += sh[c];
   }
   if (a > 0) {
-    segment(td, x, d, a - 1, sh);
+    segment(td, x, d, a - 1, sh, NULL, NULL);
     for (int c = 0; c < d; c++) g[c] -= sh[c];
   }
 }
@@ -93,12 +120,9 @@ static double law(const sw_tendon *td, double delta, double *e1, double *e2) {
   return 0.5 * K * delta * delta;
 }
 
-/* c zeta_k = c (I - s^ s^T) / |s_k| into the (d x d) block at B (leading dimension ld);
- * nothing for a degenerate segment (s^ = 0). */
+/* c (I - p p^T) / len (zeta_k, or I / eps for a short segment) into the (d x d) block at B
+ * (leading dimension ld); nothing when len is infinite (a degenerate segment). */
 static void add_zeta(double *B, int ld, int d, const double *sh, double len, double c) {
-  double n2 = 0.0;
-  for (int a = 0; a < d; a++) n2 += sh[a] * sh[a];
-  if (n2 == 0.0) return;
   for (int a = 0; a < d; a++)
     for (int b = 0; b < d; b++) B[a * ld + b] += c * ((a == b) - sh[a] * sh[b]) / len;
 }
@@ -107,11 +131,12 @@ static void add_zeta(double *B, int ld, int d, const double *sh, double len, dou
  * -zeta_k off it) into a block where the ends are local vertices i0 and i1. */
 static void add_segment_band(const sw_tendon *td, const double *x, int d, int k, double c,
                              double *blk, int ld, int i0, int i1) {
-  double sh[3], len = segment(td, x, d, k, sh);
-  add_zeta(blk + (i0 * d) * ld + i0 * d, ld, d, sh, len, c);
-  add_zeta(blk + (i1 * d) * ld + i1 * d, ld, d, sh, len, c);
-  add_zeta(blk + (i0 * d) * ld + i1 * d, ld, d, sh, len, -c);
-  add_zeta(blk + (i1 * d) * ld + i0 * d, ld, d, sh, len, -c);
+  double sh[3], p[3], hl;
+  segment(td, x, d, k, sh, p, &hl);
+  add_zeta(blk + (i0 * d) * ld + i0 * d, ld, d, p, hl, c);
+  add_zeta(blk + (i1 * d) * ld + i1 * d, ld, d, p, hl, c);
+  add_zeta(blk + (i0 * d) * ld + i1 * d, ld, d, p, hl, -c);
+  add_zeta(blk + (i1 * d) * ld + i0 * d, ld, d, p, hl, -c);
 }
 
 /* The whole Hessian E'' grad grad^T + cb d2 Delta of a short tendon: one (n d)^2 block. */

@@ -124,6 +124,31 @@ int sw_bend_alloc_stencils(sw_term *t, const sw_bend_tri *tri, int n, int dim);
 /* models/point_load.c: E = -sum_i f_i . x_i with f = m->load (no Hessian, no stencils). */
 int sw_point_load_build(sw_term *t, const sw_model *m, char *err, size_t errsz);
 
+/* models/seam.c: the term "seams", one 3-vertex stencil per pair of every seam. */
+int sw_seam_build(sw_term *t, const sw_model *m, char *err, size_t errsz);
+/* Pair a seam whose curves (sm->curve, sm->n) have rest edge lengths el0 (n[0] - 1) and el1
+ * (n[1] - 1), m: sm->length, npair, pair, w, len.  Nonzero when out of memory. */
+int sw_seam_pair(sw_seam *sm, const double *el0, const double *el1, char *err, size_t errsz);
+/* m->sewn_ptr, sewn_idx from the seams' pairs: each vertex is linked to its partner edge's
+ * vertices and their neighbours along that curve.  Nonzero when out of memory. */
+int sw_seam_sewn(sw_model *m, char *err, size_t errsz);
+/* Each seam pair's gap at x0 (sw_seam.gap0): where its rest length starts.  Nonzero when out
+ * of memory. */
+int sw_seam_start(sw_model *m, char *err, size_t errsz);
+/* The automatic seam stiffness (sewing: {stiffness: auto}), N/m^2: SW_SEAM_STIFFNESS_FACTOR
+ * times the stiffest panel's tension XY stiffness over the mean rest edge length of the seams
+ * (docs/garments.md has the measurement). */
+#define SW_SEAM_STIFFNESS_FACTOR 10.0
+double sw_seam_auto_stiffness(const sw_model *m);
+/* The factor on the automatic mesh-contact stiffness of a garment (1 without seams): a sewn
+ * garment presses on the body with the pressure of its tension over the body's curvature,
+ * SW_SEAM_CONTACT_STRAIN x the stiffest panel's tension XY stiffness over a radius of
+ * SW_SEAM_CONTACT_RADIUS, per unit of the lightest panel's density, against the gravity the
+ * automatic stiffness is made for (docs/garments.md). */
+#define SW_SEAM_CONTACT_STRAIN 0.1
+#define SW_SEAM_CONTACT_RADIUS 0.1 /* m */
+double sw_seam_contact_scale(const sw_model *m);
+
 /* models/tension_xy.c: the reference stretch rlu, rlv of every face (Optitex, "Tension XY calculations explanation"). */
 void sw_tension_xy_reference(const sw_model *m, sw_data *d);
 

@@ -36,7 +36,8 @@ sw_data *sw_data_new(const sw_model *m) {
   d->tendon_length = sw_calloc(nt, sizeof(double));
   d->tendon_delta = sw_calloc(nt, sizeof(double));
   d->tendon_tension = sw_calloc(nt, sizeof(double));
-  if (!d->tendon_length || !d->tendon_delta || !d->tendon_tension)
+  d->seam_state = sw_calloc(4 * (size_t)m->nseam + 1, sizeof(double));
+  if (!d->tendon_length || !d->tendon_delta || !d->tendon_tension || !d->seam_state)
     return sw_data_free(d), NULL;
   if (!d->x || !d->v || !d->grad || !d->hess || !d->lowrank || !d->term_energy || !d->term_time || !d->txy ||
       !d->stretch_u || !d->stretch_v || !d->shear || !d->rlu || !d->rlv || !d->scratch)
@@ -51,6 +52,7 @@ sw_data *sw_data_new(const sw_model *m) {
       for (int c = 0; c < 3; c++) d->vertex_area[m->face[3 * f + c]] += m->area[f] / 3.0;
   }
   d->contact_min = d->self_min = INFINITY;
+  d->factor_super = -1;
   memcpy(d->x, m->x0, nd * sizeof(double));
   memcpy(d->v, m->v0, nd * sizeof(double));
   for (int i = 0; i < m->nv; i++)
@@ -81,6 +83,7 @@ void sw_data_free(sw_data *d) {
   sw_free(d->tendon_length);
   sw_free(d->tendon_delta);
   sw_free(d->tendon_tension);
+  sw_free(d->seam_state);
   sw_contact_lag_free(d->lag);
   sw_mcontact_free(d->mc);
   sw_free(d->contact_pressure);

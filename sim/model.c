@@ -14,6 +14,11 @@ const char *const *sw_hessian_names(void) {
   return names;
 }
 
+const char *const *sw_factor_names(void) {
+  static const char *const names[SW_FACTOR_N + 1] = {"auto", "simplicial", "supernodal", NULL};
+  return names;
+}
+
 const char *const *sw_norm_names(void) {
   static const char *const names[SW_NORM_N + 1] = {"rms", "max", NULL};
   return names;
@@ -39,7 +44,7 @@ sw_model *sw_model_new(void) {
   o->newton_force_tol = 1e-10;
   o->max_halvings = 8;
   o->hessian = SW_HESSIAN_DEFAULT; /* abs in 3D, projected in 2D (sw_model_finish) */
-  o->newton_reuse = 0;
+  o->newton_reuse = SW_REUSE_OFF;
   o->rtol = 1e-6;
   o->atol = 1e-8;
   o->max_order = 0; /* automatic: sw_max_order */
@@ -50,7 +55,7 @@ sw_model *sw_model_new(void) {
   o->positions_every = 0.0;
   o->frames_format = SW_FRAMES_BINARY32; /* docs/scenes.md, "Frames" (measured) */
   o->tx_clip = 5e4;
-  o->tx_reference_uv = 0;
+  o->tx_reference_uv = -1; /* sw_model_finish: uv with seams (a garment), else initial */
   o->tx_k_u = o->tx_k_v = -1.0;
   o->tendon_dense_max = SW_TENDON_DENSE_MAX;
   m->stiffness_scale = 1.0;
@@ -102,6 +107,17 @@ void sw_model_free(sw_model *m) {
     sw_free(m->tendon[k].key_rest);
   }
   sw_free(m->tendon);
+  for (int k = 0; k < m->nseam; k++) {
+    sw_free(m->seam[k].curve[0]);
+    sw_free(m->seam[k].curve[1]);
+    sw_free(m->seam[k].pair);
+    sw_free(m->seam[k].w);
+    sw_free(m->seam[k].len);
+    sw_free(m->seam[k].gap0);
+  }
+  sw_free(m->seam);
+  sw_free(m->sewn_ptr);
+  sw_free(m->sewn_idx);
   sw_free(m->load);
   sw_free(m->load_ramp);
   sw_free(m);
@@ -241,6 +257,7 @@ static int build_terms(sw_model *m, char *err, size_t errsz) {
         add_term(m, bendings[k].build, err, errsz))
       return -1;
   if (m->ntendon > 0 && add_term(m, sw_tendon_build, err, errsz)) return -1;
+  if (m->nseam > 0 && add_term(m, sw_seam_build, err, errsz)) return -1;
   if (m->has_gravity && add_term(m, sw_gravity_build, err, errsz)) return -1;
   if (m->load && add_term(m, sw_point_load_build, err, errsz)) return -1;
   if (m->nobstacle > 0) {
@@ -252,7 +269,7 @@ static int build_terms(sw_model *m, char *err, size_t errsz) {
   }
   if (sw_mesh_contact_on(m)) {
     if (m->contact.kappa_mesh <= 0.0) {
-      m->contact.kappa_mesh = sw_mesh_contact_auto_kappa(m); /* 1/(s^2 m^2) */
+      m->contact.kappa_mesh = sw_mesh_contact_auto_kappa(m) * sw_seam_contact_scale(m);
       m->contact.kappa_mesh_auto = 1;
     }
     if (add_term(m, sw_mesh_contact_build, err, errsz)) return -1;
@@ -426,6 +443,7 @@ int sw_model_finish(sw_model *m, char *err, size_t errsz) {
    * clamping converges where abs overshoots */
   if (m->opt.hessian == SW_HESSIAN_DEFAULT)
     m->opt.hessian = m->dim == 3 ? SW_HESSIAN_ABS : SW_HESSIAN_PROJECTED;
+  if (m->opt.tx_reference_uv < 0) m->opt.tx_reference_uv = m->nseam > 0;
   apply_bias(m);
   size_t nd = (size_t)m->nv * (size_t)m->dim;
   m->dminv = sw_calloc((size_t)m->nf, 4 * sizeof(double));
@@ -442,8 +460,10 @@ int sw_model_finish(sw_model *m, char *err, size_t errsz) {
   lumped_mass(m);
   if (dof_map(m, err, errsz)) return -1;
   tension_stiffness(m);
-  if (build_terms(m, err, errsz)) return -1;
-  return perturb(m, err, errsz);
+  if (m->nseam > 0 && !(m->seam_stiffness > 0.0)) m->seam_stiffness = sw_seam_auto_stiffness(m);
+  if (sw_seam_sewn(m, err, errsz) || build_terms(m, err, errsz)) return -1;
+  if (perturb(m, err, errsz)) return -1;
+  return sw_seam_start(m, err, errsz); /* the seams' starting gaps, from the final x0 */
 }
 
 void sw_model_print(const sw_model *m, void *file) {
@@ -490,9 +510,19 @@ void sw_model_print(const sw_model *m, void *file) {
   else if (m->nmesh_obstacle) /* the mesh obstacles' pairs use the same kappa_mesh */
     fprintf(fp, "mesh        distance %g m, stiffness %g 1/(s^2 m^2)%s\n", m->contact.dhat,
             m->contact.kappa_mesh, m->contact.kappa_mesh_auto ? " (automatic)" : "");
+  for (int k = 0; k < m->nseam; k++) {
+    const sw_seam *sm = &m->seam[k];
+    fprintf(fp, "seam %-7s %s %d vertices (%.4g m) to %s %d vertices (%.4g m), %d pairs\n",
+            sm->name, sm->group[0], sm->n[0], sm->length[0], sm->group[1], sm->n[1],
+            sm->length[1], sm->npair);
+  }
+  if (m->nseam)
+    fprintf(fp, "sewing      stiffness %g N/m^2, ramp %g s; fit %s\n", m->seam_stiffness,
+            m->seam_ramp, m->fit.on ? "on" : "off");
   if (m->dim == 3 && m->nf > 1) /* an exact test, independent of the solver */
     fprintf(fp, "crossings   %ld face pairs intersect at the start\n",
-            sw_mesh_self_intersections(m->nv, m->x0, m->nf, m->face));
+            sw_mesh_self_intersections_sewn(m->nv, m->x0, m->nf, m->face, m->sewn_ptr,
+                                            m->sewn_idx));
   fprintf(fp, "system nnz  %ld (upper triangle, free DOFs)\n", sw_system_nnz(m));
   fprintf(fp, "integrator  %s, dt = %g s, duration = %g s\n", m->opt.method, m->opt.dt,
           m->opt.duration);

@@ -32,16 +32,18 @@ void sw_set_threads(int blas_threads) {
   else if (!getenv("OPENBLAS_NUM_THREADS")) openblas_set_num_threads(1);
 }
 
-/* The scene to its duration through the stepping API, writing the run folder.  sw_run does not
- * change m: the sim changes its model only through the sw_sim_set_* calls, which it makes
- * none of. */
+/* The scene to its duration through the stepping API, writing the run folder.  sw_run leaves m
+ * as it was: the sim changes its model only through the sw_sim_set_* calls, which it makes
+ * none of, and for the fit stage's length (its damping, Newton tolerance and gravity ramp,
+ * restored when it ends, sim.c). */
 static int run_to_end(const sw_model *m, int progress, int resume, char *err, size_t errsz) {
   int flags = SW_SIM_OUTPUT | (progress ? SW_SIM_PROGRESS : 0);
   int start = SW_OK;
   sw_sim *s = resume ? sw_sim_resume((sw_model *)m, flags, &start, err, errsz)
                      : sw_sim_start((sw_model *)m, flags, &start, err, errsz);
   if (!s) return start;
-  int rc = sw_sim_run(s, m->opt.duration, err, errsz);
+  /* the duration counts from the end of the fit stage (0 without one) */
+  int rc = sw_sim_run(s, sw_sim_data(s)->fit_end + m->opt.duration, err, errsz);
   char cerr[SW_ERRSZ];
   int crc = sw_sim_close(s, cerr, sizeof cerr);
   if (!rc && crc) sw_errf(err, errsz, "%s", cerr), rc = SW_FATAL;

@@ -98,6 +98,7 @@ static int diagnose(sw_sim *s, double *u) {
   if (rc) return rc;
   sw_tension_xy(s->m, s->d);
   sw_tendon_state(s->m, s->d);
+  sw_seam_state(s->m, s->d);
   return SW_OK;
 }
 
@@ -111,7 +112,7 @@ static int record(sw_sim *s, int force, char *err, size_t errsz) {
   if (m->nobstacle > 0) sw_contact_state(m, d);
   if (d->mc) sw_mcontact_state(m, d);
   sw_contact_pressure(m, d);
-  int rc = sw_damped(m) || m->contact.friction > 0.0 ? damping_power(s) : SW_OK;
+  int rc = sw_damped(m) || m->contact.friction > 0.0 || m->fit.on ? damping_power(s) : SW_OK;
   if (sw_actuated(m)) actuation_power(s);
   if (!rc) rc = diagnose(s, &u);
   if (rc) /* e.g. a step accepted a state whose energy is not finite */
@@ -291,6 +292,75 @@ void sw_sim_free(sw_sim *s) {
   sw_free(s);
 }
 
+/* The RMS speed of the free vertices, mass-weighted, m/s. */
+static double rms_speed(const sw_model *m, const sw_data *d) {
+  double k = 2.0 * sw_kinetic(m, d->v), mass = 0.0; /* kg m^2/s^2, kg */
+  for (int i = 0; i < m->nv; i++) mass += m->pinned[i] ? 0.0 : m->mass[i];
+  return mass > 0.0 ? sqrt(k / mass) : 0.0;
+}
+
+/* One step of the fit to end, logged; the sim's integrator is the fit's meanwhile. */
+static int fit_step(sw_sim *s, double end, char *err, size_t errsz) {
+  int rc = step_with_retries(s, end, err, errsz);
+  if (!rc) rc = record(s, 0, err, errsz);
+  s->d->fit_steps++;
+  return rc;
+}
+
+/* The fit stage (sinew.h, sw_fit; docs/garments.md): backward Euler steps of fit.dt with the
+ * fit's mass damping added, from the arrangement until the seams are closed to fit.gap and the
+ * RMS speed is below fit.speed (after the seams' ramp), logged as the run's first steps; the
+ * scene's own method then starts from there, its step grid and duration counted from the
+ * fit's end, which is written as a frame.  Gravity grows over the seams' ramp time once they
+ * are sewn (the fit ends no earlier than twice the ramp time).  The model's damping, Newton
+ * tolerance and gravity ramp are the fit's only while it lasts. */
+static int fit_stage(sw_sim *s, char *err, size_t errsz) {
+  sw_model *m = s->m;
+  sw_data *d = s->d;
+  const sw_fit *f = &m->fit;
+  if (!f->on) return SW_OK;
+  const double alpha = m->damp_mass, tol = m->opt.newton_tol, wall = sw_now(); /* 1/s, m/s, s */
+  const sw_integrator_ops *ops = sw_integrator_find("backward-euler");
+  void *st = NULL;
+  const double g_ramp = m->gravity_ramp; /* s */
+  m->damp_mass += f->damping;
+  /* gravity grows once the seams are sewn, over the seams' ramp time */
+  m->gravity_delay = m->seam_ramp;
+  m->gravity_ramp = fmax(g_ramp, m->seam_ramp);
+  const double t_min = m->gravity_delay + m->gravity_ramp; /* s: gravity on in full */
+  m->opt.newton_tol = fmin(tol, f->newton_tol);
+  int rc = ops ? ops->init(&st, m, d, err, errsz) : SW_FATAL;
+  s->ops = ops, s->st = st;
+  long n = 0;
+  while (rc == SW_OK) {
+    if (stop_signal) { rc = stop(s, err, errsz); break; }
+    double end = tidy_time((double)++n * f->dt, f->dt);
+    if ((rc = fit_step(s, end, err, errsz))) break;
+    double v = rms_speed(m, d);
+    if (d->t >= t_min - 1e-9 * f->dt && d->seam_gap_max <= f->gap && v <= f->speed) break;
+    if (d->t >= f->max_time - 1e-9 * f->dt) {
+      sw_errf(err, errsz, "t = %.9g s: the garment did not fit within fit max_time = %g s: "
+              "largest seam gap %.3g m (fit gap %g m), RMS speed %.3g m/s (fit speed %g m/s)",
+              d->t, f->max_time, d->seam_gap_max, f->gap, v, f->speed);
+      rc = SW_FATAL;
+    }
+  }
+  if (rc && rc != SW_INTERRUPTED && err && strncmp(err, "fit: ", 5)) {
+    char why[SW_ERRSZ];
+    snprintf(why, sizeof why, "%s", err);
+    sw_errf(err, errsz, "fit: %s", why);
+  }
+  if (st) ops->free(st);
+  s->ops = NULL, s->st = NULL;
+  m->damp_mass = alpha, m->opt.newton_tol = tol;
+  m->gravity_delay = 0.0, m->gravity_ramp = g_ramp;
+  if (!rc && s->out && m->opt.frames_every >= 0.0 && sw_output_frame(s->out, m, d, err, errsz))
+    rc = output_failed(d, err, errsz); /* the fitted garment */
+  d->fit_end = d->t, d->fit_wall = sw_now() - wall;
+  s->t0 = d->t, s->n = 0;
+  return rc;
+}
+
 /* The integrator (none for static) and its state, started at d; "METHOD: cannot start: why". */
 static int start_method(sw_sim *s, char *err, size_t errsz) {
   const sw_model *m = s->m;
@@ -344,7 +414,8 @@ sw_sim *sw_sim_start(sw_model *m, int flags, int *status, char *err, size_t errs
   /* the first state is logged (the static solve logs only its answer), then the method starts;
    * a failure of either is the run's: the folder says so */
   int is_static = !strcmp(m->opt.method, "static");
-  int rc = is_static ? SW_OK : record(s, 1, err, errsz);
+  int rc = is_static && !m->fit.on ? SW_OK : record(s, 1, err, errsz);
+  if (!rc) rc = fit_stage(s, err, errsz);
   if (!rc) rc = start_method(s, err, errsz);
   s->started = !rc;
   if (rc) {
@@ -388,7 +459,9 @@ static void sim_io(sw_sim *s, sw_io *io) {
   IO(d->damp_power), IO(d->dissipated), IO(d->actuation_power), IO(d->work_in);
   IO(d->nstep), IO(d->nnewton), IO(d->nfactor), IO(d->nassemble), IO(d->nforce);
   IO(d->nretry), IO(d->nlinesearch), IO(d->nerrfail), IO(d->nsetup), IO(d->nstep_order);
+  IO(d->ncg);
   IO(d->energy_bound), IO(d->last_newton), IO(d->last_dt);
+  IO(d->fit_end), IO(d->fit_steps), IO(d->fit_wall);
   IO(d->time_assemble), IO(d->time_factor), IO(d->time_solve), IO(d->time_step);
   sw_io_bytes(io, d->x, nd * sizeof(double));
   sw_io_bytes(io, d->v, nd * sizeof(double));

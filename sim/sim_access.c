@@ -76,9 +76,9 @@ int *sw_sim_iarray(sw_sim *s, const char *name, int *rows, int *cols) {
 long sw_sim_counter(const sw_sim *s, const char *name) {
   const sw_data *d = sw_sim_data(s);
   static const char *const names[] = {"nstep", "nnewton", "nfactor", "nassemble", "nforce",
-                                      "nretry", "nlinesearch", "nerrfail", "nsetup"};
-  const long vals[] = {d->nstep, d->nnewton, d->nfactor, d->nassemble, d->nforce,
-                       d->nretry, d->nlinesearch, d->nerrfail, d->nsetup};
+                                      "nretry", "nlinesearch", "nerrfail", "nsetup", "ncg"};
+  const long vals[] = {d->nstep,  d->nnewton,     d->nfactor,  d->nassemble, d->nforce,
+                       d->nretry, d->nlinesearch, d->nerrfail, d->nsetup,    d->ncg};
   for (size_t k = 0; k < sizeof names / sizeof *names; k++)
     if (!strcmp(names[k], name)) return vals[k];
   return -1;

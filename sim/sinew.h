@@ -249,6 +249,44 @@ typedef struct sw_tendon {
  * (the slope jumps at each keyframe) or smoothly: the quintic blend 6u^5 - 15u^4 + 10u^3
  * between consecutive keyframes, C^2 everywhere and never outside the keyframes' range.
  * Scenes default to smooth; a zeroed sw_tendon is linear. */
+/* Seams (models/seam.c, docs/garments.md): two boundary curves of the pattern, each a run of
+ * a panel's boundary, sewn together.  Each vertex of either curve is paired with the point at
+ * the same fraction of arc length (in the (u,v) pattern) on the other curve, which may lie
+ * inside one of its edges; a spring pulls them together,
+ *   E = k sum_p l_p (|g_p| - r_p(t))^2 / 2,   g_p = x_a - ((1 - w_p) x_b0 + w_p x_b1),
+ * k the seam stiffness (N/m^2: per metre of seam), l_p the seam length pair p stands for (m),
+ * and a rest length r_p(t) = g0_p (1 - sw_ramp(t, ramp)) that shrinks smoothly from the pair's
+ * starting gap g0_p to 0: the seams close at the ramp's pace, then hold as zero-length
+ * springs. */
+typedef struct sw_seam {
+  char name[SW_NAMESZ];
+  int panel[2];                /* the material index of each curve's faces */
+  char group[2][SW_NAMESZ];    /* the OBJ group (panel) of each curve */
+  int n[2];                    /* vertices of each curve, >= 2 */
+  int *curve[2];               /* (n[k]) vertex indices along each curve, in order */
+  double length[2];            /* rest (u,v) arc length of each curve, m */
+  int npair;
+  int *pair;                   /* (npair x 3) a, b0, b1: vertex a of one curve and the edge
+                                  (b0, b1) of the other holding its partner point */
+  double *w;                   /* (npair) the partner point is (1 - w) x_b0 + w x_b1 */
+  double *len;                 /* (npair) seam length the pair stands for, m */
+  double *gap0;                /* (npair) the pair's gap at x0, m (sw_model_finish) */
+} sw_seam;
+
+/* The fit stage (sim/sim.c, docs/garments.md): before the scene's own dynamics, a garment is
+ * sewn and settled by backward Euler steps of dt with extra mass damping, the seams ramped in
+ * over `ramp`; it ends when the seams are closed to `gap` and the RMS speed is below `speed`,
+ * after at least `ramp` s, or fails at `max_time`. */
+typedef struct sw_fit {
+  int on;                      /* 1: fit before the dynamics (the default with seams) */
+  double dt;                   /* s */
+  double damping;              /* 1/s: mass-proportional damping added during the fit */
+  double gap;                  /* m: largest seam gap at the end */
+  double speed;                /* m/s: RMS speed at the end */
+  double max_time;             /* s */
+  double newton_tol;           /* m/s: Newton's tolerance during the fit (at most the scene's) */
+} sw_fit;
+
 enum { SW_INTERP_LINEAR = 0, SW_INTERP_SMOOTH = 1 };
 /* The value at time t (s) of keyframes (kt[k], kv[k]), k < n, kt increasing; constant outside
  * them. */
@@ -296,6 +334,16 @@ SW_API const char *const *sw_hessian_names(void);
 enum { SW_NORM_RMS = 0, SW_NORM_MAX = 1, SW_NORM_N = 2 };
 #define SW_NEWTON_RMS_CAP 10.0
 SW_API const char *const *sw_norm_names(void);
+/* The sparse Cholesky factorisation (docs/performance.md, "Simplicial or supernodal"): auto
+ * picks from the matrix, by the flops its factorisation takes per nonzero of its factor
+ * (simplicial below SW_FACTOR_SWITCH, supernodal with coarse supernodes above); or forced. */
+enum { SW_FACTOR_AUTO = 0, SW_FACTOR_SIMPLICIAL = 1, SW_FACTOR_SUPERNODAL = 2, SW_FACTOR_N = 3 };
+SW_API const char *const *sw_factor_names(void);
+/* Newton's linear solves (docs/integrators.md, "Newton-Krylov"): off, a factorisation per
+ * iteration; on, conjugate gradients preconditioned by the last factorisation; auto, on when
+ * the factorisation is simplicial (small systems, where a solve costs little against a
+ * factorisation), off when supernodal.  Scene names false/true/auto, CLI off/on/auto. */
+enum { SW_REUSE_OFF = 0, SW_REUSE_ON = 1, SW_REUSE_AUTO = 2 };
 
 /* The encoding of the frames (sim/output/vtu.c, docs/scenes.md "Frames"): VTK XML with its
  * arrays appended raw and zlib-compressed (as ParaView writes), every real exact (Float64) or
@@ -318,7 +366,10 @@ typedef struct sw_options {
                                   at its round-off floor, docs/integrators.md) */
   int max_halvings;            /* a failed step is retried with dt/2 at most this many times */
   int hessian;                 /* SW_HESSIAN_*: which Hessian Newton's systems use */
-  int newton_reuse;            /* 1: keep a factorisation while Newton contracts well */
+  int newton_reuse;            /* SW_REUSE_*: Newton-Krylov, each direction by conjugate
+                                  gradients preconditioned with the last factorisation, or a
+                                  fresh factorisation per iteration */
+  int factorization;           /* SW_FACTOR_* */
   int blas_threads;            /* OpenBLAS threads; 0: $OPENBLAS_NUM_THREADS if set, else 1 */
   double rtol, atol;           /* adaptive methods (CVODE, IDA): relative, absolute (m, m/s) */
   int max_order;               /* adaptive methods: largest BDF order (1..5); 0: automatic,
@@ -335,7 +386,9 @@ typedef struct sw_options {
   double positions_every;      /* s between records of positions.bin (0: no positions.bin) */
   int frames_format;           /* SW_FRAMES_*: how the frames are encoded */
   double tx_clip;              /* tension XY stiffness clip, N/m (Optitex's: 5e4) */
-  int tx_reference_uv;         /* 1: rlu = rlv = 1 (uv layout); 0: the initial configuration */
+  int tx_reference_uv;         /* 1: rlu = rlv = 1 (uv layout); 0: the initial configuration;
+                                  -1 (the default): uv with seams, else initial (resolved
+                                  by sw_model_finish) */
   double tx_k_u, tx_k_v;       /* stiffness used by tension XY, N/m (defaults: the membrane's) */
   int tendon_dense_max;        /* tendons of at most this many waypoints put their whole
                                   Hessian in one dense stencil; longer ones only the banded
@@ -369,7 +422,10 @@ struct sw_model {
   int ndof;                    /* free DOFs */
   double gravity[3];           /* m/s^2 */
   int has_gravity;
-  double gravity_ramp;         /* s: gravity grows as sw_ramp(t, gravity_ramp) (0: on at t = 0) */
+  double gravity_ramp;         /* s: gravity grows as sw_ramp(t - gravity_delay, gravity_ramp)
+                                  (0: on at t = 0) */
+  double gravity_delay;        /* s: 0, except during the fit stage (sim/sim.c), which sews
+                                  the seams before gravity grows */
   int nmat;                    /* materials, >= 1 */
   sw_material *mat;            /* (nmat) mat[0]: the scene's material; others: panels */
   int *face_mat;               /* (nf) material of each face */
@@ -389,6 +445,16 @@ struct sw_model {
   sw_obstacle *mesh_obstacle;  /* (nmesh_obstacle) the scene's `obstacles` with a `mesh`:
                                   rigid triangle meshes (models/mesh_contact.c, 3D only) */
   sw_contact contact;          /* the scene's `contact` (used with obstacles or self-contact) */
+  int nseam;
+  sw_seam *seam;               /* (nseam) the scene's `seams` */
+  double seam_stiffness;       /* N/m^2: k of every seam (sewing: stiffness) */
+  double seam_ramp;            /* s: the seams are sewn in as sw_ramp(t, seam_ramp) */
+  double seam_ease_max;        /* the largest relative difference of a seam's curve lengths */
+  int *sewn_ptr, *sewn_idx;    /* (nv + 1), (sewn_ptr[nv]): the vertices each vertex is sewn
+                                  to or sewn next to (contact skips pairs of those, as pairs
+                                  sharing a vertex), or NULL without seams */
+  sw_fit fit;
+
   int nterm;
   sw_term *term;               /* (nterm) energy terms, only those the scene names */
   sw_options opt;
@@ -489,8 +555,17 @@ struct sw_data {
   double dissipated;           /* J: its integral over the run so far (trapezoid on the logs) */
   double actuation_power;      /* W: dU/dt at fixed x (sw_actuation_power) at the last log */
   double work_in;              /* J: its integral over the run so far (trapezoid on the logs) */
+  double *seam_state;          /* (nseam x 4) per seam at the last diagnostics: largest and
+                                  mean gap between paired points (m), the force the seam
+                                  carries (N: the sum of |spring force| over its pairs) and the
+                                  ratio of its current curve lengths b/a (sw_seam_state) */
+  double seam_gap_max;         /* m: the largest gap of any seam then (0 without seams) */
+  double fit_end;              /* s: when the fit stage ended (0: no fit) */
+  long fit_steps;              /* steps of the fit stage */
+  double fit_wall;             /* s of wall time in the fit stage */
   /* counters (cumulative over the run) */
   long nstep, nnewton, nfactor, nassemble, nforce, nretry, nlinesearch;
+  long ncg;                    /* conjugate-gradient iterations of Newton-Krylov (reuse) */
   long nerrfail;               /* error-test failures of adaptive methods */
   long nsetup;                 /* linear-solver setups of SUNDIALS methods */
   long nstep_order[5];         /* adaptive methods: steps taken at BDF order 1..5 */
@@ -509,6 +584,7 @@ struct sw_data {
   long factor_nnz;             /* nonzeros of the Cholesky factor L of the last factorisation
                                   (CHOLMOD's count for its ordering; 0: no factor yet, or a
                                   method without one) */
+  int factor_super;            /* 1: the factor is supernodal, 0: simplicial (-1: none yet) */
   char err[SW_ERRSZ];          /* why the last failing call failed */
 };
 
@@ -524,6 +600,8 @@ SW_API int sw_damped(const sw_model *m);
 SW_API void sw_tension_xy(const sw_model *m, sw_data *d);
 /* Length, delta and tension of every tendon at d->x, d->t (d->tendon_*). */
 SW_API void sw_tendon_state(const sw_model *m, sw_data *d);
+/* Gap, force and length ratio of every seam at d->x, d->t (d->seam_state, d->seam_gap_max). */
+SW_API void sw_seam_state(const sw_model *m, sw_data *d);
 
 /* ------------------------------------------------------------------- run */
 
@@ -627,7 +705,7 @@ SW_API int sw_term_find(const sw_model *m, const char *name);
 SW_API double *sw_sim_array(sw_sim *s, const char *name, int *rows, int *cols);
 SW_API int *sw_sim_iarray(sw_sim *s, const char *name, int *rows, int *cols);
 /* A counter of sw_data by its field name ("nstep", "nnewton", "nfactor", "nassemble",
- * "nforce", "nretry", "nlinesearch", "nerrfail", "nsetup"), or -1. */
+ * "nforce", "nretry", "nlinesearch", "nerrfail", "nsetup", "ncg"), or -1. */
 SW_API long sw_sim_counter(const sw_sim *s, const char *name);
 /* Sizes and names: "nv", "dim", "nf", "ntendon", "nterm", "ndof"; names of tendon or term k. */
 SW_API int sw_sim_size(const sw_sim *s, const char *name);

@@ -43,6 +43,12 @@ static int bw_init(void **state, const sw_model *m, sw_data *d, char *err, size_
   return init_common(state, m, 1, err, errsz);
 }
 
+/* The kept factorisation: a resumed run goes on with the same Newton iterations. */
+static void be_history(void *p, const sw_model *m, sw_io *io) {
+  (void)m;
+  sw_ipstep_history(&((be_state *)p)->ip, io);
+}
+
 static void be_reset(void *p, const sw_model *m, sw_data *d, int what) {
   (void)m, (void)d, (void)what;
   sw_ipstep_reset(&((be_state *)p)->ip);
@@ -76,6 +82,7 @@ const sw_integrator_ops sw_backward_euler_ops = {
     .step = be_step,
     .free = be_free,
     .reset = be_reset,
+    .history = be_history,
 };
 
 const sw_integrator_ops sw_baraff_witkin_ops = {
@@ -85,4 +92,5 @@ const sw_integrator_ops sw_baraff_witkin_ops = {
     .step = be_step,
     .free = be_free,
     .reset = be_reset,
+    .history = be_history,
 };

@@ -113,6 +113,7 @@ static void bdf2_history(void *p, const sw_model *m, sw_io *io) {
   sw_io_bytes(io, &s->tcur, sizeof s->tcur);
   sw_io_bytes(io, s->xprev, nd * sizeof(double));
   sw_io_bytes(io, s->vprev, nd * sizeof(double));
+  sw_ipstep_history(&s->ip, io);
 }
 
 const sw_integrator_ops sw_bdf2_ops = {

@@ -49,7 +49,20 @@ static int lowrank_init(sw_chol *ch, const sw_pattern *p) {
   return 0;
 }
 
-int sw_chol_init(sw_chol *ch, const sw_pattern *p, char *err, size_t errsz) {
+void sw_chol_mode(sw_chol *ch, int mode) {
+  static const int kind[SW_FACTOR_N] = {CHOLMOD_AUTO, CHOLMOD_SIMPLICIAL, CHOLMOD_SUPERNODAL};
+  ch->c.supernodal = kind[mode >= 0 && mode < SW_FACTOR_N ? mode : SW_FACTOR_AUTO];
+  ch->c.supernodal_switch = SW_FACTOR_SWITCH;
+  /* coarser supernodes than CHOLMOD's defaults ({4, 16, 48}, {0.8, 0.1, 0.05}): fewer,
+   * larger dense blocks for the BLAS, at the cost of some explicit zeros */
+  const size_t nrelax[3] = {16, 48, 128};
+  const double zrelax[3] = {0.8, 0.3, 0.1};
+  for (int k = 0; k < 3; k++) ch->c.nrelax[k] = nrelax[k], ch->c.zrelax[k] = zrelax[k];
+}
+
+int sw_chol_super(const sw_chol *ch) { return ch->started && ch->L ? ch->L->is_super : -1; }
+
+int sw_chol_init(sw_chol *ch, const sw_pattern *p, int mode, char *err, size_t errsz) {
   memset(ch, 0, sizeof *ch);
   cholmod_l_start(&ch->c);
   ch->started = 1;
@@ -69,6 +82,7 @@ int sw_chol_init(sw_chol *ch, const sw_pattern *p, char *err, size_t errsz) {
   double *v = ch->A->x;
   memset(v, 0, (size_t)p->nnz * sizeof(double));
   for (size_t c = 0; c < n; c++) v[p->diag[c]] = 1.0;
+  sw_chol_mode(ch, mode);
   ch->L = cholmod_l_analyze(ch->A, &ch->c);
   if (!ch->L || ch->c.status < CHOLMOD_OK) return chol_failed(ch, "analyze", err, errsz);
   return SW_OK;

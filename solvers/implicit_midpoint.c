@@ -41,6 +41,12 @@ static int mid_init(void **state, const sw_model *m, sw_data *d, char *err, size
   return SW_OK;
 }
 
+/* The kept factorisation: a resumed run goes on with the same Newton iterations. */
+static void mid_history(void *p, const sw_model *m, sw_io *io) {
+  (void)m;
+  sw_ipstep_history(&((mid_state *)p)->ip, io);
+}
+
 static void mid_reset(void *p, const sw_model *m, sw_data *d, int what) {
   (void)m, (void)d, (void)what;
   sw_ipstep_reset(&((mid_state *)p)->ip);
@@ -78,4 +84,5 @@ const sw_integrator_ops sw_implicit_midpoint_ops = {
     .step = mid_step,
     .free = mid_free,
     .reset = mid_reset,
+    .history = mid_history,
 };

@@ -34,7 +34,9 @@ void sw_ipstep_free(sw_ipstep *s) {
   memset(s, 0, sizeof *s);
 }
 
-void sw_ipstep_reset(sw_ipstep *s) { s->nw.fac_valid = 0; }
+void sw_ipstep_reset(sw_ipstep *s) { sw_newton_forget(&s->nw); }
+
+void sw_ipstep_history(sw_ipstep *s, sw_io *io) { sw_newton_history(&s->nw, io); }
 
 sw_newton_opts sw_ipstep_opts(const sw_model *m, const sw_ipstep *s, double a, double t,
                               double cd, double h, double tol_scale) {

@@ -123,6 +123,7 @@ static void nm_history(void *p, const sw_model *m, sw_io *io) {
   sw_io_bytes(io, &s->tacc, sizeof s->tacc);
   sw_io_bytes(io, &s->stale, sizeof s->stale);
   sw_io_bytes(io, s->acc, (size_t)m->nv * (size_t)m->dim * sizeof(double));
+  sw_ipstep_history(&s->ip, io);
 }
 
 const sw_integrator_ops sw_newmark_ops = {

@@ -2,9 +2,11 @@
  *   Phi(x) = a/2 (x - xhat)^T M (x - xhat) + U(x, t)
  * over the free DOFs (backward Euler is its minimiser with a = 1/h^2).  An iteration solves
  * S dx = -grad Phi with S = a M + H (+ cd D), H the terms' Hessian filtered per element as the
- * `hessian` mode asks, refactorised on the fixed pattern only when the last factorisation no
- * longer makes Newton contract (the reuse of CVODE's modified Newton, Hindmarsh et al.,
- * "SUNDIALS: Suite of Nonlinear and Differential/Algebraic Equation Solvers", ACM TOMS 2005).
+ * `hessian` mode asks: by a fresh factorisation, or (reuse) by conjugate gradients on this S
+ * preconditioned with the last factorisation, renewed only when CG slows down (Newton-Krylov
+ * with a lagged preconditioner: Knoll and Keyes, "Jacobian-free Newton-Krylov methods: a
+ * survey of approaches and applications", J. Comput. Phys. 2004; the direction stays Newton's
+ * to CG's tolerance, so the iterates do not change beyond it).
  * It stops when max |dx| <= tol_dx (a velocity tolerance times the step), or when max |dx| is
  * at the round-off of the positions themselves (1e3 eps max |x|): a strict tolerance then
  * still converges, it never fails on round-off (docs/integrators.md). */
@@ -54,7 +56,9 @@ int sw_newton_init(sw_newton *nw, const sw_model *m, char *err, size_t errsz) {
   nw->nterm = m->nterm;
   int rc = sw_pattern_build(&nw->pat, m, err, errsz);
   if (rc) return rc;
-  if (nw->n > 0 && (rc = sw_chol_init(&nw->chol, &nw->pat, err, errsz))) return rc;
+  nw->factor_mode = m->opt.factorization;
+  if (nw->n > 0 && (rc = sw_chol_init(&nw->chol, &nw->pat, nw->factor_mode, err, errsz)))
+    return rc;
   nw->g = sw_calloc((size_t)nw->n, sizeof(double));
   nw->dx = sw_calloc((size_t)nw->n, sizeof(double));
   nw->xtry = sw_calloc((size_t)m->nv * (size_t)m->dim, sizeof(double));
@@ -62,13 +66,19 @@ int sw_newton_init(sw_newton *nw, const sw_model *m, char *err, size_t errsz) {
     sw_errf(err, errsz, "out of memory for Newton's workspaces (%d DOFs)", nw->n);
     return SW_FATAL;
   }
+  size_t nlrent = (size_t)nw->pat.lrptr[nw->pat.nlr];
+  nw->sval = sw_calloc((size_t)nw->pat.nnz + 1, sizeof(double));
+  nw->lrcur = sw_calloc(nlrent + 1, sizeof(double));
+  double **cg[4] = {&nw->cr, &nw->cz, &nw->cp, &nw->cq};
+  int nocg = !nw->sval || !nw->lrcur;
+  for (int k = 0; k < 4; k++) nocg |= !(*cg[k] = sw_calloc((size_t)nw->n + 1, sizeof(double)));
   int damped = sw_damped(m);
   if (damped) {
     nw->dval = sw_calloc((size_t)nw->pat.nnz + 1, sizeof(double));
     nw->r = sw_calloc((size_t)nw->n + 1, sizeof(double));
     nw->dr = sw_calloc((size_t)nw->n + 1, sizeof(double));
   }
-  if (!nw->g || !nw->dx || !nw->xtry || (damped && (!nw->dval || !nw->r || !nw->dr)) ||
+  if (!nw->g || !nw->dx || !nw->xtry || nocg || (damped && (!nw->dval || !nw->r || !nw->dr)) ||
       stencil_init(nw, m) || weights_init(nw, m)) {
     sw_errf(err, errsz, "out of memory for Newton's workspaces (%d DOFs)", nw->n);
     return SW_FATAL;
@@ -92,7 +102,39 @@ void sw_newton_free(sw_newton *nw) {
   sw_free(nw->wdof);
   sw_free(nw->vfrac);
   sw_free(nw->xpair);
+  sw_free(nw->sval);
+  sw_free(nw->lrcur);
+  sw_free(nw->cr);
+  sw_free(nw->cz);
+  sw_free(nw->cp);
+  sw_free(nw->cq);
   memset(nw, 0, sizeof *nw);
+}
+
+void sw_newton_forget(sw_newton *nw) {
+  nw->fac_valid = nw->fac_stale = nw->backoff = nw->skip = 0;
+  nw->theta = 0.0;
+}
+
+void sw_newton_history(sw_newton *nw, sw_io *io) {
+  int keep = nw->fac_valid && nw->nxpair == 0 && nw->n > 0;
+  sw_io_bytes(io, &keep, sizeof keep);
+  sw_io_bytes(io, &nw->fac_stale, sizeof nw->fac_stale);
+  sw_io_bytes(io, &nw->backoff, sizeof nw->backoff);
+  sw_io_bytes(io, &nw->skip, sizeof nw->skip);
+  sw_io_bytes(io, &nw->theta, sizeof nw->theta);
+  if (!keep) {
+    nw->fac_valid = 0;
+    return;
+  }
+  sw_io_bytes(io, sw_chol_values(&nw->chol), (size_t)nw->pat.nnz * sizeof(double));
+  if (nw->pat.nlr)
+    sw_io_bytes(io, sw_chol_lowrank(&nw->chol, 1.0),
+                (size_t)nw->pat.lrptr[nw->pat.nlr] * sizeof(double));
+  if (io->load) {
+    char err[SW_ERRSZ];
+    nw->fac_valid = sw_chol_factor(&nw->chol, err, sizeof err) == SW_OK;
+  }
 }
 
 int sw_newton_damping(sw_newton *nw, const sw_model *m, sw_data *d, const double *x, double t) {
@@ -289,6 +331,13 @@ static int regrow(sw_newton *nw, const sw_model *m, sw_data *d) {
   sw_pattern np;
   int rc = sw_pattern_build_ex(&np, m, nw->xpair, nw->nxpair, d->err, sizeof d->err);
   if (rc) return rc;
+  double *sv = sw_realloc(nw->sval, (size_t)np.nnz + 1, sizeof(double));
+  if (sv) nw->sval = sv;
+  if (!sv) {
+    sw_pattern_free(&np, m->nterm);
+    sw_errf(d->err, sizeof d->err, "out of memory growing the sparsity pattern");
+    return SW_FATAL;
+  }
   if (nw->dval) {
     double *dv = sw_calloc((size_t)np.nnz + 1, sizeof(double));
     if (!dv) {
@@ -305,7 +354,7 @@ static int regrow(sw_newton *nw, const sw_model *m, sw_data *d) {
   nw->pat = np;
   nw->fac_valid = 0;
   d->npattern++;
-  return sw_chol_init(&nw->chol, &nw->pat, d->err, sizeof d->err);
+  return sw_chol_init(&nw->chol, &nw->pat, nw->factor_mode, d->err, sizeof d->err);
 }
 
 /* Self-contact: when the last evaluation's pairs couple vertices the pattern does not hold,
@@ -349,27 +398,36 @@ static void add_pair_blocks(const sw_newton *nw, const sw_model *m, const sw_dat
     sw_pattern_add_block(&nw->pat, m, pr[k].v, 4, blk + 144 * (size_t)k, 1.0, val);
 }
 
-/* Fill S = a M + H (H from the last evaluation: blocks, self-contact pairs and low-rank
- * vectors) + cd D and factorise it; on success it is the kept factorisation for (a, cd). */
-static int fill_factor(sw_newton *nw, const sw_model *m, sw_data *d, double a) {
+/* S = a M + H (H from the last evaluation: blocks, self-contact pairs and low-rank vectors)
+ * + cd D into nw->sval and nw->lrcur (the pattern grown first for new self-contact pairs). */
+static int assemble(sw_newton *nw, const sw_model *m, sw_data *d, double a) {
   int rc = d->mc ? grow_pattern(nw, m, d) : SW_OK;
   if (rc) return rc;
   double t0 = sw_now();
-  double *val = sw_chol_values(&nw->chol);
+  double *val = nw->sval;
   sw_pattern_fill(&nw->pat, m, d, a, 1.0, val);
   if (d->mc) add_pair_blocks(nw, m, d, val);
-  sw_pattern_fill_lowrank(&nw->pat, d, sw_chol_lowrank(&nw->chol, 1.0));
+  sw_pattern_fill_lowrank(&nw->pat, d, nw->lrcur);
   if (nw->cd > 0.0 && nw->dval)
     for (long q = 0; q < nw->pat.nnz; q++) val[q] += nw->cd * nw->dval[q];
-  double t1 = sw_now();
-  d->time_assemble += t1 - t0;
-  rc = sw_chol_factor(&nw->chol, d->err, sizeof d->err);
-  d->time_factor += sw_now() - t1;
+  d->time_assemble += sw_now() - t0;
+  return SW_OK;
+}
+
+/* Factorise the assembled S; on success it is the kept factorisation. */
+static int factor(sw_newton *nw, sw_data *d) {
+  double t0 = sw_now();
+  memcpy(sw_chol_values(&nw->chol), nw->sval, (size_t)nw->pat.nnz * sizeof(double));
+  if (nw->pat.nlr) /* the low-rank vectors (CHOLMOD's copy is NULL without them) */
+    memcpy(sw_chol_lowrank(&nw->chol, 1.0), nw->lrcur,
+           (size_t)nw->pat.lrptr[nw->pat.nlr] * sizeof(double));
+  int rc = sw_chol_factor(&nw->chol, d->err, sizeof d->err);
+  d->time_factor += sw_now() - t0;
   d->nfactor++;
   d->factor_nnz = sw_chol_nnz(&nw->chol);
+  d->factor_super = sw_chol_super(&nw->chol);
   nw->fac_valid = rc == SW_OK;
-  nw->fac_a = a;
-  nw->fac_cd = nw->cd;
+  nw->fac_stale = 0;
   return rc;
 }
 
@@ -436,31 +494,131 @@ static int progressive_hessian(sw_newton *nw, const sw_model *m, sw_data *d, con
   return SW_OK;
 }
 
-/* Phi and its gradient at x; with `refactor`, also the Hessian as the mode asks and a new
- * factorisation of S (auto and progressive: clamped everywhere when S is not positive
- * definite; progressive keeps that for the rest of the step). */
+/* Phi, its gradient and the Hessian at x as the mode asks, assembled into S (nw->sval). */
 static int linearise(sw_newton *nw, const sw_model *m, sw_data *d, const double *x,
-                     const double *xhat, const sw_newton_opts *o, int refactor, double *phi) {
+                     const double *xhat, const sw_newton_opts *o, double *phi) {
   int mode = o->hessian, first = sw_hessian_filter(mode);
   if (mode == SW_HESSIAN_ABS && nw->iter >= SW_NEWTON_ABS_ITERS) first = SW_FILTER_CLAMP;
-  int with_hess = refactor && mode != SW_HESSIAN_PROGRESSIVE;
+  int with_hess = mode != SW_HESSIAN_PROGRESSIVE;
   double t0 = sw_now();
   int rc = sw_newton_phi(nw, m, d, x, xhat, o->a, o->t, 1, with_hess, first, phi);
   d->time_assemble += sw_now() - t0;
-  if (rc || !refactor) return rc;
+  if (rc) return rc;
   if (mode == SW_HESSIAN_PROGRESSIVE && (rc = progressive_hessian(nw, m, d, x, o))) return rc;
-  rc = fill_factor(nw, m, d, o->a);
+  return assemble(nw, m, d, o->a);
+}
+
+/* A fresh factorisation of S and dx = S^-1 b, b = -grad Phi in nw->g (auto and progressive:
+ * clamped everywhere when S is not positive definite; progressive keeps that for the rest of
+ * the step). */
+static int direct(sw_newton *nw, const sw_model *m, sw_data *d, const double *x,
+                  const sw_newton_opts *o) {
+  int rc = factor(nw, d), mode = o->hessian;
   if (rc == SW_RECOVER && (mode == SW_HESSIAN_AUTO || mode == SW_HESSIAN_PROGRESSIVE)) {
     if (nw->flag) memset(nw->flag, 1, (size_t)nw->soff[m->nterm]);
-    if (!(rc = eval_hessian(m, d, x, o->t, SW_FILTER_CLAMP))) rc = fill_factor(nw, m, d, o->a);
+    if (!(rc = eval_hessian(m, d, x, o->t, SW_FILTER_CLAMP)) && !(rc = assemble(nw, m, d, o->a)))
+      rc = factor(nw, d);
   }
+  if (rc) return rc;
+  double t0 = sw_now();
+  rc = sw_chol_solve(&nw->chol, nw->g, nw->dx, d->err, sizeof d->err);
+  d->time_solve += sw_now() - t0;
   return rc;
 }
 
-/* Whether the kept factorisation may start this solve. */
-static int may_reuse(const sw_newton *nw, const sw_newton_opts *o) {
-  return o->reuse && nw->fac_valid && nw->fac_a == o->a && nw->fac_cd == nw->cd &&
-         nw->theta <= SW_NEWTON_THETA;
+static double dot(const double *a, const double *b, int n) {
+  double s = 0.0;
+  for (int i = 0; i < n; i++) s += a[i] * b[i];
+  return s;
+}
+
+/* y = S x for the current S: its sparse part and its low-rank vectors, sum_r v_r (v_r . x). */
+static void apply_s(const sw_newton *nw, const double *x, double *y) {
+  const sw_pattern *p = &nw->pat;
+  sw_pattern_symv(p, nw->sval, x, y);
+  for (int r = 0; r < p->nlr; r++) {
+    double s = 0.0;
+    for (long q = p->lrptr[r]; q < p->lrptr[r + 1]; q++) s += nw->lrcur[q] * x[p->lrrow[q]];
+    for (long q = p->lrptr[r]; q < p->lrptr[r + 1]; q++) y[p->lrrow[q]] += s * nw->lrcur[q];
+  }
+}
+
+/* Preconditioned conjugate gradients (Hestenes and Stiefel 1952; Saad, "Iterative Methods for
+ * Sparse Linear Systems", 2003, alg. 9.1) on S dx = b from dx = 0, the kept factorisation as
+ * preconditioner P.  The relative error of the direction is estimated by
+ * rho = sqrt(r.P^-1 r / b.P^-1 b) (= |dx - S^-1 b|_S / |S^-1 b|_S when P = S); CG stops when
+ * rho <= max(SW_CG_ETA, SW_CG_ABS tol_dx / |dx|) (capped at 1/2), |dx| in Newton's norm: the
+ * error it leaves in a direction is below SW_CG_ABS of Newton's tolerance, or SW_CG_ETA of the
+ * direction (so that Newton still contracts fast while its updates are large).  Returns the
+ * iterations taken, 0 when it did not converge within SW_CG_MAX or met p.S p <= 0 (dx is
+ * then meaningless), or a negative SW_* code.  Every iterate from 0 lowers Newton's quadratic
+ * model, so dx is a descent direction whenever it returns > 0. */
+static int pcg(sw_newton *nw, sw_data *d, const sw_newton_opts *o) {
+  const int n = nw->n, kmax = SW_CG_MAX;
+  const double eta = SW_CG_ETA, cabs = SW_CG_ABS;
+  double *x = nw->dx, *r = nw->cr, *z = nw->cz, *p = nw->cp, *q = nw->cq;
+  double t0 = sw_now();
+  memset(x, 0, (size_t)n * sizeof(double));
+  memcpy(r, nw->g, (size_t)n * sizeof(double));
+  int rc = sw_chol_solve(&nw->chol, r, z, d->err, sizeof d->err), k, done = 0;
+  double rz = dot(r, z, n), rz0 = rz;
+  if (!rc) memcpy(p, z, (size_t)n * sizeof(double));
+  for (k = 1; !rc && !done && k <= kmax; k++) {
+    apply_s(nw, p, q);
+    double pq = dot(p, q, n);
+    if (!(pq > 0.0)) break;
+    double alpha = rz / pq;
+    for (int i = 0; i < n; i++) {
+      x[i] += alpha * p[i];
+      r[i] -= alpha * q[i];
+    }
+    rc = sw_chol_solve(&nw->chol, r, z, d->err, sizeof d->err);
+    double rz1 = dot(r, z, n);
+    d->ncg++;
+    double size = update_size(nw, o->norm, max_abs(x, n));
+    double want = fmax(eta, fmin(0.5, cabs * o->tol_dx / size));
+    if (rz1 <= want * want * rz0) done = k;
+    for (int i = 0; i < n; i++) p[i] = z[i] + rz1 / rz * p[i];
+    rz = rz1;
+  }
+  d->time_solve += sw_now() - t0;
+  return rc ? rc : done;
+}
+
+int sw_newton_system(sw_newton *nw, const sw_model *m, sw_data *d, const double *x,
+                     const double *xhat, const sw_newton_opts *o, double *phi) {
+  nw->cd = o->xd ? o->cd : 0.0;
+  nw->xd = o->xd;
+  int rc = linearise(nw, m, d, x, xhat, o, phi);
+  for (int c = 0; !rc && c < nw->n; c++) nw->g[c] = -nw->g[c];
+  return rc;
+}
+
+int sw_newton_factor(sw_newton *nw, sw_data *d) { return factor(nw, d); }
+
+int sw_newton_pcg(sw_newton *nw, sw_data *d, const sw_newton_opts *o) { return pcg(nw, d, o); }
+
+/* Newton's direction dx = S^-1 b, b = -grad Phi in nw->g: with reuse and a kept
+ * factorisation, by conjugate gradients (the factorisation marked stale when they needed more
+ * than SW_CG_KEEP iterations); otherwise, or when they do not converge, by a fresh
+ * factorisation.  *fresh says which. */
+static int direction(sw_newton *nw, const sw_model *m, sw_data *d, const double *x,
+                     const sw_newton_opts *o, int *fresh) {
+  *fresh = 0;
+  int reuse = o->reuse == SW_REUSE_AUTO ? sw_chol_super(&nw->chol) == 0 : o->reuse;
+  if (reuse && nw->fac_valid && !nw->fac_stale) {
+    int k = pcg(nw, d, o);
+    if (k < 0) return k;
+    nw->fac_stale = k == 0 || k > SW_CG_KEEP;
+    if (nw->iter == 0) { /* a factorisation from an earlier solve */
+      int more = nw->backoff < SW_CG_BACKOFF ? 2 * nw->backoff + 1 : nw->backoff;
+      nw->backoff = nw->fac_stale ? more : 0;
+      nw->skip = nw->backoff;
+    }
+    if (k > 0) return SW_OK;
+  }
+  *fresh = 1;
+  return direct(nw, m, d, x, o);
 }
 
 /* The round-off floor of a Newton step, m: positions of magnitude up to max |x| are resolved to
@@ -479,19 +637,24 @@ int sw_newton_solve(sw_newton *nw, const sw_model *m, sw_data *d, double *x, con
   nw->cd = o->xd ? o->cd : 0.0;
   nw->xd = o->xd;
   if (nw->flag) memset(nw->flag, 0, (size_t)nw->soff[m->nterm]);
-  int refactor = !may_reuse(nw, o);
+  if (nw->skip > 0) { /* the last solves' factorisations did not carry over: a fresh one */
+    nw->skip--;
+    nw->fac_stale = 1;
+  }
   const double xfloor = round_off_floor(m, x);
-  double prev = 0.0; /* max |dx| of the last iteration */
+  double prev = 0.0, phi = 0.0; /* max |dx| of the last iteration; Phi at x */
+  int redo = 0; /* 1: the same iterate again, with a fresh factorisation */
   for (int it = 0; it < o->max_iter; it++) {
-    double phi;
+    int rc, fresh;
     nw->iter = it;
-    int rc = linearise(nw, m, d, x, xhat, o, refactor, &phi);
-    if (rc) return rc;
-    for (int c = 0; c < nw->n; c++) nw->g[c] = -nw->g[c];
-    double t0 = sw_now();
-    rc = sw_chol_solve(&nw->chol, nw->g, nw->dx, d->err, sizeof d->err);
-    d->time_solve += sw_now() - t0;
-    if (rc) return rc;
+    if (redo) {
+      nw->fac_stale = 1;
+      redo = 0;
+    } else {
+      if ((rc = linearise(nw, m, d, x, xhat, o, &phi))) return rc;
+      for (int c = 0; c < nw->n; c++) nw->g[c] = -nw->g[c];
+    }
+    if ((rc = direction(nw, m, d, x, o, &fresh))) return rc;
     d->nnewton++;
     d->last_newton++;
     double slope = 0.0; /* grad Phi . dx, negative for a descent direction */
@@ -513,12 +676,10 @@ int sw_newton_solve(sw_newton *nw, const sw_model *m, sw_data *d, double *x, con
       add_step(m, x, nw->dx, 1.0, x);
       return SW_OK;
     }
-    long cuts = d->nlinesearch;
     if (o->line_search) {
       rc = sw_newton_line_search(nw, m, d, x, xhat, o, phi, slope);
-      if (rc == SW_RECOVER && !refactor) { /* a kept factorisation led nowhere: renew it */
-        refactor = 1;
-        nw->theta = 1.0;
+      if (rc == SW_RECOVER && !fresh) { /* CG's direction led nowhere: an exact one */
+        redo = 1;
         continue;
       }
       if (rc) return rc;
@@ -528,7 +689,7 @@ int sw_newton_solve(sw_newton *nw, const sw_model *m, sw_data *d, double *x, con
     }
     nw->theta = prev > 0.0 ? rate : 0.0;
     prev = step;
-    refactor = !o->reuse || nw->theta > SW_NEWTON_THETA || d->nlinesearch > cuts;
+    if (nw->theta > SW_NEWTON_THETA) nw->fac_stale = 1;
   }
   if (!o->must_converge) return SW_OK;
   sw_errf(d->err, sizeof d->err, "Newton did not converge in %d iterations at t = %g s",

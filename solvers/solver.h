@@ -85,7 +85,17 @@ typedef struct sw_chol {
   double *z;             /* (nlr) */
 } sw_chol;
 
-int sw_chol_init(sw_chol *ch, const sw_pattern *p, char *err, size_t errsz);
+/* Analyse the pattern for a factorisation of kind mode (SW_FACTOR_*). */
+int sw_chol_init(sw_chol *ch, const sw_pattern *p, int mode, char *err, size_t errsz);
+/* CHOLMOD's parameters for mode: simplicial, supernodal, or (auto) CHOLMOD's own choice by
+ * the flops of the factorisation per nonzero of L with the switch at SW_FACTOR_SWITCH; the
+ * supernodes relaxed to nrelax {16, 48, 128}, zrelax {0.8, 0.3, 0.1}.  Measured on the
+ * hanging cloth from 20 x 20 to 512 x 512 (docs/performance.md, "Simplicial or
+ * supernodal"). */
+void sw_chol_mode(sw_chol *ch, int mode);
+#define SW_FACTOR_SWITCH 100.0
+/* 1: the analysis chose a supernodal factor, 0: simplicial, -1: not analysed. */
+int sw_chol_super(const sw_chol *ch);
 double *sw_chol_values(sw_chol *ch);
 /* V's entries (the pattern's lrptr/lrrow order) and the coefficient they enter S with. */
 double *sw_chol_lowrank(sw_chol *ch, double coef);
@@ -108,7 +118,8 @@ int sw_hessian_filter(int hessian);
  * xd = x_n) and D is frozen for the step (sw_newton_damping), so Phi stays a potential whose
  * gradient is the residual a M (x - xhat) + grad U + D v and whose Hessian is a M + H + cd D.
  * The solver (docs/integrators.md, "Newton"): S from the Hessian the mode asks for, filtered
- * per element; a factorisation kept across iterations and steps while Newton contracts well;
+ * per element; each direction by a fresh factorisation of S, or (reuse) by conjugate
+ * gradients on S preconditioned with a factorisation kept across iterations and steps;
  * a line search on Phi; converged when max |dx| <= tol_dx, or when the decrease Newton
  * predicts is below the round-off of Phi. */
 typedef struct sw_newton {
@@ -118,6 +129,7 @@ typedef struct sw_newton {
   double *g, *dx;        /* (n) gradient and step on the free DOFs */
   double *xtry;          /* (nv x dim) line-search trial */
   int nterm;
+  int factor_mode;       /* SW_FACTOR_* */
   double *dval;          /* (pat.nnz) D on the pattern, or NULL when the model has no damping */
   double *r, *dr;        /* (n) x - xd and D (x - xd) */
   double cd;             /* the current solve's damping coefficient, 1/s (0: none) */
@@ -127,9 +139,19 @@ typedef struct sw_newton {
   unsigned char *flag;   /* (soff[nterm]) 1: this stencil's block is filtered in this step */
   double *hfilt;         /* (d->hess's size) the terms' clamped blocks, or NULL */
   double *vres;          /* (nv) each vertex's mass-scaled residual |g_i| / (a m_i), m */
-  /* the factorisation in the CHOLMOD object: valid, and the a and cd it was built with */
-  int fac_valid;
-  double fac_a, fac_cd;
+  /* S of the current iterate (the factorisation may be of an earlier one): its values on the
+   * pattern and its low-rank vectors' entries (pattern order), coefficient 1 */
+  double *sval;          /* (pat.nnz) */
+  double *lrcur;         /* (pat.lrptr[pat.nlr]) */
+  /* preconditioned conjugate gradients (reuse): workspaces and what the last solve took */
+  double *cr, *cz, *cp, *cq; /* (n) residual, preconditioned residual, direction, S p */
+  /* the factorisation in the CHOLMOD object: valid (of some earlier S), and stale (CG needed
+   * too many iterations with it: renew it at the next iteration) */
+  int fac_valid, fac_stale;
+  /* solves that start with a fresh factorisation because the last ones could not carry the
+   * kept one over (doubling after each such failure, up to SW_CG_BACKOFF), and how many are
+   * left */
+  int backoff, skip;
   double theta;          /* the last observed contraction |dx_k| / |dx_k-1| */
   double *wdof;          /* (n) each free DOF's share of the free mass, m_i / sum m_i */
   int iter;              /* the current iteration of the solve */
@@ -150,9 +172,10 @@ typedef struct sw_newton_opts {
   int line_search;       /* backtracking on Phi; 0: take full steps */
   int must_converge;     /* 0: stop after max_iter without failing (one-step variants) */
   int hessian;           /* SW_HESSIAN_* */
-  int reuse;             /* keep a factorisation while Newton contracts by at least
-                            SW_NEWTON_THETA per iteration (also into the next solve with the
-                            same a and cd) */
+  int reuse;             /* SW_REUSE_*: Newton-Krylov, each direction by conjugate
+                            gradients on the current S preconditioned by the last
+                            factorisation (kept across iterations, line searches and solves);
+                            off: factorise every S */
   double cd;             /* damping: v = cd (x - xd) at the stage, 1/s (0: no damping term) */
   const double *xd;      /* (nv x dim) */
   double h;              /* s: the time step (contact friction's lag; 0 in a static solve) */
@@ -165,7 +188,21 @@ typedef struct sw_newton_opts {
  * Newton", SIGGRAPH Asia 2024). */
 #define SW_NEWTON_ABS_ITERS 20
 
-/* The contraction |dx_k| / |dx_k-1| above which a kept factorisation is renewed. */
+/* Newton-Krylov (reuse): conjugate gradients stop when the direction's estimated relative
+ * error (in the S-norm) is at most max(SW_CG_ETA, SW_CG_ABS tol_dx / |dx|): below SW_CG_ABS of
+ * Newton's tolerance, or SW_CG_ETA of the direction while Newton's updates are large.  A solve
+ * that needed more than SW_CG_KEEP iterations renews the factorisation at the next
+ * iteration; one that has not converged after SW_CG_MAX (or meets a direction of non-positive
+ * curvature) is abandoned for a fresh factorisation of the current S.  A Newton contraction
+ * |dx_k| / |dx_k-1| above SW_NEWTON_THETA renews it too.  When a solve's first iteration could
+ * not use the factorisation kept from the last solve, the next 1, 3, 7, ... SW_CG_BACKOFF
+ * solves start with a fresh one.  Chosen by measurement (docs/integrators.md,
+ * "Newton-Krylov"). */
+#define SW_CG_ETA 1e-2
+#define SW_CG_ABS 0.1
+#define SW_CG_KEEP 4
+#define SW_CG_MAX 12
+#define SW_CG_BACKOFF 15
 #define SW_NEWTON_THETA 0.5
 
 int sw_newton_init(sw_newton *nw, const sw_model *m, char *err, size_t errsz);
@@ -173,6 +210,12 @@ int sw_newton_init(sw_newton *nw, const sw_model *m, char *err, size_t errsz);
  * (a predictor of the stage state); a no-op without damping. */
 int sw_newton_damping(sw_newton *nw, const sw_model *m, sw_data *d, const double *x, double t);
 void sw_newton_free(sw_newton *nw);
+/* Drop the kept factorisation and the Newton-Krylov state (contraction, back-off). */
+void sw_newton_forget(sw_newton *nw);
+/* Save or load (io->load) the kept factorisation, as the matrix it factorised (refactorised on
+ * load, not counted), and the Newton-Krylov state, so that a resumed run takes the iterations
+ * of a straight one.  Not kept once self-contact has grown the pattern. */
+void sw_newton_history(sw_newton *nw, sw_io *io);
 /* x: initial guess in, minimiser out.  SW_OK, SW_RECOVER (d->err says why), or SW_FATAL. */
 int sw_newton_solve(sw_newton *nw, const sw_model *m, sw_data *d, double *x, const double *xhat,
                     const sw_newton_opts *o);
@@ -181,6 +224,15 @@ int sw_newton_solve(sw_newton *nw, const sw_model *m, sw_data *d, double *x, con
 int sw_newton_phi(sw_newton *nw, const sw_model *m, sw_data *d, const double *x,
                   const double *xhat, double a, double t, int want_grad, int want_hess,
                   int project, double *phi);
+
+/* The pieces of an iteration, for tests: Phi at x, b = -grad Phi into nw->g and S into
+ * nw->sval (sw_newton_system); a factorisation of that S, kept (sw_newton_factor); dx = S^-1 b
+ * into nw->dx by conjugate gradients preconditioned with the kept factorisation
+ * (sw_newton_pcg: its iterations, 0 when they did not converge). */
+int sw_newton_system(sw_newton *nw, const sw_model *m, sw_data *d, const double *x,
+                     const double *xhat, const sw_newton_opts *o, double *phi);
+int sw_newton_factor(sw_newton *nw, sw_data *d);
+int sw_newton_pcg(sw_newton *nw, sw_data *d, const sw_newton_opts *o);
 
 /* Backtracking (Armijo) along nw->dx from x, slope = grad Phi . dx < 0; on success x holds the
  * accepted point.  Each halving counts in d->nlinesearch. */
@@ -209,8 +261,10 @@ sw_newton_opts sw_ipstep_opts(const sw_model *m, const sw_ipstep *s, double a, d
 int sw_ipstep_solve(sw_ipstep *s, const sw_model *m, sw_data *d, const sw_newton_opts *o,
                     const double *y0);
 /* After a change between steps (SW_CHANGED_*): a kept factorisation is dropped (the Hessian it
- * was built from changed). */
+ * was built from changed), and with it what Newton-Krylov learnt (sw_newton_forget). */
 void sw_ipstep_reset(sw_ipstep *s);
+/* Save or load Newton's kept factorisation (sw_newton_history) for a resumed run. */
+void sw_ipstep_history(sw_ipstep *s, sw_io *io);
 /* Accept xnew, vnew as the state at d->t + h, after the energy check when check_energy. */
 int sw_ipstep_commit(sw_ipstep *s, const sw_model *m, sw_data *d, double h, int check_energy);
 

@@ -581,7 +581,7 @@ static void broadphase_brute(void **st) {
   for (int rep = 0; rep < 6; rep++) {
     mesh M = random_mesh(&rs, 6 + 2 * rep, rep % 3 == 0 ? 0.0 : 0.05);
     double r = rep % 2 ? 0.02 : 0.0;
-    sw_bp_input in = {M.nv, M.x0, M.x1, M.ne, M.edge, M.nf, M.face, M.fixed, r};
+    sw_bp_input in = {M.nv, M.x0, M.x1, M.ne, M.edge, M.nf, M.face, M.fixed, r, 0, NULL, NULL};
     assert_int_equal(sw_broadphase_query(&bp, &in, SW_BP_PT | SW_BP_EE | SW_BP_FF), 0);
     assert_true(bp.npt > 0 && bp.nee > 0 && bp.nff > 0);
     check_pairs(&M, bp.pt, bp.npt, 0, 2, r);
@@ -599,7 +599,7 @@ static void broadphase_brute(void **st) {
   }
   double bad[3] = {NAN, 0, 0};
   int f[3] = {0, 0, 0};
-  sw_bp_input in = {1, bad, bad, 0, NULL, 1, f, NULL, 0.0};
+  sw_bp_input in = {1, bad, bad, 0, NULL, 1, f, NULL, 0.0, 0, NULL, NULL};
   assert_int_equal(sw_broadphase_query(&bp, &in, SW_BP_PT), -1);
   sw_broadphase_free(&bp);
 }

@@ -231,15 +231,15 @@ static void check_energy(const fixture *fx) {
   assert_true(line_at(s, 0, line, sizeof line));
   assert_string_equal(line, "time,kinetic,E_bw98,potential,total,dt,steps,newton_iterations,"
                             "factorizations,force_evaluations,error_test_failures,"
-                            "linesearch_backtracks,step_wall_s");
+                            "linesearch_backtracks,cg_iterations,step_wall_s");
   double kin = sw_kinetic(&fx->m, fx->d.v); /* J; v is the same at every step */
   for (int k = 1; k <= 3; k++) {
     double v[16], e = 1.0 / 3.0 * k;
     assert_true(line_at(s, k, line, sizeof line));
-    assert_int_equal(csv_fields(line, v, 16), 13);
+    assert_int_equal(csv_fields(line, v, 16), 14);
     assert_true(v[0] == 0.01 * k && v[1] == kin && v[2] == e && v[3] == e && v[4] == kin + e);
     assert_true(v[5] == 0.01 && v[6] == 1 && v[7] == k + 1 && v[8] == k + 1 && v[9] == 3);
-    assert_true(v[10] == k && v[11] == 2 * k && v[12] == 0.5 * k);
+    assert_true(v[10] == k && v[11] == 2 * k && v[12] == 0 && v[13] == 0.5 * k);
   }
   free(s);
 }

@@ -151,7 +151,7 @@ static void test_defaults(void **state) {
   assert_int_equal(m->opt.hessian, SW_HESSIAN_ABS);
   assert_float_equal(m->opt.newton_tol, 1e-2, 0.0);
   assert_int_equal(m->opt.newton_norm, SW_NORM_RMS);
-  assert_int_equal(m->opt.newton_reuse, 0);
+  assert_int_equal(m->opt.newton_reuse, SW_REUSE_OFF);
   assert_int_equal(m->opt.setup_every, 200);
   assert_int_equal(m->opt.max_order, 0); /* automatic */
   assert_float_equal(m->opt.tx_k_u, -1.0, 0.0);

@@ -51,7 +51,7 @@ static void fill_matches_dense(int dim) {
   assert_true(counted <= p.nnz);
   /* CHOLMOD: solve S y = b and check the residual with the dense matrix. */
   sw_chol ch;
-  assert_int_equal(sw_chol_init(&ch, &p, err, sizeof err), 0);
+  assert_int_equal(sw_chol_init(&ch, &p, SW_FACTOR_AUTO, err, sizeof err), 0);
   memcpy(sw_chol_values(&ch), val, sizeof(double) * (size_t)p.nnz);
   assert_int_equal(sw_chol_factor(&ch, err, sizeof err), 0);
   double *b = calloc((size_t)p.n, sizeof *b), *y = calloc((size_t)p.n, sizeof *y);
@@ -89,7 +89,7 @@ static int factor_diagonal(double neg, int oom, char *err, size_t errsz, int *n)
   sw_pattern p;
   sw_chol ch;
   assert_int_equal(sw_pattern_build(&p, m, err, errsz), 0);
-  assert_int_equal(sw_chol_init(&ch, &p, err, errsz), 0);
+  assert_int_equal(sw_chol_init(&ch, &p, SW_FACTOR_AUTO, err, errsz), 0);
   double *v = sw_chol_values(&ch);
   memset(v, 0, sizeof(double) * (size_t)p.nnz);
   for (int c = 0; c < p.n; c++) v[p.diag[c]] = c == 3 ? neg : 1.0;

@@ -199,6 +199,29 @@ static void coincident_waypoints(void **st) {
   }
 }
 
+/* Two waypoints closer than the smoothing width eps (1e-3 of the rest length per segment;
+ * docs/tendons.md, "Zero-length segments"): the rounded tip of |s| has the derivatives of
+ * central differences, in both storages, and the length there is (|s|^2 + eps^2) / (2 eps). */
+static void short_segment(void **st) {
+  (void)st;
+  for (int dense_max = 0; dense_max <= 100; dense_max += 100) {
+    sw_model *m = chain_model(3, 4, SW_LAW_SPRING, 0.5, dense_max, 9);
+    const sw_tendon *td = &m->tendon[0];
+    double eps = 1e-3 * td->key_rest[0] / 3.0, x[12], r = 0.4 * eps; /* m */
+    memcpy(x, m->x0, sizeof x);
+    for (int c = 0; c < 3; c++) x[6 + c] = x[3 + c] + r * (c == 0 ? 1.0 : 2.0) / 3.0;
+    double l01 = 0.0, l23 = 0.0;
+    for (int c = 0; c < 3; c++) {
+      l01 += (x[c] - x[3 + c]) * (x[c] - x[3 + c]);
+      l23 += (x[6 + c] - x[9 + c]) * (x[6 + c] - x[9 + c]);
+    }
+    double want = sqrt(l01) + (r * r + eps * eps) / (2.0 * eps) + sqrt(l23);
+    assert_true(fabs(sw_tendon_length(td, x, 3) - want) < 1e-14);
+    th_conformance_at(m, "tendons", 0, 0.1, x);
+    sw_model_free(m);
+  }
+}
+
 /* ---------------------------------------------------- low-rank path against dense blocks */
 
 /* An 8 x 8 cloth (top row pinned, gravity) with a 30-waypoint spring zig-zag and a
@@ -489,6 +512,7 @@ int main(void) {
       cmocka_unit_test(forces_sum_to_zero),
       cmocka_unit_test(keyframes),
       cmocka_unit_test(coincident_waypoints),
+      cmocka_unit_test(short_segment),
       cmocka_unit_test(lowrank_newton),
       cmocka_unit_test(lowrank_sundials_systems),
       cmocka_unit_test(lowrank_sundials_runs),

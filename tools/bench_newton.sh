@@ -4,11 +4,14 @@
 # interleaved (base, new, base, new, ...) so both see the same machine load.  Writes
 # docs/bench/newton/runs.csv (one line per run) and prints it.  Also: positions at t = 0.5 s
 # against a strict reference (--newton-tol 1e-9, 1000 iterations, no halving) and against the
-# same at dt/2 (the time-discretisation error Newton's must stay well below).
+# same at dt/2 (the time-discretisation error Newton's must stay well below).  With SIZES set
+# (e.g. SIZES="40 80 120 160"), tools/bench_newton_sizes.sh runs instead: the grids of those
+# sizes, every fixed-step Newton method, with and without Newton-Krylov, and Baraff-Witkin.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 base=${1:?usage: tools/bench_newton.sh BASE_SINEW [NEW_SINEW]}
 new=${2:-build/sinew}
+if [ -n "${SIZES:-}" ]; then exec tools/bench_newton_sizes.sh "$base" "$new"; fi
 reps=${REPS:-2}
 out=${OUT:-docs/bench/newton}
 work=$(mktemp -d)

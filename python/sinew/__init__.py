@@ -356,7 +356,7 @@ class Simulation:
     def counters(self):
         """The solver's counters since the start: steps, Newton iterations, factorisations..."""
         names = ["nstep", "nnewton", "nfactor", "nassemble", "nforce", "nretry",
-                 "nlinesearch", "nerrfail", "nsetup"]
+                 "nlinesearch", "nerrfail", "nsetup", "ncg"]
         return {n: _library().sw_sim_counter(self._ptr, n.encode()) for n in names}
 
     # ---------------------------------------------------------------- changing

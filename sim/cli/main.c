@@ -77,7 +77,8 @@ static void usage_run(FILE *fp) {
           "                 [--frames-every S | --no-frames] [--frames-format F]\n"
           "                 [--positions-every S] [--grid NXxNY] [--stiffness-scale S]\n"
           "                 [--newton-tol V] [--newton-norm rms|max] [--hessian MODE]\n"
-          "                 [--newton-reuse on|off]\n"
+          "                 [--factorization auto|simplicial|supernodal]\n"
+          "                 [--newton-reuse on|off|auto]\n"
           "       sinew run --resume DIR [--duration T] [--threads N] [--quiet]\n"
           "\n"
           "Simulate SCENE (YAML) headless and write its logs and frames to the output folder\n"
@@ -109,9 +110,14 @@ static void usage_run(FILE *fp) {
           "                  (default); max: every coordinate (overrides integrator.newton.norm)\n"
           "  --hessian MODE  Newton's matrix: projected, exact, auto, abs or progressive\n"
           "                  (overrides integrator.hessian)\n"
-          "  --newton-reuse on|off\n"
-          "                  keep a factorisation while Newton contracts (overrides\n"
+          "  --newton-reuse on|off|auto\n"
+          "                  on: each Newton direction by conjugate gradients preconditioned\n"
+          "                  with the last factorisation; off: a factorisation per iteration;\n"
+          "                  auto: on with a simplicial factorisation (overrides\n"
           "                  integrator.newton.reuse)\n"
+          "  --factorization auto|simplicial|supernodal\n"
+          "                  CHOLMOD's factorisation; auto: chosen from the matrix (overrides\n"
+          "                  integrator.factorization)\n"
           "  --threads N     OpenBLAS threads for CHOLMOD (default: $OPENBLAS_NUM_THREADS, else 1)\n"
           "  --quiet         no progress line\n"
           "  --frames-every S\n"
@@ -171,6 +177,7 @@ typedef struct cli {
   int max_halvings;            /* < 0: not given */
   double newton_tol;           /* m/s; < 0: not given */
   int hessian, reuse, norm;    /* < 0: not given */
+  int factor;                  /* < 0: not given */
   int frames_format;           /* SW_FRAMES_*; < 0: not given */
   int max_order;               /* -1: not given; 0: auto */
 } cli;
@@ -232,8 +239,10 @@ static int parse_run_args(int argc, char **argv, cli *c) {
     } else if (!strcmp(a, "--hessian") && has_val) {
       if (cli_choice(a, argv[++i], sw_hessian_names(), &c->hessian)) return -1;
     } else if (!strcmp(a, "--newton-reuse") && has_val) {
-      static const char *const on_off[] = {"off", "on", NULL};
-      if (cli_choice(a, argv[++i], on_off, &c->reuse)) return -1;
+      static const char *const reuse[] = {"off", "on", "auto", NULL};
+      if (cli_choice(a, argv[++i], reuse, &c->reuse)) return -1;
+    } else if (!strcmp(a, "--factorization") && has_val) {
+      if (cli_choice(a, argv[++i], sw_factor_names(), &c->factor)) return -1;
     } else if (!strcmp(a, "--threads") && has_val) {
       if (cli_int(a, argv[++i], 1, 1024, &c->threads)) return -1;
     } else if (a[0] == '-' && a[1]) {
@@ -306,7 +315,7 @@ static int cmd_run(int argc, char **argv) {
   if (argc >= 4 && !strcmp(argv[2], "--resume")) return cmd_resume(argc, argv);
   cli c = {.dt = -1, .duration = -1, .frames_every = -1, .positions_every = -1,
            .max_halvings = -1, .newton_tol = -1, .hessian = -1, .reuse = -1, .norm = -1,
-           .max_order = -1, .frames_format = -1};
+           .factor = -1, .max_order = -1, .frames_format = -1};
   if (parse_run_args(argc, argv, &c)) return 2;
   char err[SW_ERRSZ];
   sw_model *m = sw_scene_load_ex(c.scene, &c.ov, err, sizeof err);
@@ -323,6 +332,7 @@ static int cmd_run(int argc, char **argv) {
   if (c.hessian >= 0) m->opt.hessian = c.hessian;
   if (c.norm >= 0) m->opt.newton_norm = c.norm;
   if (c.reuse >= 0) m->opt.newton_reuse = c.reuse;
+  if (c.factor >= 0) m->opt.factorization = c.factor;
   if (c.atol > 0) m->opt.atol = c.atol;
   if (c.max_order >= 0) m->opt.max_order = c.max_order;
   if (c.frames_every >= 0) m->opt.frames_every = c.frames_every;

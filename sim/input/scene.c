@@ -205,9 +205,11 @@ static const char *const top_keys[] = {"name",     "dimension", "mesh",     "mat
                                        "gravity",  "pins",      "initial_velocity",
                                        "integrator", "duration", "output",  "tension_xy",
                                        "panels",   "damping",   "tendons",  "loads",
-                                       "masses",   "perturb",   "obstacles", "contact"};
+                                       "masses",   "perturb",   "obstacles", "contact",
+                                       "seams",    "sewing",    "fit",      "arrange"};
 enum { K_NAME, K_DIM, K_MESH, K_MAT, K_GRAV, K_PINS, K_IV, K_INT, K_DUR, K_OUT, K_TXY, K_PANELS,
-       K_DAMP, K_TENDONS, K_LOADS, K_MASSES, K_PERTURB, K_OBST, K_CONTACT, K_N };
+       K_DAMP, K_TENDONS, K_LOADS, K_MASSES, K_PERTURB, K_OBST, K_CONTACT, K_SEAMS, K_SEWING,
+       K_FIT, K_ARRANGE, K_N };
 
 static int load_name_dim(const ctx *c, const ynode **v) {
   sw_model *m = c->m;
@@ -243,6 +245,9 @@ static int load_geometry(ctx *c, const ynode **v) {
   if (!rc) rc = fill_geometry(c, &mi, uv_scale);
   memcpy(c->grid, mi.grid, sizeof c->grid);
   if (!rc && v[K_PANELS]) rc = sc_load_panels(c, v[K_PANELS], &mi.mesh, mi.obj, uv_scale);
+  c->ngroup = mi.mesh.ngroup; /* kept for the seams and the arrangement */
+  c->group = mi.mesh.group, mi.mesh.group = NULL;
+  c->fgroup = mi.mesh.fgroup, mi.mesh.fgroup = NULL;
   sw_mesh_free(&mi.mesh);
   if (!rc && !(c->sel = sw_calloc((size_t)c->m->nv, 1))) rc = sy_oom(c, c->root);
   return rc;
@@ -425,9 +430,9 @@ static int load_gravity(const ctx *c, const ynode *y) {
 
 static const char *const int_keys[] = {"method", "dt", "max_halvings", "newton", "hessian",
                                        "rtol", "atol", "max_order", "max_step", "energy_bound",
-                                       "tendon_dense_max", "setup_every"};
+                                       "tendon_dense_max", "setup_every", "factorization"};
 static const char *const newton_keys[] = {"max_iterations", "tol", "reuse", "force_tol", "norm"};
-static const char *const on_off[] = {"false", "true"};
+static const char *const reuse_names[] = {"false", "true", "auto"};
 
 static int load_method(const ctx *c, const ynode *y) {
   const char *const *names = sw_method_names();
@@ -451,8 +456,10 @@ static int load_max_order(const ctx *c, const ynode *y, int *out) {
 
 static int load_integrator(const ctx *c, const ynode *y) {
   sw_options *o = &c->m->opt;
-  const ynode *v[12], *nv[5];
-  if (sy_map(c, y, "integrator", int_keys, 12, v)) return -1;
+  const ynode *v[13], *nv[5];
+  if (sy_map(c, y, "integrator", int_keys, 13, v)) return -1;
+  if (v[12] && sy_choice(c, v[12], "integrator factorization", sw_factor_names(), SW_FACTOR_N,
+                         &o->factorization)) return -1;
   if (v[11] && sy_int(c, v[11], "integrator setup_every", 1, INT_MAX, &o->setup_every))
     return -1;
   if (v[10] && sy_int(c, v[10], "integrator tendon_dense_max", 0, INT_MAX, &o->tendon_dense_max))
@@ -472,7 +479,8 @@ static int load_integrator(const ctx *c, const ynode *y) {
   if (sy_map(c, v[3], "integrator newton", newton_keys, 5, nv)) return -1;
   if (nv[4] && sy_choice(c, nv[4], "integrator newton norm", sw_norm_names(), SW_NORM_N,
                          &o->newton_norm)) return -1;
-  if (nv[2] && sy_choice(c, nv[2], "integrator newton reuse", on_off, 2, &o->newton_reuse))
+  if (nv[2] && sy_choice(c, nv[2], "integrator newton reuse", reuse_names, 3,
+                         &o->newton_reuse))
     return -1;
   if (nv[0] &&
       sy_int(c, nv[0], "integrator newton max_iterations", 1, INT_MAX, &o->newton_max))
@@ -540,6 +548,9 @@ static int load_scene(ctx *c) {
   const ynode *v[K_N];
   if (sy_map(c, c->root, "the scene", top_keys, K_N, v)) return -1;
   if (load_name_dim(c, v) || load_geometry(c, v) || load_gravity(c, v[K_GRAV])) return -1;
+  /* the arrangement places pieces around the obstacles, before pins select by position */
+  if (v[K_OBST] && sc_load_obstacles(c, v[K_OBST])) return -1;
+  if (v[K_ARRANGE] && sc_load_arrange(c, v[K_ARRANGE])) return -1;
   if (v[K_PINS] && load_pins(c, v[K_PINS])) return -1;
   if (v[K_IV] && load_velocities(c, v[K_IV])) return -1;
   if (v[K_DAMP] && sc_load_damping(c, v[K_DAMP])) return -1;
@@ -547,8 +558,8 @@ static int load_scene(ctx *c) {
   if (v[K_LOADS] && load_loads(c, v[K_LOADS])) return -1;
   if (v[K_MASSES] && load_masses(c, v[K_MASSES])) return -1;
   if (v[K_PERTURB] && load_perturb(c, v[K_PERTURB])) return -1;
-  if (v[K_OBST] && sc_load_obstacles(c, v[K_OBST])) return -1;
   if (sc_load_contact(c, v[K_CONTACT], v[K_OBST] != NULL)) return -1;
+  if (sc_load_seams(c, v[K_SEAMS], v[K_SEWING], v[K_FIT])) return -1;
   return load_options(c, v);
 }
 
@@ -610,6 +621,8 @@ sw_model *sw_scene_parse_ex(const char *name, const char *buf, size_t len,
     if (p) p[0] = root->kid[k + 1]->line, p[1] = root->kid[k + 1]->col;
   }
   sw_free(c.sel);
+  sw_free(c.group);
+  sw_free(c.fgroup);
   sy_free(root);
   if (!rc && ov && ov->stiffness_scale > 0.0) sc_scale_stiffness(c.m, ov->stiffness_scale);
   if (rc) {

@@ -22,6 +22,16 @@ int sc_read_obj(const ctx *c, const ynode *y, const char *what, sw_mesh *mesh, c
 int sc_load_obstacles(const ctx *c, const ynode *y);
 /* `contact` (y NULL: the defaults), which needs obstacles. */
 int sc_load_contact(const ctx *c, const ynode *y, int has_obstacles);
+/* `seams`, `sewing` and `fit` (scene_seam.c; each may be NULL): the seams' curves, checked and
+ * paired; after the panels and the arrangement. */
+int sc_load_seams(const ctx *c, const ynode *seams, const ynode *sewing, const ynode *fit);
+/* The OBJ group called name into *g; else -1 with "W SAYS 'name', which is no group of the
+ * mesh; expected one of: ..." at `at` (scene_seam.c). */
+int sc_find_group(const ctx *c, const ynode *at, const char *w, const char *says,
+                  const char *name, int *g);
+/* `arrange` (scene_arrange.c): each named piece's x0 from its flat pattern, placed on a
+ * cylinder or rigidly, checked against the mesh obstacles and the other pieces. */
+int sc_load_arrange(const ctx *c, const ynode *y);
 /* Multiply every elastic stiffness of a loaded model (before sw_model_finish) by s > 0 and
  * record s in m->stiffness_scale (sw_scene_overrides in sinew.h says which). */
 void sc_scale_stiffness(sw_model *m, double s);

@@ -32,6 +32,9 @@ typedef struct ctx {
   int grid[2];             /* a grid mesh's vertices nx, ny (0: not a grid) */
   const ynode **by_index;  /* where *by_index is the first selection by vertex index (for the
                               --grid warning), NULL until one is seen */
+  int ngroup;              /* the mesh's OBJ groups (seams and arrangement name them) */
+  char (*group)[SW_NAMESZ];
+  int *fgroup;             /* (nf) the group of each face, or NULL */
 } ctx;
 
 ynode *sy_parse(const char *name, const char *buf, size_t len, char *err, size_t errsz);

@@ -5,6 +5,8 @@
  *   tendons.csv  a scene with tendons only: per tendon time, name, length, delta, tension
  *   contact.csv  a scene with obstacles or self-contact only: time, contacts, smallest
  *                distance, total contact and friction force; self-contact pairs, gap, force
+ *   seams.csv    a scene with seams only: per seam time, name, largest and mean gap, force,
+ *                length ratio of its curves
  * Each is a log (file.c): NAME.part until the run closes, a line in one write(2).  Numbers are
  * the shortest that read back exactly; "nan", "inf", "-inf" as such. */
 #include <math.h>
@@ -21,7 +23,7 @@ typedef struct csv_log {
   out_log log;           /* first: the log operations of file.c take the state as an out_log */
   char *line;            /* (linesz) one line (or header), formatted before writing */
   size_t linesz;
-  long prev[6];          /* energy.csv: cumulative counters at the previous line */
+  long prev[7];          /* energy.csv: cumulative counters at the previous line */
   double prev_time_step; /* energy.csv: cumulative step wall time at the previous line, s */
 } csv_log;
 
@@ -58,6 +60,14 @@ static void line_long(csv_log *o, size_t *len, long v) {
   if (*len + NUMSZ >= o->linesz) return;
   if (*len) o->line[(*len)++] = ',';
   *len += (size_t)snprintf(o->line + *len, o->linesz - *len, "%ld", v);
+}
+
+/* Start a line of a per-item log (appended at *len): the time, then the item's name. */
+static void line_time_name(csv_log *o, size_t *len, double t, const char *name) {
+  *len += (size_t)out_fmt_num(o->line + *len, o->linesz - *len, t); /* first field: no comma */
+  o->line[(*len)++] = ',';
+  o->line[*len] = '\0';
+  line_csv_name(o, len, name);
 }
 
 static void line_end(csv_log *o, size_t len) {
@@ -170,7 +180,7 @@ static int tension_write(void *self, sw_output *out, const sw_model *m, const sw
 
 /* Whether energy.csv logs dissipation: damping, or contact friction. */
 static int dissipates(const sw_model *m) {
-  return sw_damped(m) || (m->nobstacle > 0 && m->contact.friction > 0.0);
+  return sw_damped(m) || m->fit.on || (m->nobstacle > 0 && m->contact.friction > 0.0);
 }
 
 static void energy_header(csv_log *o, const sw_model *m) {
@@ -181,7 +191,8 @@ static void energy_header(csv_log *o, const sw_model *m) {
     line_csv_name(o, &len, m->term[i].name);
   }
   line_str(o, &len, ",potential,total,dt,steps,newton_iterations,factorizations,"
-                    "force_evaluations,error_test_failures,linesearch_backtracks,step_wall_s");
+                    "force_evaluations,error_test_failures,linesearch_backtracks,cg_iterations,"
+                    "step_wall_s");
   if (dissipates(m)) line_str(o, &len, ",damping_power,dissipated");
   if (sw_actuated(m)) line_str(o, &len, ",actuation_power,work_in");
   line_end(o, len);
@@ -209,8 +220,9 @@ static int energy_write(void *self, sw_output *out, const sw_model *m, const sw_
   line_num(o, &len, kin + pot);
   line_num(o, &len, d->last_dt);
   /* what this line's interval cost: differences of the cumulative counters */
-  const long now[6] = {d->nstep, d->nnewton, d->nfactor, d->nforce, d->nerrfail, d->nlinesearch};
-  for (int k = 0; k < 6; k++) line_long(o, &len, now[k] - o->prev[k]);
+  const long now[7] = {d->nstep,   d->nnewton,     d->nfactor, d->nforce,
+                       d->nerrfail, d->nlinesearch, d->ncg};
+  for (int k = 0; k < 7; k++) line_long(o, &len, now[k] - o->prev[k]);
   line_num(o, &len, d->time_step - o->prev_time_step);
   if (dissipates(m)) {
     line_num(o, &len, d->damp_power); /* W */
@@ -222,7 +234,7 @@ static int energy_write(void *self, sw_output *out, const sw_model *m, const sw_
   }
   line_end(o, len);
   if (put_line(o, out, err, errsz)) return -1;
-  for (int k = 0; k < 6; k++) o->prev[k] = now[k];
+  for (int k = 0; k < 7; k++) o->prev[k] = now[k];
   o->prev_time_step = d->time_step;
   return 0;
 }
@@ -245,10 +257,7 @@ static int tendons_write(void *self, sw_output *out, const sw_model *m, const sw
   csv_log *o = self;
   size_t len = 0;
   for (int k = 0; k < m->ntendon; k++) {
-    len += (size_t)out_fmt_num(o->line + len, o->linesz - len, d->t); /* first field: no comma */
-    o->line[len++] = ',';
-    o->line[len] = '\0';
-    line_csv_name(o, &len, m->tendon[k].name);
+    line_time_name(o, &len, d->t, m->tendon[k].name);
     line_num(o, &len, d->tendon_length[k]);
     line_num(o, &len, d->tendon_delta[k]);
     line_num(o, &len, d->tendon_tension[k]);
@@ -295,6 +304,32 @@ static int contact_write(void *self, sw_output *out, const sw_model *m, const sw
   return put_line(o, out, err, errsz);
 }
 
+/* ------------------------------------------------------------- seams.csv */
+
+static int seams_wanted(const sw_model *m) { return m->nseam > 0; }
+
+static int seams_open(void *self, sw_output *out, const sw_model *m, char *err, size_t errsz) {
+  (void)m;
+  static const char head[] = "time,seam,gap_max,gap_mean,force,length_ratio\n";
+  csv_log *o = self;
+  return out_log_open(&o->log, "seams.csv", out, head, strlen(head), err, errsz);
+}
+
+/* One line per seam (time s, name, largest and mean gap m, force N, curve length ratio b/a),
+ * written in one piece. */
+static int seams_write(void *self, sw_output *out, const sw_model *m, const sw_data *d,
+                       char *err, size_t errsz) {
+  csv_log *o = self;
+  size_t len = 0;
+  for (int k = 0; k < m->nseam; k++) {
+    line_time_name(o, &len, d->t, m->seam[k].name);
+    for (int q = 0; q < 4; q++) line_num(o, &len, d->seam_state[4 * k + q]);
+    o->line[len++] = '\n';
+  }
+  o->line[len] = '\0';
+  return put_line(o, out, err, errsz);
+}
+
 /* ---------------------------------------------------- operations of all four */
 
 static int csv_init(void *self, const sw_model *m) {
@@ -303,6 +338,8 @@ static int csv_init(void *self, const sw_model *m) {
   o->linesz = ((size_t)m->nterm + 18) * (NUMSZ + SW_NAMESZ);
   size_t tendon_lines = (size_t)m->ntendon * (4 * NUMSZ + SW_NAMESZ + 4) + 64;
   if (tendon_lines > o->linesz) o->linesz = tendon_lines;
+  size_t seam_lines = (size_t)m->nseam * (5 * NUMSZ + SW_NAMESZ + 4) + 64;
+  if (seam_lines > o->linesz) o->linesz = seam_lines;
   o->line = sw_calloc(o->linesz, 1);
   o->log.fd = -1;
   return o->line ? 0 : -1;
@@ -333,3 +370,4 @@ const sw_out_ops sw_out_tension = {CSV_OPS(tension)};
 const sw_out_ops sw_out_energy = {CSV_OPS(energy)};
 const sw_out_ops sw_out_tendons = {CSV_OPS(tendons), .wanted = tendons_wanted};
 const sw_out_ops sw_out_contact = {CSV_OPS(contact), .wanted = contact_wanted};
+const sw_out_ops sw_out_seams = {CSV_OPS(seams), .wanted = seams_wanted};

@@ -32,6 +32,7 @@
  * in use before any other removes a file. */
 static const sw_out_ops *const formats[] = {&sw_out_lock,      &sw_out_tension, &sw_out_energy,
                                             &sw_out_tendons,   &sw_out_contact,
+                                            &sw_out_seams,     &sw_out_seam_defs,
                                             &sw_out_positions, &sw_out_vtu,
                                             &sw_out_summary};
 #define NFORMAT ((int)(sizeof formats / sizeof formats[0]))

@@ -26,7 +26,7 @@ static int utf8_len(const unsigned char *s, size_t rem) {
 
 /* A JSON string of at most maxlen bytes of s: quotes, backslashes and control characters
  * escaped, ill-formed UTF-8 replaced by U+FFFD. */
-static void w_json_str(out_file *w, const char *s, size_t maxlen) {
+void out_json_str(out_file *w, const char *s, size_t maxlen) {
   if (!s) {
     out_puts(w, "null");
     return;
@@ -62,7 +62,7 @@ static void w_json_long(out_file *w, const char *key, long v) {
 
 static void summary_model(out_file *w, const sw_model *m) {
   w_key(w, "method");
-  w_json_str(w, m->opt.method, SW_NAMESZ);
+  out_json_str(w, m->opt.method, SW_NAMESZ);
   w_json_long(w, "dimension", m->dim);
   w_json_long(w, "vertices", m->nv);
   w_json_long(w, "faces", m->nf);
@@ -71,7 +71,7 @@ static void summary_model(out_file *w, const sw_model *m) {
   out_puts(w, "[");
   for (int k = 0; k < m->nterm; k++) {
     if (k) out_puts(w, ", ");
-    w_json_str(w, m->term[k].name, SW_NAMESZ);
+    out_json_str(w, m->term[k].name, SW_NAMESZ);
   }
   out_puts(w, "]");
   w_json_num(w, "dt", m->opt.dt);             /* s */
@@ -101,6 +101,7 @@ static void summary_counters(out_file *w, const sw_model *m, const sw_data *d, d
   w_json_long(w, "force_evaluations", d->nforce);
   w_json_long(w, "retries", d->nretry);
   w_json_long(w, "linesearch_backtracks", d->nlinesearch);
+  w_json_long(w, "cg_iterations", d->ncg);
   w_json_long(w, "error_test_failures", d->nerrfail);
   w_json_long(w, "linear_setups", d->nsetup);
   if (sw_method_adaptive(m->opt.method) == 1) { /* steps at BDF order 1..5 */
@@ -115,7 +116,7 @@ static void summary_counters(out_file *w, const sw_model *m, const sw_data *d, d
   out_puts(w, "{");
   for (int k = 0; k < m->nterm; k++) {
     if (k) out_puts(w, ", ");
-    w_json_str(w, m->term[k].name, SW_NAMESZ);
+    out_json_str(w, m->term[k].name, SW_NAMESZ);
     out_printf(w, ": %.6g", d->term_time ? d->term_time[k] : 0.0); /* s */
   }
   out_puts(w, "}");
@@ -128,6 +129,10 @@ static void summary_counters(out_file *w, const sw_model *m, const sw_data *d, d
   }
   w_json_num(w, "time_step_s", d->time_step);
   w_json_long(w, "factor_nnz", d->factor_nnz);
+  if (d->factor_super >= 0) {
+    w_key(w, "factorization");
+    out_json_str(w, d->factor_super ? "supernodal" : "simplicial", 16);
+  }
   w_json_num(w, "wall_time_s", wall);
   w_json_num(w, "max_rss_mb", max_rss_mb());
 }
@@ -138,12 +143,25 @@ static void summary_counters(out_file *w, const sw_model *m, const sw_data *d, d
  * open). */
 static void summary_intersections(out_file *w, const sw_model *m, const sw_data *d) {
   if (!d || m->dim != 3 || m->nf < 2) return;
-  long n = sw_mesh_self_intersections(m->nv, d->x, m->nf, m->face);
+  long n = sw_mesh_self_intersections_sewn(m->nv, d->x, m->nf, m->face, m->sewn_ptr,
+                                           m->sewn_idx);
   if (n >= 0) w_json_long(w, "self_intersections", n);
   /* the cloth's triangles against the mesh obstacles' (it cannot pass through them) */
   n = d->mc && m->nmesh_obstacle ? sw_mcontact_obstacle_intersections(m, d->mc, d->x, d->t, NULL)
                                  : -1;
   if (n >= 0) w_json_long(w, "obstacle_intersections", n);
+}
+
+/* The seams' largest gap at the state written (m) and the fit stage's end, steps and wall time
+ * (docs/garments.md). */
+static void summary_seams(out_file *w, const sw_model *m, const sw_data *d) {
+  if (m->nseam == 0) return;
+  w_json_num(w, "seam_gap_max", d->seam_gap_max);
+  w_json_num(w, "seam_stiffness", m->seam_stiffness); /* N/m^2 */
+  if (!m->fit.on) return;
+  w_json_num(w, "fit_end_s", d->fit_end);
+  w_json_long(w, "fit_steps", d->fit_steps);
+  w_json_num(w, "fit_wall_s", d->fit_wall);
 }
 
 typedef struct file_list {
@@ -176,16 +194,17 @@ static int summary_write(void *self, sw_output *o, const sw_model *m, const sw_d
   out_file w;
   if (out_tmp_open(&w, o->tmp, err, errsz)) return -1;
   out_puts(&w, "{\n  \"scene\": ");
-  w_json_str(&w, m->name, sizeof m->name);
+  out_json_str(&w, m->name, sizeof m->name);
   w_key(&w, "scene_file");
-  w_json_str(&w, m->path, sizeof m->path);
+  out_json_str(&w, m->path, sizeof m->path);
   w_key(&w, "status");
-  w_json_str(&w, o->status, SW_ERRSZ);
+  out_json_str(&w, o->status, SW_ERRSZ);
   w_key(&w, "message");
-  w_json_str(&w, o->message, 4 * SW_ERRSZ);
+  out_json_str(&w, o->message, 4 * SW_ERRSZ);
   summary_model(&w, m);
   summary_counters(&w, m, d ? d : &not_started, o->wall);
   summary_intersections(&w, m, d);
+  summary_seams(&w, m, d ? d : &not_started);
   summary_files(&w, o);
   out_puts(&w, "\n}\n");
   return out_tmp_commit(&w, o->tmp, o->path, err, errsz);

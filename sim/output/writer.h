@@ -84,7 +84,8 @@ struct sw_output {
 
 /* The formats (one file each). */
 extern const sw_out_ops sw_out_tension, sw_out_energy, sw_out_tendons,
-    sw_out_contact; /* csv.c */
+    sw_out_contact, sw_out_seams; /* csv.c */
+extern const sw_out_ops sw_out_seam_defs;                              /* seams_json.c */
 extern const sw_out_ops sw_out_positions;                              /* positions.c */
 extern const sw_out_ops sw_out_vtu;                                    /* vtu.c */
 extern const sw_out_ops sw_out_summary;                                /* summary.c */
@@ -118,6 +119,9 @@ typedef struct out_file {
 
 void out_puts(out_file *w, const char *s);
 void out_printf(out_file *w, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+/* A JSON string of at most maxlen bytes of s (NULL: null): quotes, backslashes and control
+ * characters escaped, ill-formed UTF-8 replaced by U+FFFD (summary.c). */
+void out_json_str(out_file *w, const char *s, size_t maxlen);
 /* A number (out_fmt_num), then the string after. */
 void out_num(out_file *w, double v, const char *after);
 /* The shortest of %.15g, %.16g, %.17g that reads back as exactly v; "nan", "inf", "-inf"

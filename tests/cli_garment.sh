@@ -1,0 +1,57 @@
+#!/usr/bin/env bash
+# tests/cli_garment.sh SINEW — garment input refused by `sinew run` (docs/garments.md): a seam
+# naming an unknown panel, a vertex not on its panel's boundary, two seams claiming one boundary
+# segment, curves whose lengths differ past the ease limit, an arrangement inside or across
+# the body: each a file:line:column error naming the seam or the piece, exit 1, nothing
+# written.  And the run folder of a sewn tube: seams.csv, seams.json, seam_gap_max.
+set -u
+sinew=$1
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+fails=0
+fail() { echo "FAIL: $*"; fails=$((fails + 1)); }
+cp tests/data/tube_pieces.obj tests/data/cylinder.obj "$tmp/"
+good=tests/data/tube_seams.yaml
+
+# bad NAME LINE:COL WHAT SED: the tube scene edited by SED is refused at LINE:COL, naming WHAT
+bad() {
+  local name=$1 where=$2 what=$3
+  sed -e "$4" -e "s|^integrator:|output: {dir: $tmp/out_$name}\nintegrator:|" "$good" \
+    >"$tmp/$name.yaml"
+  if "$sinew" run "$tmp/$name.yaml" --quiet 2>"$tmp/err" >/dev/null; then
+    fail "$name: accepted"
+  else
+    [ $? -eq 1 ] || fail "$name: exit code is not 1"
+  fi
+  grep -q "$name.yaml:$where: .*$what" "$tmp/err" || fail "$name: message: $(cat "$tmp/err")"
+  [ -e "$tmp/out_$name" ] && fail "$name: wrote its output folder"
+}
+bad panel 18:29 "seam 'left' panel is 'frnt'" 's/a: {panel: front, from: 6/a: {panel: frnt, from: 6/'
+bad vertex 18:42 "seam 'left' a from is vertex 11, which is not on the boundary of panel front" \
+  's/from: 6, to: 34/from: 11, to: 34/'
+bad claim 19:5 "seam 'right' claims the boundary edge (35, 42), which seam 'left'" \
+  's/a: {panel: back, from: 41, to: 69}/a: {panel: back, from: 35, to: 63}/'
+bad ease 18:5 "seam 'left': its curves are 0.2 m (a) and 0.15 m (b) long" \
+  's/b: {panel: back, from: 35, to: 63}/b: {panel: back, from: 35, to: 38}/'
+bad inside 15:3 "arrange front: the piece lies inside obstacles\[0\]" \
+  's/angle: 270, top: 0.1, radius: 0.11/angle: 270, top: 0.1, radius: 0.07/'
+bad across 16:3 "arrange back: the piece crosses obstacles\[0\]" \
+  's/back: {cylinder: {angle: 90, top: 0.1, radius: 0.11}}/back: {rigid: {rotate: [90, 0, 0], translate: [0, 0, 0.1]}}/'
+
+# the good scene: the fit closes the seams (summary, seams.csv per seam, seams.json's pairs)
+"$sinew" run "$good" --out "$tmp/run" --quiet 2>"$tmp/err" || fail "tube run: $(cat "$tmp/err")"
+gap=$(sed -n 's/.*"seam_gap_max": \([0-9.e+-]*\).*/\1/p' "$tmp/run/summary.json")
+awk -v g="$gap" 'BEGIN { exit !(g != "" && g + 0 < 1e-3) }' || fail "seam_gap_max = '$gap'"
+head -1 "$tmp/run/seams.csv" | grep -q '^time,seam,gap_max,gap_mean,force,length_ratio$' ||
+  fail "seams.csv header"
+tail -2 "$tmp/run/seams.csv" | cut -d, -f2 | tr '\n' ' ' | grep -q '^left right $' ||
+  fail "seams.csv: a line per seam"
+/usr/bin/python3 -c "
+import json, sys
+s = json.load(open(sys.argv[1]))['seams']
+assert [x['name'] for x in s] == ['left', 'right'] and s[0]['panels'] == ['front', 'back']
+assert s[0]['curves'][0] == list(range(6, 35, 7)) and len(s[0]['pairs']) == 10
+" "$tmp/run/seams.json" || fail "seams.json"
+
+[ $fails -eq 0 ] && echo "cli_garment: all passed"
+exit $((fails > 0))

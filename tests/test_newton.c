@@ -1,0 +1,236 @@
+/* test_newton.c — Newton-Krylov on a lagged factorisation (the direction conjugate gradients
+ * give against a fresh factorisation's, runs with and without reuse), the factorisation chosen
+ * by size, and the gathered garment that used to fail. */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <cmocka.h>
+
+#include "harness.h"
+#include "solver.h"
+
+/* scenes/hanging_cloth.yaml with n x n vertices. */
+static sw_model *cloth(int n) {
+  char err[SW_ERRSZ];
+  sw_scene_overrides ov = {.grid = {n, n}};
+  sw_model *m = sw_scene_load_ex("scenes/hanging_cloth.yaml", &ov, err, sizeof err);
+  if (!m) fprintf(stderr, "%s\n", err);
+  assert_non_null(m);
+  return m;
+}
+
+/* Take steps of ops from the state in d (each must succeed without halving). */
+static void take(const sw_integrator_ops *ops, void *st, const sw_model *m, sw_data *d,
+                 int steps) {
+  for (int k = 0; k < steps; k++) {
+    int rc = ops->step(st, m, d, m->opt.dt);
+    if (rc) fprintf(stderr, "%s at t = %g s: %s\n", ops->name, d->t, d->err);
+    assert_int_equal(rc, 0);
+  }
+}
+
+static double dot(const double *a, const double *b, int n) {
+  double s = 0.0;
+  for (int i = 0; i < n; i++) s += a[i] * b[i];
+  return s;
+}
+
+/* The Newton system at x with xhat = x + h v (backward Euler's), into nw. */
+static void system_at(sw_newton *nw, const sw_model *m, sw_data *d, const double *x,
+                      const double *v, double *xhat, const sw_newton_opts *o) {
+  for (int i = 0; i < m->nv * m->dim; i++) xhat[i] = x[i] + m->opt.dt * v[i];
+  double phi;
+  assert_int_equal(sw_newton_system(nw, m, d, x, xhat, o, &phi), 0);
+}
+
+/* The 20 x 20 hanging cloth at t = 0.03 s and 0.04 s (backward Euler): the factorisation of the
+ * first state's Newton matrix preconditions CG on the second's.  CG's direction agrees with
+ * the fresh factorisation's to CG's tolerance in the S-norm (its stopping test estimates that
+ * error with the preconditioner's norm: a factor 2 is allowed for the difference), while with
+ * the fresh factorisation itself CG stops after one iteration at round-off. */
+static void lagged_direction(void **state) {
+  (void)state;
+  sw_model *m = cloth(20);
+  const sw_integrator_ops *ops = sw_integrator_find("backward-euler");
+  void *st;
+  sw_data *d = th_start(ops, m, &st);
+  assert_non_null(d);
+  const int nd = m->nv * m->dim;
+  double *xa = calloc((size_t)nd, sizeof *xa), *va = calloc((size_t)nd, sizeof *va);
+  double *xb = calloc((size_t)nd, sizeof *xb), *vb = calloc((size_t)nd, sizeof *vb);
+  double *xhat = calloc((size_t)nd, sizeof *xhat);
+  take(ops, st, m, d, 3);
+  memcpy(xa, d->x, (size_t)nd * sizeof *xa), memcpy(va, d->v, (size_t)nd * sizeof *va);
+  take(ops, st, m, d, 1);
+  memcpy(xb, d->x, (size_t)nd * sizeof *xb), memcpy(vb, d->v, (size_t)nd * sizeof *vb);
+
+  sw_newton nw;
+  char err[SW_ERRSZ];
+  assert_int_equal(sw_newton_init(&nw, m, err, sizeof err), 0);
+  assert_int_equal(nw.pat.nlr, 0);
+  const int n = nw.n;
+  const double h = m->opt.dt;
+  /* a strict Newton tolerance: CG's own is then SW_CG_ETA of the direction */
+  sw_newton_opts o = {.a = 1.0 / (h * h), .t = d->t, .tol_dx = 1e-12, .norm = SW_NORM_RMS,
+                      .hessian = m->opt.hessian, .reuse = SW_REUSE_ON, .h = h};
+  system_at(&nw, m, d, xa, va, xhat, &o);
+  assert_int_equal(sw_newton_factor(&nw, d), 0);
+  system_at(&nw, m, d, xb, vb, xhat, &o);
+  int k = sw_newton_pcg(&nw, d, &o);
+  double *dcg = calloc((size_t)n, sizeof *dcg), *dex = calloc((size_t)n, sizeof *dex);
+  double *e = calloc((size_t)n, sizeof *e), *se = calloc((size_t)n, sizeof *se);
+  memcpy(dcg, nw.dx, (size_t)n * sizeof *dcg);
+  assert_int_equal(sw_newton_factor(&nw, d), 0);
+  assert_int_equal(sw_chol_solve(&nw.chol, nw.g, dex, err, sizeof err), 0);
+  for (int c = 0; c < n; c++) e[c] = dcg[c] - dex[c];
+  sw_pattern_symv(&nw.pat, nw.sval, e, se);
+  double err_s = sqrt(dot(e, se, n));
+  sw_pattern_symv(&nw.pat, nw.sval, dex, se);
+  double size_s = sqrt(dot(dex, se, n)), rel = err_s / size_s;
+  /* the same system with its own factorisation as preconditioner */
+  int k1 = sw_newton_pcg(&nw, d, &o);
+  for (int c = 0; c < n; c++) e[c] = nw.dx[c] - dex[c];
+  sw_pattern_symv(&nw.pat, nw.sval, e, se);
+  double rel1 = sqrt(dot(e, se, n)) / size_s;
+  print_message("lagged factorisation: %d CG iterations, |dx_cg - dx|_S / |dx|_S = %.3g "
+                "(tolerance %g); fresh: %d iteration, %.3g\n", k, rel, SW_CG_ETA, k1, rel1);
+  assert_true(k > 1 && k <= SW_CG_MAX);
+  assert_true(rel <= 2.0 * SW_CG_ETA);
+  assert_int_equal(k1, 1);
+  assert_true(rel1 < 1e-10);
+  sw_newton_free(&nw);
+  free(dcg), free(dex), free(e), free(se);
+  free(xa), free(va), free(xb), free(vb), free(xhat);
+  ops->free(st);
+  sw_data_free(d);
+  sw_model_free(m);
+}
+
+/* The 24 x 24 hanging cloth to t = 0.1 s by every fixed-step Newton method, with reuse (CG on
+ * the lagged factorisation) and without (a factorisation per iteration): the positions agree
+ * to Newton's tolerance, tol * dt in the RMS over vertices, while reuse factorises less. */
+static void reuse_matches(void **state) {
+  (void)state;
+  static const char *const methods[] = {"backward-euler", "bdf2", "implicit-midpoint",
+                                        "newmark"};
+  sw_model *m = cloth(24);
+  const int nd = m->nv * m->dim;
+  double *x0 = calloc((size_t)nd, sizeof *x0);
+  for (int j = 0; j < 4; j++) {
+    const sw_integrator_ops *ops = sw_integrator_find(methods[j]);
+    long nfac[2], ncg[2];
+    double rms = 0.0;
+    for (int reuse = 0; reuse < 2; reuse++) {
+      m->opt.newton_reuse = reuse ? SW_REUSE_ON : SW_REUSE_OFF;
+      void *st;
+      sw_data *d = th_start(ops, m, &st);
+      assert_non_null(d);
+      take(ops, st, m, d, 10);
+      nfac[reuse] = d->nfactor, ncg[reuse] = d->ncg;
+      if (!reuse) memcpy(x0, d->x, (size_t)nd * sizeof *x0);
+      else {
+        for (int i = 0; i < nd; i++) rms += (d->x[i] - x0[i]) * (d->x[i] - x0[i]);
+        rms = sqrt(rms / m->nv);
+      }
+      ops->free(st);
+      sw_data_free(d);
+    }
+    double tol = m->opt.newton_tol * m->opt.dt; /* m */
+    print_message("%-17s factorisations %ld -> %ld, CG iterations %ld; RMS difference at "
+                  "t = 0.1 s %.3g m (tolerance %.3g m)\n", methods[j], nfac[0], nfac[1], ncg[1],
+                  rms, tol);
+    assert_int_equal(ncg[0], 0);
+    assert_true(ncg[1] > 0);
+    assert_true(nfac[1] < nfac[0]);
+    assert_true(rms <= tol);
+  }
+  free(x0);
+  sw_model_free(m);
+}
+
+/* The size rule (auto): simplicial for the 20 x 20 and 40 x 40 cloths, whose factorisations
+ * take fewer than SW_FACTOR_SWITCH flops per nonzero of L, supernodal for the 80 x 80 one
+ * (docs/performance.md, "Simplicial or supernodal"); the forced modes are obeyed, and every
+ * mode solves the same system to the same answer. */
+static void size_rule(void **state) {
+  (void)state;
+  const int sizes[3] = {20, 40, 80}, want[3] = {0, 0, 1};
+  char err[SW_ERRSZ];
+  for (int j = 0; j < 3; j++) {
+    sw_model *m = cloth(sizes[j]);
+    sw_pattern p;
+    sw_chol ch;
+    assert_int_equal(sw_pattern_build(&p, m, err, sizeof err), 0);
+    assert_int_equal(sw_chol_init(&ch, &p, SW_FACTOR_AUTO, err, sizeof err), 0);
+    double per = ch.c.fl / ch.c.lnz;
+    print_message("%d x %d: %d DOFs, %.0f flops per nonzero of L: %s\n", sizes[j], sizes[j],
+                  p.n, per, sw_chol_super(&ch) ? "supernodal" : "simplicial");
+    assert_int_equal(sw_chol_super(&ch), want[j]);
+    assert_true(want[j] ? per >= SW_FACTOR_SWITCH : per < SW_FACTOR_SWITCH);
+    sw_chol_free(&ch);
+    if (j == 0) { /* forced modes, and the same answer from each */
+      unsigned long rs = 7;
+      double *b = calloc((size_t)p.n, sizeof *b), *y[2];
+      for (int c = 0; c < p.n; c++) b[c] = th_rand(&rs);
+      for (int f = 0; f < 2; f++) {
+        int mode = f ? SW_FACTOR_SUPERNODAL : SW_FACTOR_SIMPLICIAL;
+        y[f] = calloc((size_t)p.n, sizeof *y[f]);
+        assert_int_equal(sw_chol_init(&ch, &p, mode, err, sizeof err), 0);
+        assert_int_equal(sw_chol_super(&ch), f);
+        double *v = sw_chol_values(&ch);
+        memset(v, 0, (size_t)p.nnz * sizeof *v);
+        for (int c = 0; c < p.n; c++) { /* a diagonally dominant S on the whole pattern */
+          for (long q = p.colptr[c]; q < p.colptr[c + 1]; q++) v[q] = -0.01;
+          v[p.diag[c]] = 1.0;
+        }
+        assert_int_equal(sw_chol_factor(&ch, err, sizeof err), 0);
+        assert_int_equal(sw_chol_solve(&ch, b, y[f], err, sizeof err), 0);
+        sw_chol_free(&ch);
+      }
+      assert_true(th_max_diff(y[0], y[1], p.n) < 1e-12);
+      free(b), free(y[0]), free(y[1]);
+    }
+    sw_pattern_free(&p, m->nterm);
+    sw_model_free(m);
+  }
+}
+
+/* scenes/garment_gather.yaml (StVK and bw98 panels, quadratic bending, a cable drawstring
+ * gathering the hem to 60 %): every step of 10 ms converges without halving, and the hem is
+ * gathered (the drawstring's length below 70 % of its initial length at the end). */
+static void garment_gather(void **state) {
+  (void)state;
+  char err[SW_ERRSZ];
+  sw_model *m = sw_scene_load("scenes/garment_gather.yaml", err, sizeof err);
+  if (!m) fprintf(stderr, "%s\n", err);
+  assert_non_null(m);
+  const sw_integrator_ops *ops = sw_integrator_find(m->opt.method);
+  void *st;
+  sw_data *d = th_start(ops, m, &st);
+  assert_non_null(d);
+  double l0 = sw_tendon_length(&m->tendon[0], m->x0, m->dim);
+  int steps = (int)lround(m->opt.duration / m->opt.dt);
+  take(ops, st, m, d, steps);
+  double l1 = sw_tendon_length(&m->tendon[0], d->x, m->dim);
+  print_message("garment: %d steps of %g s, %ld Newton iterations, %ld line-search cuts; "
+                "drawstring %.3f -> %.3f m\n", steps, m->opt.dt, d->nnewton, d->nlinesearch, l0,
+                l1);
+  assert_true(l1 < 0.7 * l0);
+  ops->free(st);
+  sw_data_free(d);
+  sw_model_free(m);
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(lagged_direction),
+      cmocka_unit_test(reuse_matches),
+      cmocka_unit_test(size_rule),
+      cmocka_unit_test(garment_gather),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,217 @@
+/* test_seams.c — seams, arrangement and the fit stage (docs/garments.md): the seam term through
+ * the conformance harness (gradient and Hessian against finite differences, during its ramp
+ * and closed), the arc-length pairing of curves of different resolution and length, two flat
+ * pieces sewn into a tube around a cylinder (closed to < 1 mm, nothing crossing, exact tests),
+ * and every bad input as a file:line:column error naming the seam or the piece. */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "contact.h"
+#include "contact_geom.h"
+#include "harness.h"
+#include "scene.h"
+#include "terms.h"
+
+/* The tube's pieces (tests/data/tube_pieces.obj): front vertices 0..34, back 35..69, each 7
+ * columns x 5 rows; the front's right edge 6..34, its left 0..28, the back's 35..63, 41..69. */
+#define TUBE_HEAD                                                                             \
+  "dimension: 3\n"                                                                            \
+  "mesh: {obj: tube_pieces.obj}\n"                                                            \
+  "material: {density: 0.15, membrane: {model: bw98, k_u: 2000, k_v: 1500, k_shear: 50}}\n"
+
+#define TUBE_ARRANGE                                                                          \
+  "arrange:\n"                                                                                \
+  "  front: {cylinder: {angle: 270, top: 0.1, radius: 0.11}}\n"                               \
+  "  back: {cylinder: {angle: 90, top: 0.1, radius: 0.11}}\n"
+
+#define TUBE_SEAMS                                                                            \
+  "seams:\n"                                                                                  \
+  "  - {name: left, a: {panel: front, from: 6, to: 34}, b: {panel: back, from: 35, to: 63}}\n" \
+  "  - {name: right, a: {panel: back, from: 41, to: 69}, b: {panel: front, from: 0, to: 28}}\n"
+
+static sw_model *tube(const char *extra) {
+  char text[4096];
+  snprintf(text, sizeof text, TUBE_HEAD TUBE_ARRANGE TUBE_SEAMS "%s", extra);
+  return th_scene("tests/data/tube.yaml", text);
+}
+
+/* The seam term during its ramp (rest lengths between the starting gaps and 0, at t = 0 the
+ * starting gaps: no force at x0) and closed (zero-length springs). */
+static void conformance_ramp(void **st) {
+  (void)st;
+  sw_model *m = tube("sewing: {ramp: 0.3}\n");
+  assert_non_null(m);
+  th_conformance(m, "seams", TH_INTERNAL | TH_REST_FREE, 0.1, 777);
+  sw_model_free(m);
+}
+
+static void conformance_closed(void **st) {
+  (void)st;
+  sw_model *m = tube("sewing: {ramp: 0, stiffness: 3e5}\n");
+  assert_non_null(m);
+  th_conformance(m, "seams", TH_INTERNAL, 0.1, 778);
+  sw_model_free(m);
+}
+
+/* A curve of 3 vertices (edges 1 and 1 m) sewn to one of 5 (edges 0.5, 0.5, 0.6, 0.6 m: 10 %
+ * longer): each vertex meets the point at its fraction of arc length on the other, the pairs'
+ * lengths add up to the mean length. */
+static void pairing(void **st) {
+  (void)st;
+  int c0[3] = {0, 1, 2}, c1[5] = {3, 4, 5, 6, 7};
+  double e0[2] = {1.0, 1.0}, e1[4] = {0.5, 0.5, 0.6, 0.6};
+  sw_seam sm;
+  memset(&sm, 0, sizeof sm);
+  sm.n[0] = 3, sm.n[1] = 5, sm.curve[0] = c0, sm.curve[1] = c1;
+  char err[256];
+  assert_int_equal(sw_seam_pair(&sm, e0, e1, err, sizeof err), 0);
+  assert_int_equal(sm.npair, 8);
+  assert_true(fabs(sm.length[0] - 2.0) < 1e-15 && fabs(sm.length[1] - 2.2) < 1e-15);
+  /* vertex 1 (s = 0.5) on curve 1: s = 0.5 is 1.1 m along, on edge (5, 6) at 0.1 / 0.6 */
+  assert_int_equal(sm.pair[3 * 1 + 1], 5);
+  assert_int_equal(sm.pair[3 * 1 + 2], 6);
+  assert_true(fabs(sm.w[1] - 0.1 / 0.6) < 1e-12);
+  /* vertex 4 of curve 1 (0.5 of 2.2 m: s = 0.5 / 2.2) on edge (0, 1) at weight 2 s */
+  assert_int_equal(sm.pair[3 * 4], 4);
+  assert_int_equal(sm.pair[3 * 4 + 1], 0);
+  assert_true(fabs(sm.w[4] - 2.0 * 0.5 / 2.2) < 1e-12);
+  /* the ends meet the ends */
+  assert_true(sm.w[0] == 0.0 && sm.pair[1] == 3 && sm.w[2] == 1.0 && sm.pair[3 * 2 + 2] == 7);
+  double sum = 0.0;
+  for (int p = 0; p < sm.npair; p++) sum += sm.len[p];
+  assert_true(fabs(sum - 2.1) < 1e-12);
+  free(sm.pair), free(sm.w), free(sm.len);
+}
+
+/* Two flat rectangles wrapped 3 cm out round a closed cylinder of radius 8 cm, sewn into a tube
+ * by the fit stage with body and self-contact on: the seams close to below 1 mm, no face
+ * crosses another or the cylinder (exact tests), every vertex stays out of it, and the tube
+ * keeps its pattern's girth (radius 0.6 m / 2 pi). */
+static void tube_fit(void **st) {
+  (void)st;
+  char err[SW_ERRSZ];
+  sw_model *m = sw_scene_load("tests/data/tube_seams.yaml", err, sizeof err);
+  if (!m) print_error("%s\n", err);
+  assert_non_null(m);
+  assert_int_equal(m->opt.tx_reference_uv, 1); /* the default with seams */
+  assert_true(m->fit.on);
+  sw_sim *s = sw_sim_new(m, 0, err, sizeof err); /* the fit runs as the sim starts */
+  if (!s) print_error("%s\n", err);
+  assert_non_null(s);
+  const sw_data *d = sw_sim_data(s);
+  assert_true(d->fit_end >= 2.0 * m->seam_ramp);
+  assert_true(d->seam_gap_max < 1e-3);
+  assert_int_equal(sw_mesh_self_intersections_sewn(m->nv, d->x, m->nf, m->face, m->sewn_ptr,
+                                                   m->sewn_idx), 0);
+  assert_int_equal(sw_mcontact_obstacle_intersections(m, d->mc, d->x, d->t, NULL), 0);
+  double rmin = HUGE_VAL, rmean = 0.0;
+  for (int i = 0; i < m->nv; i++) {
+    double r = hypot(d->x[3 * i], d->x[3 * i + 1]);
+    rmin = fmin(rmin, r);
+    rmean += r / m->nv;
+  }
+  assert_true(rmin > 0.08);
+  assert_true(fabs(rmean - 0.3 / 3.14159265358979) < 0.05 * 0.3 / 3.14159265358979);
+  sw_sim_free(s);
+  sw_model_free(m);
+}
+
+/* The arrangement places each piece from its pattern: on the cylinder every vertex at the
+ * radius, its height top + (v - v_top), its angle that of the reference point plus (u - u_mid)
+ * / R (so the wrap keeps the pattern's lengths along u); rigidly, R (u - u_mid, v - v_top, 0)
+ * + translate.  The tube's pieces are 0.3 x 0.2 m, u in [-0.15, 0.15], v in [-0.2, 0]. */
+static void arrangement(void **st) {
+  (void)st;
+  sw_model *m = th_scene("tests/data/tube.yaml", TUBE_HEAD
+                         "arrange:\n"
+                         "  front: {cylinder: {angle: 270, top: 0.1, radius: 0.11, center: [0.01, 0.02]}}\n"
+                         "  back: {rigid: {rotate: [90, 0, 90], translate: [0.5, 0, 1]}}\n");
+  assert_non_null(m);
+  for (int i = 0; i < 35; i++) { /* front: vertex (c, r) = 7 r + c at u = -0.15 + 0.05 c */
+    const double *x = m->x0 + 3 * i, u = -0.15 + 0.05 * (i % 7), v = -0.05 * (i / 7);
+    double th = atan2(x[1] - 0.02, x[0] - 0.01), want = 1.5 * 3.14159265358979 + u / 0.11;
+    assert_true(fabs(hypot(x[0] - 0.01, x[1] - 0.02) - 0.11) < 1e-12);
+    assert_true(fabs(x[2] - (0.1 + v)) < 1e-12);
+    assert_true(fabs(remainder(th - want, 2.0 * 3.14159265358979)) < 1e-12);
+  }
+  for (int i = 35; i < 70; i++) { /* back: x first (u, 0, v), then z by 90: (0, u, v) */
+    const double *x = m->x0 + 3 * i, u = -0.15 + 0.05 * ((i - 35) % 7), v = -0.05 * ((i - 35) / 7);
+    assert_true(fabs(x[0] - 0.5) < 1e-12 && fabs(x[1] - u) < 1e-12 && fabs(x[2] - (1 + v)) < 1e-12);
+  }
+  sw_model_free(m);
+}
+
+/* A bad scene's message: at the line and column given, naming `name`. */
+static void bad(const char *text, const char *where, const char *name) {
+  char err[SW_ERRSZ];
+  sw_model *m = sw_scene_parse("tests/data/tube.yaml", text, strlen(text), err, sizeof err);
+  if (m || !strstr(err, where) || !strstr(err, name))
+    print_error("expected an error at %s naming %s; got: %s\n", where, name, m ? "(none)" : err);
+  assert_null(m);
+  assert_non_null(strstr(err, where));
+  assert_non_null(strstr(err, name));
+}
+
+static void bad_input(void **st) {
+  (void)st;
+  /* an unknown panel */
+  bad(TUBE_HEAD TUBE_ARRANGE "seams:\n"
+      "  - {name: left, a: {panel: frnt, from: 6, to: 34}, b: {panel: back, from: 35, to: 63}}\n",
+      "tube.yaml:8:29: ", "seam 'left' panel is 'frnt'");
+  /* a vertex inside the panel (11: column 4 of row 1), not on its boundary */
+  bad(TUBE_HEAD TUBE_ARRANGE "seams:\n"
+      "  - {name: left, a: {panel: front, from: 11, to: 34}, b: {panel: back, from: 35, to: 63}}\n",
+      "tube.yaml:8:42: ", "seam 'left' a from is vertex 11, which is not on the boundary");
+  /* a vertex of another panel */
+  bad(TUBE_HEAD TUBE_ARRANGE "seams:\n"
+      "  - {name: left, a: {panel: front, from: 6, to: 40}, b: {panel: back, from: 35, to: 63}}\n",
+      "tube.yaml:8:49: ", "seam 'left' a to is vertex 40");
+  /* two seams claiming one boundary segment */
+  bad(TUBE_HEAD TUBE_ARRANGE TUBE_SEAMS
+      "  - {name: again, a: {panel: front, from: 13, to: 27}, b: {panel: back, from: 42, to: 56}}\n",
+      "tube.yaml:10:5: ", "seam 'again' claims the boundary edge (13, 20), which seam 'left'");
+  /* curves whose lengths differ past the limit: the front's side (0.2 m) to half the back's
+   * top (0.15 m) */
+  bad(TUBE_HEAD TUBE_ARRANGE "seams:\n"
+      "  - {name: odd, a: {panel: front, from: 6, to: 34}, b: {panel: back, from: 35, to: 38}}\n",
+      "tube.yaml:8:5: ", "seam 'odd': its curves are 0.2 m (a) and 0.15 m (b) long");
+  /* an arrangement that intersects the body: radius 7 cm inside a cylinder of 8 */
+  bad(TUBE_HEAD "obstacles: [{mesh: cylinder.obj}]\n"
+      "arrange:\n"
+      "  front: {cylinder: {angle: 270, top: 0.1, radius: 0.07}}\n"
+      "  back: {cylinder: {angle: 90, top: 0.1, radius: 0.11}}\n" TUBE_SEAMS,
+      "tube.yaml:6:3: ", "arrange front: the piece lies inside obstacles[0]");
+  /* one that crosses it: the back flat through the cylinder's axis */
+  bad(TUBE_HEAD "obstacles: [{mesh: cylinder.obj}]\n"
+      "arrange:\n"
+      "  front: {cylinder: {angle: 270, top: 0.3, radius: 0.11}}\n"
+      "  back: {rigid: {rotate: [90, 0, 0], translate: [0, 0, 0.1]}}\n" TUBE_SEAMS,
+      "tube.yaml:7:3: ", "arrange back: the piece crosses obstacles[0]");
+  /* pieces crossing each other */
+  bad(TUBE_HEAD "arrange:\n"
+      "  front: {cylinder: {angle: 270, top: 0.1, radius: 0.11}}\n"
+      "  back: {cylinder: {angle: 300, top: 0.1, radius: 0.11}}\n" TUBE_SEAMS,
+      "tube.yaml:5:3: ", "arrange front: the piece crosses piece back");
+  /* an unknown piece */
+  bad(TUBE_HEAD "arrange: {sleeve: {rigid: {translate: [0, 0, 0]}}}\n",
+      "tube.yaml:4:11: ", "arrange names 'sleeve'");
+}
+
+int main(void) {
+  const struct CMUnitTest tests[] = {
+      cmocka_unit_test(conformance_ramp),
+      cmocka_unit_test(conformance_closed),
+      cmocka_unit_test(pairing),
+      cmocka_unit_test(arrangement),
+      cmocka_unit_test(tube_fit),
+      cmocka_unit_test(bad_input),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}

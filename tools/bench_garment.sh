@@ -1,0 +1,47 @@
+#!/usr/bin/env bash
+# tools/bench_garment.sh [SINEW] — the shipped skirt (scenes/garment_skirt.yaml: four flat
+# panels, 756 cloth vertices, the 962-vertex mannequin, self-contact) from its
+# arrangement to rest and on through its dynamics, REPS times (default 1): wall and CPU time of
+# the whole run, wall time of the fit stage, steps and Newton iterations of each, the cost per step and per
+# Newton iteration, and the share of the step time of each term's evaluations, of self-contact's
+# continuous collision detection, of the factorisations and of the solves; then the fit check
+# (tools/garment_check.py: seam_gap_max < 1 mm, no intersection, tension XY higher on the hip
+# line than at the hem).  Writes docs/bench/garment/skirt.csv and prints it as a table.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bin=${1:-build/sinew}
+reps=${REPS:-1}
+out=${OUT:-docs/bench/garment}
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+mkdir -p "$out"
+csv=$out/skirt.csv
+status=0
+for r in $(seq "$reps"); do
+  d=$work/skirt$r
+  /usr/bin/time -f %U -o "$d.cpu" "$bin" run scenes/garment_skirt.yaml --out "$d" --quiet \
+    --threads 1 >/dev/null 2>&1 || status=1
+  /usr/bin/python3 tools/garment_check.py "$d" --hip-z 0.85 | sed "s/^/rep $r: /" || status=1
+  /usr/bin/python3 - "$d/summary.json" "$r" "$csv" "$d.cpu" <<'PY'
+import json, os, sys
+s, rep, csv = json.load(open(sys.argv[1])), sys.argv[2], sys.argv[3]
+cpu = float(open(sys.argv[4]).read().split()[-1])
+ts, it, st = s["time_step_s"], s["newton_iterations"], s["steps"]
+row = {"rep": rep, "status": s["status"], "wall_s": s["wall_time_s"], "cpu_s": cpu,
+       "fit_wall_s": s["fit_wall_s"],
+       "fit_end_s": s["fit_end_s"], "fit_steps": s["fit_steps"], "steps": st,
+       "newton_iterations": it, "step_ms_per_step": 1e3 * ts / st,
+       "step_ms_per_iteration": 1e3 * ts / it, "seam_gap_max_m": s["seam_gap_max"]}
+for k, v in s["time_terms_s"].items():
+    row["share_" + k] = v / ts
+for k in ("time_self_ccd_s", "time_factor_s", "time_solve_s", "time_pattern_s"):
+    row["share_" + k[5:-2]] = s.get(k, 0.0) / ts
+new = not os.path.exists(csv) or rep == "1"
+with open(csv, "w" if new else "a") as f:
+    if new:
+        f.write(",".join(row) + "\n")
+    f.write(",".join("%.4g" % v if isinstance(v, float) else str(v) for v in row.values()) + "\n")
+PY
+done
+column -s, -t <"$csv"
+exit $status

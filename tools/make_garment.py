@@ -1,0 +1,251 @@
+#!/usr/bin/python3
+"""make_garment.py — flat pattern pieces (and a simple body) as OBJ files for garment scenes.
+
+    /usr/bin/python3 tools/make_garment.py skirt [--waist 0.70] [--hip 1.00] [--hem 1.10]
+        [--ease -0.07] [--waist-ease -0.03] [--hip-depth 0.17] [--length 0.55]
+        [--columns 8] [--rows 20] [-o scenes/meshes/garment_skirt.obj]
+    /usr/bin/python3 tools/make_garment.py tube [--width 0.3] [--height 0.2] [--columns 6]
+        [--rows 4] [-o tests/data/tube_pieces.obj]
+    /usr/bin/python3 tools/make_garment.py body [--waist 0.70] [--hip 1.00] [--bust 0.90]
+        [--height 1.70] [--around 24] [--rows 20] [-o scenes/meshes/body_revolution.obj]
+    /usr/bin/python3 tools/make_garment.py cylinder [--radius 0.08] [--height 0.4]
+        [--around 16] [--rows 5] [-o tests/data/cylinder.obj]
+
+Pieces (skirt, tube) are separate flat panels: each its own vertices (`v` at the flat layout,
+z = 0, laid side by side), its own per-corner (u,v) in metres (`vt`, u across, v up) and its
+own group (`usemtl NAME`); the scene sews them with `seams` and places them with `arrange`
+(docs/garments.md).  Each piece is a grid of columns x rows quads; its corners are printed as a
+comment at the head of the file (0-based vertex indices, as the scene's `seams` take them) and
+on stdout as the scene's `seams:` list.
+
+skirt: four quarter panels (back_left, back_right, front_right, front_left, in that order
+anticlockwise seen from above), sewn at the centre back, the right side, the centre front and
+the left side.  A quarter panel's width at depth y below the waist is a quarter of the girth
+  waist (1 + waist-ease) at the waist, hip (1 + ease) at hip-depth, then straight to hem at
+  length,
+with a smooth hip curve (a quarter sine) between waist and hip: a negative ease cuts the
+pattern smaller than the body (a tight fit), e.g. -0.07 = 7 % smaller at the hips.
+
+tube: two rectangles (front, back) of width x height, sewn along both sides into a tube.
+
+body: a closed body of revolution about the z axis (a stand-in mannequin from the knees to the
+neck): girths at the knee, hip, waist, bust and shoulder heights of a figure of the given
+height (proportions of a standard dress form), joined by a smooth monotone profile, `around`
+vertices per ring, `rows` rings, and a pole at each end.  cylinder: the same with one radius
+(a test body)."""
+import argparse
+import math
+
+
+def grid_piece(width_at, height, nx, ny):
+    """(u, v) of a piece's (nx + 1) x (ny + 1) vertices, row j = 0 at the top (v = 0) down to
+    v = -height; width_at(y) the width at depth y >= 0, centred on u = 0."""
+    uv = []
+    for j in range(ny + 1):
+        y = height * j / ny
+        w = width_at(y)
+        for i in range(nx + 1):
+            uv.append(((i / nx - 0.5) * w, -y))
+    return uv
+
+
+def quads(base, nx, ny):
+    """The quads of a piece whose vertex (i, j) is base + j (nx + 1) + i (0-based), corners
+    anticlockwise in (u,v)."""
+    q = []
+    for j in range(ny):
+        for i in range(nx):
+            a = base + j * (nx + 1) + i
+            q.append((a + nx + 1, a + nx + 2, a + 1, a))  # (i,j+1) (i+1,j+1) (i+1,j) (i,j)
+    return q
+
+
+def corners(base, nx, ny):
+    """0-based indices of a piece's top-left, top-right, bottom-left, bottom-right corners."""
+    return {"top_left": base, "top_right": base + nx, "bottom_left": base + ny * (nx + 1),
+            "bottom_right": base + ny * (nx + 1) + nx}
+
+
+def pieces_obj(path, title, pieces, nx, ny, seams):
+    """Write pieces [(name, uv list)] laid side by side in z = 0 with a 5 cm gap."""
+    pos, uvs, groups, info, x0 = [], [], [], [], 0.0
+    for name, uv in pieces:
+        base = len(pos)
+        umin = min(u for u, _ in uv)
+        umax = max(u for u, _ in uv)
+        for u, v in uv:
+            pos.append((x0 + u - umin, v, 0.0))
+            uvs.append((u, v))
+        x0 += umax - umin + 0.05
+        groups.append((name, quads(base, nx, ny)))
+        info.append((name, corners(base, nx, ny)))
+    with open(path, "w") as f:
+        f.write("# %s\n" % title)
+        for name, c in info:
+            f.write("# piece %s corners (0-based): %s\n" % (
+                name, ", ".join("%s %d" % kv for kv in c.items())))
+        for p in pos:
+            f.write("v %.9g %.9g %.9g\n" % p)
+        for t in uvs:
+            f.write("vt %.9g %.9g\n" % t)
+        for name, qs in groups:
+            f.write("usemtl %s\n" % name)
+            for q in qs:
+                f.write("f " + " ".join("%d/%d" % (k + 1, k + 1) for k in q) + "\n")
+    c = dict(info)
+    print("seams:")
+    for name, (pa, ea), (pb, eb) in seams:
+        print("  - {name: %s, a: {panel: %s, from: %d, to: %d}, b: {panel: %s, from: %d, to: %d}}"
+              % (name, pa, c[pa]["top_" + ea], c[pa]["bottom_" + ea], pb, c[pb]["top_" + eb],
+                 c[pb]["bottom_" + eb]))
+
+
+def skirt(a):
+    wq, hq, mq = (a.waist * (1 + a.waist_ease) / 4, a.hip * (1 + a.ease) / 4, a.hem / 4)
+
+    def width(y):
+        if y <= a.hip_depth:  # the hip curve: a quarter sine from waist to hip
+            return wq + (hq - wq) * math.sin(0.5 * math.pi * y / a.hip_depth)
+        return hq + (mq - hq) * (y - a.hip_depth) / (a.length - a.hip_depth)
+
+    names = ["back_left", "back_right", "front_right", "front_left"]
+    pieces = [(n, grid_piece(width, a.length, a.columns, a.rows)) for n in names]
+    seams = [("centre_back", ("back_left", "right"), ("back_right", "left")),
+             ("right_side", ("back_right", "right"), ("front_right", "left")),
+             ("centre_front", ("front_right", "right"), ("front_left", "left")),
+             ("left_side", ("front_left", "right"), ("back_left", "left"))]
+    title = ("four-panel skirt: tools/make_garment.py skirt --waist %g --hip %g --hem %g --ease %g "
+             "--waist-ease %g --hip-depth %g --length %g --columns %d --rows %d"
+             % (a.waist, a.hip, a.hem, a.ease, a.waist_ease, a.hip_depth, a.length, a.columns,
+                a.rows))
+    pieces_obj(a.output, title, pieces, a.columns, a.rows, seams)
+
+
+def tube(a):
+    pieces = [(n, grid_piece(lambda y: a.width, a.height, a.columns, a.rows))
+              for n in ("front", "back")]
+    seams = [("left", ("front", "right"), ("back", "left")),
+             ("right", ("back", "right"), ("front", "left"))]
+    title = ("two pieces of a tube: tools/make_garment.py tube --width %g --height %g "
+             "--columns %d --rows %d" % (a.width, a.height, a.columns, a.rows))
+    pieces_obj(a.output, title, pieces, a.columns, a.rows, seams)
+
+
+def smoothstep_profile(zs, rs, z):
+    """A monotone smooth interpolation of radii rs at heights zs (increasing): the quintic blend
+    between consecutive points (flat at each, so never beyond them)."""
+    if z <= zs[0]:
+        return rs[0]
+    for k in range(len(zs) - 1):
+        if z <= zs[k + 1]:
+            u = (z - zs[k]) / (zs[k + 1] - zs[k])
+            b = u * u * u * (10 - 15 * u + 6 * u * u)
+            return rs[k] + b * (rs[k + 1] - rs[k])
+    return rs[-1]
+
+
+def body(a):
+    H = a.height
+    r = lambda girth: girth / (2 * math.pi)
+    # heights as fractions of the figure's height (a standard dress form) and radii, m
+    zs = [0.27 * H, 0.40 * H, 0.52 * H, 0.62 * H, 0.72 * H, 0.82 * H, 0.86 * H]
+    rs = [0.6 * r(a.hip), 0.85 * r(a.hip), r(a.hip), r(a.waist), r(a.bust), 0.85 * r(a.bust),
+          0.4 * r(a.bust)]
+    title = ("body of revolution: tools/make_garment.py body --height %g --bust %g --waist %g "
+             "--hip %g --around %d --rows %d\n# waist at z = %.4g m (radius %.4g), hip at z = "
+             "%.4g m (radius %.4g)" % (H, a.bust, a.waist, a.hip, a.around, a.rows, zs[3], rs[3],
+                                       zs[2], rs[2]))
+    revolution(a.output, title, zs, rs, a.around, a.rows, 0.02)
+
+
+def cylinder(a):
+    title = ("closed cylinder: tools/make_garment.py cylinder --radius %g --height %g --around %d "
+             "--rows %d" % (a.radius, a.height, a.around, a.rows))
+    revolution(a.output, title, [-0.5 * a.height, 0.5 * a.height], [a.radius, a.radius],
+               a.around, a.rows, 0.0)
+
+
+def revolution(path, title, zs, rs, around, rows, cap):
+    """A closed surface of revolution about z through the radii rs at heights zs, `around`
+    vertices per ring, `rows` rings, and a pole `cap` m beyond each end."""
+    z0, z1 = zs[0] - cap, zs[-1] + cap  # the poles
+    pos = [(0.0, 0.0, z0)]
+    for j in range(rows):
+        z = zs[0] + (zs[-1] - zs[0]) * j / (rows - 1)
+        rad = smoothstep_profile(zs, rs, z)
+        for i in range(around):
+            t = 2 * math.pi * i / around
+            pos.append((rad * math.cos(t), rad * math.sin(t), z))
+    pos.append((0.0, 0.0, z1))
+    top = len(pos) - 1
+    ring = lambda j, i: 1 + j * around + i % around
+    faces = []
+    for i in range(around):  # outward normals
+        faces.append((0, ring(0, i + 1), ring(0, i)))
+        faces.append((top, ring(rows - 1, i), ring(rows - 1, i + 1)))
+        for j in range(rows - 1):
+            faces.append((ring(j, i), ring(j, i + 1), ring(j + 1, i + 1)))
+            faces.append((ring(j, i), ring(j + 1, i + 1), ring(j + 1, i)))
+    with open(path, "w") as f:
+        f.write("# %s\n" % title)
+        for p in pos:
+            f.write("v %.9g %.9g %.9g\n" % p)
+        for t in faces:
+            f.write("f %d %d %d\n" % tuple(k + 1 for k in t))
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    sub = ap.add_subparsers(dest="what", required=True)
+    s = sub.add_parser("skirt", help="four quarter panels of a skirt")
+    s.add_argument("--waist", type=float, default=0.70, help="body waist girth, m")
+    s.add_argument("--hip", type=float, default=1.00, help="body hip girth, m")
+    s.add_argument("--hem", type=float, default=1.10, help="hem girth of the pattern, m")
+    s.add_argument("--ease", type=float, default=-0.07, help="relative ease at the hips")
+    s.add_argument("--waist-ease", type=float, default=-0.03, help="relative ease at the waist")
+    s.add_argument("--hip-depth", type=float, default=0.17, help="waist to hip line, m")
+    s.add_argument("--length", type=float, default=0.55, help="waist to hem, m")
+    s.add_argument("--columns", type=int, default=8)
+    s.add_argument("--rows", type=int, default=20)
+    s.add_argument("-o", "--output", default="scenes/meshes/garment_skirt.obj")
+    t = sub.add_parser("tube", help="two rectangles sewn into a tube")
+    t.add_argument("--width", type=float, default=0.3, help="m")
+    t.add_argument("--height", type=float, default=0.2, help="m")
+    t.add_argument("--columns", type=int, default=6)
+    t.add_argument("--rows", type=int, default=4)
+    t.add_argument("-o", "--output", default="tests/data/tube_pieces.obj")
+    b = sub.add_parser("body", help="a closed body of revolution")
+    b.add_argument("--height", type=float, default=1.70, help="m")
+    b.add_argument("--bust", type=float, default=0.90, help="girth, m")
+    b.add_argument("--waist", type=float, default=0.70, help="girth, m")
+    b.add_argument("--hip", type=float, default=1.00, help="girth, m")
+    b.add_argument("--around", type=int, default=24)
+    b.add_argument("--rows", type=int, default=20)
+    b.add_argument("-o", "--output", default="scenes/meshes/body_revolution.obj")
+    c = sub.add_parser("cylinder", help="a closed cylinder about the z axis, centred at z = 0")
+    c.add_argument("--radius", type=float, default=0.08, help="m")
+    c.add_argument("--height", type=float, default=0.4, help="m")
+    c.add_argument("--around", type=int, default=16)
+    c.add_argument("--rows", type=int, default=5)
+    c.add_argument("-o", "--output", default="tests/data/cylinder.obj")
+    a = ap.parse_args()
+    if a.what == "cylinder":
+        if a.around < 3 or a.rows < 2 or a.radius <= 0 or a.height <= 0:
+            ap.error("need around >= 3, rows >= 2 and a positive radius and height")
+        cylinder(a)
+    elif a.what == "skirt":
+        if a.columns < 1 or a.rows < 1 or not 0 < a.hip_depth < a.length:
+            ap.error("need columns, rows >= 1 and 0 < hip-depth < length")
+        skirt(a)
+    elif a.what == "tube":
+        if a.columns < 1 or a.rows < 1 or a.width <= 0 or a.height <= 0:
+            ap.error("need columns, rows >= 1 and a positive width and height")
+        tube(a)
+    else:
+        if a.around < 3 or a.rows < 2:
+            ap.error("need around >= 3 and rows >= 2")
+        body(a)
+
+
+if __name__ == "__main__":
+    main()
