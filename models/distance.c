@@ -260,22 +260,26 @@ static double edge_sin2(const double *const *x, double *lmin2) {
 }
 
 /* The closest features: both interiors when the line-line minimiser lies in the parameter
- * square (edges not parallel) and is no farther than the best end point; else that end point.
- * The smallest candidate is taken, so round-off in the parameters of nearly parallel edges can
- * only choose between distances that are all real distances between points of the edges. */
+ * square (edges not parallel) and, for nearly parallel edges (sin^2 < NEAR_SIN2), is no
+ * farther than the best end point; else that end point.  There the smallest candidate is
+ * taken, so round-off in the parameters can only choose between distances that are all real
+ * distances between points of the edges. */
 sw_ee_type sw_edge_edge_type(const double a0[3], const double a1[3], const double b0[3],
                              const double b1[3]) {
   const double *x[4] = {a0, a1, b0, b1};
-  double best, lmin2, r[3], R[2][3], s[2], Ginv[2][2];
-  sw_ee_type type = edge_edge_ends(x, &best);
-  if (!(edge_sin2(x, &lmin2) >= PARALLEL_SIN2)) return type;
-  combine(LL.c0, x, 4, r);
-  for (int j = 0; j < 2; j++) combine(LL.dc[j], x, 4, R[j]);
-  if (solve_params(2, r, R, s, Ginv, &LL, x) || !(s[0] >= 0.0 && s[0] <= 1.0 && s[1] >= 0.0 &&
-                                                   s[1] <= 1.0))
-    return type;
-  for (int a = 0; a < 3; a++) r[a] += s[0] * R[0][a] + s[1] * R[1][a];
-  return dot3(r, r) <= best ? SW_EE_LINES : type;
+  double best, lmin2, r[3], R[2][3], s[2], Ginv[2][2], sin2 = edge_sin2(x, &lmin2);
+  if (sin2 >= PARALLEL_SIN2) {
+    combine(LL.c0, x, 4, r);
+    for (int j = 0; j < 2; j++) combine(LL.dc[j], x, 4, R[j]);
+    if (!solve_params(2, r, R, s, Ginv, &LL, x) && s[0] >= 0.0 && s[0] <= 1.0 && s[1] >= 0.0 &&
+        s[1] <= 1.0) {
+      if (sin2 >= NEAR_SIN2) return SW_EE_LINES; /* parameters to 1e-16 / sin^2 <= 1e-8 */
+      for (int a = 0; a < 3; a++) r[a] += s[0] * R[0][a] + s[1] * R[1][a];
+      sw_ee_type type = edge_edge_ends(x, &best);
+      return dot3(r, r) <= best ? SW_EE_LINES : type;
+    }
+  }
+  return edge_edge_ends(x, &best);
 }
 
 double sw_d2_edge_edge_lower(const double a0[3], const double a1[3], const double b0[3],

@@ -82,6 +82,7 @@ struct sw_mcontact {
   float *tbox[3];       /* the node boxes of p->tree[k] at the obstacles' places last queried */
   int tree_fit;         /* 1: tbox holds the obstacles' places (static obstacles: fit once) */
   int placed;           /* static obstacles: bit 0 (1) set once xa (xb) holds their places */
+  sw_mfriction *fr;     /* the step's lagged friction (contact.friction > 0), or NULL */
   int nsewn;            /* the seams' sewn vertices (sw_model.sewn_ptr): pairs skipped */
   const int *sewn_ptr, *sewn_idx;
 };
@@ -169,6 +170,8 @@ sw_mcontact *sw_mcontact_new(const sw_model *m) {
       !mc->cbox || !mc->xref || !mc->umove)
     return sw_mcontact_free(mc), NULL;
   for (int i = 0; i < p->nvt; i++) mc->fixed[i] = (unsigned char)(i >= m->nv || m->pinned[i]);
+  if (sw_contact_friction_on(m) && !(mc->fr = sw_mfriction_new(p->nvt)))
+    return sw_mcontact_free(mc), NULL;
   mc->nsewn = m->nv, mc->sewn_ptr = m->sewn_ptr, mc->sewn_idx = m->sewn_idx;
   return mc;
 }
@@ -190,6 +193,7 @@ void sw_mcontact_free(sw_mcontact *mc) {
   sw_free(mc->xref);
   sw_free(mc->umove);
   for (int k = 0; k < 3; k++) sw_free(mc->tbox[k]);
+  sw_mfriction_free(mc->fr);
   sw_free(mc);
 }
 
@@ -620,6 +624,29 @@ static int eval_pair(const sw_model *m, sw_mcontact *mc, int kind, const int *v,
   return SW_OK;
 }
 
+/* The lagged friction of the step (models/mesh_friction.c) at x (nvt x 3): energy into *e,
+ * gradient into ev->grad, and each pair's block appended to the active list as a pair with
+ * an infinite gap (so that Newton's settle test ignores it). */
+static int eval_friction(const sw_model *m, sw_mcontact *mc, const sw_eval *ev, const double *x,
+                         double *e) {
+  int nf = sw_mfriction_count(mc->fr);
+  for (int k = 0; k < nf; k++) {
+    const int *v = sw_mfriction_vertices(mc->fr, k);
+    double g[12], *H = NULL;
+    if (ev->hess && reserve_pair(mc)) return SW_FATAL;
+    if (ev->hess) H = mc->block + (size_t)mc->npair * 144;
+    *e += sw_mfriction_pair(mc->fr, m->contact.eps_v, k, x, g, H);
+    for (int j = 0; ev->grad && j < 12; j++)
+      if (v[j / 3] < m->nv) ev->grad[3 * v[j / 3] + j % 3] += g[j];
+    if (!ev->hess) continue;
+    sw_mc_pair *pr = &mc->pair[mc->npair++];
+    pr->kind = SW_MC_PT;
+    memcpy(pr->v, v, sizeof pr->v);
+    pr->gap = INFINITY;
+  }
+  return SW_OK;
+}
+
 static int mc_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, double *energy) {
   (void)t;
   sw_mcontact *mc = ev->mc;
@@ -636,6 +663,7 @@ static int mc_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, doubl
     return SW_RECOVER;
   }
   int rc = each_candidate(m, mc, a.x, a.x, m->contact.dhat, eval_pair, &a);
+  if (!rc) rc = eval_friction(m, mc, ev, a.x, &a.e);
   *energy = a.e;
   return rc;
 }
@@ -1069,6 +1097,8 @@ static int state_pair(const sw_model *m, sw_mcontact *mc, int kind, const int *v
   return 0;
 }
 
+static void state_friction(const sw_model *m, sw_data *d, const double *x);
+
 void sw_mcontact_state(const sw_model *m, sw_data *d) {
   sw_mcontact *mc = d->mc;
   if (!mc) return;
@@ -1079,10 +1109,13 @@ void sw_mcontact_state(const sw_model *m, sw_data *d) {
     d->contact_count = 0;
     d->contact_min = INFINITY;
     memset(d->contact_force, 0, sizeof d->contact_force);
+    memset(d->friction_force, 0, sizeof d->friction_force);
+    d->friction_power = 0.0;
   }
   memset(mc->vforce, 0, (size_t)m->nv * sizeof(double));
   const double *x = positions(m, mc, d->x, d->t, mc->xa);
   if (x != mc->xa) memcpy(mc->xa, x, (size_t)m->nv * 3 * sizeof(double));
+  if (mc->fr) state_friction(m, d, mc->xa);
   if (candidates(m, mc, mc->xa, mc->xa)) return;
   memset(mc->f, 0, (size_t)m->nv * 6 * sizeof(double));
   each_candidate(m, mc, mc->xa, mc->xa, m->contact.dhat, state_pair, d);
@@ -1100,3 +1133,53 @@ void sw_mcontact_state(const sw_model *m, sw_data *d) {
 }
 
 const double *sw_mcontact_vertex_force(const sw_mcontact *mc) { return mc ? mc->vforce : NULL; }
+
+/* ------------------------------------------------------------------- friction */
+
+static int lag_pair(const sw_model *m, sw_mcontact *mc, int kind, const int *v, void *arg) {
+  double p[12], r[12], xi = pair_xi(m, mc->p, v), mo = 1.0;
+  int self = 1;
+  for (int j = 0; j < 4; j++) self &= v[j] < m->nv;
+  gather(arg, v, p);
+  if (kind == SW_MC_EE) { /* the normal force of the pair's barrier, mollified as it is */
+    gather_rest(m, mc->p, v, r);
+    double eps = sw_ee_mollifier_eps(r, r + 3, r + 6, r + 9);
+    mo = sw_ee_mollifier(p, p + 3, p + 6, p + 9, eps, NULL, NULL);
+  }
+  return sw_mfriction_lag_pair(mc->fr, kind, v, p, xi, shat_of(xi, m->contact.dhat),
+                               mo * pair_weight(m, v),
+                               self ? m->contact.self_friction : m->contact.friction);
+}
+
+int sw_mcontact_lag(const sw_model *m, sw_data *d, double h) {
+  sw_mcontact *mc = d->mc;
+  if (!mc || !mc->fr) return SW_OK;
+  const double *x = positions(m, mc, d->x, d->t, mc->xa);
+  sw_mfriction_begin(mc->fr, h, x);
+  if (candidates(m, mc, x, x)) {
+    sw_errf(d->err, sizeof d->err, "the broad phase failed at t = %g s", d->t);
+    return SW_RECOVER;
+  }
+  if (each_candidate(m, mc, x, x, m->contact.dhat, lag_pair, (void *)x)) {
+    sw_errf(d->err, sizeof d->err, "out of memory lagging the friction of mesh contact");
+    return SW_FATAL;
+  }
+  return SW_OK;
+}
+
+/* The friction of the mesh pairs at d->x (the last step's lag) added to d->friction_force and
+ * d->friction_power (W dissipated: -f.v). */
+static void state_friction(const sw_model *m, sw_data *d, const double *x) {
+  sw_mcontact *mc = d->mc;
+  int nf = sw_mfriction_count(mc->fr);
+  for (int k = 0; k < nf; k++) {
+    const int *v = sw_mfriction_vertices(mc->fr, k);
+    double g[12];
+    sw_mfriction_pair(mc->fr, m->contact.eps_v, k, x, g, NULL);
+    for (int j = 0; j < 12; j++) {
+      if (v[j / 3] >= m->nv) continue;
+      d->friction_force[j % 3] -= g[j];
+      d->friction_power += g[j] * d->v[3 * v[j / 3] + j % 3];
+    }
+  }
+}

@@ -29,7 +29,7 @@ void sw_tension_xy_reference(const sw_model *m, sw_data *d) {
   }
 }
 
-/* Seed 000's face value from the two stretched directions. */
+/* Optitex's tension XY face value from the two stretched directions. */
 static double face_tension(const double *wu, const double *wv, double lu, double lv, double rlu,
                            double rlv, double ku, double kv, int d) {
   double ampu = fmax((lu - rlu) * ku, 0.0), ampv = fmax((lv - rlv) * kv, 0.0); /* N/m */

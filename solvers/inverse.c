@@ -6,8 +6,9 @@
  * node i, -e^_ij at node j, e^_ij the unit vector from node i to node j.  That is -grad l_t:
  * with s_k = x_{w_k} - x_{w_{k+1}} (the tendon model §1.2), the force at waypoint a is
  * s^_{a-1} - s^_a (a tension pulls each waypoint towards its neighbours; an end point keeps one
- * term).  Only the rows of the target vertices are kept.  Seed 003 §3 minimises
- * U = 1/2 |A tau - f|^2 over tau >= 0 (NNLS, nnls.c), then (§3.1, the "todo") maps tensions to
+ * term).  Only the rows of the target vertices are kept.  The waypoint tendon model's inverse
+ * problem (its section 3) minimises U = 1/2 |A tau - f|^2 over tau >= 0 (NNLS, nnls.c), then
+ * (its unfinished section 3.1) maps tensions to
  * rest lengths: with tau = K Delta and Delta = l - alpha, alpha_t = l_t - tau_t / K_t, so
  * Delta = tau / K >= 0 keeps each cable taut (a cable with tau = 0 sits at Delta = 0).
  *

@@ -39,26 +39,31 @@ static double blend(double u) { /* the smooth keyframes' quintic */
   return u * u * u * (10.0 - 15.0 * u + 6.0 * u * u);
 }
 
-/* Run m step by step; after each step call check(x_n, t_n, x_{n+1}, t_{n+1}), or (a step the
- * solver halved: the path between is not one straight motion) check(x_{n+1}, t_{n+1},
- * x_{n+1}, t_{n+1}).  Returns 0 when the run ends ok, else 1 with err holding the failure. */
-typedef void (*step_check)(const sw_model *m, const double *x0, double t0, const double *x1,
-                           double t1, void *arg);
-static int run_checked(sw_model *m, double duration, step_check check, void *arg, char *err) {
+/* Run m step by step; after each step call check(d, x_n, t_n, x_{n+1}, t_{n+1}), or (a step
+ * the solver halved: the path between is not one straight motion) check(d, x_{n+1}, t_{n+1},
+ * x_{n+1}, t_{n+1}).  The last state into xe (nv x 3), its time into *te.  Returns 0 when the
+ * run ends ok, else 1 with err holding the failure; *whole counts the steps taken whole. */
+typedef void (*step_check)(const sw_model *m, const sw_data *d, const double *x0, double t0,
+                           const double *x1, double t1, void *arg);
+static int run_checked(sw_model *m, double duration, step_check check, void *arg, char *err,
+                       double *xe, double *te, int *whole) {
   sw_sim *s = sw_sim_new(m, 0, err, SW_ERRSZ);
   assert_non_null(s);
   const sw_data *d = sw_sim_data(s);
   size_t nd = (size_t)m->nv * 3;
   double *x0 = malloc(nd * sizeof(double));
   int rc = 0;
+  *whole = 0;
   while (d->t < duration - 1e-9) {
     memcpy(x0, d->x, nd * sizeof(double));
     double t0 = d->t;
     long n0 = d->nstep;
     if ((rc = sw_sim_step(s, err, SW_ERRSZ)) != 0) break;
-    if (d->nstep == n0 + 1) check(m, x0, t0, d->x, d->t, arg);
-    else check(m, d->x, d->t, d->x, d->t, arg); /* halved: its end state only */
+    if (d->nstep == n0 + 1) ++*whole, check(m, d, x0, t0, d->x, d->t, arg);
+    else check(m, d, d->x, d->t, d->x, d->t, arg); /* halved: its end state only */
   }
+  if (xe) memcpy(xe, d->x, nd * sizeof(double));
+  if (te) *te = d->t;
   free(x0);
   sw_sim_free(s);
   return rc != 0;
@@ -76,9 +81,10 @@ static double sphere_z(const sphere_arg *a, double t) {
   return -0.3 + 2.0 * (a->smooth ? blend(u) : u);
 }
 
-static void sphere_check(const sw_model *m, const double *x0, double t0, const double *x1,
-                         double t1, void *arg) {
+static void sphere_check(const sw_model *m, const sw_data *d, const double *x0, double t0,
+                         const double *x1, double t1, void *arg) {
   sphere_arg *a = arg;
+  (void)d;
   for (int i = 0; i < m->nv; i++)
     for (int k = 0; k <= 2000; k++) {
       double s = k / 2000.0, r2 = 0.0, c[3] = {0.5, 0.5, sphere_z(a, t0 + s * (t1 - t0))};
@@ -111,41 +117,25 @@ static void rising_sphere(void **st) {
       sw_model *m = th_scene("rise.yaml", text);
       assert_non_null(m);
       sphere_arg a = {.smooth = smooth, .worst = INFINITY};
-      /* run_checked frees nothing of m: the last state is read back by a second sim */
-      sw_sim *s = sw_sim_new(m, 0, err, sizeof err);
-      assert_non_null(s);
-      const sw_data *d = sw_sim_data(s);
-      double x0[75];
-      int failed = 0, whole = 0;
-      while (d->t < 0.12 - 1e-9) {
-        memcpy(x0, d->x, sizeof x0);
-        double t0 = d->t;
-        long n0 = d->nstep;
-        if (sw_sim_step(s, err, sizeof err)) {
-          failed = 1;
-          break;
-        }
-        if (d->nstep == n0 + 1) whole++, sphere_check(m, x0, t0, d->x, d->t, &a);
-        else sphere_check(m, d->x, d->t, d->x, d->t, &a); /* halved: its end state */
-      }
+      double x[75], t;
+      int whole, failed = run_checked(m, 0.12, sphere_check, &a, err, x, &t, &whole);
       if (failed) { /* the alternative to carrying it: a failed run (never ok), its last state
                      * outside the sphere */
         print_message("dt %g %s: failed: %s\n", dts[k], smooth ? "smooth" : "linear", err);
         assert_true(strstr(err, "obstacles[0]") || strstr(err, "Newton did not converge"));
-        sphere_check(m, d->x, d->t, d->x, d->t, &a);
+        sphere_check(m, NULL, x, t, x, t, &a);
       } else {
         /* carried: the middle vertex above the sphere's top, none below its bottom */
         int above = 0;
-        double cz = sphere_z(&a, d->t);
-        for (int i = 0; i < m->nv; i++) above += d->x[3 * i + 2] > cz - 0.2;
+        double cz = sphere_z(&a, t);
+        for (int i = 0; i < m->nv; i++) above += x[3 * i + 2] > cz - 0.2;
         print_message("dt %g %s: ok, the middle vertex %.3g m above the sphere's top, %d of 25 "
                       "above its bottom, %d whole steps checked along the path, deepest sample "
                       "%.3g m\n", dts[k], smooth ? "smooth" : "linear",
-                      d->x[3 * 12 + 2] - cz - 0.2, above, whole, a.worst);
-        assert_true(d->x[3 * 12 + 2] > cz + 0.2);
+                      x[3 * 12 + 2] - cz - 0.2, above, whole, a.worst);
+        assert_true(x[3 * 12 + 2] > cz + 0.2);
         assert_int_equal(above, 25);
       }
-      sw_sim_free(s);
       sw_model_free(m);
     }
 }
@@ -156,9 +146,10 @@ static void rising_sphere(void **st) {
  * 0.03, a = pi blend(t / 0.1): the scene's rotation about z through (0.5, -0.25, 0.3). */
 static double arm_angle(double t) { return M_PI * blend(t / 0.1); }
 
-static void arm_check(const sw_model *m, const double *x0, double t0, const double *x1,
-                      double t1, void *arg) {
+static void arm_check(const sw_model *m, const sw_data *d, const double *x0, double t0,
+                      const double *x1, double t1, void *arg) {
   double *worst = arg;
+  (void)d;
   for (int i = 0; i < m->nv; i++)
     for (int k = 0; k <= 2000; k++) {
       double s = k / 2000.0, a = arm_angle(t0 + s * (t1 - t0)), p[3];
@@ -190,7 +181,7 @@ static void turning_capsule(void **st) {
     sw_model *m = th_scene("arm.yaml", text);
     assert_non_null(m);
     double worst = INFINITY;
-    int failed = run_checked(m, 0.12, arm_check, &worst, err);
+    int whole, failed = run_checked(m, 0.12, arm_check, &worst, err, NULL, NULL, &whole);
     print_message("arm dt %g: %s (deepest sample %.3g m)\n", dts[k], failed ? err : "ok", worst);
     if (failed) assert_non_null(strstr(err, "obstacles[0]"));
     sw_model_free(m);
@@ -225,18 +216,11 @@ static sw_model *scene_in_dir(const char *text) {
 /* After each step: no cloth triangle intersects the box (exact), and (whole steps, the box
  * translating linearly) no vertex's straight path relative to the box crosses one of its
  * triangles (exact segment-triangle test at the box's stated place). */
-typedef struct mesh_arg {
-  sw_sim *sim;
-  int whole;
-} mesh_arg;
-
-static void mesh_check(const sw_model *m, const double *x0, double t0, const double *x1,
-                       double t1, void *arg) {
-  mesh_arg *a = arg;
-  const sw_data *d = sw_sim_data(a->sim);
+static void mesh_check(const sw_model *m, const sw_data *d, const double *x0, double t0,
+                       const double *x1, double t1, void *arg) {
+  (void)arg;
   assert_int_equal(sw_mcontact_obstacle_intersections(m, d->mc, d->x, d->t, NULL), 0);
   if (x0 == x1) return;
-  a->whole++;
   const sw_obstacle *o = &m->mesh_obstacle[0];
   double d0[3], d1[3];
   sw_obstacle_disp(o, t0, d0);
@@ -268,32 +252,22 @@ static void rising_mesh_box(void **st) {
              "integrator: {method: backward-euler, dt: %g}\nduration: 0.06\n", dts[k]);
     sw_model *m = scene_in_dir(text);
     assert_non_null(m);
-    sw_sim *s = sw_sim_new(m, 0, err, sizeof err);
-    assert_non_null(s);
-    mesh_arg a = {.sim = s};
-    const sw_data *d = sw_sim_data(s);
-    double *x0 = malloc((size_t)m->nv * 3 * sizeof(double));
-    int failed = 0;
-    while (d->t < 0.06 - 1e-9) {
-      memcpy(x0, d->x, (size_t)m->nv * 3 * sizeof(double));
-      double t0 = d->t;
-      long n0 = d->nstep;
-      if (sw_sim_step(s, err, sizeof err)) {
-        failed = 1;
-        break;
-      }
-      if (d->nstep == n0 + 1) mesh_check(m, x0, t0, d->x, d->t, &a);
-      else mesh_check(m, d->x, d->t, d->x, d->t, &a);
-    }
-    double top = 1.0 - 0.1 + 0.0, zmid = d->x[3 * 24 + 2]; /* the box's top at the end */
+    double *x = malloc((size_t)m->nv * 3 * sizeof(double));
+    int whole, failed = run_checked(m, 0.06, mesh_check, NULL, err, x, NULL, &whole);
+    double top = 1.0 - 0.1, zmid = x[3 * 24 + 2]; /* the box's top at the end */
     print_message("mesh box dt %g: %s (%d whole steps checked), middle vertex at z = %.3g (box "
-                  "top %.3g)\n", dts[k], failed ? err : "ok", a.whole, zmid, top);
+                  "top %.3g)\n", dts[k], failed ? err : "ok", whole, zmid, top);
     if (failed) assert_non_null(strstr(err, "obstacles[0]") ? err : strstr(err, "Newton"));
     else assert_true(zmid > top);
-    free(x0);
-    sw_sim_free(s);
+    free(x);
     sw_model_free(m);
   }
+}
+
+static void turn_check(const sw_model *m, const sw_data *d, const double *x0, double t0,
+                       const double *x1, double t1, void *arg) {
+  (void)x0, (void)t0, (void)x1, (void)t1, (void)arg;
+  assert_int_equal(sw_mcontact_obstacle_intersections(m, d->mc, d->x, d->t, NULL), 0);
 }
 
 /* A cloth lying on a mesh box that turns 90 degrees about z in 0.2 s (smooth): no cloth
@@ -311,20 +285,14 @@ static void turning_mesh_box(void **st) {
       " keyframes: [[0, 0], [0.2, 90]]}}}]\n"
       "integrator: {method: backward-euler, dt: 0.01}\nduration: 0.25\n");
   assert_non_null(m);
-  sw_sim *s = sw_sim_new(m, 0, err, sizeof err);
-  assert_non_null(s);
-  const sw_data *d = sw_sim_data(s);
-  while (d->t < 0.25 - 1e-9) {
-    int rc = sw_sim_step(s, err, sizeof err);
-    if (rc) print_error("%s\n", err);
-    assert_int_equal(rc, 0);
-    assert_int_equal(sw_mcontact_obstacle_intersections(m, d->mc, d->x, d->t, NULL), 0);
-  }
+  double x[147];
+  int whole, rc = run_checked(m, 0.25, turn_check, NULL, err, x, NULL, &whole);
+  if (rc) print_error("%s\n", err);
+  assert_int_equal(rc, 0);
   double zmin = INFINITY;
-  for (int i = 0; i < m->nv; i++) zmin = fmin(zmin, d->x[3 * i + 2]);
+  for (int i = 0; i < m->nv; i++) zmin = fmin(zmin, x[3 * i + 2]);
   print_message("turning mesh box: ok, lowest vertex z = %.3g m (top at -0.0015)\n", zmin);
   assert_true(zmin > -0.0015);
-  sw_sim_free(s);
   sw_model_free(m);
 }
 

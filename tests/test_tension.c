@@ -10,7 +10,7 @@
 
 #include "harness.h"
 
-/* Seed 000's triangle: uv (0,0), (1,0), (0,1); positions the same in the plane z = 0. */
+/* Optitex's worked example triangle: uv (0,0), (1,0), (0,1); positions the same in the plane z = 0. */
 static sw_model *seed_triangle(double ku, double kv, int reference_uv) {
   sw_model *m = sw_model_new();
   m->dim = 3;
