@@ -75,8 +75,8 @@ struct sw_mcontact {
      vertices each lie within `slack` of their swept box (`covered`) */
   sw_mc_pair *cand;     /* (ncand) kind, vertices and their distance at xref (m, in gap) */
   int ncand, capcand, cand_ok;
-  double *cbox;         /* (nvt x 6) each vertex's box over x0 -> x1, m */
-  double *xref;         /* (nvt x 3) x0 of the candidates' motion, m */
+  double *cbox;         /* (nmoving x 6) each vertex's box over x0 -> x1, m */
+  double *xref;         /* (nmoving x 3) x0 of the candidates' motion, m */
   double *umove;        /* (nvt) how far each vertex is from xref (at most), m */
   double slack;         /* m */
   sw_mfriction *fr;     /* the step's lagged friction (contact.friction > 0), or NULL */
@@ -158,8 +158,9 @@ sw_mcontact *sw_mcontact_new(const sw_model *m) {
   mc->carrier = sw_calloc(nv + 1, sizeof(int));
   mc->f = sw_calloc(6 * nv + 1, sizeof(double));
   mc->vforce = sw_calloc(nv + 1, sizeof(double));
-  mc->cbox = sw_calloc(6 * nvt + 1, sizeof(double));
-  mc->xref = sw_calloc(3 * nvt + 1, sizeof(double));
+  size_t nmov = p->moving ? nvt : nv; /* static obstacles' boxes are never needed */
+  mc->cbox = sw_calloc(6 * nmov + 1, sizeof(double));
+  mc->xref = sw_calloc(3 * nmov + 1, sizeof(double));
   mc->umove = sw_calloc(nvt + 1, sizeof(double));
   mc->slack = SW_MC_SLACK * m->contact.dhat;
   for (int k = 0; k < 3; k++)

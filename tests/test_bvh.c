@@ -52,7 +52,8 @@ static void random_soup(soup *s, int n, unsigned long *rs) {
     double *p = s->x + 9 * (size_t)i, size = pow(10.0, -4.0 + 4.0 * urand(rs));
     for (int a = 0; a < 3; a++) p[a] = 2.0 * urand(rs) - 1.0;
     for (int k = 3; k < 9; k++) p[k] = p[k % 3] + size * th_rand(rs);
-    if (i % 17 == 3) memcpy(p + 3, p, 6 * sizeof(double)); /* a point */
+    if (i % 17 == 3) /* a point */
+      memcpy(p + 3, p, 3 * sizeof(double)), memcpy(p + 6, p, 3 * sizeof(double));
     if (i % 29 == 5 && i > 0) memcpy(p, p - 9, 9 * sizeof(double)); /* the previous one again */
   }
 }

@@ -4,11 +4,13 @@
 # tools/make_big_obstacle.py) for each N in $TRIANGLES (default "200000 2000000").  Per build
 # and N, interleaved REPS times (default 1):
 #  - `sinew check`: wall and CPU time (user + system) and peak resident memory;
-#  - `sinew run` of two steps (dt 10 ms): total wall time, the steps' own (summary.json's
-#    wall_time_s), so the load (the rest: reading the OBJ, the model, the start checks, the
-#    end-of-run intersection count), and max_rss_mb;
+#  - `sinew run` of ten steps (dt 10 ms): total wall and CPU time, the steps' own wall time
+#    (summary.json's wall_time_s; the first step fits the trees), so the load (the rest:
+#    reading the OBJ, the model, the start checks, the end-of-run intersection count), and
+#    max_rss_mb;
 #  - signal latency: SIGTERM sent 1 s after the start (while loading) and 0.5 s after the first
-#    step is logged (while stepping; a run of 10 s), the time until the process has exited.
+#    step is logged in energy.csv (while stepping; a run of 10 s), the time until the process
+#    has exited.
 # PREVIOUS (another build's sinew) runs only for N <= $PREV_MAX (default 200000): the previous
 # broad phase takes minutes per step at 2 million triangles.  The mesh's own size in memory,
 # 24 bytes per vertex and 12 per triangle (doubles and ints), is written beside the memory
@@ -55,7 +57,7 @@ latency() {
   "$b" run "$work/scene.yaml" --out "$d" --duration 10 --no-frames --quiet >/dev/null 2>&1 &
   pid=$!
   if [ "$when" = step ]; then
-    until [ -s "$d/energy.csv" ] && [ "$(wc -l <"$d/energy.csv")" -ge 2 ]; do
+    until [ -s "$d/energy.csv" ] && [ "$(wc -l <"$d/energy.csv")" -ge 3 ]; do
       kill -0 "$pid" 2>/dev/null || { echo nan; return; }
       sleep 0.05
     done
@@ -68,7 +70,7 @@ latency() {
   wait "$pid" 2>/dev/null || true
   calc "$(now) - $t0"
 }
-echo "build,triangles,rep,mesh_mb,check_wall_s,check_cpu_s,check_rss_mb,run_status,steps,run_wall_s,steps_wall_s,load_s,step_s,max_rss_mb,sigterm_loading_s,sigterm_stepping_s" >"$out/big_obstacle.csv"
+echo "build,triangles,rep,mesh_mb,check_wall_s,check_cpu_s,check_rss_mb,run_status,steps,run_wall_s,run_cpu_s,steps_wall_s,load_s,step_s,max_rss_mb,sigterm_loading_s,sigterm_stepping_s" >"$out/big_obstacle.csv"
 for n in $sizes; do
   $py tools/make_big_obstacle.py --triangles "$n" -o "$work/big.obj"
   nv=$(grep -c '^v ' "$work/big.obj"); nf=$(grep -c '^f ' "$work/big.obj")
@@ -83,15 +85,17 @@ for n in $sizes; do
       /usr/bin/time -f "%e %U %S %M" -o "$work/time" "$b" check "$work/scene.yaml" >/dev/null 2>&1 || true
       read -r cw cu cs ck <"$work/time"
       t0=$(now)
-      "$b" run "$work/scene.yaml" --out "$d" --no-frames --quiet >/dev/null 2>&1 || true
+      /usr/bin/time -f "%U %S" -o "$work/time" "$b" run "$work/scene.yaml" --out "$d" \
+        --duration 0.1 --no-frames --quiet >/dev/null 2>&1 || true
       rw=$(calc "$(now) - $t0")
+      read -r ru rs <"$work/time"
       st=$(sed -n 's/.*"status": "\([a-z]*\)".*/\1/p' "$d/summary.json")
       steps=$(field "$d" steps); sw=$(field "$d" wall_time_s); rss=$(field "$d" max_rss_mb)
       load=$(calc "$rw - $sw"); per=$(calc "$sw / $steps")
       sl=$(latency "$b" 1); ss=$(latency "$b" step)
-      printf '%s,%s,%s,%.1f,%.2f,%.2f,%.1f,%s,%s,%.2f,%.3f,%.2f,%.3f,%.1f,%.3f,%.3f\n' "$which" "$n" "$r" \
+      printf '%s,%s,%s,%.1f,%.2f,%.2f,%.1f,%s,%s,%.2f,%.2f,%.3f,%.2f,%.3f,%.1f,%.3f,%.3f\n' "$which" "$n" "$r" \
         "$mesh_mb" "$cw" "$(calc "$cu + $cs")" "$(calc "$ck / 1024")" "$st" "$steps" \
-        "$rw" "$sw" "$load" "$per" "$rss" "$sl" "$ss" | tee -a "$out/big_obstacle.csv"
+        "$rw" "$(calc "$ru + $rs")" "$sw" "$load" "$per" "$rss" "$sl" "$ss" | tee -a "$out/big_obstacle.csv"
     done
   done
 done
