@@ -180,5 +180,35 @@ void sw_mcontact_state(const sw_model *m, sw_data *d);
 /* (nv) |self-contact force| + |mesh obstacles' force| on each vertex at the last
  * diagnostics, N, or NULL. */
 const double *sw_mcontact_vertex_force(const sw_mcontact *mc);
+/* Lag the friction of the mesh pairs (contact.friction > 0) for a step of size h from
+ * (d->x, d->t): every pair closer than its thickness + dhat there (models/mesh_friction.c).
+ * SW_RECOVER when the broad phase fails, SW_FATAL when out of memory. */
+int sw_mcontact_lag(const sw_model *m, sw_data *d, double h);
+
+/* ------------------------------ models/mesh_friction.c: friction of the mesh pairs, lagged */
+
+/* The lagged pairs of a step: their vertices, closest points' coefficients, normals and
+ * normal forces at the step's start (IPC, section 5). */
+typedef struct sw_mfriction sw_mfriction;
+sw_mfriction *sw_mfriction_new(int nvt);
+void sw_mfriction_free(sw_mfriction *f);
+/* Start a step of size h (s) from x (nvt x 3, cloth and obstacles): no pair lagged yet. */
+void sw_mfriction_begin(sw_mfriction *f, double h, const double *x);
+/* Lag pair (kind, v) at p (its 4 vertices, 12 values) with thickness xi (m), shat (m^2),
+ * weight w = kappa_s w_k (kg/(s^2 m^2)) and Coulomb coefficient mu; a pair beyond shat or
+ * with mu = 0 is skipped.  -1: out of memory. */
+int sw_mfriction_lag_pair(sw_mfriction *f, int kind, const int *v, const double *p, double xi,
+                          double shat, double w, double mu);
+/* The number of lagged pairs (0 for f NULL or before the first step) and pair k's vertices. */
+int sw_mfriction_count(const sw_mfriction *f);
+const int *sw_mfriction_vertices(const sw_mfriction *f, int k);
+/* Pair k's friction mu lambda_k f0(|P_k u_k|) at x (nvt x 3; J), its gradient over the pair's
+ * 4 vertices (12, when g is not NULL) and its positive semi-definite Hessian (144, when H is
+ * not NULL); eps_v in m/s. */
+double sw_mfriction_pair(const sw_mfriction *f, double eps_v, int k, const double *x, double *g,
+                         double *H);
+/* Whether the model has friction anywhere: contact.friction > 0, or self_friction > 0 with
+ * self-contact. */
+int sw_contact_friction_on(const sw_model *m);
 
 #endif

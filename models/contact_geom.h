@@ -193,6 +193,31 @@ void sw_broadphase_init(sw_broadphase *bp);
 int sw_broadphase_query(sw_broadphase *bp, const sw_bp_input *in, int want);
 void sw_broadphase_free(sw_broadphase *bp);
 
+/* ---------------------------------------------------- bounding-volume hierarchy (bvh.c) */
+
+/* A tree of boxes over n primitives 0..n-1 (a mesh obstacle's vertices, edges or faces), built
+ * once from their boxes and refitted when they move: a query visits the primitives whose box
+ * overlaps a given box, at a cost of the tree's depth (log2 n) per primitive found. */
+typedef void (*sw_bvh_box_fn)(const void *ctx, int i, double b[6]); /* lo[3], hi[3], m */
+typedef int (*sw_bvh_hit_fn)(void *arg, int i); /* nonzero stops the query and is returned */
+typedef struct sw_bvh {
+  int n, nnode;
+  float *box;    /* (nnode x 6) node boxes (lo, hi), rounded outwards, m */
+  int *node;     /* (nnode x 2) leaf: first of prim, count > 0; internal: left child, 0 (the
+                    right child follows the left one) */
+  int *prim;     /* (n) the primitives in leaf order */
+} sw_bvh;
+
+/* 0, or -1 when out of memory (t then empty). */
+int sw_bvh_build(sw_bvh *t, int n, sw_bvh_box_fn box, const void *ctx);
+void sw_bvh_refit(sw_bvh *t, sw_bvh_box_fn box, const void *ctx);
+/* Call hit on every primitive whose box overlaps b (closed boxes): the primitives of every
+ * leaf whose box does, each tested against b when box is not NULL (with ctx: the boxes the
+ * tree was fitted to).  0, or hit's first nonzero return. */
+int sw_bvh_query(const sw_bvh *t, const double b[6], sw_bvh_box_fn box, const void *ctx,
+                 sw_bvh_hit_fn hit, void *arg);
+void sw_bvh_free(sw_bvh *t);
+
 /* ------------------------------------------------------- exact predicates (intersect.c) */
 
 /* The sign (+1, 0, -1) of det[b - a; c - a; d - a] = ((b - a) x (c - a)) . (d - a), exact:

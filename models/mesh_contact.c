@@ -51,6 +51,10 @@ typedef struct mc_param {
   int *face;         /* (nf x 3): the cloth's, then the obstacles' */
   int *owner;        /* (nvt - nv) the mesh obstacle of each obstacle vertex */
   double *rest;      /* ((nvt - nv) x 3) obstacle vertices at their stated place, m */
+  int ne_cloth;      /* edges [0, ne_cloth) are the cloth's, the rest the obstacles' */
+  int moving;        /* 1: a mesh obstacle has keyframes (its trees are refitted per query) */
+  sw_bvh tree[3];    /* the obstacles' vertices, edges and faces (bvh.c), built at their stated
+                        place; a workspace holds the boxes of the places it queries */
 } mc_param;
 
 struct sw_mcontact {
@@ -75,8 +79,12 @@ struct sw_mcontact {
   double *xref;         /* (nvt x 3) x0 of the candidates' motion, m */
   double *umove;        /* (nvt) how far each vertex is from xref (at most), m */
   double slack;         /* m */
+  sw_mfriction *fr;     /* the step's lagged friction (contact.friction > 0), or NULL */
   int nsewn;            /* the seams' sewn vertices (sw_model.sewn_ptr): pairs skipped */
   const int *sewn_ptr, *sewn_idx;
+  float *tbox[3];       /* the node boxes of p->tree[k] at the obstacles' places last queried */
+  int tree_fit;         /* 1: tbox holds the obstacles' places (static obstacles: fit once) */
+  int placed;           /* static obstacles: bit 0 (1) set once xa (xb) holds their places */
 };
 
 int sw_mesh_contact_on(const sw_model *m) { return m->contact.self || m->nmesh_obstacle > 0; }
@@ -154,10 +162,15 @@ sw_mcontact *sw_mcontact_new(const sw_model *m) {
   mc->xref = sw_calloc(3 * nvt + 1, sizeof(double));
   mc->umove = sw_calloc(nvt + 1, sizeof(double));
   mc->slack = SW_MC_SLACK * m->contact.dhat;
+  for (int k = 0; k < 3; k++)
+    if (!(mc->tbox[k] = sw_calloc(6 * (size_t)p->tree[k].nnode + 1, sizeof(float))))
+      return sw_mcontact_free(mc), NULL;
   if (!mc->fixed || !mc->xa || !mc->xb || !mc->z || !mc->carrier || !mc->f || !mc->vforce ||
       !mc->cbox || !mc->xref || !mc->umove)
     return sw_mcontact_free(mc), NULL;
   for (int i = 0; i < p->nvt; i++) mc->fixed[i] = (unsigned char)(i >= m->nv || m->pinned[i]);
+  if (sw_contact_friction_on(m) && !(mc->fr = sw_mfriction_new(p->nvt)))
+    return sw_mcontact_free(mc), NULL;
   mc->nsewn = m->nv, mc->sewn_ptr = m->sewn_ptr, mc->sewn_idx = m->sewn_idx;
   return mc;
 }
@@ -178,6 +191,8 @@ void sw_mcontact_free(sw_mcontact *mc) {
   sw_free(mc->cbox);
   sw_free(mc->xref);
   sw_free(mc->umove);
+  sw_mfriction_free(mc->fr);
+  for (int k = 0; k < 3; k++) sw_free(mc->tbox[k]);
   sw_free(mc);
 }
 
@@ -211,11 +226,14 @@ static int obstacles_move(const sw_model *m, double t0, double t1) {
 
 /* The positions of the cloth (x, nv x 3) and of the mesh obstacles at time t: x itself without
  * obstacles, else [x, obstacles] copied into buf (nvt x 3). */
-static const double *positions(const sw_model *m, const sw_mcontact *mc, const double *x,
+static const double *positions(const sw_model *m, sw_mcontact *mc, const double *x,
                                double t, double *buf) {
   const mc_param *p = mc->p;
   if (p->nvt == m->nv) return x;
   memcpy(buf, x, (size_t)m->nv * 3 * sizeof(double));
+  int bit = buf == mc->xa ? 1 : 2; /* static obstacles stay where they were placed once */
+  if (!p->moving && (mc->placed & bit)) return buf;
+  if (!p->moving) mc->placed |= bit;
   double R[9], c[3];
   for (int j = 0, k = -1; j < p->nvt - m->nv; j++) {
     const sw_obstacle *o = &m->mesh_obstacle[p->owner[j]];
@@ -236,6 +254,135 @@ static sw_bp_input bp_input(const sw_mcontact *mc, const double *x0, const doubl
                     .nf = p->nf, .face = p->face, .fixed = mc->fixed, .inflate = inflate,
                     .nsewn = mc->nsewn, .sewn_ptr = mc->sewn_ptr, .sewn_idx = mc->sewn_idx};
   return in;
+}
+
+/* ------------------------------------------------------------------ broad phase */
+
+/* The obstacles' primitives for their trees: primitive i of kind k (0 vertex, 1 edge, 2 face)
+ * is vertex nv + i, edge ne_cloth + i or face nf + i, its box that of its vertices at x0 and
+ * x1 (vertex v at x0 + 3 (v - off)). */
+typedef struct tree_ctx {
+  const mc_param *p;
+  int nv, nf, kind, off;
+  const double *x0, *x1;
+} tree_ctx;
+
+static void tree_box(const void *arg, int i, double *b) {
+  const tree_ctx *c = arg;
+  int v[3], n = c->kind + 1;
+  if (c->kind == 0) v[0] = c->nv + i;
+  for (int j = 0; c->kind == 1 && j < 2; j++) v[j] = c->p->edge[2 * ((size_t)c->p->ne_cloth + i) + j];
+  for (int j = 0; c->kind == 2 && j < 3; j++) v[j] = c->p->face[3 * ((size_t)c->nf + i) + j];
+  for (int a = 0; a < 3; a++) b[a] = INFINITY, b[3 + a] = -INFINITY;
+  for (int j = 0; j < n; j++)
+    for (int a = 0; a < 3; a++) { /* finite: comparisons, not fmin's calls */
+      double p = c->x0[3 * (size_t)(v[j] - c->off) + a], q = c->x1[3 * (size_t)(v[j] - c->off) + a];
+      double lo = p < q ? p : q, hi = p < q ? q : p;
+      b[a] = lo < b[a] ? lo : b[a], b[3 + a] = hi > b[3 + a] ? hi : b[3 + a];
+    }
+}
+
+/* Tree k of the obstacles with the workspace's node boxes. */
+static sw_bvh tree_view(const sw_mcontact *mc, int k) {
+  sw_bvh t = mc->p->tree[k];
+  t.box = mc->tbox[k];
+  return t;
+}
+
+/* The workspace's node boxes for the obstacles at x0 -> x1 (nvt x 3 each): refitted at each
+ * query for moving obstacles, once for static ones. */
+static void fit_trees(const sw_model *m, sw_mcontact *mc, const double *x0, const double *x1) {
+  if (mc->tree_fit && !mc->p->moving) return;
+  for (int k = 0; k < 3; k++) {
+    tree_ctx c = {mc->p, m->nv, m->nf, k, 0, x0, x1};
+    sw_bvh t = tree_view(mc, k);
+    sw_bvh_refit(&t, tree_box, &c);
+  }
+  mc->tree_fit = 1;
+}
+
+/* A query of one cloth primitive against a tree: pairs (cloth, obstacle) or, for a cloth face
+ * against the obstacles' vertices, (vertex, face), appended to *pair (capacity *cap, n). */
+typedef struct hit_arg {
+  int **pair, *n;
+  size_t *cap;
+  int cloth, offset, vertex_first;
+} hit_arg;
+
+static int hit_pair(void *arg, int i) {
+  hit_arg *h = arg;
+  if ((size_t)2 * (*h->n + 1) > *h->cap) {
+    size_t cap = 2 * ((size_t)*h->n + 1) * 3 / 2 + 32;
+    int *q = realloc(*h->pair, cap * sizeof(int)); /* sw_broadphase_free frees it */
+    if (!q) return -1;
+    *h->pair = q, *h->cap = cap;
+  }
+  int o = h->offset + i;
+  (*h->pair)[2 * *h->n] = h->vertex_first ? o : h->cloth;
+  (*h->pair)[2 * *h->n + 1] = h->vertex_first ? h->cloth : o;
+  (*h->n)++;
+  return 0;
+}
+
+/* The box over x0 -> x1 of the cloth vertices v (n) grown by r (m); 0 when one is pinned
+ * and all are (nothing to pair), or not finite (-1). */
+static int cloth_box(const sw_mcontact *mc, const sw_bp_input *in, const int *v, int n,
+                     double r, double *b) {
+  int fixed = 1;
+  for (int a = 0; a < 3; a++) b[a] = INFINITY, b[3 + a] = -INFINITY;
+  for (int j = 0; j < n; j++) {
+    fixed = fixed && mc->fixed[v[j]];
+    for (int a = 0; a < 3; a++) {
+      double p = in->x0[3 * (size_t)v[j] + a], q = in->x1[3 * (size_t)v[j] + a];
+      if (!isfinite(p) || !isfinite(q)) return -1;
+      b[a] = fmin(b[a], fmin(p, q) - r), b[3 + a] = fmax(b[3 + a], fmax(p, q) + r);
+    }
+  }
+  return !fixed;
+}
+
+/* Query tree k with each of the cloth's n primitives of `per` vertices each (at idx + per i). */
+static int query_tree(const sw_model *m, sw_mcontact *mc, const sw_bp_input *in, int k,
+                      const int *idx, int per, int n, hit_arg *h) {
+  sw_bvh t = tree_view(mc, k);
+  tree_ctx c = {mc->p, m->nv, m->nf, k, 0, in->x0, in->x1};
+  h->offset = k == 0 ? m->nv : k == 1 ? mc->p->ne_cloth : m->nf;
+  for (int i = 0; i < n; i++) {
+    double b[6];
+    int v = i, rc = cloth_box(mc, in, idx ? idx + per * (size_t)i : &v, per, 2.0 * in->inflate, b);
+    if (rc < 0) return -1;
+    h->cloth = i;
+    if (rc && sw_bvh_query(&t, b, tree_box, &c, hit_pair, h)) return -1;
+  }
+  return 0;
+}
+
+/* The term's broad phase into mc->bp, as sw_broadphase_query over all of `in` (the cloth and
+ * the obstacles) but with the obstacles' trees: the cloth's own pairs from the spatial hash
+ * (with self-contact only), its pairs with the obstacles from queries of the cloth's swept
+ * boxes in the trees, so the cost grows with the cloth and the part of a body near it. */
+static int broad_phase(const sw_model *m, sw_mcontact *mc, const sw_bp_input *in, int want) {
+  sw_broadphase *bp = &mc->bp;
+  bp->npt = bp->nee = bp->nff = 0;
+  if (m->contact.self && (want & (SW_BP_PT | SW_BP_EE))) {
+    sw_bp_input cloth = *in;
+    cloth.nv = m->nv, cloth.ne = mc->p->ne_cloth, cloth.nf = m->nf;
+    if (sw_broadphase_query(bp, &cloth, want & (SW_BP_PT | SW_BP_EE))) return -1;
+  }
+  if (mc->p->nvt == m->nv) return 0;
+  fit_trees(m, mc, in->x0, in->x1);
+  hit_arg pt = {&bp->pt, &bp->npt, &bp->cap_pt, 0, 0, 0};
+  hit_arg tp = {&bp->pt, &bp->npt, &bp->cap_pt, 0, 0, 1};
+  hit_arg ee = {&bp->ee, &bp->nee, &bp->cap_ee, 0, 0, 0};
+  hit_arg ff = {&bp->ff, &bp->nff, &bp->cap_ff, 0, 0, 0};
+  int rc = 0;
+  if (want & SW_BP_PT)
+    rc = query_tree(m, mc, in, 2, NULL, 1, m->nv, &pt) ||
+         query_tree(m, mc, in, 0, mc->p->face, 3, m->nf, &tp);
+  if (!rc && (want & SW_BP_EE)) rc = query_tree(m, mc, in, 1, mc->p->edge, 2, mc->p->ne_cloth, &ee);
+  if (!rc && (want & SW_BP_FF)) rc = query_tree(m, mc, in, 2, mc->p->face, 3, m->nf, &ff);
+  if (rc) bp->npt = bp->nee = bp->nff = 0;
+  return rc ? -1 : 0;
 }
 
 /* The vertices of broad-phase pair q of kind k (SW_MC_PT: vertex, face; SW_MC_EE: edge,
@@ -283,12 +430,17 @@ static int each_pair(const sw_model *m, sw_mcontact *mc, pair_visit visit, void 
 
 /* ------------------------------------------------------------------- candidates */
 
+/* The vertices whose places may change: the cloth's, and the obstacles' when one moves. */
+static int nmoving(const sw_model *m, const sw_mcontact *mc) {
+  return mc->p->moving ? mc->p->nvt : m->nv;
+}
+
 /* Whether every vertex of x (nvt x 3) lies within mc->slack of its box in mc->cbox: then the
  * candidates hold every pair within reach at x. */
-static int covered(const sw_mcontact *mc, const double *x) {
+static int covered(const sw_model *m, const sw_mcontact *mc, const double *x) {
   if (!mc->cand_ok) return 0;
   const double h = mc->slack;
-  for (int i = 0; i < mc->p->nvt; i++) {
+  for (int i = 0, n = nmoving(m, mc); i < n; i++) {
     const double *b = mc->cbox + 6 * (size_t)i, *p = x + 3 * (size_t)i;
     for (int a = 0; a < 3; a++)
       if (!(p[a] >= b[a] - h && p[a] <= b[3 + a] + h)) return 0;
@@ -324,22 +476,22 @@ static int find_candidates(const sw_model *m, sw_mcontact *mc, const double *x0,
   mc->ncand = 0;
   double reach = 0.5 * (max_thickness(m) + m->contact.dhat) + mc->slack;
   sw_bp_input in = bp_input(mc, x0, x1, reach);
-  if (sw_broadphase_query(&mc->bp, &in, SW_BP_PT | SW_BP_EE) ||
+  if (broad_phase(m, mc, &in, SW_BP_PT | SW_BP_EE) ||
       each_pair(m, mc, add_candidate, (void *)x0))
     return -1;
-  for (size_t i = 0; i < 3 * (size_t)mc->p->nvt; i++) {
+  for (size_t i = 0; i < 3 * (size_t)nmoving(m, mc); i++) {
     double *bi = mc->cbox + 6 * (i / 3) + i % 3;
     bi[0] = x0[i] < x1[i] ? x0[i] : x1[i], bi[3] = x0[i] < x1[i] ? x1[i] : x0[i];
   }
-  memcpy(mc->xref, x0, 3 * (size_t)mc->p->nvt * sizeof(double));
+  memcpy(mc->xref, x0, 3 * (size_t)nmoving(m, mc) * sizeof(double));
   mc->cand_ok = 1;
   return 0;
 }
 
 /* mc->umove: how far each vertex of x0 and x1 (nvt x 3 each) is from xref, at most (so on the
  * whole motion x0 -> x1 too), m. */
-static void moves(sw_mcontact *mc, const double *x0, const double *x1) {
-  for (int i = 0; i < mc->p->nvt; i++) {
+static void moves(const sw_model *m, sw_mcontact *mc, const double *x0, const double *x1) {
+  for (int i = 0, n = nmoving(m, mc); i < n; i++) { /* the others' stay 0 */
     const double *r = mc->xref + 3 * (size_t)i, *p = x0 + 3 * (size_t)i, *q = x1 + 3 * (size_t)i;
     double s = 0.0, t = 0.0;
     for (int a = 0; a < 3; a++) s += (p[a] - r[a]) * (p[a] - r[a]), t += (q[a] - r[a]) * (q[a] - r[a]);
@@ -364,7 +516,7 @@ static int stays_beyond(const sw_mcontact *mc, const sw_mc_pair *c, double reach
 /* The candidates for the motion x0 -> x1: the kept ones when they cover both ends (so every
  * position between: the boxes are convex), else new ones; -1 as find_candidates. */
 static int candidates(const sw_model *m, sw_mcontact *mc, const double *x0, const double *x1) {
-  if (covered(mc, x0) && (x1 == x0 || covered(mc, x1))) return 0;
+  if (covered(m, mc, x0) && (x1 == x0 || covered(m, mc, x1))) return 0;
   return find_candidates(m, mc, x0, x1);
 }
 
@@ -372,7 +524,7 @@ static int candidates(const sw_model *m, sw_mcontact *mc, const double *x0, cons
  * motion x0 -> x1 (nvt x 3 each), as each_pair does. */
 static int each_candidate(const sw_model *m, sw_mcontact *mc, const double *x0,
                           const double *x1, double dhat, pair_visit visit, void *arg) {
-  moves(mc, x0, x1);
+  moves(m, mc, x0, x1);
   for (int k = 0; k < mc->ncand; k++) {
     const sw_mc_pair *c = &mc->cand[k];
     if (stays_beyond(mc, c, pair_xi(m, mc->p, c->v) + dhat)) continue;
@@ -471,6 +623,29 @@ static int eval_pair(const sw_model *m, sw_mcontact *mc, int kind, const int *v,
   return SW_OK;
 }
 
+/* The lagged friction of the step (models/mesh_friction.c) at x (nvt x 3): energy into *e,
+ * gradient into ev->grad, and each pair's block appended to the active list as a pair with
+ * an infinite gap (so that Newton's settle test ignores it). */
+static int eval_friction(const sw_model *m, sw_mcontact *mc, const sw_eval *ev, const double *x,
+                         double *e) {
+  int nf = sw_mfriction_count(mc->fr);
+  for (int k = 0; k < nf; k++) {
+    const int *v = sw_mfriction_vertices(mc->fr, k);
+    double g[12], *H = NULL;
+    if (ev->hess && reserve_pair(mc)) return SW_FATAL;
+    if (ev->hess) H = mc->block + (size_t)mc->npair * 144;
+    *e += sw_mfriction_pair(mc->fr, m->contact.eps_v, k, x, g, H);
+    for (int j = 0; ev->grad && j < 12; j++)
+      if (v[j / 3] < m->nv) ev->grad[3 * v[j / 3] + j % 3] += g[j];
+    if (!ev->hess) continue;
+    sw_mc_pair *pr = &mc->pair[mc->npair++];
+    pr->kind = SW_MC_PT;
+    memcpy(pr->v, v, sizeof pr->v);
+    pr->gap = INFINITY;
+  }
+  return SW_OK;
+}
+
 static int mc_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, double *energy) {
   (void)t;
   sw_mcontact *mc = ev->mc;
@@ -487,6 +662,7 @@ static int mc_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, doubl
     return SW_RECOVER;
   }
   int rc = each_candidate(m, mc, a.x, a.x, m->contact.dhat, eval_pair, &a);
+  if (!rc) rc = eval_friction(m, mc, ev, a.x, &a.e);
   *energy = a.e;
   return rc;
 }
@@ -498,6 +674,7 @@ static void mc_free(void *param) {
   sw_free(p->face);
   sw_free(p->owner);
   sw_free(p->rest);
+  for (int k = 0; k < 3; k++) sw_bvh_free(&p->tree[k]);
   sw_free(p);
 }
 
@@ -527,6 +704,23 @@ static int join_meshes(mc_param *p, const sw_model *m) {
   return 0;
 }
 
+/* The obstacles' trees over their primitives at their stated place (the edges sort by their
+ * lower vertex, so the cloth's come first); -1 when out of memory. */
+static int build_trees(mc_param *p, const sw_model *m, char *err, size_t errsz) {
+  for (p->ne_cloth = 0; p->ne_cloth < p->ne && p->edge[2 * p->ne_cloth] < m->nv;) p->ne_cloth++;
+  int n[3] = {p->nvt - m->nv, p->ne - p->ne_cloth, p->nf - m->nf};
+  for (int k = 0; k < m->nmesh_obstacle; k++)
+    p->moving |= m->mesh_obstacle[k].nkey > 0 || m->mesh_obstacle[k].nrot > 0;
+  for (int k = 0; k < 3; k++) {
+    tree_ctx c = {p, m->nv, m->nf, k, m->nv, p->rest, p->rest};
+    if (sw_bvh_build(&p->tree[k], n[k], tree_box, &c))
+      return sw_errf(err, errsz, "out of memory for the mesh obstacles' trees"), -1;
+    sw_free(p->tree[k].box); /* each workspace fits its own (fit_trees) */
+    p->tree[k].box = NULL;
+  }
+  return 0;
+}
+
 int sw_mesh_contact_build(sw_term *t, const sw_model *m, char *err, size_t errsz) {
   t->ops = &mc_ops;
   snprintf(t->name, sizeof t->name, "%s", "mesh_contact");
@@ -543,7 +737,7 @@ int sw_mesh_contact_build(sw_term *t, const sw_model *m, char *err, size_t errsz
   p->edge = tp.ev;
   tp.ev = NULL;
   sw_topology_free(&tp);
-  return 0;
+  return build_trees(p, m, err, errsz);
 }
 
 /* ------------------------------------------------------------ the solvers' side */
@@ -664,7 +858,7 @@ int sw_mcontact_swept(const sw_model *m, sw_data *d, const double *y, double t1)
   swept_arg a = {.x0 = positions(m, mc, d->x, d->t, mc->xa), .x1 = positions(m, mc, y, t1, mc->xb)};
   for (int k = 0; k < m->nmesh_obstacle; k++) a.stray = fmax(a.stray, mesh_stray(m, mc->p, k, d->t, t1));
   sw_bp_input in = bp_input(mc, a.x0, a.x1, 0.5 * (max_thickness(m) + a.stray));
-  int rc = sw_broadphase_query(&mc->bp, &in, SW_BP_PT | SW_BP_EE);
+  int rc = broad_phase(m, mc, &in, SW_BP_PT | SW_BP_EE);
   d->time_broadphase += sw_now() - start;
   if (rc) {
     sw_errf(d->err, sizeof d->err, "the broad phase failed at t = %g s", d->t);
@@ -734,7 +928,7 @@ static int carry(const sw_model *m, sw_data *d, double t1) {
     a.reach = o->offset + m->contact.dhat + mesh_motion(m, mc->p, k, d->t, t1); /* m */
     memset(a.done, 0, (size_t)m->nv);
     sw_bp_input in = bp_input(mc, x, x, 0.5 * a.reach);
-    if (sw_broadphase_query(&mc->bp, &in, SW_BP_PT | SW_BP_EE)) return -1;
+    if (broad_phase(m, mc, &in, SW_BP_PT | SW_BP_EE)) return -1;
     each_pair(m, mc, carry_pair, &a);
   }
   return 0;
@@ -831,7 +1025,7 @@ long sw_mcontact_obstacle_intersections(const sw_model *m, sw_mcontact *mc, cons
                                         double t, int *first) {
   const double *q = positions(m, mc, x, t, mc->xa);
   sw_bp_input in = bp_input(mc, q, q, 0.0);
-  if (sw_broadphase_query(&mc->bp, &in, SW_BP_FF)) return -1;
+  if (broad_phase(m, mc, &in, SW_BP_FF)) return -1;
   long count = 0;
   for (int k = 0; k < mc->bp.nff; k++) {
     const int *f = mc->p->face + 3 * mc->bp.ff[2 * k], *g = mc->p->face + 3 * mc->bp.ff[2 * k + 1];
@@ -871,7 +1065,7 @@ int sw_mcontact_check_start(const sw_model *m, const double *x, int obstacles, c
   start_arg a = {.x = positions(m, mc, x, 0.0, mc->xa), .obstacles = obstacles, .err = err,
                  .errsz = errsz};
   sw_bp_input in = bp_input(mc, a.x, a.x, 0.5 * max_thickness(m));
-  if (!rc && sw_broadphase_query(&mc->bp, &in, SW_BP_PT | SW_BP_EE)) {
+  if (!rc && broad_phase(m, mc, &in, SW_BP_PT | SW_BP_EE)) {
     sw_errf(err, errsz, "the positions are not finite, or out of memory");
     rc = 1;
   }
@@ -902,6 +1096,8 @@ static int state_pair(const sw_model *m, sw_mcontact *mc, int kind, const int *v
   return 0;
 }
 
+static void state_friction(const sw_model *m, sw_data *d, const double *x);
+
 void sw_mcontact_state(const sw_model *m, sw_data *d) {
   sw_mcontact *mc = d->mc;
   if (!mc) return;
@@ -912,10 +1108,13 @@ void sw_mcontact_state(const sw_model *m, sw_data *d) {
     d->contact_count = 0;
     d->contact_min = INFINITY;
     memset(d->contact_force, 0, sizeof d->contact_force);
+    memset(d->friction_force, 0, sizeof d->friction_force);
+    d->friction_power = 0.0;
   }
   memset(mc->vforce, 0, (size_t)m->nv * sizeof(double));
   const double *x = positions(m, mc, d->x, d->t, mc->xa);
   if (x != mc->xa) memcpy(mc->xa, x, (size_t)m->nv * 3 * sizeof(double));
+  if (mc->fr) state_friction(m, d, mc->xa);
   if (candidates(m, mc, mc->xa, mc->xa)) return;
   memset(mc->f, 0, (size_t)m->nv * 6 * sizeof(double));
   each_candidate(m, mc, mc->xa, mc->xa, m->contact.dhat, state_pair, d);
@@ -933,3 +1132,53 @@ void sw_mcontact_state(const sw_model *m, sw_data *d) {
 }
 
 const double *sw_mcontact_vertex_force(const sw_mcontact *mc) { return mc ? mc->vforce : NULL; }
+
+/* ------------------------------------------------------------------- friction */
+
+static int lag_pair(const sw_model *m, sw_mcontact *mc, int kind, const int *v, void *arg) {
+  double p[12], r[12], xi = pair_xi(m, mc->p, v), mo = 1.0;
+  int self = 1;
+  for (int j = 0; j < 4; j++) self &= v[j] < m->nv;
+  gather(arg, v, p);
+  if (kind == SW_MC_EE) { /* the normal force of the pair's barrier, mollified as it is */
+    gather_rest(m, mc->p, v, r);
+    double eps = sw_ee_mollifier_eps(r, r + 3, r + 6, r + 9);
+    mo = sw_ee_mollifier(p, p + 3, p + 6, p + 9, eps, NULL, NULL);
+  }
+  return sw_mfriction_lag_pair(mc->fr, kind, v, p, xi, shat_of(xi, m->contact.dhat),
+                               mo * pair_weight(m, v),
+                               self ? m->contact.self_friction : m->contact.friction);
+}
+
+int sw_mcontact_lag(const sw_model *m, sw_data *d, double h) {
+  sw_mcontact *mc = d->mc;
+  if (!mc || !mc->fr) return SW_OK;
+  const double *x = positions(m, mc, d->x, d->t, mc->xa);
+  sw_mfriction_begin(mc->fr, h, x);
+  if (candidates(m, mc, x, x)) {
+    sw_errf(d->err, sizeof d->err, "the broad phase failed at t = %g s", d->t);
+    return SW_RECOVER;
+  }
+  if (each_candidate(m, mc, x, x, m->contact.dhat, lag_pair, (void *)x)) {
+    sw_errf(d->err, sizeof d->err, "out of memory lagging the friction of mesh contact");
+    return SW_FATAL;
+  }
+  return SW_OK;
+}
+
+/* The friction of the mesh pairs at d->x (the last step's lag) added to d->friction_force and
+ * d->friction_power (W dissipated: -f.v). */
+static void state_friction(const sw_model *m, sw_data *d, const double *x) {
+  sw_mcontact *mc = d->mc;
+  int nf = sw_mfriction_count(mc->fr);
+  for (int k = 0; k < nf; k++) {
+    const int *v = sw_mfriction_vertices(mc->fr, k);
+    double g[12];
+    sw_mfriction_pair(mc->fr, m->contact.eps_v, k, x, g, NULL);
+    for (int j = 0; j < 12; j++) {
+      if (v[j / 3] >= m->nv) continue;
+      d->friction_force[j % 3] -= g[j];
+      d->friction_power += g[j] * d->v[3 * v[j / 3] + j % 3];
+    }
+  }
+}

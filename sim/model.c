@@ -504,12 +504,13 @@ void sw_model_print(const sw_model *m, void *file) {
     fprintf(fp, "contact     distance %g m, stiffness %g 1/s^2%s, friction %g\n", m->contact.dhat,
             m->contact.kappa, m->contact.kappa_auto ? " (automatic)" : "", m->contact.friction);
   if (m->contact.self)
-    fprintf(fp, "self        distance %g m, thickness %g m, stiffness %g 1/(s^2 m^2)%s\n",
-            m->contact.dhat, m->contact.thickness, m->contact.kappa_mesh,
-            m->contact.kappa_mesh_auto ? " (automatic)" : "");
+    fprintf(fp, "self        distance %g m, thickness %g m, stiffness %g 1/(s^2 m^2)%s, "
+            "friction %g\n", m->contact.dhat, m->contact.thickness, m->contact.kappa_mesh,
+            m->contact.kappa_mesh_auto ? " (automatic)" : "", m->contact.self_friction);
   else if (m->nmesh_obstacle) /* the mesh obstacles' pairs use the same kappa_mesh */
-    fprintf(fp, "mesh        distance %g m, stiffness %g 1/(s^2 m^2)%s\n", m->contact.dhat,
-            m->contact.kappa_mesh, m->contact.kappa_mesh_auto ? " (automatic)" : "");
+    fprintf(fp, "mesh        distance %g m, stiffness %g 1/(s^2 m^2)%s, friction %g\n",
+            m->contact.dhat, m->contact.kappa_mesh,
+            m->contact.kappa_mesh_auto ? " (automatic)" : "", m->contact.friction);
   for (int k = 0; k < m->nseam; k++) {
     const sw_seam *sm = &m->seam[k];
     fprintf(fp, "seam %-7s %s %d vertices (%.4g m) to %s %d vertices (%.4g m), %d pairs\n",

@@ -112,7 +112,7 @@ static int record(sw_sim *s, int force, char *err, size_t errsz) {
   if (m->nobstacle > 0) sw_contact_state(m, d);
   if (d->mc) sw_mcontact_state(m, d);
   sw_contact_pressure(m, d);
-  int rc = sw_damped(m) || m->contact.friction > 0.0 || m->fit.on ? damping_power(s) : SW_OK;
+  int rc = sw_damped(m) || sw_contact_friction_on(m) || m->fit.on ? damping_power(s) : SW_OK;
   if (sw_actuated(m)) actuation_power(s);
   if (!rc) rc = diagnose(s, &u);
   if (rc) /* e.g. a step accepted a state whose energy is not finite */

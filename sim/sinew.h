@@ -174,7 +174,10 @@ typedef struct sw_contact {
                                   the contact force (N); 0 in the scene: automatic,
                                   sw_model_finish sets |g| / |b'(dhat/2)| */
   int kappa_auto;              /* 1: kappa was chosen automatically */
-  double friction;             /* Coulomb coefficient mu (0: frictionless) */
+  double friction;             /* Coulomb coefficient mu (0: frictionless) of the cloth on
+                                  every obstacle, analytic or mesh */
+  double self_friction;        /* Coulomb coefficient of the cloth on itself (self-contact;
+                                  the scene's default: friction) */
   double eps_v;                /* m/s: friction's stick-slip velocity (below it, friction is
                                   a stiff viscous force: the smoothing of IPC's f0) */
   int self;                    /* 1: the cloth's triangles repel each other (self-contact) */

@@ -67,7 +67,8 @@ int sw_ipstep_solve(sw_ipstep *s, const sw_model *m, sw_data *d, const sw_newton
   double t1 = sw_now();
   d->time_contact += t1 - t0;
   if (!rc && d->mc) {
-    rc = sw_mcontact_begin(m, d, o->t, s->xnew);
+    rc = sw_mcontact_lag(m, d, o->h); /* friction of the mesh pairs, lagged at d->x */
+    if (!rc) rc = sw_mcontact_begin(m, d, o->t, s->xnew);
     d->time_ccd += sw_now() - t1;
   }
   if (rc) return rc;

@@ -442,6 +442,44 @@ static void test_alloc_failures(void **state) {
   fail_msg("never succeeded");
 }
 
+/* disc: on an 11 x 11 grid of 1 m (spacing 0.1 m, plane xy) the vertices within r of the centre
+ * (0.5, 0.5) are the lattice points (i, j) with i^2 + j^2 <= (r / 0.1)^2: 21 for r = 0.25 (Gauss's
+ * circle count N(2.5)), 9 for r = 0.15; a centre off the plane by h selects the disc of radius
+ * sqrt(r^2 - h^2) (a ball cut by the plane): h = 0.3, r = 0.5 leaves radius 0.4, N(4) = 49 less the
+ * four points (+-4, 0), (0, +-4) exactly on the boundary kept, so 49. In 2D two numbers. */
+static void test_disc(void **state) {
+  (void)state;
+  static const struct {
+    const char *dim, *ctr;
+    double r;
+    int n;
+  } cases[] = {
+      {"3", "[0.5, 0.5, 0]", 0.25, 21},
+      {"3", "[0.5, 0.5, 0]", 0.15, 9},
+      {"3", "[0.5, 0.5, 0.3]", 0.5, 49},
+      {"2", "[0.5, 0.5]", 0.25, 21},
+      {"3", "[0, 0, 0]", 0.05, 1},
+  };
+  char err[SW_ERRSZ], text[512];
+  for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+    snprintf(text, sizeof text,
+             "dimension: %s\nmesh: {grid: {size: [1, 1], vertices: [11, 11]}}\n"
+             "material: {density: 0.1}\npins: [{select: {disc: {center: %s, radius: %.17g}}}]\n",
+             cases[k].dim, cases[k].ctr, cases[k].r);
+    sw_model *m = load_text("disc.yaml", text, err);
+    if (!m) fail_msg("%s", err);
+    int n = 0;
+    for (int i = 0; i < m->nv; i++) {
+      double dx = m->x0[i * m->dim] - 0.5, dy = m->x0[i * m->dim + 1] - 0.5;
+      if (m->pinned[i] && k < 4) assert_true(dx * dx + dy * dy <= cases[k].r * cases[k].r);
+      n += m->pinned[i];
+    }
+    assert_int_equal(n, cases[k].n);
+    if (k == 4) assert_true(m->pinned[0]);
+    sw_model_free(m);
+  }
+}
+
 /* ------------------------------------------------------------------ bad scenes */
 
 typedef struct bad_case {
@@ -483,6 +521,18 @@ static const bad_case bad[] = {
      "min <= max"},
     {"select_both.yaml", GRID MAT "pins: [{select: {vertices: [0], box: [[0,0,0],[1,1,1]]}}]\n",
      3, 17, "exactly one"},
+    {"disc_radius.yaml", GRID MAT "pins: [{select: {disc: {center: [0, 0, 0], radius: 0}}}]\n",
+     3, 52, "> 0"},
+    {"disc_center.yaml", GRID MAT "pins: [{select: {disc: {center: [0, 0], radius: 1}}}]\n", 3,
+     33, "components"},
+    {"disc_no_radius.yaml", GRID MAT "pins: [{select: {disc: {center: [0, 0, 0]}}}]\n", 3, 24,
+     "radius"},
+    {"disc_key.yaml", GRID MAT "pins: [{select: {disc: {center: [0, 0, 0], r: 1}}}]\n", 3, 44,
+     "unknown key 'r'"},
+    {"disc_empty.yaml", GRID MAT "pins: [{select: {disc: {center: [5, 5, 5], radius: 1}}}]\n",
+     3, 17, "selects no vertex"},
+    {"disc_box.yaml", GRID MAT "pins: [{select: {box: [[0,0,0],[1,1,1]], disc: {center: [0, 0, 0],"
+     " radius: 1}}}]\n", 3, 17, "exactly one"},
     {"no_mesh.yaml", "name: x\n" MAT, 1, 1, "'mesh'"},
     {"no_material.yaml", GRID "duration: 1\n", 1, 1, "'material'"},
     {"both.yaml", "mesh: {grid: {size: [1, 1], vertices: [3, 3]}, obj: a.obj}\n" MAT, 1, 7,
@@ -826,7 +876,7 @@ int main(int argc, char **argv) {
       cmocka_unit_test(test_regress),      cmocka_unit_test(test_alloc_failures),
       cmocka_unit_test(test_panels),       cmocka_unit_test(test_tendons),
       cmocka_unit_test(test_skirt),        cmocka_unit_test(test_stiffness_scale),
-      cmocka_unit_test(test_grid_override),
+      cmocka_unit_test(test_grid_override), cmocka_unit_test(test_disc),
   };
   int rc = cmocka_run_group_tests(tests, NULL, NULL);
   cleanup();

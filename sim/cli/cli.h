@@ -14,5 +14,6 @@ int cli_known_method(const char *name);
 int cli_render(int argc, char **argv);
 /* `sinew pattern ARGS` (render.c): runs Python's sinew.pattern (DXF pattern import) likewise. */
 int cli_pattern(int argc, char **argv);
+int cli_drape(int argc, char **argv);
 
 #endif

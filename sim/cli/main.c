@@ -19,6 +19,7 @@ static void usage(FILE *fp) {
           "       sinew bench SCENE [options]      (sinew bench --help)\n"
           "       sinew render RUN_DIR [options]   (sinew render --help)\n"
           "       sinew pattern import FILE.dxf [options]  (sinew pattern import --help)\n"
+          "       sinew drape RUN_DIR [options]    (sinew drape --help)\n"
           "       sinew --help | --version\n"
           "\n"
           "  run     simulate SCENE (YAML) headless and write its logs and frames to the output\n"
@@ -33,6 +34,7 @@ static void usage(FILE *fp) {
           "          pattern and the 3D shape, tendons with their tension, and an animation\n"
           "  pattern import  pattern pieces of an AAMA/ASTM D6673 DXF file meshed into an OBJ\n"
           "          (a group per piece, (u,v) in metres along the grain line) and a scene skeleton\n"
+          "  drape   the drape coefficient and node count of a Cusick drape test run folder\n"
           "\n"
           "  methods:");
   for (const char *const *n = sw_method_names(); *n; n++) fprintf(fp, " %s", *n);
@@ -540,6 +542,7 @@ int main(int argc, char **argv) {
     return wants_help(argc, argv) ? usage_inverse(stdout), 0 : cmd_inverse(argc, argv);
   if (!strcmp(cmd, "render")) return cli_render(argc, argv);
   if (!strcmp(cmd, "pattern")) return cli_pattern(argc, argv);
+  if (!strcmp(cmd, "drape")) return cli_drape(argc, argv);
   if (!strcmp(cmd, "bench")) return sw_bench_main(argc, argv);
   fprintf(stderr, "sinew: unknown command '%s' (see sinew --help)\n", cmd);
   return 2;

@@ -1,6 +1,7 @@
 /* render.c — the subcommands written in Python: `sinew render RUN_DIR ...` (the pictures of a
- * run folder, python/sinew/render.py, matplotlib) and `sinew pattern ...` (pattern import from
- * DXF, python/sinew/pattern/, ezdxf and gmsh).  Each runs as `PYTHON -m sinew.MODULE ARGS`
+ * run folder, python/sinew/render.py, matplotlib), `sinew pattern ...` (pattern import from
+ * DXF, python/sinew/pattern/, ezdxf and gmsh) and `sinew drape RUN_DIR` (the drape coefficient
+ * and nodes of a Cusick drape test run, python/sinew/drape.py, numpy).  Each runs as `PYTHON -m sinew.MODULE ARGS`
  * with the package's folders (the source tree's python/, then where meson install puts it)
  * before any PYTHONPATH already set.  SW_PYTHON and SW_PYTHONPATH are set by meson.build. */
 #include <errno.h>
@@ -34,3 +35,5 @@ static int run_module(const char *cmd, const char *module, int argc, char **argv
 int cli_render(int argc, char **argv) { return run_module("render", "sinew.render", argc, argv); }
 
 int cli_pattern(int argc, char **argv) { return run_module("pattern", "sinew.pattern", argc, argv); }
+
+int cli_drape(int argc, char **argv) { return run_module("drape", "sinew.drape", argc, argv); }

@@ -10,7 +10,7 @@
  *   interpolation: smooth | linear} (a rotation about the axis through center, then a
  *   translation, m, from the stated place);
  *   contact: {distance: m, stiffness: 1/s^2, friction: mu, stick_velocity: m/s, self: bool,
- *             thickness: m, self_stiffness: 1/(s^2 m^2)}. */
+ *             thickness: m, self_stiffness: 1/(s^2 m^2), self_friction: mu}. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -292,8 +292,8 @@ int sc_load_obstacles(const ctx *c, const ynode *y) {
 
 static const char *const contact_keys[] = {"distance", "stiffness", "friction",
                                            "stick_velocity", "self", "thickness",
-                                           "self_stiffness"};
-enum { C_DIST, C_STIFF, C_FRIC, C_STICK, C_SELF, C_THICK, C_SSTIFF, C_N };
+                                           "self_stiffness", "self_friction"};
+enum { C_DIST, C_STIFF, C_FRIC, C_STICK, C_SELF, C_THICK, C_SSTIFF, C_SFRIC, C_N };
 
 int sc_load_contact(const ctx *c, const ynode *y, int has_obstacles) {
   sw_contact *ct = &c->m->contact;
@@ -310,12 +310,12 @@ int sc_load_contact(const ctx *c, const ynode *y, int has_obstacles) {
   if (ct->self && c->m->dim != 3)
     return sy_fail(c, v[C_SELF], "contact self is true in a 2D scene; expected it only in a "
                    "3D scene (a 2D cloth lies in its plane and cannot fold onto itself)");
-  const ynode *s3[] = {v[C_THICK], v[C_SSTIFF]};
-  for (int k = 0; k < 2; k++)
+  const ynode *s3[] = {v[C_THICK], v[C_SSTIFF], v[C_SFRIC]};
+  static const char *const s3name[] = {"thickness", "self_stiffness", "self_friction"};
+  for (int k = 0; k < 3; k++)
     if (s3[k] && !ct->self && !(k == 1 && c->m->nmesh_obstacle > 0)) /* kappa_mesh: both */
       return sy_fail(c, s3[k], "contact %s is given without self: true; expected it only with "
-                     "self-contact%s", k ? "self_stiffness" : "thickness",
-                     k ? " or a mesh obstacle" : "");
+                     "self-contact%s", s3name[k], k == 1 ? " or a mesh obstacle" : "");
   if ((v[C_DIST] && sy_num(c, v[C_DIST], "contact distance", 0, 1, "m", &ct->dhat)) ||
       (v[C_STIFF] && sy_num(c, v[C_STIFF], "contact stiffness", 0, 1, "1/s^2", &ct->kappa)) ||
       (v[C_FRIC] && sy_num(c, v[C_FRIC], "contact friction", 0, 0, "", &ct->friction)) ||
@@ -323,6 +323,9 @@ int sc_load_contact(const ctx *c, const ynode *y, int has_obstacles) {
       (v[C_THICK] && sy_num(c, v[C_THICK], "contact thickness", 0, 0, "m", &ct->thickness)) ||
       (v[C_SSTIFF] &&
        sy_num(c, v[C_SSTIFF], "contact self_stiffness", 0, 1, "1/(s^2 m^2)", &ct->kappa_mesh)))
+    return -1;
+  ct->self_friction = ct->friction;
+  if (v[C_SFRIC] && sy_num(c, v[C_SFRIC], "contact self_friction", 0, 0, "", &ct->self_friction))
     return -1;
   return 0;
 }

@@ -64,7 +64,7 @@ const char *sy_join(const char *const *names, int n, char *buf, size_t sz);
 int sy_scalar_number(const ynode *y, double *v);
 
 /* Selections (scene_select.c): mark in c->sel the vertices y picks ({vertices: [...]},
- * {box: ...} or {grid: [[i, j], ...]}). */
+ * {box: ...}, {grid: [[i, j], ...]} or {disc: {center, radius}}). */
 int sy_select(const ctx *c, const ynode *y, const char *what);
 /* Note y as a selection by vertex index (the first one is kept for the --grid warning). */
 void sy_note_index(const ctx *c, const ynode *y);

@@ -180,7 +180,7 @@ static int tension_write(void *self, sw_output *out, const sw_model *m, const sw
 
 /* Whether energy.csv logs dissipation: damping, or contact friction. */
 static int dissipates(const sw_model *m) {
-  return sw_damped(m) || m->fit.on || (m->nobstacle > 0 && m->contact.friction > 0.0);
+  return sw_damped(m) || m->fit.on || sw_contact_friction_on(m);
 }
 
 static void energy_header(csv_log *o, const sw_model *m) {
