@@ -5,7 +5,8 @@
  * x3 the far vertex across) bends by theta_a - theta_rest_a, and T's energy is
  *   E_T = (1/2) sum_ab W_ab dth_a dth_b,   dth = wrap(theta - theta_rest)           (J)
  * with W (J/rad^2) from models/bending.c: the plate energy (k_b A/2)|II_T|^2 of T's constant
- * curvature II_T = sum_a c_a dth_a n_a n_a^T.  With face A = T every hinge of T measures its
+ * curvature II_T = sum_a c_a dth_a n_a n_a^T, or (A/2) II_T : D : II_T of an orthotropic plate
+ * (warp, weft and bias rigidities; W stays constant, so the derivatives below are unchanged).  With face A = T every hinge of T measures its
  * angle against T's own normal, so the three angles have one sign convention.
  *
  * theta is the signed angle between the face normals NA = e x (x2 - x0), NB = (x3 - x0) x e,

@@ -9,7 +9,8 @@
  * from its own face's (u,v) layout (so K is defined across a seam).  For a hinge bent
  * isometrically by theta, v_a = -|e| (m_A + m_B) (m_F the unit in-face normals of the edge),
  * of length 2 |e| sin(theta/2) ~ |e| theta, pointing along the surface normal: so v_a / |e_a|
- * stands for theta_a in the triangle energy of models/bending.c,
+ * stands for theta_a in the triangle energy of models/bending.c (isotropic or orthotropic:
+ * only W depends on the rigidities),
  *   E_T = (1/2) sum_ab W_ab (v_a . v_b) / (|e_a| |e_b|)                         (J)
  * (|e| the rest edge length).  Quadratic in x: the gradient is Q x and the Hessian the
  * constant Q (x) I with Q = sum_ab W_ab K_a K_b^T / (|e_a| |e_b|) on the stencil, positive
