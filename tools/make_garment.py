@@ -66,10 +66,17 @@ def corners(base, nx, ny):
             "bottom_right": base + ny * (nx + 1) + nx}
 
 
-def pieces_obj(path, title, pieces, nx, ny, seams):
-    """Write pieces [(name, uv list)] laid side by side in z = 0 with a 5 cm gap."""
+def grid(name, uv, nx, ny):
+    """A grid piece (the output of grid_piece) as (name, uv, quads, corners), local indices."""
+    return name, uv, quads(0, nx, ny), corners(0, nx, ny)
+
+
+def pieces_obj(path, title, pieces, seams):
+    """Write pieces [(name, uv list, quads, named corners)] (indices local to the piece) laid
+    side by side in z = 0 with a 5 cm gap; print the `seams:` list of seams
+    [(name, (panel, from corner, to corner), (panel, from corner, to corner))]."""
     pos, uvs, groups, info, x0 = [], [], [], [], 0.0
-    for name, uv in pieces:
+    for name, uv, qs, cs in pieces:
         base = len(pos)
         umin = min(u for u, _ in uv)
         umax = max(u for u, _ in uv)
@@ -77,8 +84,8 @@ def pieces_obj(path, title, pieces, nx, ny, seams):
             pos.append((x0 + u - umin, v, 0.0))
             uvs.append((u, v))
         x0 += umax - umin + 0.05
-        groups.append((name, quads(base, nx, ny)))
-        info.append((name, corners(base, nx, ny)))
+        groups.append((name, [tuple(base + k for k in q) for q in qs]))
+        info.append((name, {key: base + k for key, k in cs.items()}))
     with open(path, "w") as f:
         f.write("# %s\n" % title)
         for name, c in info:
@@ -94,10 +101,14 @@ def pieces_obj(path, title, pieces, nx, ny, seams):
                 f.write("f " + " ".join("%d/%d" % (k + 1, k + 1) for k in q) + "\n")
     c = dict(info)
     print("seams:")
-    for name, (pa, ea), (pb, eb) in seams:
+    for name, (pa, fa, ta), (pb, fb, tb) in seams:
         print("  - {name: %s, a: {panel: %s, from: %d, to: %d}, b: {panel: %s, from: %d, to: %d}}"
-              % (name, pa, c[pa]["top_" + ea], c[pa]["bottom_" + ea], pb, c[pb]["top_" + eb],
-                 c[pb]["bottom_" + eb]))
+              % (name, pa, c[pa][fa], c[pa][ta], pb, c[pb][fb], c[pb][tb]))
+
+
+def side_seam(name, a, ea, b, eb):
+    """A seam from the top to the bottom of edge ea ("left", "right") of piece a and eb of b."""
+    return name, (a, "top_" + ea, "bottom_" + ea), (b, "top_" + eb, "bottom_" + eb)
 
 
 def skirt(a):
@@ -109,26 +120,86 @@ def skirt(a):
         return hq + (mq - hq) * (y - a.hip_depth) / (a.length - a.hip_depth)
 
     names = ["back_left", "back_right", "front_right", "front_left"]
-    pieces = [(n, grid_piece(width, a.length, a.columns, a.rows)) for n in names]
-    seams = [("centre_back", ("back_left", "right"), ("back_right", "left")),
-             ("right_side", ("back_right", "right"), ("front_right", "left")),
-             ("centre_front", ("front_right", "right"), ("front_left", "left")),
-             ("left_side", ("front_left", "right"), ("back_left", "left"))]
+    pieces = [grid(n, grid_piece(width, a.length, a.columns, a.rows), a.columns, a.rows)
+              for n in names]
+    seams = [side_seam("centre_back", "back_left", "right", "back_right", "left"),
+             side_seam("right_side", "back_right", "right", "front_right", "left"),
+             side_seam("centre_front", "front_right", "right", "front_left", "left"),
+             side_seam("left_side", "front_left", "right", "back_left", "left")]
     title = ("four-panel skirt: tools/make_garment.py skirt --waist %g --hip %g --hem %g --ease %g "
              "--waist-ease %g --hip-depth %g --length %g --columns %d --rows %d"
              % (a.waist, a.hip, a.hem, a.ease, a.waist_ease, a.hip_depth, a.length, a.columns,
                 a.rows))
-    pieces_obj(a.output, title, pieces, a.columns, a.rows, seams)
+    pieces_obj(a.output, title, pieces, seams)
 
 
 def tube(a):
-    pieces = [(n, grid_piece(lambda y: a.width, a.height, a.columns, a.rows))
-              for n in ("front", "back")]
-    seams = [("left", ("front", "right"), ("back", "left")),
-             ("right", ("back", "right"), ("front", "left"))]
+    pieces = [grid(n, grid_piece(lambda y: a.width, a.height, a.columns, a.rows), a.columns,
+                   a.rows) for n in ("front", "back")]
+    seams = [side_seam("left", "front", "right", "back", "left"),
+             side_seam("right", "back", "right", "front", "left")]
     title = ("two pieces of a tube: tools/make_garment.py tube --width %g --height %g "
              "--columns %d --rows %d" % (a.width, a.height, a.columns, a.rows))
-    pieces_obj(a.output, title, pieces, a.columns, a.rows, seams)
+    pieces_obj(a.output, title, pieces, seams)
+
+
+def tank_piece(name, a):
+    """One piece of the tank top as (name, uv, quads, corners): a body of columns x rows quads
+    from the armpit line (v = -strap_length) down to the hem, and two straps of strap_columns x
+    strap_rows quads from the armpit line up to the shoulder seam (v = 0).  A strap's bottom is
+    the body's outer strap_columns columns; its neckline edge runs straight up to the shoulder,
+    its armhole edge curves in (a parabola, steepest at the armpit) to the strap's outer edge."""
+    nx, ns, nyb, nys = a.columns, a.strap_columns, a.rows, a.strap_rows
+    half = a.bust * (1 + a.ease) / 4          # half the piece's width, m
+    inner0 = half - ns * 2 * half / nx        # the neckline's half width at the armpit line
+    inner1, outer1 = a.strap_at - a.strap_width / 2, a.strap_at + a.strap_width / 2
+    slot, uv = {}, []
+    for j in range(nys + nyb + 1):
+        if j < nys:                           # strap rows: t = 0 at the armpit, 1 at the top
+            t = 1 - j / nys
+            inner = inner0 + (inner1 - inner0) * t
+            outer = outer1 + (half - outer1) * (1 - t) ** 2
+            cols = [(i, -(outer + (inner - outer) * i / ns)) for i in range(ns + 1)]
+            cols += [(nx - ns + k, inner + (outer - inner) * k / ns) for k in range(ns + 1)]
+            v = -a.strap_length * j / nys
+        else:
+            cols = [(i, -half + 2 * half * i / nx) for i in range(nx + 1)]
+            v = -a.strap_length - a.length * (j - nys) / nyb
+        for i, u in cols:
+            slot[i, j] = len(uv)
+            uv.append((u, v))
+    qs = []
+    for j in range(nys + nyb):
+        for i in range(nx):
+            if j < nys and ns <= i < nx - ns:
+                continue                      # the neckline between the straps
+            qs.append((slot[i, j + 1], slot[i + 1, j + 1], slot[i + 1, j], slot[i, j]))
+    ny = nys + nyb
+    cs = {"shoulder_left_out": slot[0, 0], "shoulder_left_in": slot[ns, 0],
+          "shoulder_right_in": slot[nx - ns, 0], "shoulder_right_out": slot[nx, 0],
+          "armpit_left": slot[0, nys], "armpit_right": slot[nx, nys],
+          "hem_left": slot[0, ny], "hem_right": slot[nx, ny]}
+    return name, uv, qs, cs
+
+
+def tank(a):
+    pieces = [tank_piece(n, a) for n in ("front", "back")]
+    # the front wrapped facing -y and the back facing +y, u anticlockwise seen from above:
+    # the front's left (u < 0) and the back's right are on the body's right (-x)
+    seams = [("right_shoulder", ("front", "shoulder_left_out", "shoulder_left_in"),
+              ("back", "shoulder_right_out", "shoulder_right_in")),
+             ("left_shoulder", ("front", "shoulder_right_out", "shoulder_right_in"),
+              ("back", "shoulder_left_out", "shoulder_left_in")),
+             ("right_side", ("front", "armpit_left", "hem_left"),
+              ("back", "armpit_right", "hem_right")),
+             ("left_side", ("front", "armpit_right", "hem_right"),
+              ("back", "armpit_left", "hem_left"))]
+    title = ("tank top: tools/make_garment.py tank --bust %g --ease %g --length %g "
+             "--strap-length %g --strap-width %g --strap-at %g --columns %d --rows %d "
+             "--strap-columns %d --strap-rows %d"
+             % (a.bust, a.ease, a.length, a.strap_length, a.strap_width, a.strap_at, a.columns,
+                a.rows, a.strap_columns, a.strap_rows))
+    pieces_obj(a.output, title, pieces, seams)
 
 
 def smoothstep_profile(zs, rs, z):
@@ -214,6 +285,20 @@ def main():
     t.add_argument("--columns", type=int, default=6)
     t.add_argument("--rows", type=int, default=4)
     t.add_argument("-o", "--output", default="tests/data/tube_pieces.obj")
+    k = sub.add_parser("tank", help="front and back of a tank top")
+    k.add_argument("--bust", type=float, default=0.88, help="body bust girth, m")
+    k.add_argument("--ease", type=float, default=-0.07, help="relative ease at the bust")
+    k.add_argument("--length", type=float, default=0.275, help="armpit line to hem, m")
+    k.add_argument("--strap-length", type=float, default=0.185,
+                   help="armpit line to shoulder seam, m")
+    k.add_argument("--strap-width", type=float, default=0.05, help="at the shoulder seam, m")
+    k.add_argument("--strap-at", type=float, default=0.11,
+                   help="strap centre from the piece's centre line at the shoulder seam, m")
+    k.add_argument("--columns", type=int, default=16, help="across the body")
+    k.add_argument("--rows", type=int, default=10, help="armpit line to hem")
+    k.add_argument("--strap-columns", type=int, default=5, help="across a strap")
+    k.add_argument("--strap-rows", type=int, default=8, help="armpit line to shoulder seam")
+    k.add_argument("-o", "--output", default="scenes/meshes/garment_tank.obj")
     b = sub.add_parser("body", help="a closed body of revolution")
     b.add_argument("--height", type=float, default=1.70, help="m")
     b.add_argument("--bust", type=float, default=0.90, help="girth, m")
@@ -237,6 +322,15 @@ def main():
         if a.columns < 1 or a.rows < 1 or not 0 < a.hip_depth < a.length:
             ap.error("need columns, rows >= 1 and 0 < hip-depth < length")
         skirt(a)
+    elif a.what == "tank":
+        half = a.bust * (1 + a.ease) / 4
+        if (a.columns < 1 or a.rows < 1 or a.strap_rows < 1 or a.strap_columns < 1
+                or 2 * a.strap_columns >= a.columns or a.length <= 0 or a.strap_length <= 0):
+            ap.error("need columns > 2 strap-columns >= 2, rows, strap-rows >= 1 and positive "
+                     "lengths")
+        if not 0 < a.strap_at - a.strap_width / 2 < a.strap_at + a.strap_width / 2 < half:
+            ap.error("the straps must lie between the neckline and the piece's side edge")
+        tank(a)
     elif a.what == "tube":
         if a.columns < 1 or a.rows < 1 or a.width <= 0 or a.height <= 0:
             ap.error("need columns, rows >= 1 and a positive width and height")
