@@ -3,7 +3,9 @@
 # naming an unknown panel, a vertex not on its panel's boundary, two seams claiming one boundary
 # segment, curves whose lengths differ past the ease limit, an arrangement inside or across
 # the body: each a file:line:column error naming the seam or the piece, exit 1, nothing
-# written.  And the run folder of a sewn tube: seams.csv, seams.json, seam_gap_max.
+# written.  The run folder of a sewn tube: seams.csv, seams.json, seam_gap_max.  And the
+# shipped garments (skirt, tank top) load with nothing crossing and every seam paired, their
+# OBJ is what the command on its first line writes, and their seams are the ones it prints.
 set -u
 sinew=$1
 tmp=$(mktemp -d)
@@ -52,6 +54,23 @@ s = json.load(open(sys.argv[1]))['seams']
 assert [x['name'] for x in s] == ['left', 'right'] and s[0]['panels'] == ['front', 'back']
 assert s[0]['curves'][0] == list(range(6, 35, 7)) and len(s[0]['pairs']) == 10
 " "$tmp/run/seams.json" || fail "seams.json"
+
+# the shipped garments: `sinew check` (no fit, no run) and the generator's output
+for g in skirt tank; do
+  scene=scenes/garment_$g.yaml obj=scenes/meshes/garment_$g.obj
+  "$sinew" check "$scene" >"$tmp/check_$g" 2>&1 || fail "check $g: $(cat "$tmp/check_$g")"
+  grep -q '^crossings   0 face pairs intersect at the start$' "$tmp/check_$g" ||
+    fail "$g: crossings at the start"
+  [ "$(grep -c '^seam ' "$tmp/check_$g")" -eq 4 ] || fail "$g: not 4 seams"
+  cmd=$(head -1 "$obj" | sed 's/^# [^:]*: //')
+  # shellcheck disable=SC2086
+  /usr/bin/python3 $cmd -o "$tmp/$g.obj" >"$tmp/seams_$g" || fail "$g: $cmd"
+  cmp -s "$obj" "$tmp/$g.obj" || fail "$g: $obj is not what '$cmd' writes"
+  grep '^  - {name:' "$tmp/seams_$g" | while IFS= read -r line; do
+    grep -qxF "$line" "$scene" || echo "$line"
+  done >"$tmp/missing_$g"
+  [ -s "$tmp/missing_$g" ] && fail "$g: seams the generator prints, not in $scene: $(cat "$tmp/missing_$g")"
+done
 
 [ $fails -eq 0 ] && echo "cli_garment: all passed"
 exit $((fails > 0))

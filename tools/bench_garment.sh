@@ -1,12 +1,14 @@
 #!/usr/bin/env bash
-# tools/bench_garment.sh [SINEW] — the shipped skirt (scenes/garment_skirt.yaml: four flat
-# panels, 756 cloth vertices, the 962-vertex mannequin, self-contact) from its
-# arrangement to rest and on through its dynamics, REPS times (default 1): wall and CPU time of
+# tools/bench_garment.sh [SINEW] — the shipped garments (scenes/garment_skirt.yaml: four flat
+# panels, 756 cloth vertices; scenes/garment_tank.yaml: front and back, 566 vertices; each on
+# the 962-vertex mannequin, self-contact on) from their
+# arrangement to rest and on through their dynamics, REPS times (default 1): wall and CPU time of
 # the whole run, wall time of the fit stage, steps and Newton iterations of each, the cost per step and per
 # Newton iteration, and the share of the step time of each term's evaluations, of self-contact's
 # continuous collision detection, of the factorisations and of the solves; then the fit check
 # (tools/garment_check.py: seam_gap_max < 1 mm, no intersection, tension XY higher on the hip
-# line than at the hem).  Writes docs/bench/garment/skirt.csv and prints it as a table.
+# line, or the tank's bust line, than at the hem).  Writes docs/bench/garment/skirt.csv and
+# tank.csv and prints each as a table.  GARMENTS="skirt" runs one of them.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bin=${1:-build/sinew}
@@ -15,14 +17,18 @@ out=${OUT:-docs/bench/garment}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 mkdir -p "$out"
-csv=$out/skirt.csv
 status=0
-for r in $(seq "$reps"); do
-  d=$work/skirt$r
-  /usr/bin/time -f %U -o "$d.cpu" "$bin" run scenes/garment_skirt.yaml --out "$d" --quiet \
-    --threads 1 >/dev/null 2>&1 || status=1
-  /usr/bin/python3 tools/garment_check.py "$d" --hip-z 0.85 | sed "s/^/rep $r: /" || status=1
-  /usr/bin/python3 - "$d/summary.json" "$r" "$csv" "$d.cpu" <<'PY'
+# the height of each garment's tight line on the mannequin: the hips, the bust
+declare -A line_z=([skirt]=0.85 [tank]=1.224)
+for g in ${GARMENTS:-skirt tank}; do
+  csv=$out/$g.csv
+  for r in $(seq "$reps"); do
+    d=$work/$g$r
+    /usr/bin/time -f %U -o "$d.cpu" "$bin" run "scenes/garment_$g.yaml" --out "$d" --quiet \
+      --threads 1 >/dev/null 2>&1 || status=1
+    /usr/bin/python3 tools/garment_check.py "$d" --line-z "${line_z[$g]}" | sed "s/^/$g rep $r: /" ||
+      status=1
+    /usr/bin/python3 - "$d/summary.json" "$r" "$csv" "$d.cpu" <<'PY'
 import json, os, sys
 s, rep, csv = json.load(open(sys.argv[1])), sys.argv[2], sys.argv[3]
 cpu = float(open(sys.argv[4]).read().split()[-1])
@@ -42,6 +48,8 @@ with open(csv, "w" if new else "a") as f:
         f.write(",".join(row) + "\n")
     f.write(",".join("%.4g" % v if isinstance(v, float) else str(v) for v in row.values()) + "\n")
 PY
+  done
+  echo "$g:"
+  column -s, -t <"$csv"
 done
-column -s, -t <"$csv"
 exit $status

@@ -4,6 +4,9 @@
     /usr/bin/python3 tools/make_garment.py skirt [--waist 0.70] [--hip 1.00] [--hem 1.10]
         [--ease -0.07] [--waist-ease -0.03] [--hip-depth 0.17] [--length 0.55]
         [--columns 8] [--rows 20] [-o scenes/meshes/garment_skirt.obj]
+    /usr/bin/python3 tools/make_garment.py tank [--bust 0.88] [--ease -0.07] [--length 0.275]
+        [--strap-length 0.185] [--strap-width 0.05] [--strap-at 0.11] [--columns 16]
+        [--rows 10] [--strap-columns 5] [--strap-rows 8] [-o scenes/meshes/garment_tank.obj]
     /usr/bin/python3 tools/make_garment.py tube [--width 0.3] [--height 0.2] [--columns 6]
         [--rows 4] [-o tests/data/tube_pieces.obj]
     /usr/bin/python3 tools/make_garment.py body [--waist 0.70] [--hip 1.00] [--bust 0.90]
@@ -11,12 +14,12 @@
     /usr/bin/python3 tools/make_garment.py cylinder [--radius 0.08] [--height 0.4]
         [--around 16] [--rows 5] [-o tests/data/cylinder.obj]
 
-Pieces (skirt, tube) are separate flat panels: each its own vertices (`v` at the flat layout,
+Pieces (skirt, tank, tube) are separate flat panels: each its own vertices (`v` at the flat layout,
 z = 0, laid side by side), its own per-corner (u,v) in metres (`vt`, u across, v up) and its
 own group (`usemtl NAME`); the scene sews them with `seams` and places them with `arrange`
-(docs/garments.md).  Each piece is a grid of columns x rows quads; its corners are printed as a
-comment at the head of the file (0-based vertex indices, as the scene's `seams` take them) and
-on stdout as the scene's `seams:` list.
+(docs/garments.md).  Each piece is a grid of quads (the tank's with the neckline cut out); its
+corners are printed as a comment at the head of the file (0-based vertex indices, as the
+scene's `seams` take them) and on stdout as the scene's `seams:` list.
 
 skirt: four quarter panels (back_left, back_right, front_right, front_left, in that order
 anticlockwise seen from above), sewn at the centre back, the right side, the centre front and
@@ -25,6 +28,15 @@ the left side.  A quarter panel's width at depth y below the waist is a quarter 
   length,
 with a smooth hip curve (a quarter sine) between waist and hip: a negative ease cuts the
 pattern smaller than the body (a tight fit), e.g. -0.07 = 7 % smaller at the hips.
+
+tank: a tank top's front and back, the same pattern: a body of width bust (1 + ease) / 2
+(ease -0.07: 7 % smaller than the body at the bust) from the armpit line down `length` to the
+hem, columns x rows quads, and two straps from the armpit line up `strap-length` to the
+shoulder seam, each strap-columns x strap-rows quads: at the armpit line a strap is the body's
+outer strap-columns columns, at the shoulder seam it is strap-width wide centred strap-at from
+the piece's centre line; its neckline edge is straight, its armhole edge a parabola, steepest
+at the armpit.  Sewn at the two shoulders (the straps' tops) and the two sides (armpit to hem),
+the front facing -y and the back +y.
 
 tube: two rectangles (front, back) of width x height, sewn along both sides into a tube.
 
