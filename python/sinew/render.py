@@ -41,6 +41,7 @@ from . import frames  # noqa: E402
 GAP = 0.05  # gap between panels laid side by side, as a share of the widest panel
 DEFAULT_RANGE = "last:p98"
 BODY_GREY = 0.78  # the obstacles' colour (lit: times 0.45 .. 1)
+SHAPE_HEIGHT = 0.77  # the 3D view's height, a fraction of the figure's
 LIGHT = np.array([-0.35, -0.75, 0.55]) / np.linalg.norm([-0.35, -0.75, 0.55])
 SEAM_COLOURS = ["#e6194b", "#f58231", "#ffe119", "#3cb44b", "#42d4f4", "#f032e6", "#ffffff",
                 "#fabed4"]
@@ -692,32 +693,75 @@ def draw_shape(ax, cloth, tend, txy_norm, t_norm, scene=None, t=0.0):
     for setter, a, b in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), lo, hi):
         setter(a, b)
     extent = hi - lo
-    ax.set_box_aspect(tuple(np.maximum(extent, 0.05 * float(extent.max()))))
+    # matplotlib draws a 3D view in the largest square of its axes: a view taller than wide
+    # (a standing body) is zoomed to its height, and its title raised to the axes' top
+    box = ax.get_position(original=True)
+    fig_w, fig_h = ax.figure.get_size_inches()
+    tall = box.height * fig_h / (box.width * fig_w)
+    ax.set_box_aspect(tuple(np.maximum(extent, 0.05 * float(extent.max()))),
+                      zoom=float(np.clip(0.9 * tall, 1.0, 1.3)))
     for axis, e in zip((ax.xaxis, ax.yaxis, ax.zaxis), extent):
         axis.set_major_locator(matplotlib.ticker.MaxNLocator(max(2, int(6 * e / extent.max()))))
     ax.tick_params(labelsize=7)
     ax.set_xlabel("x (m)", fontsize=8)
     ax.set_ylabel("y (m)", fontsize=8)
     ax.set_zlabel("z (m)", fontsize=8, labelpad=8)
-    ax.set_title("3D shape%s" % (" on the body (grey)" if len(body) else ""), fontsize=10)
+    ax.set_title("3D shape%s" % (" on the body (grey)" if len(body) else ""), fontsize=10,
+                 y=max(1.0, (tall + 1.0) / 2.0))
+
+
+FLAT_HEIGHT = 0.7   # the flat view's height, a fraction of the figure's
+VIEWS_WIDTH = 0.9   # the two views' widths together, a fraction of the figure's
+
+
+def shape_width(fig, cloth, scene, t):
+    """The width the 3D view needs, a fraction of the figure's: what the projection of its box
+    (matplotlib's default view, 30 degrees up, azimuth -60 degrees) needs at the view's height,
+    between 0.3 (a standing body) and 0.48 (a wide drape)."""
+    obstacles = scene.obstacles if scene and scene.dimension == 3 else []
+    lo, hi = view_box(cloth, obstacles, t)
+    ex, ey, ez = hi - lo
+    el, az = np.radians(30.0), np.radians(-60.0)
+    wide = ex * abs(np.sin(az)) + ey * abs(np.cos(az))
+    tall = ez * np.cos(el) + (ex * abs(np.cos(az)) + ey * abs(np.sin(az))) * np.sin(el)
+    fig_w, fig_h = fig.get_size_inches()
+    # 1.35: matplotlib draws the box inside a margin of its axes; 0.06 for the tick labels
+    need = wide / max(tall, 1e-12) * SHAPE_HEIGHT * fig_h / fig_w * 1.35 + 0.06
+    return float(np.clip(need, 0.3, 0.48))
+
+
+def view_widths(fig, cloth, scene, t):
+    """The widths of the flat and the 3D views, fractions of the figure's: the 3D view takes
+    what it needs (shape_width); the flat pattern, laid out for the rest, keeps the width its
+    layout fills at the view's height, at least 0.42; the 3D view takes what is left."""
+    flat_most = VIEWS_WIDTH - shape_width(fig, cloth, scene, t)
+    fig_w, fig_h = fig.get_size_inches()
+    piece, _ = (scene or Scene()).pieces(cloth)
+    uv = pattern_layout(cloth, piece, flat_most * fig_w / (FLAT_HEIGHT * fig_h))[0]
+    w, h = np.ptp(uv.reshape(-1, 2), axis=0) * 1.04  # draw_flat's 2 % pad each side
+    need = w / max(h, 1e-12) * FLAT_HEIGHT * fig_h / fig_w
+    flat = float(np.clip(need, 0.42, max(flat_most, 0.42)))
+    return flat, VIEWS_WIDTH - flat
 
 
 def draw(fig, t, parts, txy_norm, t_norm, name, scene=None, label=None):
     """One frame on fig (cleared first)."""
     fig.clf()
     cloth, tend = parts["cloth"], parts.get("tendons")
-    flat = fig.add_axes([0.06, 0.2, 0.42, 0.7])
-    shape = fig.add_axes([0.5, 0.13, 0.48, 0.77], projection="3d")
+    flat_w, w3 = view_widths(fig, cloth, scene, t)
+    flat = fig.add_axes([0.06, 0.2, flat_w, FLAT_HEIGHT])
+    shape = fig.add_axes([0.98 - w3, 0.13, w3, SHAPE_HEIGHT], projection="3d")
     draw_flat(flat, cloth, tend, txy_norm, t_norm, scene)
     draw_shape(shape, cloth, tend, txy_norm, t_norm, scene, t)
     over = float(cloth.cell_data["tension_xy"].max()) > txy_norm.vmax
     fig.colorbar(cm.ScalarMappable(norm=txy_norm, cmap="viridis"), orientation="horizontal",
-                 cax=fig.add_axes([0.08, 0.08, 0.38, 0.03]), extend="max" if over else "neither",
-                 label=label or "tension XY (N/m)")
+                 cax=fig.add_axes([0.08, 0.08, flat_w - 0.04, 0.03]),
+                 extend="max" if over else "neither", label=label or "tension XY (N/m)")
     fig.axes[-1].xaxis.label.set_size(8)
     if tend is not None:
         fig.colorbar(cm.ScalarMappable(norm=t_norm, cmap="autumn_r"), orientation="horizontal",
-                     cax=fig.add_axes([0.56, 0.08, 0.38, 0.03]), label="tendon tension (N)")
+                     cax=fig.add_axes([1.04 - w3, 0.08, w3 - 0.1, 0.03]),
+                     label="tendon tension (N)")
     fig.suptitle("%s   t = %.3f s" % (name, t), fontsize=13)
 
 

@@ -289,3 +289,48 @@ def close_figures():
     yield
     import matplotlib.pyplot as plt
     plt.close("all")
+
+
+def test_four_panels_on_a_standing_body_fill_the_pattern_view(monkeypatch):
+    """Four wide skirt panels in one row (scenes/meshes/garment_skirt.obj) worn round the
+    mannequin: the tall body needs a narrow 3D view, so the flat pattern is widened past its
+    half (0.42 of the figure, what it had before): its pieces fill 63 % of its axes against
+    45 % in the half, at a scale (pixels per metre) 1.4 times as large (asserted: 1.3); the 3D
+    view keeps at least 0.3 of the width."""
+    from matplotlib import colors
+    import matplotlib.pyplot as plt
+    scenes = os.path.join(ROOT, "scenes")
+    flat, tris, groups = render.read_obj(os.path.join(scenes, "meshes", "garment_skirt.obj"))
+    r = np.ptp(flat[:, 0]) / (2 * np.pi)  # the row of panels wrapped round the hips
+    theta = (flat[:, 0] - flat[:, 0].min()) / r
+    cloth = frames.Piece()
+    cloth.points = np.column_stack([r * np.cos(theta), r * np.sin(theta), 1.05 + flat[:, 1]])
+    cloth.point_data["uv"] = flat[:, :2]
+    cloth.connectivity = tris.ravel()
+    cloth.offsets = 3 * np.arange(1, len(tris) + 1)
+    cloth.cell_data["tension_xy"] = np.linspace(0.0, 1.0, len(tris))
+    sc = render.Scene()
+    sc.obstacles = [render.Scene.read_obstacle({"mesh": "meshes/mannequin.obj"}, scenes)]
+    sc.groups = groups
+
+    def pattern_view():
+        """The flat view's width (figure fraction), fill of its axes and scale (px/m)."""
+        fig = plt.figure(figsize=(11, 6))
+        render.draw(fig, 0.0, {"cloth": cloth}, colors.Normalize(0.0, 1.0), None, "skirt", sc)
+        fig.canvas.draw()
+        ax = fig.axes[0]
+        pts = ax.transData.transform(ax.collections[0].get_datalim(ax.transData).get_points())
+        win = ax.get_window_extent()
+        scale = np.ptp(pts[:, 0]) / np.ptp(flat[:, 0])  # the pieces lie side by side
+        w3 = 0.98 - fig.axes[1].get_position(original=True).x0
+        assert [t.get_text() for t in ax.texts if t.get_text()] == [
+            "back_left", "back_right", "front_right", "front_left"]
+        return (ax.get_position(original=True).width, w3,
+                np.prod(np.ptp(pts, axis=0)) / (win.width * win.height), scale)
+
+    width, w3, fill, scale = pattern_view()
+    monkeypatch.setattr(render, "view_widths", lambda *args: (0.42, 0.48))
+    _, _, fill_half, scale_half = pattern_view()
+    assert width > 0.55 and w3 >= 0.3
+    assert fill > 1.3 * fill_half and scale > 1.3 * scale_half, (fill, fill_half, scale,
+                                                                   scale_half)
