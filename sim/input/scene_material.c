@@ -123,7 +123,7 @@ static int load_membrane(const ctx *c, const ynode *y, const char *what, sw_mate
 static const char *const bend_keys[] = {"model", "stiffness", "rest", "stiffness_u",
                                         "stiffness_v", "stiffness_bias"};
 enum { BK_MODEL, BK_K, BK_REST, BK_KU, BK_KV, BK_KBIAS, BK_N };
-static const char *const bend_models[] = {"dihedral", "quadratic"};
+static const char *const bend_models[] = {"dihedral", "quadratic", "morley"};
 static const char *const bend_rests[] = {"initial", "flat"}; /* SW_BEND_REST_* order */
 
 /* The default bias rigidity (N m): a twisting rigidity G = sqrt(D_u D_v)/2, the geometric mean
@@ -180,20 +180,22 @@ static int load_bending(const ctx *c, const ynode *y, const char *what, sw_mater
   int model = 0;
   snprintf(w, sizeof w, "%s bending", what);
   if (sy_map(c, y, w, bend_keys, BK_N, v) ||
-      sy_need(c, y, v[BK_MODEL], w, "model", "model: dihedral or quadratic"))
+      sy_need(c, y, v[BK_MODEL], w, "model", "model: dihedral, quadratic or morley"))
     return -1;
   snprintf(lab, sizeof lab, "%s model", w);
-  if (sy_choice(c, v[BK_MODEL], lab, bend_models, 2, &model)) return -1;
-  mat->bending = model == 0 ? SW_BENDING_DIHEDRAL : SW_BENDING_QUADRATIC;
+  if (sy_choice(c, v[BK_MODEL], lab, bend_models, 3, &model)) return -1;
+  mat->bending = model == 0 ? SW_BENDING_DIHEDRAL : model == 1 ? SW_BENDING_QUADRATIC
+                                                               : SW_BENDING_MORLEY;
   if (model == 0 && c->m->dim == 2)
     return sy_fail(c, v[BK_MODEL], "%s model dihedral needs a 3D scene (a planar mesh cannot "
                    "fold); expected dimension: 3, or model quadratic", w);
   if (bend_rigidity(c, y, v, w, mat)) return -1;
   mat->bend_rest = model == 0 ? SW_BEND_REST_INITIAL : SW_BEND_REST_FLAT;
   if (!v[BK_REST]) return 0;
-  if (model == 1)
-    return sy_fail(c, v[BK_REST], "%s rest is given for model quadratic, whose rest state is "
-                   "always the flat (u,v) layout; expected rest only with model dihedral", w);
+  if (model != 0)
+    return sy_fail(c, v[BK_REST], "%s rest is given for model %s, whose rest state is "
+                   "always the flat (u,v) layout; expected rest only with model dihedral", w,
+                   bend_models[model]);
   snprintf(lab, sizeof lab, "%s rest", w);
   return sy_choice(c, v[BK_REST], lab, bend_rests, 2, &mat->bend_rest);
 }
