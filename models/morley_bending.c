@@ -293,6 +293,7 @@ static int tri_setup(const sw_model *m, const sw_topology *tp, const int *fe, in
     lin_slope(p, p + 2, p + 4, nrm, cl);
     for (int i = 0; i < 3; i++) c[i] -= cl[i]; /* s_k - grad L_T . n_k */
     for (int i = 0; i < n; i++) {
+      if (c[i] == 0.0) continue; /* a centroid slope uses 4 of the points */
       int v = local(sv, &nv, pts[i].v);
       P[v][0] = pts[i].p[0], P[v][1] = pts[i].p[1];
       for (int r = 0; r < 3; r++) L[r][v] += l / A * c[i] * nn[k][r]; /* 1/m^2 */

@@ -3,6 +3,10 @@
 triangulations, solved statically through the Python package, against the analytic answers.
 
     PYTHONPATH=python SINEW_LIB=build/libsinew.so /usr/bin/python3 tools/bending_study.py [--quick]
+    /usr/bin/python3 tools/bending_study.py --square OUT.obj N
+
+(--square writes gmsh's Frontal-Delaunay mesh of the unit square at mesh size 1/(N-1), for
+bench/bench_step --obj: the cost of the bending models on an unstructured mesh.)
 
 Meshes (a strip 0.2 m from the clamp, L/5 wide; two straight pinned columns at s = 0 and s = h
 clamp it at s = h/2; n cells along, h = 0.2/n):
@@ -211,7 +215,32 @@ def row(label, n, errs):
     return "| %s | %d | %s |" % (label, n, " | ".join(cells))
 
 
+def gmsh_square(path, n):
+    import gmsh
+    gmsh.initialize(readConfigFiles=False)
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.option.setNumber("Mesh.Algorithm", 6)
+        gmsh.option.setNumber("Mesh.MeshSizeMax", 1.0 / (n - 1))
+        gmsh.model.add("square")
+        gmsh.model.occ.addRectangle(0, 0, 0, 1, 1)
+        gmsh.model.occ.synchronize()
+        gmsh.model.mesh.generate(2)
+        tags, xyz, _ = gmsh.model.mesh.getNodes()
+        index = {t: k for k, t in enumerate(tags)}
+        p = xyz.reshape(-1, 3)[:, :2].copy()
+        tri = np.vstack([np.array([index[t] for t in nodes]).reshape(-1, 3)
+                         for etype, _, nodes in zip(*gmsh.model.mesh.getElements(2)) if etype == 2])
+    finally:
+        gmsh.finalize()
+    write_obj(path, p, keep_good(p, tri))
+    print("%s: %d vertices, %d triangles" % (path, len(p), len(tri)))
+
+
 def main():
+    if "--square" in sys.argv:
+        k = sys.argv.index("--square")
+        return gmsh_square(sys.argv[k + 1], int(sys.argv[k + 2]))
     quick = "--quick" in sys.argv
     sizes = (10, 20, 40) if quick else (10, 20, 40, 80)
     seeds = (1, 2) if quick else (1, 2, 3)
