@@ -105,7 +105,8 @@ static int edge_patch(const sw_model *m, const sw_topology *tp, const int *fe, i
                       pt pts[8]) {
   const double *p = m->uv + 6 * f;
   int n = 0, far;
-  for (int i = 0; i < 3; i++) pts[n].v = m->face[3 * f + i], memcpy(pts[n++].p, p + 2 * i, 16);
+  for (int i = 0; i < 3; i++)
+    pts[n].v = m->face[3 * f + i], memcpy(pts[n++].p, p + 2 * i, sizeof pts->p);
   int g = across(tp, fe, f, k, &far);
   if (g < 0) return 0;
   const int va = m->face[3 * f + (k + 1) % 3], vb = m->face[3 * f + (k + 2) % 3];
@@ -323,7 +324,7 @@ static int morley_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, d
   for (int s = 0; s < mp->n; s++) {
     const int *v = t->sidx + t->sptr[s], nv = t->sptr[s + 1] - t->sptr[s], bw = nv * d;
     const double *Q = mp->Q + NV * NV * s, *L = mp->L + 3 * NV * s, *D = mp->D + 9 * s;
-    double II[3][3] = {{0}}, mu[3][3] = {{0}}; /* II_T (1/m), A D : II_T (N m^2 ... J m) */
+    double II[3][3] = {{0}}, mu[3][3] = {{0}}; /* II_T (1/m), A D : II_T (N m^2) */
     for (int r = 0; r < 3; r++)
       for (int i = 0; i < nv; i++)
         for (int c = 0; c < d; c++) II[r][c] += L[NV * r + i] * ev->x[(size_t)v[i] * d + c];

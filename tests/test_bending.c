@@ -108,7 +108,8 @@ static sw_model *jittered_grid(int dim, int nx, int ny, const sw_material *mt, u
       x[0] += 0.2 * hx * th_rand(&seed), x[1] += 0.2 * hy * th_rand(&seed);
     }
   for (int f = 0; f < m->nf; f++)
-    for (int c = 0; c < 3; c++) memcpy(m->uv + 6 * f + 2 * c, m->x0 + (size_t)dim * m->face[3 * f + c], 16);
+    for (int c = 0; c < 3; c++)
+      memcpy(m->uv + 6 * f + 2 * c, m->x0 + (size_t)dim * m->face[3 * f + c], 2 * sizeof(double));
   m->mat[0] = *mt;
   return th_finish(m);
 }
