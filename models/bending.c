@@ -36,8 +36,7 @@
 #include "terms.h"
 #include "util.h"
 
-/* Local corner (0..2) of vertex v in face f, or -1. */
-static int corner_of(const sw_model *m, int f, int v) {
+int sw_face_corner(const sw_model *m, int f, int v) {
   for (int i = 0; i < 3; i++)
     if (m->face[3 * f + i] == v) return i;
   return -1;
@@ -52,15 +51,14 @@ static double edge_normal(const sw_model *m, int f, int k, double n[2]) {
   return l;
 }
 
-/* For each face corner k, the edge opposite it (-1: none recorded, a non-manifold extra). */
-static int *face_edges(const sw_model *m, const sw_topology *tp) {
+int *sw_face_edges(const sw_model *m, const sw_topology *tp) {
   int *fe = sw_calloc(3 * (size_t)m->nf, sizeof(int));
   if (!fe) return NULL;
   for (size_t k = 0; k < 3 * (size_t)m->nf; k++) fe[k] = -1;
   for (int e = 0; e < tp->ne; e++)
     for (int s = 0; s < 2; s++) {
       int f = tp->ef[2 * e + s];
-      if (f >= 0) fe[3 * f + corner_of(m, f, tp->efar[2 * e + s])] = e;
+      if (f >= 0) fe[3 * f + sw_face_corner(m, f, tp->efar[2 * e + s])] = e;
     }
   return fe;
 }
@@ -86,9 +84,7 @@ static void condense(const double C[3][3], const int in[3], double S[3][3]) {
     }
 }
 
-/* The rigidities (N m) of material mt in the basis (II_uu, II_vv, sqrt(2) II_uv):
- * D = (D_u, D_v, 2 G) (see the top of the file). */
-static void plate_rigidity(const sw_material *mt, double D[3]) {
+void sw_plate_rigidity(const sw_material *mt, double D[3]) {
   if (!(mt->k_bend_u > 0.0)) {
     D[0] = D[1] = D[2] = mt->k_bend;
     return;
@@ -103,7 +99,7 @@ static int make_tri(const sw_model *m, const sw_topology *tp, const int *fe, int
   const sw_material *mt = &m->mat[m->face_mat[f]];
   double n[3][2], C[3][3], S[3][3], c[3] = {0}, D[3];
   int in[3] = {0};
-  plate_rigidity(mt, D);
+  sw_plate_rigidity(mt, D);
   memset(t, 0, sizeof *t);
   t->face = f, t->kb = mt->k_bend, t->rest_flat = mt->bend_rest == SW_BEND_REST_FLAT;
   for (int i = 0; i < 3; i++) t->v[i] = m->face[3 * f + i];
@@ -142,7 +138,7 @@ sw_bend_tri *sw_bend_tris(const sw_model *m, int model, int *n, char *err, size_
   sw_topology tp;
   *n = 0;
   if (sw_topology_build(&tp, m, err, errsz)) return NULL;
-  int *fe = face_edges(m, &tp);
+  int *fe = sw_face_edges(m, &tp);
   sw_bend_tri *out = sw_calloc((size_t)m->nf + 1, sizeof *out);
   if (!fe || !out) {
     sw_free(fe), sw_free(out), sw_topology_free(&tp);

@@ -121,6 +121,17 @@ typedef struct sw_bend_tri {
 sw_bend_tri *sw_bend_tris(const sw_model *m, int model, int *n, char *err, size_t errsz);
 /* Stencils of t: one per triangle, its nv vertices.  Nonzero when out of memory. */
 int sw_bend_alloc_stencils(sw_term *t, const sw_bend_tri *tri, int n, int dim);
+/* Local corner (0..2) of vertex v in face f, or -1 (models/bending.c). */
+int sw_face_corner(const sw_model *m, int f, int v);
+/* For each face corner k, the edge of tp opposite it (-1: none recorded, a non-manifold
+ * extra), in a new array of 3 nf (sw_free it; NULL when out of memory). */
+int *sw_face_edges(const sw_model *m, const sw_topology *tp);
+/* The bending rigidities (N m) of material mt in the basis (II_uu, II_vv, sqrt(2) II_uv):
+ * D = (D_u, D_v, 2 G) (docs/models.md "Anisotropic bending"). */
+void sw_plate_rigidity(const sw_material *mt, double D[3]);
+/* models/morley_bending.c: Morley's constant-curvature triangle with mid-edge slopes from a
+ * quadratic fitted around each edge; constant Hessian (docs/models.md "morley"). */
+int sw_morley_bending_build(sw_term *t, const sw_model *m, char *err, size_t errsz);
 /* models/point_load.c: E = -sum_i f_i . x_i with f = m->load (no Hessian, no stencils). */
 int sw_point_load_build(sw_term *t, const sw_model *m, char *err, size_t errsz);
 

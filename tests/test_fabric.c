@@ -104,6 +104,30 @@ static void cantilever_bending_length(void **st) {
   sw_model_free(m);
 }
 
+/* Beside a fabric with a bending rigidity, bending: {model: M} picks the model its rigidity
+ * goes to: Peirce's strip above with morley bending, within 0.1 degree as well. */
+static void fabric_bending_model(void **st) {
+  (void)st;
+  char err[SW_ERRSZ];
+  sw_model *m = parse(
+      "mesh: {grid: {size: [0.0809876543209877, 0.02], vertices: [42, 11], plane: xy}}\n"
+      "material:\n"
+      "  fabric: {mass: 200, bending_length: 4}\n"
+      "  bending: {model: morley}\n"
+      "  membrane: {model: bw98, k_u: 10000, k_v: 10000, k_shear: 10000}\n"
+      "gravity: [0, 0, -9.80665]\n"
+      "pins: [{select: {box: [[-1, -1, -1], [0.0020, 1, 1]]}}]\n"
+      "integrator: {method: static}\n"
+      "duration: 0\n", err);
+  if (!m) fail_msg("%s", err);
+  assert_int_equal(m->mat[0].bending, SW_BENDING_MORLEY);
+  assert_true(fabs(m->mat[0].k_bend - 0.2 * 9.80665 * 0.04 * 0.04 * 0.04) < 1e-15);
+  double angle = th_peirce_angle(m);
+  print_message("fabric bending_length 4 cm, morley: chord angle %.3f deg\n", angle);
+  assert_true(fabs(angle - 41.487) < 0.1);
+  sw_model_free(m);
+}
+
 /* Orthotropic bending from a scene: stiffness_u/v/bias, the default bias, fabric [warp, weft]. */
 static void orthotropic_keys(void **st) {
   (void)st;
@@ -156,7 +180,8 @@ static void bad_fabrics(void **st) {
       {GRID "  fabric: {mass: 100, kes_g: 1, fast_e100: [0, 2]}\n", 3, 45, "fast_e100[0]"},
       {GRID "  fabric: {mass: 100, bending_length: 0}\n", 3, 39, "bending_length"},
       {GRID "  fabric: {mass: 100, kes_b: 0.1}\n  bending: {model: quadratic, stiffness: 1}\n",
-       4, 12, "bending and a fabric"},
+       4, 42, "bending stiffness and a fabric"},
+      {GRID "  fabric: {mass: 100, kes_b: 0.1}\n  bending: {model: shell}\n", 4, 20, "morley"},
       {GRID "  fabric: {mass: 100, kes_g: 1, tensile: [1, 2]}\n"
             "  membrane: {model: bw98, k_u: 1, k_v: 1, k_shear: 1}\n", 4, 13, "membrane and a "},
       {GRID "  fabric: {mass: 100, gsm: 3}\n", 3, 23, "unknown key 'gsm'"},
@@ -237,7 +262,8 @@ static void shipped_scenes_are_plausible(void **st) {
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(conversions),  cmocka_unit_test(fabric_block),
-      cmocka_unit_test(cantilever_bending_length), cmocka_unit_test(bad_fabrics),
+      cmocka_unit_test(cantilever_bending_length),
+      cmocka_unit_test(fabric_bending_model), cmocka_unit_test(bad_fabrics),
       cmocka_unit_test(orthotropic_keys),
       cmocka_unit_test(warnings),     cmocka_unit_test(shipped_scenes_are_plausible),
   };

@@ -347,6 +347,15 @@ static void quadratic_3d(void **st) {
   run_config((config){"quadratic", "quadratic", 3, bending_model(3, SW_BENDING_QUADRATIC), 0}, 43);
 }
 
+static void morley_2d(void **st) {
+  (void)st;
+  run_config((config){"morley", "morley", 2, bending_model(2, SW_BENDING_MORLEY), 0}, 45);
+}
+static void morley_3d(void **st) {
+  (void)st;
+  run_config((config){"morley", "morley", 3, bending_model(3, SW_BENDING_MORLEY), 0}, 47);
+}
+
 #define TENDON_TEST(fn, law, label, dim, dense_max)                                         \
   static void fn(void **st) {                                                               \
     (void)st;                                                                               \
@@ -540,6 +549,8 @@ int main(void) {
       cmocka_unit_test(dihedral_3d),
       cmocka_unit_test(quadratic_2d),
       cmocka_unit_test(quadratic_3d),
+      cmocka_unit_test(morley_2d),
+      cmocka_unit_test(morley_3d),
       cmocka_unit_test(spring_compressed_dense_2d),
       cmocka_unit_test(spring_compressed_dense_3d),
       cmocka_unit_test(spring_compressed_lowrank_2d),

@@ -604,6 +604,10 @@ static const bad_case bad[] = {
      "  bending: {model: dihedral, stiffness: 1e-3}\n", 5, 20, "3D"},
     {"bend_rest.yaml", GRID "material:\n  density: 0.1\n"
      "  bending: {model: quadratic, stiffness: 1e-3, rest: initial}\n", 4, 54, "dihedral"},
+    {"bend_rest_morley.yaml", GRID "material:\n  density: 0.1\n"
+     "  bending: {model: morley, stiffness: 1e-3, rest: flat}\n", 4, 51, "dihedral"},
+    {"bend_model.yaml", GRID "material:\n  density: 0.1\n"
+     "  bending: {model: morly, stiffness: 1e-3}\n", 4, 20, "morley"},
     {"bend_neg.yaml", GRID "material:\n  density: 0.1\n"
      "  bending: {model: quadratic, stiffness: -1}\n", 4, 42, "stiffness"},
     {"panel_group.yaml", GRID MAT "panels: {front: {density: 0.2}}\n", 3, 10, "default"},
@@ -718,7 +722,7 @@ static int elastic(const char *term) { return strcmp(term, "gravity") && strcmp(
 /* With stiffness_scale s every elastic term's energy at a deformed state is s times the
  * unscaled one (s = 4 exactly: a power of two commutes with rounding); gravity and loads are
  * unchanged; so are masses, damping, rest lengths, the tension XY clip.  Every membrane model,
- * both bending models, tendons, derived and explicit tension XY stiffness. */
+ * every bending model, tendons, derived and explicit tension XY stiffness. */
 static void test_stiffness_scale(void **state) {
   (void)state;
   static const char *const memb[] = {
@@ -728,12 +732,13 @@ static void test_stiffness_scale(void **state) {
       "{model: springs, stretch: 400, shear: 40, bend: 4}",
   };
   static const char *const bend[] = {"{model: dihedral, stiffness: 0.002, rest: flat}",
-                                     "{model: quadratic, stiffness: 0.003}"};
+                                     "{model: quadratic, stiffness: 0.003}",
+                                     "{model: morley, stiffness_u: 0.003, stiffness_v: 0.001}"};
   static const double scales[] = {4.0, 0.3};
   char text[2048];
-  for (int k = 0; k < 8; k++) {
-    overrides_scene(text, sizeof text, memb[k / 2], bend[k % 2],
-                    k % 3 ? "" : "tension_xy: {k_u: 900, clip: 2000}\n");
+  for (int k = 0; k < 12; k++) {
+    overrides_scene(text, sizeof text, memb[k / 3], bend[k % 3],
+                    k % 2 ? "" : "tension_xy: {k_u: 900, clip: 2000}\n");
     char err[SW_ERRSZ];
     sw_model *m0 = sw_scene_parse("scale.yaml", text, strlen(text), err, sizeof err);
     if (!m0) fail_msg("%s", err);

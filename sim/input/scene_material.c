@@ -123,7 +123,7 @@ static int load_membrane(const ctx *c, const ynode *y, const char *what, sw_mate
 static const char *const bend_keys[] = {"model", "stiffness", "rest", "stiffness_u",
                                         "stiffness_v", "stiffness_bias"};
 enum { BK_MODEL, BK_K, BK_REST, BK_KU, BK_KV, BK_KBIAS, BK_N };
-static const char *const bend_models[] = {"dihedral", "quadratic"};
+static const char *const bend_models[] = {"dihedral", "quadratic", "morley"};
 static const char *const bend_rests[] = {"initial", "flat"}; /* SW_BEND_REST_* order */
 
 /* The default bias rigidity (N m): a twisting rigidity G = sqrt(D_u D_v)/2, the geometric mean
@@ -180,20 +180,22 @@ static int load_bending(const ctx *c, const ynode *y, const char *what, sw_mater
   int model = 0;
   snprintf(w, sizeof w, "%s bending", what);
   if (sy_map(c, y, w, bend_keys, BK_N, v) ||
-      sy_need(c, y, v[BK_MODEL], w, "model", "model: dihedral or quadratic"))
+      sy_need(c, y, v[BK_MODEL], w, "model", "model: dihedral, quadratic or morley"))
     return -1;
   snprintf(lab, sizeof lab, "%s model", w);
-  if (sy_choice(c, v[BK_MODEL], lab, bend_models, 2, &model)) return -1;
-  mat->bending = model == 0 ? SW_BENDING_DIHEDRAL : SW_BENDING_QUADRATIC;
+  if (sy_choice(c, v[BK_MODEL], lab, bend_models, 3, &model)) return -1;
+  mat->bending = model == 0 ? SW_BENDING_DIHEDRAL : model == 1 ? SW_BENDING_QUADRATIC
+                                                               : SW_BENDING_MORLEY;
   if (model == 0 && c->m->dim == 2)
     return sy_fail(c, v[BK_MODEL], "%s model dihedral needs a 3D scene (a planar mesh cannot "
                    "fold); expected dimension: 3, or model quadratic", w);
   if (bend_rigidity(c, y, v, w, mat)) return -1;
   mat->bend_rest = model == 0 ? SW_BEND_REST_INITIAL : SW_BEND_REST_FLAT;
   if (!v[BK_REST]) return 0;
-  if (model == 1)
-    return sy_fail(c, v[BK_REST], "%s rest is given for model quadratic, whose rest state is "
-                   "always the flat (u,v) layout; expected rest only with model dihedral", w);
+  if (model != 0)
+    return sy_fail(c, v[BK_REST], "%s rest is given for model %s, whose rest state is "
+                   "always the flat (u,v) layout; expected rest only with model dihedral", w,
+                   bend_models[model]);
   snprintf(lab, sizeof lab, "%s rest", w);
   return sy_choice(c, v[BK_REST], lab, bend_rests, 2, &mat->bend_rest);
 }
@@ -213,8 +215,33 @@ static const char *const mat_keys[] = {"density", "membrane", "bending", "bias",
                                        "uv_scale"};
 enum { MK_DENSITY, MK_MEMB, MK_BEND, MK_BIAS, MK_FABRIC, MK_UVSCALE, MK_N };
 
+/* Beside a fabric with a bending rigidity, `bending: {model: M}` picks the model that rigidity
+ * goes to (quadratic when not given); any other bending key is an error. */
+static int fabric_bending_model(const ctx *c, const ynode *y, const char *w, sw_material *mat) {
+  const ynode *v[BK_N];
+  char lab[160];
+  int model = 0;
+  snprintf(lab, sizeof lab, "%s bending", w);
+  if (sy_map(c, y, lab, bend_keys, BK_N, v)) return -1;
+  for (int k = 0; k < BK_N; k++)
+    if (v[k] && k != BK_MODEL)
+      return sy_fail(c, v[k], "%s gives bending %s and a fabric with a bending rigidity; "
+                     "expected only bending: {model: dihedral, quadratic or morley} beside the "
+                     "fabric (the rigidity is the fabric's)", w, bend_keys[k]);
+  if (sy_need(c, y, v[BK_MODEL], lab, "model", "model: dihedral, quadratic or morley"))
+    return -1;
+  snprintf(lab, sizeof lab, "%s bending model", w);
+  if (sy_choice(c, v[BK_MODEL], lab, bend_models, 3, &model)) return -1;
+  if (model == 0 && c->m->dim == 2)
+    return sy_fail(c, v[BK_MODEL], "%s bending model dihedral needs a 3D scene (a planar mesh "
+                   "cannot fold); expected dimension: 3, or model quadratic", w);
+  mat->bending = model == 0 ? SW_BENDING_DIHEDRAL : model == 1 ? SW_BENDING_QUADRATIC
+                                                               : SW_BENDING_MORLEY;
+  return 0;
+}
+
 /* A fabric (scene_fabric.c) instead of the density, and instead of the membrane and bending
- * it gives. */
+ * it gives (with the bending model `bending: {model: M}` may choose). */
 static int load_fabric(const ctx *c, const ynode *const *v, const char *w, sw_material *mat) {
   int set;
   if (v[MK_DENSITY])
@@ -225,8 +252,7 @@ static int load_fabric(const ctx *c, const ynode *const *v, const char *w, sw_ma
     return sy_fail(c, v[MK_MEMB], "%s gives membrane and a fabric with kes_g and a tensile "
                    "stiffness; expected one of them", w);
   if ((set & SC_FABRIC_BENDING) && v[MK_BEND])
-    return sy_fail(c, v[MK_BEND], "%s gives bending and a fabric with a bending rigidity; "
-                   "expected one of them", w);
+    return fabric_bending_model(c, v[MK_BEND], w, mat) ? -1 : 1;
   return 0;
 }
 
@@ -241,11 +267,12 @@ static int load_keys(const ctx *c, const ynode *y, const char *w, int panel, con
       sy_need(c, y, v[MK_DENSITY], w, "density", "density: a number > 0 in kg/m^2 (or "
               "fabric: {mass: g/m^2, ...})"))
     return -1;
-  if (v[MK_FABRIC] && load_fabric(c, v, w, mat)) return -1;
+  int fab = v[MK_FABRIC] ? load_fabric(c, v, w, mat) : 0; /* 1: bending model taken */
+  if (fab < 0) return -1;
   snprintf(lab, sizeof lab, "%s density", w);
   if (v[MK_DENSITY] && sy_num(c, v[MK_DENSITY], lab, 0, 1, "kg/m^2", &mat->density)) return -1;
   if (v[MK_MEMB] && load_membrane(c, v[MK_MEMB], w, mat)) return -1;
-  if (v[MK_BEND] && load_bending(c, v[MK_BEND], w, mat)) return -1;
+  if (v[MK_BEND] && fab != 1 && load_bending(c, v[MK_BEND], w, mat)) return -1;
   snprintf(lab, sizeof lab, "%s bias", w);
   const double rad = 0.017453292519943295; /* pi / 180 */
   double deg = mat->bias / rad;
