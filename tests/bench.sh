@@ -74,6 +74,24 @@ order_csv backward-euler 0.8 1.2
 order_csv bdf2 1.75 2.3
 order_csv implicit-midpoint 1.75 2.3
 [ -z "$(col "$wp/orders.csv" order '^symplectic-euler,')" ] || fail "an order from one ok run"
+# On a linear mass-spring chain the observed orders are the methods' own: BDF2 and implicit
+# midpoint 2, backward Euler 1 (within 0.1).
+os=$tmp/os
+"$sinew" bench tests/data/order_springs.yaml --out "$os" --methods backward-euler,bdf2,implicit-midpoint \
+  --repeat 1 --no-charts >"$tmp/os.out" 2>&1 || fail "bench order_springs: $(tail -3 "$tmp/os.out")"
+for mo in backward-euler:0.9:1.1 bdf2:1.9:2.1 implicit-midpoint:1.9:2.1; do
+  IFS=: read -r m lo hi <<<"$mo"
+  o=$(col "$os/orders.csv" order "^$m,dt,")
+  $py -c "import sys; sys.exit(not ($lo <= float('${o:-nan}') <= $hi))" || fail "order_springs: $m observed order '$o' not in [$lo, $hi]"
+  [ "$(col "$os/orders.csv" range_points "^$m,dt,")" = 4 ] || fail "order_springs: $m: the converged range is not all 4 steps"
+done
+# Against a reference worse than the runs (CVODE at rtol 1e-3, confirmed by itself) the errors
+# do not fall with dt: no order, and a warning naming the steps.
+"$sinew" bench tests/data/order_springs.yaml --out "$tmp/os2" --methods bdf2 --dts 0.005,0.0025,0.00125 \
+  --reference cvode:q2 --confirm cvode:q2 --reference-rtol 1e-3 --repeat 1 --no-charts >"$tmp/os2.out" 2>&1
+[ -z "$(col "$tmp/os2/orders.csv" order '^bdf2,')" ] || fail "an order where errors do not fall"
+grep -q 'warning: bdf2: the error does not fall with dt between dt 0.00125 and 0.0025' "$tmp/os2.out" ||
+  fail "no warning when errors do not fall: $(grep -i warn "$tmp/os2.out")"
 # A run is failed when its tension error exceeds --tension-diverged (here, tiny: every run).
 td=$tmp/td
 cp -r "$wp" "$td"

@@ -108,8 +108,9 @@ int bench_orders(const bench_cfg *c, const bench_point *pt, int npt, double floo
     else
       printf("  %-18s   -     no converged range (%d resolved ok runs)\n", pt[k].method, n);
     if (!isfinite(o.order) && n >= 2)
-      printf("  warning: %s: the errors do not fall with %s at a steady rate: the %s range is "
-             "too coarse (or too fine) to converge\n", pt[k].method, what, what);
+      printf("  warning: %s: the errors do not fall with %s at a steady rate: no converged "
+             "range (the %s are too coarse to be asymptotic, or the errors are the reference's)"
+             "\n", pt[k].method, what, pt[k].adaptive ? "tolerances" : "steps");
     warn_rises(pt[k].method, what, p, n);
   }
   free(p);
