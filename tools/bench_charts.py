@@ -198,8 +198,13 @@ def readable_log(ax):
         if scale() != "log" or not (0 < lo < hi) or hi > lo * 100:
             continue
         axis.set_major_locator(LogLocator(base=10, subs=(1.0, 2.0, 5.0)))
-        axis.set_major_formatter(FuncFormatter(lambda v, _: compact(v)))
+        axis.set_major_formatter(FuncFormatter(tick_text))
         axis.set_minor_formatter(NullFormatter())
+
+
+def tick_text(v, _pos=None):
+    """A tick label: plain from 0.001 to 99999 (0.005, 20, 1000), else compact (5e-4)."""
+    return f"{v:g}" if 1e-3 <= v < 1e5 else compact(v)
 
 
 def read_cfg(d):
@@ -412,13 +417,15 @@ def chart_stability(d, title):
     for k, (ax, s) in enumerate(zip(axes[0], scales)):
         stability_panel(ax, rows, s, dts, methods, limits.get(s, {}))
         ax.tick_params(labelleft=(k == 0))
-    handles = [Patch(color=c, label=name) for name, c in STATUS]
+    handles = [Patch(color=c, label="short (< 10 steps)" if name == "short" else name)
+               for name, c in STATUS]
     if limits:
         handles.append(Patch(fill=False, ec="black", lw=2, label="largest stable dt"))
-    fig.legend(handles=handles, loc="lower center", ncol=len(handles), frameon=False)
+    fig.legend(handles=handles, loc="lower center", ncol=len(handles), frameon=False,
+               bbox_to_anchor=(0.5, 0.2 / fig.get_size_inches()[1]))  # above the footnote
     suptitle(fig, "Stability map", title, d)
     put_footnote(fig, d, repeats=False)
-    margins(fig, 1.45, 0.2, 1.2, 0.7, wspace=0.08)
+    margins(fig, 1.45, 0.2, 1.4, 0.7, wspace=0.08)
     save(fig, path)
 
 
@@ -572,6 +579,7 @@ def scaling_panel(ax, rows, col, title, ylabel, fits, which):
             ax.set_ylim(1e-3, 1)
         no_data(ax)
     widen_log(ax)
+    readable_log(ax)
 
 
 def slope_one(ax, rows):

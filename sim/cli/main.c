@@ -22,6 +22,8 @@ static void usage(FILE *fp) {
           "       sinew drape RUN_DIR [options]    (sinew drape --help)\n"
           "       sinew --help | --version\n"
           "\n"
+          "  Every option takes its value as --opt VALUE or --opt=VALUE.\n"
+          "\n"
           "  run     simulate SCENE (YAML) headless and write its logs and frames to the output\n"
           "          folder (the scene's output.dir, or --out DIR): tension.csv, energy.csv,\n"
           "          summary.json, frames/*.vtu, frames/*.vtp and frames.pvd\n"
