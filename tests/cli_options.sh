@@ -72,6 +72,15 @@ same confirm_tol "$(grep -o -- '--confirm-tol ([0-9e.-]*' <<<"$help" | tr -d '('
 same reference_newton_tol "$(grep -o -- '--reference-newton-tol ([0-9e.-]*' <<<"$help" | tr -d '(' | awk '{print $NF}')"
 same overdamped "$(grep -o -- '--overdamped [0-9.][0-9.]*' <<<"$help" | awk '{print $NF}')"
 same diverged "$(grep -o -- "cloth's size (default [0-9.]*" <<<"$help" | tr -d '(' | awk '{print $NF}')"
+same steps "$(grep -o -- '--steps ([0-9]*' <<<"$help" | tr -d '(' | awk '{print $NF}')"
+same max_halvings "$(grep -o -- 'times (default [0-9]*: dt means dt' <<<"$help" | awk '{print $3}' | tr -d ':')"
+# the default dts (the scene's dt 0.02 x 1, 1/2, 1/4, 1/8) and rtols (1e-3 .. 1e-6) of the plan
+grep -q "the scene's dt x 1, 1/2, 1/4, 1/8" <<<"$help" || fail "bench --help: default dts changed; update this test"
+grep -q -- "--rtols (default 1e-3 .. 1e-6)" <<<"$help" || fail "bench --help: default rtols changed; update this test"
+[ "$(awk -F, '$3 == "backward-euler" && $10 == 1 { printf "%s ", $5 }' "$tmp/d/plan_work_precision.csv")" = "0.02 0.01 0.005 0.0025 " ] ||
+  fail "bench: default dts of the plan: $(awk -F, '$3 == "backward-euler" && $10 == 1 { printf "%s ", $5 }' "$tmp/d/plan_work_precision.csv")"
+[ "$(awk -F, '$3 == "cvode" && $10 == 1 { printf "%s ", $6 }' "$tmp/d/plan_work_precision.csv")" = "0.001 0.0001 1e-05 1e-06 " ] ||
+  fail "bench: default rtols of the plan"
 same tension_diverged "$(grep -o -- "largest tension (default [0-9.]*" <<<"$help" | tr -d '(' | awk '{print $NF}')"
 
 # ------------------------------------------------------------ progress line
