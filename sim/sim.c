@@ -31,6 +31,7 @@ struct sw_sim {
   double next_frame;           /* s */
   double next_positions;       /* s: when the next record of positions.bin is due */
   double wall0, last_progress;
+  double t_begin;              /* s: the simulated time this process started from */
   int progress;
   double t_logged;             /* s: time of the previous log line (damping's trapezoid) */
   int logged;                  /* a line was logged since the start or the last set_state */
@@ -140,9 +141,15 @@ static void show_progress(sw_sim *s, int final) {
   if (!final && now - s->last_progress < 0.25) return;
   s->last_progress = now;
   const sw_data *d = s->d;
-  fprintf(stderr, "\r  t = %9.4f / %g s  steps %ld  newton %ld  factorizations %ld  %6.1f s%s",
-          d->t, s->m->opt.duration, d->nstep, d->nnewton, d->nfactor, now - s->wall0,
-          final ? "\n" : "");
+  /* done: the share of this process's simulated time; the rest at the rate so far */
+  double span = s->m->opt.duration - s->t_begin, done = span > 0 ? (d->t - s->t_begin) / span : 1;
+  double wall = now - s->wall0, left = done > 0 ? wall * (1.0 - done) / done : NAN;
+  char eta[32] = "";
+  if (!final && done > 0.005 && isfinite(left))
+    snprintf(eta, sizeof eta, "  ~%.0f s left", fmax(left, 0.0));
+  fprintf(stderr, "\r  t = %9.4f / %g s (%5.1f%%)  steps %ld  newton %ld  factorizations %ld  "
+          "%6.1f s%s%s", d->t, s->m->opt.duration, 100.0 * fmin(fmax(done, 0.0), 1.0), d->nstep,
+          d->nnewton, d->nfactor, wall, eta, final ? "\n" : "         ");
   fflush(stderr);
 }
 
@@ -431,7 +438,7 @@ sw_sim *sw_sim_start(sw_model *m, int flags, int *status, char *err, size_t errs
 
 /* restart.bin (sim/output/restart.c) begins with what the run was, checked on loading; the
  * scene and the options are what `sinew run --resume` runs again (sw_restart_options). */
-#define RESTART_MAGIC "SWREST01"
+#define RESTART_MAGIC "SWREST02"
 typedef struct restart_head {
   char magic[8];
   char scene[SW_PATHSZ]; /* the scene file, absolute */
@@ -463,6 +470,9 @@ static void sim_io(sw_sim *s, sw_io *io) {
   IO(d->energy_bound), IO(d->last_newton), IO(d->last_dt);
   IO(d->fit_end), IO(d->fit_steps), IO(d->fit_wall);
   IO(d->time_assemble), IO(d->time_factor), IO(d->time_solve), IO(d->time_step);
+  double wall = d->wall_before + (sw_now() - s->wall0); /* s: every part's, to this state */
+  IO(wall);
+  if (io->load) d->wall_before = wall;
   sw_io_bytes(io, d->x, nd * sizeof(double));
   sw_io_bytes(io, d->v, nd * sizeof(double));
   if (s->ops->history) s->ops->history(s->st, s->m, io);
@@ -520,6 +530,7 @@ static int resume_from(sw_sim *s, int flags, char *err, size_t errsz) {
   if (!rc) {
     sim_io(s, &io);
     if (io.bad) rc = SW_NOSTART, sw_errf(err, errsz, "%s/restart.bin: cut short", dir);
+    s->t_begin = s->d->t;
     /* written by the step that reached grid point n + 1, before the loop counted it */
     if (!rc && grid_next(s) <= s->d->t + 1e-9 * s->m->opt.dt) s->n++;
   }

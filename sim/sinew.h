@@ -582,6 +582,7 @@ struct sw_data {
   sw_static_info static_info;  /* where the last static solve stopped (sw_static_solve) */
   double last_dt;              /* size of the last accepted step, s */
   double time_assemble, time_factor, time_solve, time_step; /* s of wall time */
+  double wall_before;          /* s of wall time of a resumed run's earlier parts (0: none) */
   double time_contact;         /* s of wall time in the solvers' contact checks: continuous
                                   collision detection, settling, each step's start */
   double time_broadphase;      /* s in self-contact's broad phase for the CCD */

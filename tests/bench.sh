@@ -62,6 +62,44 @@ order_ok() { # method order
 order_ok backward-euler 1
 order_ok bdf2 2
 order_ok implicit-midpoint 2
+# The observed order of orders.csv (the least-squares slope over the converged range) and the
+# printed table: BDF2 and implicit midpoint 2, backward Euler 1.
+order_csv() { # method lo hi
+  local o
+  o=$(col "$wp/orders.csv" order "^$1,dt,")
+  $py -c "import sys; sys.exit(not ($2 <= float('${o:-nan}') <= $3))" || fail "$1: observed order '$o' not in [$2, $3]"
+  grep -q "^  $1 *[0-9.]* *over dt" "$tmp/wp.out" || fail "$1: no observed order printed"
+}
+order_csv backward-euler 0.8 1.2
+order_csv bdf2 1.75 2.3
+order_csv implicit-midpoint 1.75 2.3
+[ -z "$(col "$wp/orders.csv" order '^symplectic-euler,')" ] || fail "an order from one ok run"
+# On a linear mass-spring chain the observed orders are the methods' own: BDF2 and implicit
+# midpoint 2, backward Euler 1 (within 0.1).
+os=$tmp/os
+"$sinew" bench tests/data/order_springs.yaml --out "$os" --methods backward-euler,bdf2,implicit-midpoint \
+  --repeat 1 --no-charts >"$tmp/os.out" 2>&1 || fail "bench order_springs: $(tail -3 "$tmp/os.out")"
+for mo in backward-euler:0.9:1.1 bdf2:1.9:2.1 implicit-midpoint:1.9:2.1; do
+  IFS=: read -r m lo hi <<<"$mo"
+  o=$(col "$os/orders.csv" order "^$m,dt,")
+  $py -c "import sys; sys.exit(not ($lo <= float('${o:-nan}') <= $hi))" || fail "order_springs: $m observed order '$o' not in [$lo, $hi]"
+  [ "$(col "$os/orders.csv" range_points "^$m,dt,")" = 4 ] || fail "order_springs: $m: the converged range is not all 4 steps"
+done
+# Against a reference worse than the runs (CVODE at rtol 1e-3, confirmed by itself) the errors
+# do not fall with dt: no order, and a warning naming the steps.
+"$sinew" bench tests/data/order_springs.yaml --out "$tmp/os2" --methods bdf2 --dts 0.005,0.0025,0.00125 \
+  --reference cvode:q2 --confirm cvode:q2 --reference-rtol 1e-3 --repeat 1 --no-charts >"$tmp/os2.out" 2>&1
+[ -z "$(col "$tmp/os2/orders.csv" order '^bdf2,')" ] || fail "an order where errors do not fall"
+grep -q 'warning: bdf2: the error does not fall with dt between dt 0.00125 and 0.0025' "$tmp/os2.out" ||
+  fail "no warning when errors do not fall: $(grep -i warn "$tmp/os2.out")"
+# A run is failed when its tension error exceeds --tension-diverged (here, tiny: every run).
+td=$tmp/td
+cp -r "$wp" "$td"
+sed -i 's/^tension_diverged = .*/tension_diverged = 1e-12/' "$td/bench_work_precision.cfg"
+"$sinew" bench --merge "$td" --no-charts >"$tmp/td.out" 2>&1
+[ "$(col "$td/work_precision.csv" status '^bdf2,fixed,dt,0.01,')" = failed ] || fail "a tension error above the bound is not failed"
+col "$td/work_precision.csv" how '^bdf2,fixed,dt,0.01,' | grep -q 'tension XY max error' || fail "the tension failure does not say so"
+grep -q 'tension error (XY max, XY mean, tendons) exceeds 1e-12' "$tmp/td.out" || fail "the thresholds are not stated"
 e3=$(col "$csv" pos_err_max '^cvode,adaptive,rtol,0.001,')
 e5=$(col "$csv" pos_err_max '^cvode,adaptive,rtol,1e-05,')
 $py -c "import sys; sys.exit(not ($e5 < $e3))" || fail "cvode: error does not fall with rtol ($e3 -> $e5)"
@@ -108,7 +146,11 @@ rc=$?
 # --------------------------------------------------------- job list and merge
 em=$tmp/em
 "$sinew" bench $scene --out "$em" --methods backward-euler,cvode --dts 0.02,0.01 --rtols 1e-4 \
-  --emit-jobs "$tmp/jobs.txt" >"$tmp/em.out" 2>&1 || fail "--emit-jobs: $(cat "$tmp/em.out")"
+  --repeat 1 --emit-jobs "$tmp/jobs.txt" >"$tmp/em.out" 2>&1 || fail "--emit-jobs: $(cat "$tmp/em.out")"
+# timings are the median of 3 repeats by default: 2 + 3 x 3 runs
+"$sinew" bench $scene --out "$tmp/em3" --methods backward-euler,cvode --dts 0.02,0.01 --rtols 1e-4 \
+  --emit-jobs "$tmp/jobs3.txt" >/dev/null 2>&1 || fail "--emit-jobs (default repeat)"
+[ "$(wc -l <"$tmp/jobs3.txt")" -eq 11 ] || fail "default --repeat: $(wc -l <"$tmp/jobs3.txt") jobs, expected 11"
 [ "$(wc -l <"$tmp/jobs.txt")" -eq 5 ] || fail "jobs.txt has $(wc -l <"$tmp/jobs.txt") lines, expected 5"
 grep -q 'SBATCH --array=1-5' "$em/slurm.sh" || fail "slurm.sh array size"
 [ -f "$em/work_precision.csv" ] && fail "--emit-jobs ran the jobs"
@@ -130,6 +172,12 @@ s=$st/stability.csv
 [ "$(col "$st/stability_limits.csv" largest_stable_dt '^symplectic-euler,1,')" = 0.00125 ] ||
   fail "largest stable dt of symplectic-euler"
 head -c 8 "$st/stability.png" | od -An -tx1 | tr -d ' \n' | grep -q 89504e470d0a1a0a || fail "stability.png"
+grep -q 'backward-euler *x1 *[0-9.e-]* *(none failed)' "$tmp/st.out" || fail "no 'none failed': $(grep backward "$tmp/st.out")"
+# dt = 0.1 s on a 0.2 s run is 2 steps: short (too few steps to tell), not stable.
+"$sinew" bench $scene --stability --out "$tmp/sh" --methods backward-euler --dts 0.1 --scales 1 \
+  --no-charts >"$tmp/sh.out" 2>&1 || fail "--stability (short): $(tail -3 "$tmp/sh.out")"
+[ "$(col "$tmp/sh/stability.csv" status '^backward-euler,1,0.1,')" = short ] || fail "2 steps are not short"
+grep -q 'none stable' "$tmp/sh.out" || fail "no 'none stable'"
 
 # ----------------------------------------------------------------- scaling
 sc=$tmp/sc

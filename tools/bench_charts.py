@@ -51,6 +51,7 @@ import numpy as np  # noqa: E402
 from matplotlib.colors import ListedColormap  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
 from matplotlib.patches import Patch, Rectangle  # noqa: E402
+from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter  # noqa: E402
 
 DPI = 120
 RC = {"font.size": 10, "axes.titlesize": 10, "axes.labelsize": 10, "legend.fontsize": 8.5,
@@ -65,7 +66,7 @@ COLOURS = ["#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e
 MARKERS = ["o", "s", "^", "D", "v", "P", "X", "h", "<", ">", "p", "*", "d", "H", "8", "o"]
 ORDER = list(KNOWN)  # unknown methods are appended (sorted) by prime_styles
 
-STATUS = [("stable", "#2ca02c"), ("over-damped", "#ff9f1c"), ("failed", "#d62728"),
+STATUS = [("stable", "#2ca02c"), ("over-damped", "#ff9f1c"), ("short", "#9ecae1"), ("failed", "#d62728"),
           ("crashed", "#3b0000"), ("damaged", "#6a3d9a"), ("missing", "#c8c8c8")]
 
 WP_REQ = ["method", "setting", "value", "status", "wall_s", "pos_err_max", "txy_max_l2"]
@@ -188,8 +189,55 @@ def widen_log(ax, decades=1.2):
             set_(mid / half, mid * half)
 
 
-def suptitle(fig, name, title):
+def readable_log(ax):
+    """A log axis spanning less than two decades gets ticks at 1, 2 and 5 of each decade,
+    labelled as plain numbers, so that it never shows a single power of ten."""
+    for axis, lim, scale in ((ax.xaxis, ax.get_xlim, ax.get_xscale),
+                             (ax.yaxis, ax.get_ylim, ax.get_yscale)):
+        lo, hi = lim()
+        if scale() != "log" or not (0 < lo < hi) or hi > lo * 100:
+            continue
+        axis.set_major_locator(LogLocator(base=10, subs=(1.0, 2.0, 5.0)))
+        axis.set_major_formatter(FuncFormatter(tick_text))
+        axis.set_minor_formatter(NullFormatter())
+
+
+def tick_text(v, _pos=None):
+    """A tick label: plain from 0.001 to 99999 (0.005, 20, 1000), else compact (5e-4)."""
+    return f"{v:g}" if 1e-3 <= v < 1e5 else compact(v)
+
+
+def read_cfg(d):
+    """The key = value lines of the folder's bench_*.cfg files (the first file's win)."""
+    cfg = {}
+    for name in sorted(os.listdir(d)):
+        if name.startswith("bench_") and name.endswith(".cfg"):
+            for line in open(os.path.join(d, name), encoding="utf-8", errors="replace"):
+                key, sep, val = line.strip().partition(" = ")
+                if sep and not key.startswith("#"):
+                    cfg.setdefault(key, val)
+    return cfg
+
+
+def footnote(d, repeats=True):
+    """What was measured where: scene, sinew version, machine, repeats of the timings."""
+    cfg = read_cfg(d)
+    parts = [f"scene {os.path.basename(cfg.get('scene', '?'))}",
+             f"sinew {cfg.get('version', '(version not recorded)')}",
+             cfg.get("cpu", "machine not recorded")]
+    if repeats:
+        parts.append(f"wall time: median of {cfg.get('repeat', '?')} repeats")
+    return " · ".join(parts)
+
+
+def suptitle(fig, name, title, d=None):
+    scene = os.path.basename(read_cfg(d).get("scene", "")) if d else ""
+    name = f"{name} — {scene}" if scene else name
     fig.suptitle(f"{title}: {name}" if title else name)
+
+
+def put_footnote(fig, d, repeats=True):
+    fig.text(0.99, 0.005, footnote(d, repeats), fontsize=7, ha="right", va="bottom", color="0.35")
 
 
 def save(fig, path):
@@ -219,19 +267,35 @@ def chart_work_precision(d, title):
     labels = [wp_panel(ax, rows, panel, ref, "abc"[k]) for k, (ax, panel) in
               enumerate(zip(axes[0], panels))]
     axes[0][0].set_ylabel("relative error")
-    fig.legend(handles=wp_handles(rows, ref, panels, bad), loc="upper left",
+    fig.legend(handles=wp_handles(rows, ref, panels, bad, read_orders(d)), loc="upper left",
                bbox_to_anchor=(1 - 2.45 / figw, 0.88), frameon=False)
     if note:
-        fig.text(0.01, 0.01, "\n".join(note), fontsize=7.5, va="bottom", color="0.2")
-    suptitle(fig, "Work-precision", title)
-    margins(fig, 0.75, 2.6, 0.65 + 0.16 * len(note), 0.75, wspace=0.3)
+        fig.text(0.01, 0.03, "\n".join(note), fontsize=7.5, va="bottom", color="0.2")
+    suptitle(fig, "Work-precision", title, d)
+    put_footnote(fig, d)
+    margins(fig, 0.75, 2.6, 0.8 + 0.16 * len(note), 0.75, wspace=0.3)
     for ax, cands in zip(axes[0], labels):
+        readable_log(ax)
         place_labels(ax, cands)
     save(fig, os.path.join(d, "work_precision.png"))
 
 
-def wp_handles(rows, ref, panels, bad):
-    handles = [method_handle(m) for m in method_order(r["method"] for r in rows)]
+def read_orders(d):
+    """{method: legend text} from orders.csv: 'order 1.86 (dt 0.0025-0.01)'."""
+    path = os.path.join(d, "orders.csv")
+    out = {}
+    if os.path.exists(path):
+        for r in read_csv(path, ["method", "setting", "order", "range_lo", "range_hi"]):
+            o = num(r, "order")
+            out[r["method"]] = (f"order {o:.2f} ({r['setting']} {compact(num(r, 'range_lo'))}"
+                                f"\u2013{compact(num(r, 'range_hi'))})" if math.isfinite(o)
+                                else "order: no converged range")
+    return out
+
+
+def wp_handles(rows, ref, panels, bad, orders):
+    handles = [method_handle(m, f"{m}\n  {orders[m]}" if m in orders else None)
+               for m in method_order(r["method"] for r in rows)]
     if ref is not None and any(positive(num(ref, p[1])) for p in panels):
         handles.append(Line2D([], [], color="black", ls="--", lw=1.2, label=ref_label(ref)))
     if bad:
@@ -287,7 +351,7 @@ def place_labels(ax, cands):
     taken = [(px - 4 * s, py - 4 * s, px + 4 * s, py + 4 * s) for px, py in pix]
     for k in sorted(range(len(cands)), key=lambda k: cands[k][0]):
         _, x, y, text, colour = cands[k]
-        w = len(text) * 3.9
+        w = len(text) * 4.3 + 2  # points, with a margin
         for dx, dy in ((4, 2), (-4 - w, 2), (4, -9)):
             box = (pix[k][0] + dx * s, pix[k][1] + dy * s,
                    pix[k][0] + (dx + w) * s, pix[k][1] + (dy + 7) * s)
@@ -353,12 +417,15 @@ def chart_stability(d, title):
     for k, (ax, s) in enumerate(zip(axes[0], scales)):
         stability_panel(ax, rows, s, dts, methods, limits.get(s, {}))
         ax.tick_params(labelleft=(k == 0))
-    handles = [Patch(color=c, label=name) for name, c in STATUS]
+    handles = [Patch(color=c, label="short (< 10 steps)" if name == "short" else name)
+               for name, c in STATUS]
     if limits:
         handles.append(Patch(fill=False, ec="black", lw=2, label="largest stable dt"))
-    fig.legend(handles=handles, loc="lower center", ncol=len(handles), frameon=False)
-    suptitle(fig, "Stability map", title)
-    margins(fig, 1.45, 0.2, 1.2, 0.7, wspace=0.08)
+    fig.legend(handles=handles, loc="lower center", ncol=len(handles), frameon=False,
+               bbox_to_anchor=(0.5, 0.2 / fig.get_size_inches()[1]))  # above the footnote
+    suptitle(fig, "Stability map", title, d)
+    put_footnote(fig, d, repeats=False)
+    margins(fig, 1.45, 0.2, 1.4, 0.7, wspace=0.08)
     save(fig, path)
 
 
@@ -446,7 +513,8 @@ def chart_scaling(d, title):
     for ax in (axes[0], axes[2]):
         if ax.get_legend_handles_labels()[0]:
             ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.13), frameon=False)
-    suptitle(fig, "Scaling", title)
+    suptitle(fig, "Scaling", title, d)
+    put_footnote(fig, d)
     margins(fig, 0.75, 0.25, 1.0 + 0.19 * n, 0.7, wspace=0.32)
     save(fig, os.path.join(d, "scaling.png"))
 
@@ -511,6 +579,7 @@ def scaling_panel(ax, rows, col, title, ylabel, fits, which):
             ax.set_ylim(1e-3, 1)
         no_data(ax)
     widen_log(ax)
+    readable_log(ax)
 
 
 def slope_one(ax, rows):
@@ -548,8 +617,9 @@ def chart_tension(d, title, series):
         handles.insert(0, Line2D([], [], color="black", lw=2.8, label=ref_run_label(ref)))
     fig.legend(handles=handles, loc="upper left",
                bbox_to_anchor=(1 - 2.65 / fig.get_size_inches()[0], 0.88), frameon=False)
-    suptitle(fig, "Tension series", title)
-    margins(fig, 0.75, 2.8, 0.65, 0.75, wspace=0.3)
+    suptitle(fig, "Tension series", title, d)
+    put_footnote(fig, d, repeats=False)
+    margins(fig, 0.75, 2.8, 0.8, 0.75, wspace=0.3)
     save(fig, path)
 
 

@@ -147,13 +147,13 @@ def read_json(path):
 
 def restart_scene(run_dir):
     """The scene's absolute path that restart.bin's header holds (after its 8-byte magic
-    SWREST01, NUL-terminated), or None."""
+    SWRESTnn, NUL-terminated), or None."""
     try:
         with open(os.path.join(run_dir, "restart.bin"), "rb") as f:
             head = f.read(8 + 4096)
     except OSError:
         return None
-    if head[:8] != b"SWREST01":
+    if head[:6] != b"SWREST":  # any version: the scene path follows the magic in each
         return None
     return head[8:].split(b"\0", 1)[0].decode("utf-8", "replace") or None
 

@@ -46,6 +46,7 @@ static void bench_usage(FILE *fp) {
       "                   [--stability [--scales S,...] [--overdamped F]]\n"
       "                   [--scaling [--sizes N,...] [--steps N]]\n"
       "                   [--jobs N | --emit-jobs FILE] [--timeout S] [--diverged F]\n"
+      "                   [--tension-diverged F]\n"
       "                   [--max-halvings N] [--no-charts]\n"
       "       sinew bench --merge DIR [--no-charts]\n"
       "\n"
@@ -63,15 +64,19 @@ static void bench_usage(FILE *fp) {
       "  --rtols (default 1e-3 .. 1e-6).  Errors at the common sample times (every\n"
       "  --sample-every s, a multiple of every dt; default ~duration/40) against the reference:\n"
       "  RMS position error / cloth size, tension XY max and mean series (L2, max), tendon\n"
-      "  tension, final time; costs: wall time (median of --repeat N), counts.\n"
+      "  tension, final time; costs: wall time (median of --repeat N, default 3), counts.\n"
+      "  Observed order per method: the least-squares slope of log(position error) over\n"
+      "  log(dt or rtol) on its converged range (orders.csv), with a warning where the\n"
+      "  error does not fall with dt.\n"
       "  An adaptive method may carry its largest BDF order, NAME:qN (N = 1..5, e.g.\n"
       "  cvode:q2; --methods, --reference, --confirm); --max-orders 2,5 runs each adaptive\n"
       "  method of --methods given without one at each order, as separate lines\n"
       "  (cvode:q2, cvode:q5).\n"
       "  --stability  fixed-step methods x --dts (default dt x 8 .. 1/4) x --scales (stiffness\n"
       "               scale, default 1,10,100): stable, over-damped (lost more than\n"
-      "               --overdamped 0.1 of the energy scale beyond the reference), or failed;\n"
-      "               the largest stable dt per method and scale\n"
+      "               --overdamped 0.1 of the energy scale beyond the reference), failed,\n"
+      "               or short (fewer than 10 steps: too few to tell); the largest stable\n"
+      "               dt per method and scale\n"
       "  --scaling    per-step time, factorisation share and peak memory of --methods (default\n"
       "               backward-euler,bdf2,implicit-midpoint) on the scene's grid at --sizes\n"
       "               (vertices per side, default 32,64,128,256,512), --steps (3) steps each\n"
@@ -82,6 +87,9 @@ static void bench_usage(FILE *fp) {
       "  --timeout S  kill a run after S s of wall time (recorded as failed: timed out)\n"
       "  --diverged F a finished run whose position error exceeds F x the cloth's size\n"
       "               (default 1) is recorded as failed (diverged)\n"
+      "  --tension-diverged F  ... or whose tension error (tension XY max or mean, L2 over\n"
+      "               the samples; tendons, largest) exceeds F x the reference's largest\n"
+      "               tension (default 1)\n"
       "  --max-halvings N  a failed step of a run is retried with half the step at most N\n"
       "               times (default 0: dt means dt, a failed step fails the run);\n"
       "               work_precision.csv counts the retries\n"
@@ -168,6 +176,8 @@ static int parse_valued(const char *a, const char *v, bench_cli *c, bench_cfg *g
   if (!strcmp(a, "--confirm-tol")) return cli_number(a, v, 0, &g->confirm_tol) ? -1 : 1;
   if (!strcmp(a, "--overdamped")) return cli_number(a, v, 0, &g->overdamped) ? -1 : 1;
   if (!strcmp(a, "--diverged")) return cli_number(a, v, 0, &g->diverged) ? -1 : 1;
+  if (!strcmp(a, "--tension-diverged"))
+    return cli_number(a, v, 0, &g->tension_diverged) ? -1 : 1;
   if (!strcmp(a, "--timeout")) return cli_number(a, v, 1, &g->timeout) ? -1 : 1;
   if (!strcmp(a, "--repeat")) return cli_int(a, v, 1, 100, &g->repeat) ? -1 : 1;
   if (!strcmp(a, "--jobs")) return cli_int(a, v, 1, 256, &g->jobs) ? -1 : 1;
@@ -495,6 +505,26 @@ static void num(FILE *f, const char *key, double v) {
   fprintf(f, "%s = %s\n", key, b);
 }
 
+/* The machine's CPU for the charts' footnotes: /proc/cpuinfo's first "model name". */
+static const char *cpu_model(char *out, size_t sz) {
+  char line[256];
+  snprintf(out, sz, "unknown CPU");
+  FILE *f = fopen("/proc/cpuinfo", "r");
+  if (!f) return out;
+  while (fgets(line, sizeof line, f)) {
+    char *colon = strchr(line, ':');
+    if (strncmp(line, "model name", 10) || !colon) continue;
+    colon += 1 + (colon[1] == ' ');
+    snprintf(out, sz, "%.*s", (int)strcspn(colon, "\n"), colon);
+    break;
+  }
+  fclose(f);
+  long n = sysconf(_SC_NPROCESSORS_ONLN);
+  size_t len = strlen(out);
+  if (n > 0 && len + 24 < sz) snprintf(out + len, sz - len, ", %ld cores", n);
+  return out;
+}
+
 static int write_cfg(const bench_cfg *g) {
   char path[SW_PATHSZ + 64], tmp[SW_PATHSZ + 96];
   snprintf(path, sizeof path, "%s/bench_%s.cfg", g->dir, bench_mode_name(g->mode));
@@ -508,9 +538,12 @@ static int write_cfg(const bench_cfg *g) {
   num(f, "reference_dt", g->ref_dt), num(f, "confirm_dt", g->confirm_dt);
   num(f, "reference_newton_tol", g->ref_newton_tol);
   num(f, "overdamped", g->overdamped), num(f, "diverged", g->diverged);
+  num(f, "tension_diverged", g->tension_diverged);
   num(f, "timeout", g->timeout);
   fprintf(f, "repeat = %d\nsteps = %d\nmax_halvings = %d\n", g->repeat, g->steps,
           g->max_halvings);
+  char cpu[160];
+  fprintf(f, "version = %s\ncpu = %s\n", SW_VERSION, cpu_model(cpu, sizeof cpu));
   return bench_commit(f, tmp);
 }
 
@@ -550,7 +583,8 @@ static int cfg_line(bench_cfg *g, const char *key, const char *val) {
       {"confirm_tol", &g->confirm_tol}, {"reference_dt", &g->ref_dt},
       {"confirm_dt", &g->confirm_dt}, {"reference_newton_tol", &g->ref_newton_tol},
       {"overdamped", &g->overdamped},
-      {"diverged", &g->diverged}, {"timeout", &g->timeout}};
+      {"diverged", &g->diverged}, {"tension_diverged", &g->tension_diverged},
+      {"timeout", &g->timeout}};
   for (size_t k = 0; k < sizeof nums / sizeof *nums; k++)
     if (!strcmp(key, nums[k].k)) return *nums[k].v = strtod(val, NULL), 0;
   if (!strcmp(key, "repeat")) return g->repeat = bench_atoi(val), 0;
@@ -601,6 +635,7 @@ static int parse_job(char *line, bench_job *j) {
 
 int bench_plan_read(const char *dir, int mode, bench_plan *p, char *err, size_t errsz) {
   memset(p, 0, sizeof *p);
+  p->cfg.tension_diverged = BENCH_TENSION_DIVERGED; /* a folder of an older sinew has none */
   int rc = read_cfg(dir, mode, &p->cfg);
   if (rc) {
     if (rc < 0) snprintf(err, errsz, "%s/bench_%s.cfg: unreadable settings", dir, bench_mode_name(mode));
@@ -707,7 +742,8 @@ static int merge_all(const char *dir, int charts) {
 int sw_bench_main(int argc, char **argv) {
   bench_cli c = {0};
   bench_plan p = {.cfg = {.mode = BM_WORK, .confirm_tol = 1e-6, .overdamped = 0.1,
-                          .diverged = 1.0, .repeat = 1, .jobs = 1, .steps = 3, .charts = 1,
+                          .diverged = 1.0, .tension_diverged = BENCH_TENSION_DIVERGED,
+                          .repeat = BENCH_REPEAT, .jobs = 1, .steps = 3, .charts = 1,
                           .max_halvings = -1, .ref_newton_tol = BENCH_REF_NEWTON_TOL,
                           .ref_method = "cvode:q5", .confirm_method = "ida:q5"}};
   int rc = parse_bench_args(argc, argv, &c, &p.cfg);

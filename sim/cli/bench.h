@@ -30,6 +30,17 @@ enum { BR_REFERENCE = 0, BR_CONFIRM, BR_RUN };
 /* m/s: the default Newton tolerance of a fixed-step reference or confirm run; with the scene's
  * 1e-2 Newton's error is a quarter of a fine step's own on a draped cloth (docs/benchmarks.md) */
 #define BENCH_REF_NEWTON_TOL 1e-5
+/* Observed order (bench_order.c): errors below FLOOR x the reference's agreement are not
+ * resolved; a converged range has local slopes above MIN_SLOPE that differ by at most SPREAD. */
+#define BENCH_ORDER_FLOOR 3.0
+#define BENCH_ORDER_MIN_SLOPE 0.25
+#define BENCH_ORDER_SPREAD 0.3
+/* Stability: a run of fewer steps than this proves nothing ("short", not "stable"). */
+#define BENCH_MIN_STABLE_STEPS 10
+/* Timings: the default --repeat (the median of 3 runs) */
+#define BENCH_REPEAT 3
+/* A run fails when a tension error exceeds this fraction of the reference's largest tension */
+#define BENCH_TENSION_DIVERGED 1.0
 
 typedef struct bench_job {
   char id[BENCH_IDSZ];         /* folder under DIR/runs and log name under DIR/logs */
@@ -60,6 +71,8 @@ typedef struct bench_cfg {
   double confirm_tol;          /* the reference is confirmed when the two agree to this */
   double overdamped;           /* stability: energy lost beyond the reference's, fraction */
   double diverged;             /* a run whose position error exceeds this (x size) failed */
+  double tension_diverged;     /* ... or whose tension XY or tendon error exceeds this
+                                  (relative to the reference's largest) */
   double timeout;              /* s per run, 0: none */
   int repeat, jobs, steps, charts;
   int max_halvings;            /* passed to the runs (--max-halvings); < 0: the scene's */
@@ -110,6 +123,14 @@ double bench_sample_time(const bench_cfg *c, int k);
 
 /* bench_merge.c */
 int bench_merge(const bench_plan *p);
+
+/* bench_order.c: the observed order of each method from its runs' position errors. */
+typedef struct bench_point {
+  const char *method;
+  int adaptive, ok;
+  double h, e;                 /* the setting (dt s, or rtol) and pos_err_max */
+} bench_point;
+int bench_orders(const bench_cfg *c, const bench_point *pt, int npt, double floor_e);
 
 /* bench_util.c: small shared helpers, below every other part */
 const char *bench_mode_name(int mode); /* work_precision, stability, scaling */

@@ -153,6 +153,20 @@ static void check_diverged(const bench_cfg *c, bench_result *r, double pos_max) 
   snprintf(r->how, sizeof r->how, "diverged (error %.3g x size)", pos_max);
 }
 
+/* A finished run also fails when a tension error exceeds cfg.tension_diverged (a fraction of
+ * the reference's largest value): tension XY max and mean (L2 over the samples), the tendons'
+ * (largest over the samples and tendons).  Positions alone miss a run whose shape is right and
+ * whose tensions are not. */
+static void check_tension(const bench_cfg *c, bench_result *r, const errors *e) {
+  const struct { const char *what; double v; } m[] = {{"tension XY max", e->txy_max_l2},
+      {"tension XY mean", e->txy_mean_l2}, {"tendon tension", e->tendon}};
+  for (size_t k = 0; k < sizeof m / sizeof *m && !strcmp(r->status, "ok"); k++)
+    if (m[k].v > c->tension_diverged) {
+      snprintf(r->status, sizeof r->status, "failed");
+      snprintf(r->how, sizeof r->how, "diverged (%s error %.3g)", m[k].what, m[k].v);
+    }
+}
+
 /* -------------------------------------------------------- work precision */
 
 static const char *const wp_header =
@@ -160,14 +174,18 @@ static const char *const wp_header =
     "newton_iterations,force_evaluations,assemblies,factorizations,retries,pos_err_max,pos_err_final,"
     "txy_max_l2,txy_max_linf,txy_mean_l2,txy_mean_linf,tendon_err,run_dir";
 
-static void wp_row(FILE *f, const bench_plan *p, int k, const bench_result *ref) {
+/* One line of work_precision.csv and of the table; the run's point for its order into pt. */
+static void wp_row(FILE *f, const bench_plan *p, int k, const bench_result *ref,
+                   bench_point *pt) {
   const bench_job *j = &p->job[k];
   bench_result r;
   bench_read(&p->cfg, j, 1, &r);
   errors e = {NAN, NAN, NAN, NAN, NAN, NAN, NAN};
   if (!strcmp(r.status, "ok") && ref) measure(&r, ref, p->cfg.size, &e);
   check_diverged(&p->cfg, &r, e.pos_max);
+  check_tension(&p->cfg, &r, &e);
   int ok = !strcmp(r.status, "ok");
+  *pt = (bench_point){j->method, j->adaptive, ok, j->adaptive ? j->rtol : j->dt, e.pos_max};
   spread w = repeat_spread(p, k, wall_of);
   fprintf(f, "%s,%s,%s,%.6g,%s", j->method, j->adaptive ? "adaptive" : "fixed",
           j->adaptive ? "rtol" : "dt", j->adaptive ? j->rtol : j->dt, r.status);
@@ -208,7 +226,8 @@ static const char *const ref_header =
     "confirmed,wall_s,retries,confirm_retries,run_dir,confirm_dir";
 
 /* reference.csv: the reference run and its agreement with the second method. */
-static int wp_reference(const bench_plan *p, const bench_result *ref, int have_ref) {
+static int wp_reference(const bench_plan *p, const bench_result *ref, int have_ref,
+                        double *agreement) {
   const bench_cfg *c = &p->cfg;
   int kc = find_role(p, BR_CONFIRM, 1.0), kr = find_role(p, BR_REFERENCE, 1.0);
   const bench_job *jr = kr >= 0 ? &p->job[kr] : NULL, *jc = kc >= 0 ? &p->job[kc] : NULL;
@@ -218,6 +237,7 @@ static int wp_reference(const bench_plan *p, const bench_result *ref, int have_r
   else memset(&cr, 0, sizeof cr);
   if (have_ref && jc && !strcmp(cr.status, "ok")) measure(&cr, ref, c->size, &e);
   int confirmed = isfinite(e.pos_max) && e.pos_max <= c->confirm_tol;
+  *agreement = e.pos_max;
   char path[SW_PATHSZ + 64], rd[SW_NAMESZ + 48], cd[SW_NAMESZ + 48];
   FILE *f = open_csv(c, "reference.csv", ref_header, path, sizeof path);
   if (!f) return bench_result_free(&cr), -1;
@@ -244,17 +264,25 @@ static int wp_reference(const bench_plan *p, const bench_result *ref, int have_r
 static int merge_work(const bench_plan *p) {
   bench_result ref;
   int have_ref = read_reference(p, 1.0, &ref) == 0;
-  int rc = wp_reference(p, &ref, have_ref);
+  double agreement = NAN;
+  int rc = wp_reference(p, &ref, have_ref, &agreement);
   char path[SW_PATHSZ + 64];
   FILE *f = open_csv(&p->cfg, "work_precision.csv", wp_header, path, sizeof path);
-  if (!f) return bench_result_free(&ref), 2;
+  bench_point *pt = calloc((size_t)p->njob + 1, sizeof *pt);
+  if (!f || !pt) return bench_result_free(&ref), free(pt), f ? fclose(f) : 0, 2;
+  printf("a run fails when its position error exceeds %g x the cloth's size or a tension "
+         "error (XY max, XY mean, tendons) exceeds %g x the reference's largest\n",
+         p->cfg.diverged, p->cfg.tension_diverged);
   printf("  %-18s %-4s %-8s %-8s %10s %10s %11s\n", "method", "", "setting", "status",
          "pos err", "txy err", "wall");
+  int npt = 0;
   for (int k = 0; k < p->njob; k++)
     if (p->job[k].role == BR_RUN && p->job[k].rep == 1)
-      wp_row(f, p, k, have_ref ? &ref : NULL);
+      wp_row(f, p, k, have_ref ? &ref : NULL, &pt[npt++]);
   bench_result_free(&ref);
-  if (close_csv(f, path)) return 2;
+  int bad = close_csv(f, path) || (have_ref && bench_orders(&p->cfg, pt, npt, agreement));
+  free(pt);
+  if (bad) return 2;
   return !have_ref || rc ? 1 : 0;
 }
 
@@ -298,6 +326,9 @@ static void st_classify(const bench_cfg *c, bench_result *r, const bench_result 
   if (*gain > 1.0) {
     snprintf(r->status, sizeof r->status, "failed");
     snprintf(r->how, sizeof r->how, "energy grew (%.3g x scale)", *gain);
+  } else if (r->steps < BENCH_MIN_STABLE_STEPS) { /* too few steps to tell */
+    snprintf(r->status, sizeof r->status, "short");
+    snprintf(r->how, sizeof r->how, "%ld steps < %d", r->steps, BENCH_MIN_STABLE_STEPS);
   } else snprintf(r->status, sizeof r->status, *loss > c->overdamped ? "over-damped" : "stable");
 }
 
@@ -327,13 +358,17 @@ static int write_limits(const bench_cfg *c, const limit *lim, int n) {
                      "method,stiffness_scale,largest_stable_dt,smallest_failed_dt,tried", path,
                      sizeof path);
   if (!f) return -1;
-  printf("largest stable dt (s) per method and stiffness scale:\n");
+  printf("largest stable dt (s) per method and stiffness scale (stable: at least %d steps, "
+         "energy not grown):\n", BENCH_MIN_STABLE_STEPS);
   for (int k = 0; k < n; k++) {
     fprintf(f, "%s,%g", lim[k].method, lim[k].scale);
     put_num(f, lim[k].stable), put_num(f, lim[k].failed);
     fprintf(f, ",%d\n", lim[k].tried);
-    printf("  %-18s x%-6g %10.4g   (smallest failed %.4g)\n", lim[k].method, lim[k].scale,
-           lim[k].stable, lim[k].failed);
+    char stable[32] = "none stable", failed[48] = "none failed";
+    if (isfinite(lim[k].stable)) snprintf(stable, sizeof stable, "%.4g", lim[k].stable);
+    if (isfinite(lim[k].failed))
+      snprintf(failed, sizeof failed, "smallest failed %.4g", lim[k].failed);
+    printf("  %-18s x%-6g %11s   (%s)\n", lim[k].method, lim[k].scale, stable, failed);
   }
   return close_csv(f, path);
 }

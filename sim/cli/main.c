@@ -22,6 +22,8 @@ static void usage(FILE *fp) {
           "       sinew drape RUN_DIR [options]    (sinew drape --help)\n"
           "       sinew --help | --version\n"
           "\n"
+          "  Every option takes its value as --opt VALUE or --opt=VALUE.\n"
+          "\n"
           "  run     simulate SCENE (YAML) headless and write its logs and frames to the output\n"
           "          folder (the scene's output.dir, or --out DIR): tension.csv, energy.csv,\n"
           "          summary.json, frames/*.vtu, frames/*.vtp and frames.pvd\n"
@@ -71,7 +73,11 @@ static void usage_inverse(FILE *fp) {
           "2 on bad input.\n");
 }
 
+/* The defaults the help names are the code's: those of a scene that sets nothing. */
 static void usage_run(FILE *fp) {
+  sw_model *defaults = sw_model_new();
+  if (!defaults) return;
+  const sw_options *dflt = &defaults->opt;
   fprintf(fp,
           "usage: sinew run SCENE [--out DIR] [--method M] [--dt DT] [--duration T]\n"
           "                 [--rtol R] [--atol A] [--max-order N|auto] [--max-halvings N]\n"
@@ -108,8 +114,8 @@ static void usage_run(FILE *fp) {
           "                  is at most V dt in the norm below (overrides integrator.newton.tol;\n"
           "                  e.g. 1e-9 for a reference run)\n"
           "  --newton-norm rms|max\n"
-          "                  rms: mass-weighted RMS of dx, each coordinate at most 10 V dt\n"
-          "                  (default); max: every coordinate (overrides integrator.newton.norm)\n"
+          "                  rms: mass-weighted RMS of dx, each coordinate at most 10 V dt;\n"
+          "                  max: every coordinate (overrides integrator.newton.norm; default %s)\n"
           "  --hessian MODE  Newton's matrix: projected, exact, auto, abs or progressive\n"
           "                  (overrides integrator.hessian)\n"
           "  --newton-reuse on|off|auto\n"
@@ -121,15 +127,16 @@ static void usage_run(FILE *fp) {
           "                  CHOLMOD's factorisation; auto: chosen from the matrix (overrides\n"
           "                  integrator.factorization)\n"
           "  --threads N     OpenBLAS threads for CHOLMOD (default: $OPENBLAS_NUM_THREADS, else 1)\n"
-          "  --quiet         no progress line\n"
+          "  --quiet         nothing printed when the run succeeds (no progress line, no\n"
+          "                  summary); warnings and errors still go to stderr\n"
           "  --frames-every S\n"
           "                  s between VTU frames; 0: first and last only (overrides\n"
           "                  output.frames_every)\n"
           "  --no-frames     no VTU frames and no frames.pvd (a failed run still writes its last\n"
           "                  good state as a frame)\n"
           "  --frames-format binary|binary32|ascii\n"
-          "                  frames zlib-compressed and exact (default), zlib-compressed in\n"
-          "                  Float32, or ascii (overrides output.frames_format)\n"
+          "                  frames zlib-compressed and exact, zlib-compressed in Float32, or\n"
+          "                  ascii (overrides output.frames_format; default %s)\n"
           "  --positions-every S\n"
           "                  s between records of positions.bin (every vertex position, binary;\n"
           "                  docs/scenes.md); 0: no file (overrides output.positions_every)\n"
@@ -137,7 +144,9 @@ static void usage_run(FILE *fp) {
           "                  512x512); vertex indices in the scene stay indices\n"
           "  --stiffness-scale S\n"
           "                  multiply every elastic stiffness (membrane, bending, tendons,\n"
-          "                  tension XY's) by S > 0\n");
+          "                  tension XY's) by S > 0\n",
+          sw_norm_names()[dflt->newton_norm], sw_frames_format_names()[dflt->frames_format]);
+  sw_model_free(defaults);
 }
 
 /* --grid NXxNY: two integers >= 2. */
@@ -277,7 +286,7 @@ static void catch_stop_signals(void) {
   sigaction(SIGTERM, &sa, NULL);
 }
 
-static int finish_run(sw_model *m, int rc, const char *err);
+static int finish_run(sw_model *m, int rc, const char *err, int quiet);
 
 /* sinew run --resume DIR [--duration T] [--threads N] [--quiet]: the run in DIR goes on from
  * its restart.bin with its own scene and options (a longer duration if given). */
@@ -310,7 +319,7 @@ static int cmd_resume(int argc, char **argv) {
     fprintf(stderr, "sinew: resuming %s in %s/: %s, to t = %g s\n", m->name, dir,
             m->opt.method, m->opt.duration);
   catch_stop_signals();
-  return finish_run(m, sw_resume(m, !quiet, err, sizeof err), err);
+  return finish_run(m, sw_resume(m, !quiet, err, sizeof err), err, quiet);
 }
 
 static int cmd_run(int argc, char **argv) {
@@ -345,18 +354,20 @@ static int cmd_run(int argc, char **argv) {
     fprintf(stderr, "sinew: %s: %d vertices, %d free DOFs, %s, dt = %g s, to t = %g s\n",
             m->name, m->nv, m->ndof, m->opt.method, m->opt.dt, m->opt.duration);
   catch_stop_signals();
-  return finish_run(m, sw_run(m, !c.quiet, err, sizeof err), err);
+  return finish_run(m, sw_run(m, !c.quiet, err, sizeof err), err, c.quiet);
 }
 
-/* What a run (or a resumed run) left: its message, where the results are; the exit code. */
-static int finish_run(sw_model *m, int rc, const char *err) {
+/* What a run (or a resumed run) left: its message, where the results are (not after a quiet
+ * success); the exit code. */
+static int finish_run(sw_model *m, int rc, const char *err, int quiet) {
   if (rc == SW_INTERRUPTED) fprintf(stderr, "sinew: %s\n", err);
   else if (rc == SW_NOSTART)
     fprintf(stderr, "sinew: run not started: %s\nsinew: nothing written; the files of an "
             "earlier run in %s/ are as they were\n", err, m->opt.out_dir);
   else if (rc) fprintf(stderr, "sinew: run failed: %s\n", err);
   struct stat st;
-  if (rc != SW_NOSTART && stat(m->opt.out_dir, &st) == 0 && S_ISDIR(st.st_mode))
+  if (rc != SW_NOSTART && !(quiet && rc == SW_OK) && stat(m->opt.out_dir, &st) == 0 &&
+      S_ISDIR(st.st_mode))
     fprintf(stderr, "sinew: results in %s/ (summary.json, tension.csv, energy.csv%s%s%s)\n",
             m->opt.out_dir, m->ntendon ? ", tendons.csv" : "",
             m->opt.positions_every > 0 ? ", positions.bin" : "",
@@ -530,7 +541,38 @@ static int wants_help(int argc, char **argv) {
   return 0;
 }
 
+/* Every "--opt=value" argument after the subcommand becomes "--opt" "value", so that both forms
+ * work for every option (the parsers see the two-argument form).  NULL when out of memory. */
+static char **split_equals(int *argc, char **argv) {
+  char **out = malloc((2 * (size_t)*argc + 1) * sizeof *out);
+  if (!out) return NULL;
+  int n = 0;
+  for (int i = 0; i < *argc; i++) {
+    char *eq = i >= 2 && !strncmp(argv[i], "--", 2) ? strchr(argv[i], '=') : NULL;
+    if (!eq || eq == argv[i] + 2) {
+      out[n++] = argv[i];
+      continue;
+    }
+    *eq = '\0'; /* argv's strings are ours to change (C11 5.1.2.2.1) */
+    out[n++] = argv[i];
+    out[n++] = eq + 1;
+  }
+  out[n] = NULL;
+  *argc = n;
+  return out;
+}
+
+static int dispatch(int argc, char **argv);
+
 int main(int argc, char **argv) {
+  char **args = split_equals(&argc, argv);
+  if (!args) return fprintf(stderr, "sinew: out of memory\n"), 2;
+  int rc = dispatch(argc, args);
+  free(args);
+  return rc;
+}
+
+static int dispatch(int argc, char **argv) {
   if (argc < 2) return usage(stderr), 2;
   const char *cmd = argv[1];
   if (!strcmp(cmd, "--help") || !strcmp(cmd, "-h") || !strcmp(cmd, "help")) return usage(stdout), 0;

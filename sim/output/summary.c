@@ -133,7 +133,8 @@ static void summary_counters(out_file *w, const sw_model *m, const sw_data *d, d
     w_key(w, "factorization");
     out_json_str(w, d->factor_super ? "supernodal" : "simplicial", 16);
   }
-  w_json_num(w, "wall_time_s", wall);
+  w_json_num(w, "wall_time_s", wall); /* this part (since a --resume) */
+  w_json_num(w, "wall_time_total_s", d->wall_before + wall); /* every part of the run */
   w_json_num(w, "max_rss_mb", max_rss_mb());
 }
 
