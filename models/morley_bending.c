@@ -40,7 +40,7 @@
 
 #define NV 12      /* stencil vertices at most */
 #define FIT_COND 1e-8 /* smallest pivot of the fit's normal equations relative to the largest */
-#define PARA_TOL 1e-9 /* a parallelogram: its diagonals' midpoints this close, relative to the edge */
+#define PARA_TOL 1e-9 /* a parallelogram: diagonals' midpoints this close, relative to the edge */
 
 typedef struct morley_param {
   int n;     /* triangles (stencils) */
@@ -179,7 +179,8 @@ static int fit_slope(const pt *pts, int n, const double mid[2], const double nrm
 static void lin_slope(const double *p0, const double *p1, const double *p2, const double nrm[2],
                       double c[3]) {
   const double *p[3] = {p0, p1, p2};
-  double det = cross2((double[2]){p1[0] - p0[0], p1[1] - p0[1]}, (double[2]){p2[0] - p0[0], p2[1] - p0[1]});
+  double det = cross2((double[2]){p1[0] - p0[0], p1[1] - p0[1]},
+                      (double[2]){p2[0] - p0[0], p2[1] - p0[1]});
   for (int i = 0; i < 3; i++) { /* grad lambda_i = perp(p_{i+2} - p_{i+1}) / det */
     const double *a = p[(i + 1) % 3], *b = p[(i + 2) % 3];
     c[i] = (-(b[1] - a[1]) * nrm[0] + (b[0] - a[0]) * nrm[1]) / det;
@@ -249,7 +250,8 @@ static void condense_free(const double D[3], const double nn[3][3], const int *b
  * is exactly zero (to round-off of x) under rigid motions and uniform stretch. */
 static void annihilate_affine(double L[3][NV], const double P[NV][2], int nv) {
   double B[3][NV]; /* an orthonormal basis of the affine functions on the points */
-  for (int i = 0; i < nv; i++) B[0][i] = 1.0, B[1][i] = P[i][0] - P[0][0], B[2][i] = P[i][1] - P[0][1];
+  for (int i = 0; i < nv; i++)
+    B[0][i] = 1.0, B[1][i] = P[i][0] - P[0][0], B[2][i] = P[i][1] - P[0][1];
   for (int a = 0; a < 3; a++) {
     for (int b = 0; b < a; b++) {
       double d = 0.0;
@@ -275,7 +277,8 @@ static int tri_setup(const sw_model *m, const sw_topology *tp, const int *fe, in
   const double *p = m->uv + 6 * f, A = m->area[f]; /* m^2 */
   double L[3][NV] = {{0}}, P[NV][2], nn[3][3], D[3], Dc[3][3];
   int nv = 3, bnd[3], nb = 0;
-  for (int i = 0; i < 3; i++) sv[i] = m->face[3 * f + i], P[i][0] = p[2 * i], P[i][1] = p[2 * i + 1];
+  for (int i = 0; i < 3; i++)
+    sv[i] = m->face[3 * f + i], P[i][0] = p[2 * i], P[i][1] = p[2 * i + 1];
   sw_plate_rigidity(&m->mat[m->face_mat[f]], D);
   for (int k = 0; k < 3; k++) {
     const double *a = p + 2 * ((k + 1) % 3), *b = p + 2 * ((k + 2) % 3);

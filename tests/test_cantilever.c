@@ -40,8 +40,9 @@ typedef struct strip {
 enum { DIAG_A, DIAG_B, DIAG_ALT, DIAG_RANDOM };
 
 /* ns x nt cells of hs x ht, the first cell column clamped (s in [0, hs] pinned); diagonals by
- * `diag` (DIAG_RANDOM: drawn from the seed rs); jitter > 0 moves every vertex off the clamp, the tip and the long edges by up to
- * jitter x the cell in each direction (the long edges' vertices only along s). */
+ * `diag` (DIAG_RANDOM: drawn from the seed rs); jitter > 0 moves every vertex off the clamp,
+ * the tip and the long edges by up to jitter x the cell in each direction (the long edges'
+ * vertices only along s). */
 static strip grid_strip_seed(int ns, int nt, double hs, double ht, int diag, double jitter,
                              unsigned long rs) {
   strip g = {.nv = (ns + 2) * (nt + 1), .nf = 2 * (ns + 1) * nt, .clamp = 0.5 * hs,

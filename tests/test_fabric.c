@@ -83,49 +83,39 @@ static void fabric_block(void **st) {
 }
 
 /* scenes/peirce_cantilever.yaml with its strip given as a fabric of 200 g/m^2 and a bending
- * length of 4 cm, quadratic bending: overhang 2c droops to the heavy elastica's chord angle
- * 41.487 degrees (tests/test_cantilever.c), within 0.1 degree. */
-static void cantilever_bending_length(void **st) {
-  (void)st;
-  char err[SW_ERRSZ];
-  sw_model *m = parse(
-      "mesh: {grid: {size: [0.0809876543209877, 0.02], vertices: [42, 11], plane: xy}}\n"
-      "material:\n"
-      "  fabric: {mass: 200, bending_length: 4}\n"
-      "  membrane: {model: bw98, k_u: 10000, k_v: 10000, k_shear: 10000}\n"
-      "gravity: [0, 0, -9.80665]\n"
-      "pins: [{select: {box: [[-1, -1, -1], [0.0020, 1, 1]]}}]\n"
-      "integrator: {method: static}\n"
-      "duration: 0\n", err);
+ * length of 4 cm, and the bending line `bend` ("" or "  bending: {model: M}\n" beside the
+ * fabric): overhang 2c droops to the heavy elastica's chord angle 41.487 degrees
+ * (tests/test_cantilever.c), within 0.1 degree, with the bending model `model`. */
+static void peirce_fabric(const char *bend, int model) {
+  char err[SW_ERRSZ], text[1024];
+  snprintf(text, sizeof text,
+           "mesh: {grid: {size: [0.0809876543209877, 0.02], vertices: [42, 11], plane: xy}}\n"
+           "material:\n"
+           "  fabric: {mass: 200, bending_length: 4}\n"
+           "%s"
+           "  membrane: {model: bw98, k_u: 10000, k_v: 10000, k_shear: 10000}\n"
+           "gravity: [0, 0, -9.80665]\n"
+           "pins: [{select: {box: [[-1, -1, -1], [0.0020, 1, 1]]}}]\n"
+           "integrator: {method: static}\n"
+           "duration: 0\n", bend);
+  sw_model *m = parse(text, err);
   if (!m) fail_msg("%s", err);
+  assert_int_equal(m->mat[0].bending, model);
+  assert_true(fabs(m->mat[0].k_bend - 0.2 * 9.80665 * 0.04 * 0.04 * 0.04) < 1e-15); /* N m */
   double angle = th_peirce_angle(m);
-  print_message("fabric bending_length 4 cm, overhang 8 cm: chord angle %.3f deg\n", angle);
+  print_message("fabric bending_length 4 cm, overhang 8 cm%s: chord angle %.3f deg\n",
+                *bend ? ", bending model given" : "", angle);
   assert_true(fabs(angle - 41.487) < 0.1);
   sw_model_free(m);
 }
-
+/* The fabric's bending is quadratic. */
+static void cantilever_bending_length(void **st) {
+  (void)st, peirce_fabric("", SW_BENDING_QUADRATIC);
+}
 /* Beside a fabric with a bending rigidity, bending: {model: M} picks the model its rigidity
- * goes to: Peirce's strip above with morley bending, within 0.1 degree as well. */
+ * goes to. */
 static void fabric_bending_model(void **st) {
-  (void)st;
-  char err[SW_ERRSZ];
-  sw_model *m = parse(
-      "mesh: {grid: {size: [0.0809876543209877, 0.02], vertices: [42, 11], plane: xy}}\n"
-      "material:\n"
-      "  fabric: {mass: 200, bending_length: 4}\n"
-      "  bending: {model: morley}\n"
-      "  membrane: {model: bw98, k_u: 10000, k_v: 10000, k_shear: 10000}\n"
-      "gravity: [0, 0, -9.80665]\n"
-      "pins: [{select: {box: [[-1, -1, -1], [0.0020, 1, 1]]}}]\n"
-      "integrator: {method: static}\n"
-      "duration: 0\n", err);
-  if (!m) fail_msg("%s", err);
-  assert_int_equal(m->mat[0].bending, SW_BENDING_MORLEY);
-  assert_true(fabs(m->mat[0].k_bend - 0.2 * 9.80665 * 0.04 * 0.04 * 0.04) < 1e-15);
-  double angle = th_peirce_angle(m);
-  print_message("fabric bending_length 4 cm, morley: chord angle %.3f deg\n", angle);
-  assert_true(fabs(angle - 41.487) < 0.1);
-  sw_model_free(m);
+  (void)st, peirce_fabric("  bending: {model: morley}\n", SW_BENDING_MORLEY);
 }
 
 /* Orthotropic bending from a scene: stiffness_u/v/bias, the default bias, fabric [warp, weft]. */
