@@ -6,12 +6,14 @@ import os
 import tempfile
 
 # The skeleton's material: scenes/skirt.yaml's front panel, a light woven (150 g/m²), to be
-# replaced by the fabric's own numbers (docs/scenes.md).
+# replaced by the fabric's own numbers (docs/scenes.md).  Bending is `morley`: on the unstructured
+# meshes gmsh makes it reads the rigidity given within 0.1 % at 40 cells, where `quadratic` reads it
+# 1-4 % too high (docs/models.md, the unstructured-mesh study), for 1.1-1.5x the time per step.
 MATERIAL = ("material:                       # the fabric: replace with yours (docs/scenes.md,\n"
             "                                # or fabric: in measured units, docs/fabrics.md)\n"
             "  density: 0.15                 # kg/m²\n"
             "  membrane: {model: bw98, k_u: 2000, k_v: 1500, k_shear: 50}   # N/m\n"
-            "  bending: {model: quadratic, stiffness: 1e-5}                 # N m\n")
+            "  bending: {model: morley, stiffness: 1e-5}                    # N m\n")
 
 
 def obj_text(meshed, positions, header):
