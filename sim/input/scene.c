@@ -605,8 +605,9 @@ sw_model *sw_scene_parse_ex(const char *name, const char *buf, size_t len,
   ynode *root = sy_parse(name, buf, len, err, errsz);
   if (!root) return NULL;
   const ynode *by_index = NULL;
+  sw_names gnames = {0};
   ctx c = {.name = name, .err = err, .errsz = errsz, .root = root, .ov = ov,
-           .by_index = &by_index};
+           .by_index = &by_index, .gnames = &gnames};
   c.m = sw_model_new();
   int rc = c.m ? load_scene(&c) : sy_oom(&c, root);
   if (!rc && by_index && ov && ov->grid[0] > 0) grid_warning(&c, by_index);
@@ -621,6 +622,7 @@ sw_model *sw_scene_parse_ex(const char *name, const char *buf, size_t len,
     if (p) p[0] = root->kid[k + 1]->line, p[1] = root->kid[k + 1]->col;
   }
   sw_free(c.sel);
+  sw_names_free(&gnames);
   sw_free(c.group);
   sw_free(c.fgroup);
   sy_free(root);
