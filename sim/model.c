@@ -71,6 +71,7 @@ void sw_model_free(sw_model *m) {
   if (!m) return;
   for (int k = 0; k < m->nterm; k++) sw_term_free(&m->term[k]);
   sw_free(m->term);
+  sw_free(m->input);
   sw_free(m->x0);
   sw_free(m->v0);
   sw_free(m->face);

@@ -51,6 +51,10 @@ typedef struct sw_io {
   int bad;                 /* loading: past the end, or a check failed; saving: out of memory */
 } sw_io;
 
+/* restart.bin begins with this magic, whose last two characters are the format's version, and
+ * ends with the FNV-1a 64 of all the bytes before it (restart.c). */
+#define SW_RESTART_MAGIC "SWREST02"
+
 /* n bytes at p into (saving) or out of (loading) io. */
 void sw_io_bytes(sw_io *io, void *p, size_t n);
 /* sim.c: sw_sim_new, and in *rc (if not NULL) SW_NOSTART when the output folder could not be

@@ -6,6 +6,7 @@
  * printed.  Then the tree is checked against the schema (docs/scenes.md) and the
  * model is filled.  Every error is "file:line:column: what was found; what was expected".
  * Units are SI: m, s, kg, N. */
+#define _XOPEN_SOURCE 700 /* realpath */
 #include "scene.h"
 #include "scene_material.h"
 #include "scene_fabric.h"
@@ -92,6 +93,29 @@ static int obj_path(const ctx *c, const ynode *y, const char *what, const char *
   return 0;
 }
 
+static char *read_file(const char *path, size_t *len, char *err, size_t errsz);
+
+int sc_note_input(const ctx *c, const ynode *y, const char *path, const char *buf, size_t len) {
+  sw_model *m = c->m;
+  sw_input *in = sw_realloc(m->input, (size_t)m->ninput + 1, sizeof *in);
+  if (!in) return sy_oom(c, y);
+  m->input = in;
+  in += m->ninput;
+  memset(in, 0, sizeof *in);
+  if (!realpath(path, in->path)) snprintf(in->path, sizeof in->path, "%s", path); /* absolute */
+  char *file = NULL;
+  if (!buf) { /* an OBJ, read again as bytes (sw_obj_read keeps no copy) */
+    char e[SW_ERRSZ];
+    if (!(file = read_file(path, &len, e, sizeof e))) return sy_fail(c, y, "%s", e);
+    buf = file;
+  }
+  in->bytes = (long long)len;
+  in->hash = sw_hash64(SW_HASH0, buf, len);
+  sw_free(file);
+  m->ninput++;
+  return 0;
+}
+
 int sc_read_obj(const ctx *c, const ynode *y, const char *what, sw_mesh *mesh, char *path) {
   const char *rel;
   if (sy_str(c, y, what, SW_PATHSZ, &rel) || obj_path(c, y, what, rel, path)) return -1;
@@ -102,6 +126,7 @@ int sc_read_obj(const ctx *c, const ynode *y, const char *what, sw_mesh *mesh, c
   fclose(f);
   char e[SW_ERRSZ];
   if (sw_obj_read(path, mesh, e, sizeof e)) return sy_fail(c, y, "in %s: %s", what, e);
+  if (sc_note_input(c, y, path, NULL, 0)) return -1;
   if (mesh->nv <= 0)
     return sy_fail(c, y, "%s '%s' has no vertices; expected at least one 'v' line", what, path);
   return 0;
@@ -609,7 +634,9 @@ sw_model *sw_scene_parse_ex(const char *name, const char *buf, size_t len,
   ctx c = {.name = name, .err = err, .errsz = errsz, .root = root, .ov = ov,
            .by_index = &by_index, .gnames = &gnames};
   c.m = sw_model_new();
-  int rc = c.m ? load_scene(&c) : sy_oom(&c, root);
+  int rc = c.m ? sc_note_input(&c, root, name, buf, len) : sy_oom(&c, root);
+  if (!rc && ov) memcpy(c.m->grid_override, ov->grid, sizeof ov->grid);
+  if (!rc) rc = load_scene(&c);
   if (!rc && by_index && ov && ov->grid[0] > 0) grid_warning(&c, by_index);
   if (!rc) sc_plausibility(&c); /* the scene's own numbers, before --stiffness-scale */
   int at[2] = {0, 0}; /* line and column of the mesh, for the model's own checks */
