@@ -146,13 +146,13 @@ def read_json(path):
 
 def restart_scene(run_dir):
     """The scene's absolute path that restart.bin's header holds (after its 8-byte magic
-    SWREST01, NUL-terminated), or None."""
+    SWREST01 or SWREST02, NUL-terminated), or None."""
     try:
         with open(os.path.join(run_dir, "restart.bin"), "rb") as f:
             head = f.read(8 + 4096)
     except OSError:
         return None
-    if head[:8] != b"SWREST01":
+    if head[:8] not in (b"SWREST01", b"SWREST02"):
         return None
     return head[8:].split(b"\0", 1)[0].decode("utf-8", "replace") or None
 
