@@ -53,6 +53,7 @@ sw_model *sw_model_new(void) {
   o->energy_bound = 0.0;
   o->frames_every = 0.0;
   o->positions_every = 0.0;
+  o->restart_every = 60.0; /* s of wall time: a killed run loses at most a minute */
   o->frames_format = SW_FRAMES_BINARY32; /* docs/scenes.md, "Frames" (measured) */
   o->tx_clip = 5e4;
   o->tx_reference_uv = -1; /* sw_model_finish: uv with seams (a garment), else initial */

@@ -41,6 +41,7 @@ struct sw_sim {
   char msg[SW_ERRSZ];
   int finished;                /* the run folder was closed (finish ran) */
   int started;                 /* the integrator is going (a restart file can be written) */
+  double last_restart;         /* s: wall clock of the last restart.bin written */
 };
 
 static int write_restart(sw_sim *s, char *err, size_t errsz);
@@ -130,6 +131,8 @@ static int record(sw_sim *s, int force, char *err, size_t errsz) {
   if (fe >= 0.0 && (force || is_due(fe, s->next_frame, d->t))) {
     if (sw_output_frame(s->out, m, d, err, errsz)) return output_failed(d, err, errsz);
     advance(fe, &s->next_frame, d->t);
+    if (write_restart(s, err, errsz)) return output_failed(d, err, errsz);
+  } else if (m->opt.restart_every > 0.0 && sw_now() - s->last_restart >= m->opt.restart_every) {
     if (write_restart(s, err, errsz)) return output_failed(d, err, errsz);
   }
   return SW_OK;
@@ -419,6 +422,7 @@ sw_sim *sw_sim_start(sw_model *m, int flags, int *status, char *err, size_t errs
   if (!rc) rc = fit_stage(s, err, errsz);
   if (!rc) rc = start_method(s, err, errsz);
   s->started = !rc;
+  if (!rc && write_restart(s, err, errsz)) rc = output_failed(s->d, err, errsz); /* the start */
   if (rc) {
     outcome(s, rc, err);
     char cerr[SW_ERRSZ];
@@ -486,6 +490,7 @@ static int write_restart(sw_sim *s, char *err, size_t errsz) {
   sim_io(s, &io);
   int rc = sw_output_restart(s->out, &io, err, errsz);
   sw_io_free(&io);
+  s->last_restart = sw_now();
   return rc ? SW_FATAL : SW_OK;
 }
 
@@ -562,16 +567,21 @@ static int check_head(sw_io *io, const sw_model *m, int force, const char *dir, 
 int sw_restart_options(const char *dir, char *scene, size_t scenesz, sw_options *opt,
                        char *err, size_t errsz) {
   sw_scene_overrides ov;
-  return sw_restart_options_ex(dir, scene, scenesz, opt, &ov, err, errsz);
+  double t;
+  return sw_restart_options_ex(dir, scene, scenesz, opt, &ov, &t, err, errsz);
 }
 
 int sw_restart_options_ex(const char *dir, char *scene, size_t scenesz, sw_options *opt,
-                          sw_scene_overrides *ov, char *err, size_t errsz) {
+                          sw_scene_overrides *ov, double *t, char *err, size_t errsz) {
   sw_io io;
   if (sw_io_read(&io, dir, err, errsz)) return SW_FATAL;
   restart_head h;
   sw_io_bytes(&io, &h, sizeof h);
-  int bad = io.bad || memcmp(h.magic, SW_RESTART_MAGIC, 8);
+  int bad = io.bad || memcmp(h.magic, SW_RESTART_MAGIC, 8) || h.ninput < 0 ||
+            (size_t)h.ninput > (io.len - io.pos) / sizeof(sw_input);
+  if (!bad) io.pos += (size_t)h.ninput * sizeof(sw_input);
+  sw_io_bytes(&io, t, sizeof *t); /* the first of sim_io */
+  bad = bad || io.bad;
   sw_io_free(&io);
   if (bad) return sw_errf(err, errsz, "%s/restart.bin: not a restart file of this sinew", dir), SW_FATAL;
   snprintf(scene, scenesz, "%s", h.scene);

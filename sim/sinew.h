@@ -392,6 +392,9 @@ typedef struct sw_options {
                                   run) */
   double positions_every;      /* s between records of positions.bin (0: no positions.bin) */
   int frames_format;           /* SW_FRAMES_*: how the frames are encoded */
+  double restart_every;        /* s of wall time: restart.bin is written at the start, with each
+                                  frame and at the first logged step this long after the last
+                                  one (0: at the start and with frames only; default 60) */
   double tx_clip;              /* tension XY stiffness clip, N/m (Optitex's: 5e4) */
   int tx_reference_uv;         /* 1: rlu = rlv = 1 (uv layout); 0: the initial configuration;
                                   -1 (the default): uv with seams, else initial (resolved
@@ -650,9 +653,10 @@ SW_API int sw_restart_options(const char *dir, char *scene, size_t scenesz, sw_o
  * its logs (m: the scene loaded again, with the options sw_restart_options gave).  Returns as
  * sw_run; SW_NOSTART when the folder or its restart file cannot be used (nothing changed). */
 SW_API int sw_resume(const sw_model *m, int progress, char *err, size_t errsz);
-/* sw_restart_options and the overrides the run's scene was loaded with (sw_scene_load_ex). */
+/* sw_restart_options, the overrides the run's scene was loaded with (sw_scene_load_ex) and
+ * the time of the restart, s. */
 SW_API int sw_restart_options_ex(const char *dir, char *scene, size_t scenesz, sw_options *opt,
-                                 sw_scene_overrides *ov, char *err, size_t errsz);
+                                 sw_scene_overrides *ov, double *t, char *err, size_t errsz);
 /* sw_resume; force: go on although the model changed (the scene file or a file it reads,
  * the overrides, an option that defines the run), which sw_resume refuses with a message
  * naming the change.  A damaged restart file or another mesh or method is refused anyway. */

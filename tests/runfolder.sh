@@ -199,5 +199,34 @@ for ov in "--stiffness-scale 3" "--grid 5x5"; do # restored on resume: the strai
   rm -rf "$tmp/ovs" "$tmp/ovh"
 done
 
+# 5c. restart points: at the start (a run killed before its first frame after t = 0 resumes from
+# t = 0) and every output.restart_every s of wall time; resumed, the logs are the straight run's.
+sed 's/^output:.*/&\n  restart_every: 1e-9/' scenes/hanging_cloth.yaml >"$tmp/every.yaml"
+grep -q "restart_every: 1e-9" "$tmp/every.yaml" || fail "restart_every: no output key to extend"
+"$sinew" run scenes/hanging_cloth.yaml --frames-every 100 --duration 0.3 --quiet \
+  --out "$tmp/rstraight" 2>/dev/null || fail "restart points: straight run"
+for case in start every; do
+  scene=scenes/hanging_cloth.yaml
+  [ $case = every ] && scene=$tmp/every.yaml
+  "$sinew" run "$scene" --frames-every 100 --duration 0.3 --quiet --out "$tmp/rk" 2>/dev/null &
+  pid=$!
+  wait_lines "$tmp/rk/tension.csv.part" 12 || fail "restart $case: the run did not get going"
+  kill -9 $pid
+  wait $pid 2>/dev/null
+  pid=
+  # the time of the last but one line logged (the restart may lag the last line by one step)
+  t_last=$(tail -n 2 "$tmp/rk/tension.csv.part" | head -n 1 | cut -d, -f1)
+  "$sinew" run --resume "$tmp/rk" --duration 0.3 2>"$tmp/err" >/dev/null || fail "restart $case: resume: $(cat "$tmp/err")"
+  t_from=$(sed -n 's/.* from t = \([^ ]*\) s:.*/\1/p' "$tmp/err")
+  if [ $case = start ]; then
+    [ "$t_from" = 0 ] || fail "restart at the start: resumed from t = '$t_from' s, expected 0"
+  else
+    awk -v a="$t_from" -v b="$t_last" 'BEGIN { exit !(a != "" && a + 0 >= b + 0) }' ||
+      fail "restart_every: resumed from t = '$t_from' s, before the killed run's t = $t_last s"
+  fi
+  same_logs "$tmp/rstraight" "$tmp/rk" "restart $case, kill -9 + resume"
+  rm -rf "$tmp/rk"
+done
+
 [ "$fails" = 0 ] && echo "runfolder: all checks passed"
 exit $((fails > 0))

@@ -303,8 +303,9 @@ static int cmd_resume(int argc, char **argv) {
   char err[SW_ERRSZ], scene[SW_PATHSZ];
   sw_options opt;
   sw_scene_overrides ov;
+  double t_from; /* s */
   if (strlen(dir) >= SW_PATHSZ ||
-      sw_restart_options_ex(dir, scene, sizeof scene, &opt, &ov, err, sizeof err))
+      sw_restart_options_ex(dir, scene, sizeof scene, &opt, &ov, &t_from, err, sizeof err))
     return fprintf(stderr, "sinew: cannot resume: %s\n", strlen(dir) >= SW_PATHSZ ? "path too long" : err), 1;
   sw_model *m = sw_scene_load_ex(scene, &ov, err, sizeof err);
   if (!m) return fprintf(stderr, "sinew: cannot resume: %s\n", err), 1;
@@ -313,8 +314,8 @@ static int cmd_resume(int argc, char **argv) {
   if (duration >= 0) m->opt.duration = duration;
   if (threads > 0) m->opt.blas_threads = threads;
   if (!quiet)
-    fprintf(stderr, "sinew: resuming %s in %s/: %s, to t = %g s\n", m->name, dir,
-            m->opt.method, m->opt.duration);
+    fprintf(stderr, "sinew: resuming %s in %s/ from t = %.9g s: %s, to t = %g s\n", m->name,
+            dir, t_from, m->opt.method, m->opt.duration);
   catch_stop_signals();
   return finish_run(m, sw_resume_ex(m, !quiet, force, err, sizeof err), err);
 }

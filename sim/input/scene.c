@@ -522,13 +522,13 @@ static int load_integrator(const ctx *c, const ynode *y) {
 }
 
 static const char *const out_keys[] = {"dir", "frames_every", "positions_every",
-                                       "frames_format"};
+                                       "frames_format", "restart_every"};
 
 static int load_output(const ctx *c, const ynode *y) {
   sw_options *o = &c->m->opt;
-  const ynode *v[4];
+  const ynode *v[5];
   const char *dir;
-  if (sy_map(c, y, "output", out_keys, 4, v)) return -1;
+  if (sy_map(c, y, "output", out_keys, 5, v)) return -1;
   if (v[0]) {
     if (sy_str(c, v[0], "output dir", sizeof o->out_dir, &dir)) return -1;
     snprintf(o->out_dir, sizeof o->out_dir, "%s", dir);
@@ -538,6 +538,8 @@ static int load_output(const ctx *c, const ynode *y) {
     return -1;
   if (v[3] && sy_choice(c, v[3], "output frames_format", sw_frames_format_names(), SW_FRAMES_N,
                         &o->frames_format))
+    return -1;
+  if (v[4] && sy_num(c, v[4], "output restart_every", 0, 0, "s of wall time", &o->restart_every))
     return -1;
   return 0;
 }
