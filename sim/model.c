@@ -53,6 +53,7 @@ sw_model *sw_model_new(void) {
   o->energy_bound = 0.0;
   o->frames_every = 0.0;
   o->positions_every = 0.0;
+  o->restart_every = 60.0; /* s of wall time: a killed run loses at most a minute */
   o->frames_format = SW_FRAMES_BINARY32; /* docs/scenes.md, "Frames" (measured) */
   o->tx_clip = 5e4;
   o->tx_reference_uv = -1; /* sw_model_finish: uv with seams (a garment), else initial */
@@ -71,6 +72,7 @@ void sw_model_free(sw_model *m) {
   if (!m) return;
   for (int k = 0; k < m->nterm; k++) sw_term_free(&m->term[k]);
   sw_free(m->term);
+  sw_free(m->input);
   sw_free(m->x0);
   sw_free(m->v0);
   sw_free(m->face);

@@ -37,7 +37,7 @@ void sw_set_threads(int blas_threads) {
  * none of, and for the fit stage's length (its damping, Newton tolerance and gravity ramp,
  * restored when it ends, sim.c). */
 static int run_to_end(const sw_model *m, int progress, int resume, char *err, size_t errsz) {
-  int flags = SW_SIM_OUTPUT | (progress ? SW_SIM_PROGRESS : 0);
+  int flags = SW_SIM_OUTPUT | (progress ? SW_SIM_PROGRESS : 0) | (resume > 1 ? SW_SIM_FORCE : 0);
   int start = SW_OK;
   sw_sim *s = resume ? sw_sim_resume((sw_model *)m, flags, &start, err, errsz)
                      : sw_sim_start((sw_model *)m, flags, &start, err, errsz);
@@ -57,4 +57,8 @@ int sw_run(const sw_model *m, int progress, char *err, size_t errsz) {
 
 int sw_resume(const sw_model *m, int progress, char *err, size_t errsz) {
   return run_to_end(m, progress, 1, err, errsz);
+}
+
+int sw_resume_ex(const sw_model *m, int progress, int force, char *err, size_t errsz) {
+  return run_to_end(m, progress, force ? 2 : 1, err, errsz);
 }

@@ -9,6 +9,7 @@
  * step failed. */
 #define _XOPEN_SOURCE 700 /* realpath */
 #include <math.h>
+#include <stddef.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -41,6 +42,7 @@ struct sw_sim {
   char msg[SW_ERRSZ];
   int finished;                /* the run folder was closed (finish ran) */
   int started;                 /* the integrator is going (a restart file can be written) */
+  double last_restart;         /* s: wall clock of the last restart.bin written */
 };
 
 static int write_restart(sw_sim *s, char *err, size_t errsz);
@@ -130,6 +132,8 @@ static int record(sw_sim *s, int force, char *err, size_t errsz) {
   if (fe >= 0.0 && (force || is_due(fe, s->next_frame, d->t))) {
     if (sw_output_frame(s->out, m, d, err, errsz)) return output_failed(d, err, errsz);
     advance(fe, &s->next_frame, d->t);
+    if (write_restart(s, err, errsz)) return output_failed(d, err, errsz);
+  } else if (m->opt.restart_every > 0.0 && sw_now() - s->last_restart >= m->opt.restart_every) {
     if (write_restart(s, err, errsz)) return output_failed(d, err, errsz);
   }
   return SW_OK;
@@ -425,6 +429,7 @@ sw_sim *sw_sim_start(sw_model *m, int flags, int *status, char *err, size_t errs
   if (!rc) rc = fit_stage(s, err, errsz);
   if (!rc) rc = start_method(s, err, errsz);
   s->started = !rc;
+  if (!rc && write_restart(s, err, errsz)) rc = output_failed(s->d, err, errsz); /* the start */
   if (rc) {
     outcome(s, rc, err);
     char cerr[SW_ERRSZ];
@@ -436,22 +441,28 @@ sw_sim *sw_sim_start(sw_model *m, int flags, int *status, char *err, size_t errs
 
 /* ------------------------------------------------------------------ restart */
 
-/* restart.bin (sim/output/restart.c) begins with what the run was, checked on loading; the
- * scene and the options are what `sinew run --resume` runs again (sw_restart_options). */
-#define RESTART_MAGIC "SWREST02"
+/* restart.bin (sim/output/restart.c) begins with what the run was, checked on loading: the
+ * scene, the overrides it was loaded with and the options are what `sinew run --resume` runs
+ * again (sw_restart_options); the files the scene read (m->input) follow the header. */
 typedef struct restart_head {
-  char magic[8];
+  char magic[8];         /* SW_RESTART_MAGIC */
   char scene[SW_PATHSZ]; /* the scene file, absolute */
   sw_options opt;        /* the run's options, the command line's included */
   int nv, dim, nf;
+  int grid[2];           /* sw_scene_overrides */
+  double stiffness_scale;
+  int ninput;            /* sw_input records after the header */
 } restart_head;
 
 static void head_of(const sw_model *m, restart_head *h) {
   memset(h, 0, sizeof *h);
-  memcpy(h->magic, RESTART_MAGIC, 8);
+  memcpy(h->magic, SW_RESTART_MAGIC, 8);
   if (!realpath(m->path, h->scene)) snprintf(h->scene, sizeof h->scene, "%s", m->path);
   h->opt = m->opt;
   h->nv = m->nv, h->dim = m->dim, h->nf = m->nf;
+  memcpy(h->grid, m->grid_override, sizeof h->grid);
+  h->stiffness_scale = m->stiffness_scale;
+  h->ninput = m->ninput;
 }
 
 #define IO(field) sw_io_bytes(io, &(field), sizeof(field))
@@ -485,37 +496,109 @@ static int write_restart(sw_sim *s, char *err, size_t errsz) {
   restart_head h;
   head_of(s->m, &h);
   sw_io_bytes(&io, &h, sizeof h);
+  sw_io_bytes(&io, s->m->input, (size_t)s->m->ninput * sizeof *s->m->input);
   sim_io(s, &io);
   int rc = sw_output_restart(s->out, &io, err, errsz);
   sw_io_free(&io);
+  s->last_restart = sw_now();
   return rc ? SW_FATAL : SW_OK;
 }
 
-/* The header of io, checked against m (loading). */
-static int check_head(sw_io *io, const sw_model *m, const char *dir, char *err, size_t errsz) {
+/* An option that a resumed run must keep: its name and where it is in sw_options. */
+typedef struct kept_option {
+  const char *name;
+  size_t at, size;
+} kept_option;
+#define KEPT(f) {#f, offsetof(sw_options, f), sizeof(((sw_options *)0)->f)}
+static const kept_option kept_options[] = {
+    KEPT(method), KEPT(dt), KEPT(newton_max), KEPT(newton_tol), KEPT(newton_norm),
+    KEPT(max_halvings), KEPT(hessian), KEPT(newton_reuse), KEPT(factorization), KEPT(rtol),
+    KEPT(atol), KEPT(max_order), KEPT(max_step), KEPT(setup_every), KEPT(energy_bound),
+    KEPT(frames_every), KEPT(positions_every), KEPT(frames_format), KEPT(tx_clip),
+    KEPT(tx_reference_uv), KEPT(tx_k_u), KEPT(tx_k_v), KEPT(tendon_dense_max)};
+
+/* What differs between the run that wrote the restart (h and its inputs in) and m: a message
+ * naming it, or 0 when nothing that defines the model does. */
+static int model_changed(const restart_head *h, const sw_input *in, const sw_model *m,
+                         char *why, size_t whysz) {
+  for (size_t k = 0; k < sizeof kept_options / sizeof *kept_options; k++) {
+    const kept_option *o = &kept_options[k];
+    if (memcmp((const char *)&h->opt + o->at, (const char *)&m->opt + o->at, o->size))
+      return snprintf(why, whysz, "the option %s differs from the run's", o->name), 1;
+  }
+  if (memcmp(h->grid, m->grid_override, sizeof h->grid))
+    return snprintf(why, whysz, "--grid %dx%d, the run's %dx%d (0: the scene's)",
+                    m->grid_override[0], m->grid_override[1], h->grid[0], h->grid[1]), 1;
+  if (h->stiffness_scale != m->stiffness_scale)
+    return snprintf(why, whysz, "the stiffness scale is %.17g, the run's %.17g",
+                    m->stiffness_scale, h->stiffness_scale), 1;
+  for (int k = 0; k < h->ninput || k < m->ninput; k++) {
+    if (k >= m->ninput || k >= h->ninput || strcmp(in[k].path, m->input[k].path))
+      return snprintf(why, whysz, "the scene reads other files: '%.400s' where the run read '%.400s'",
+                      k < m->ninput ? m->input[k].path : "(none)",
+                      k < h->ninput ? in[k].path : "(none)"), 1;
+    if (in[k].bytes != m->input[k].bytes || in[k].hash != m->input[k].hash)
+      return snprintf(why, whysz, "%s '%.400s' changed since the run (%lld bytes, checksum %016llx; "
+                      "the run's %lld bytes, %016llx)", k ? "the file" : "the scene file",
+                      in[k].path, m->input[k].bytes, m->input[k].hash, in[k].bytes,
+                      in[k].hash), 1;
+  }
+  return 0;
+}
+
+/* The header of io and the inputs after it, checked against m (loading); force: a changed
+ * scene, files or option is taken (sinew run --resume --force). */
+static int check_head(sw_io *io, const sw_model *m, int force, const char *dir, char *err,
+                      size_t errsz) {
   restart_head h;
   sw_io_bytes(io, &h, sizeof h);
-  if (io->bad || memcmp(h.magic, RESTART_MAGIC, 8))
+  if (io->bad || memcmp(h.magic, SW_RESTART_MAGIC, 8) || h.ninput < 0 ||
+      (size_t)h.ninput > (io->len - io->pos) / sizeof(sw_input))
     return sw_errf(err, errsz, "%s/restart.bin: not a restart file of this sinew", dir), -1;
   if (h.nv != m->nv || h.dim != m->dim || h.nf != m->nf || strcmp(h.opt.method, m->opt.method))
     return sw_errf(err, errsz, "%s/restart.bin: a run of %d vertices, %d faces in %dD with %s; "
                    "expected this scene's %d, %d, %dD, %s", dir, h.nv, h.nf, h.dim,
                    h.opt.method, m->nv, m->nf, m->dim, m->opt.method),
            -1;
+  sw_input *copy = sw_calloc((size_t)h.ninput + 1, sizeof *copy);
+  if (!copy) return sw_errf(err, errsz, "%s/restart.bin: out of memory", dir), -1;
+  sw_io_bytes(io, copy, (size_t)h.ninput * sizeof *copy);
+  char why[SW_ERRSZ];
+  int bad = model_changed(&h, copy, m, why, sizeof why);
+  sw_free(copy);
+  if (bad && !force)
+    return sw_errf(err, errsz, "%s/restart.bin: the model changed: %s; expected the run's own "
+                   "scene, files and options (--force goes on anyway, for a change that leaves "
+                   "the model as it was)", dir, why),
+           -1;
   return 0;
 }
 
 int sw_restart_options(const char *dir, char *scene, size_t scenesz, sw_options *opt,
                        char *err, size_t errsz) {
+  sw_scene_overrides ov;
+  double t;
+  return sw_restart_options_ex(dir, scene, scenesz, opt, &ov, &t, err, errsz);
+}
+
+int sw_restart_options_ex(const char *dir, char *scene, size_t scenesz, sw_options *opt,
+                          sw_scene_overrides *ov, double *t, char *err, size_t errsz) {
   sw_io io;
   if (sw_io_read(&io, dir, err, errsz)) return SW_FATAL;
   restart_head h;
   sw_io_bytes(&io, &h, sizeof h);
-  int bad = io.bad || memcmp(h.magic, RESTART_MAGIC, 8);
+  int bad = io.bad || memcmp(h.magic, SW_RESTART_MAGIC, 8) || h.ninput < 0 ||
+            (size_t)h.ninput > (io.len - io.pos) / sizeof(sw_input);
+  if (!bad) io.pos += (size_t)h.ninput * sizeof(sw_input);
+  sw_io_bytes(&io, t, sizeof *t); /* the first of sim_io */
+  bad = bad || io.bad;
   sw_io_free(&io);
   if (bad) return sw_errf(err, errsz, "%s/restart.bin: not a restart file of this sinew", dir), SW_FATAL;
   snprintf(scene, scenesz, "%s", h.scene);
   *opt = h.opt;
+  memset(ov, 0, sizeof *ov);
+  memcpy(ov->grid, h.grid, sizeof ov->grid);
+  ov->stiffness_scale = h.stiffness_scale;
   return SW_OK;
 }
 
@@ -525,7 +608,8 @@ static int resume_from(sw_sim *s, int flags, char *err, size_t errsz) {
   const char *dir = s->m->opt.out_dir;
   sw_io io;
   if (sw_io_read(&io, dir, err, errsz)) return SW_NOSTART;
-  int rc = check_head(&io, s->m, dir, err, errsz) || start_method(s, err, errsz) ? SW_NOSTART
+  int rc = check_head(&io, s->m, flags & SW_SIM_FORCE, dir, err, errsz) ||
+                   start_method(s, err, errsz) ? SW_NOSTART
                                                                                  : SW_OK;
   if (!rc) {
     sim_io(s, &io);

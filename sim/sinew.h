@@ -392,6 +392,9 @@ typedef struct sw_options {
                                   run) */
   double positions_every;      /* s between records of positions.bin (0: no positions.bin) */
   int frames_format;           /* SW_FRAMES_*: how the frames are encoded */
+  double restart_every;        /* s of wall time: restart.bin is written at the start, with each
+                                  frame and at the first logged step this long after the last
+                                  one (0: at the start and with frames only; default 60) */
   double tx_clip;              /* tension XY stiffness clip, N/m (Optitex's: 5e4) */
   int tx_reference_uv;         /* 1: rlu = rlv = 1 (uv layout); 0: the initial configuration;
                                   -1 (the default): uv with seams, else initial (resolved
@@ -402,6 +405,14 @@ typedef struct sw_options {
                                   part, the rank-one part as a low-rank vector (default
                                   SW_TENDON_DENSE_MAX; docs/tendons.md has the measurement) */
 } sw_options;
+
+/* A file the scene loader read (the scene file itself, each OBJ), as it was: a resumed run
+ * refuses to join a run of other files (sw_resume). */
+typedef struct sw_input {
+  char path[SW_PATHSZ];        /* as the loader opened it */
+  long long bytes;             /* its size */
+  unsigned long long hash;     /* FNV-1a 64 of its bytes */
+} sw_input;
 
 /* The default of sw_options.tendon_dense_max (docs/tendons.md). */
 #define SW_TENDON_DENSE_MAX 32
@@ -467,6 +478,9 @@ struct sw_model {
   sw_options opt;
   double stiffness_scale;      /* the factor every elastic stiffness of the scene was multiplied
                                   by at load (sw_scene_overrides; 1: none, 0 read as 1) */
+  int grid_override[2];        /* sw_scene_overrides grid the scene was loaded with (0: none) */
+  int ninput;
+  sw_input *input;             /* (ninput) the files the loader read, the scene's first */
   char warning[SW_ERRSZ];      /* what the loader warns of ("" when nothing): a grid override
                                   on a scene that selects vertices by index */
 };
@@ -640,6 +654,14 @@ SW_API int sw_restart_options(const char *dir, char *scene, size_t scenesz, sw_o
  * its logs (m: the scene loaded again, with the options sw_restart_options gave).  Returns as
  * sw_run; SW_NOSTART when the folder or its restart file cannot be used (nothing changed). */
 SW_API int sw_resume(const sw_model *m, int progress, char *err, size_t errsz);
+/* sw_restart_options, the overrides the run's scene was loaded with (sw_scene_load_ex) and
+ * the time of the restart, s. */
+SW_API int sw_restart_options_ex(const char *dir, char *scene, size_t scenesz, sw_options *opt,
+                                 sw_scene_overrides *ov, double *t, char *err, size_t errsz);
+/* sw_resume; force: go on although the model changed (the scene file or a file it reads,
+ * the overrides, an option that defines the run), which sw_resume refuses with a message
+ * naming the change.  A damaged restart file or another mesh or method is refused anyway. */
+SW_API int sw_resume_ex(const sw_model *m, int progress, int force, char *err, size_t errsz);
 /* ------------------------------------------------------------ stepping */
 
 /* A simulation stepped by its caller (sim/sim.c): the loop sw_run is made of, one step at a
@@ -657,7 +679,8 @@ SW_API int sw_resume(const sw_model *m, int progress, char *err, size_t errsz);
 typedef struct sw_sim sw_sim;
 
 enum { SW_SIM_OUTPUT = 1,   /* write the run folder m->opt.out_dir as sw_run does */
-       SW_SIM_PROGRESS = 2  /* a progress line on stderr when it is a terminal */ };
+       SW_SIM_PROGRESS = 2, /* a progress line on stderr when it is a terminal */
+       SW_SIM_FORCE = 4     /* resume although the model changed (sw_resume_ex) */ };
 
 /* A simulation of m at its initial state (t = 0, x0, v0; with SW_SIM_OUTPUT the folder is
  * opened and the first state logged).  NULL with err on failure (unknown method, output). */

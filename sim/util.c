@@ -51,6 +51,58 @@ double sw_now(void) {
   return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+/* ------------------------------------------------ hashing (util.h) */
+
+uint64_t sw_hash64(uint64_t h, const void *p, size_t n) {
+  const unsigned char *b = p;
+  for (size_t i = 0; i < n; i++) h = (h ^ b[i]) * 1099511628211u;
+  return h;
+}
+
+/* The slot holding name, or the empty slot where it goes. */
+static size_t names_slot(const sw_names *t, const char *name) {
+  size_t mask = t->nslot - 1, i = (size_t)sw_hash64(SW_HASH0, name, strlen(name)) & mask;
+  while (t->key[i] && strcmp(t->key[i], name)) i = (i + 1) & mask;
+  return i;
+}
+
+int sw_names_find(const sw_names *t, const char *name) {
+  if (!t->nslot) return -1;
+  size_t i = names_slot(t, name);
+  return t->key[i] ? t->val[i] : -1;
+}
+
+/* Room for one more name with the table at most half full; -1 when out of memory. */
+static int names_grow(sw_names *t) {
+  if (2 * (t->n + 1) <= t->nslot) return 0;
+  sw_names b = {.nslot = t->nslot ? 2 * t->nslot : 64, .n = t->n};
+  b.key = sw_calloc(b.nslot, sizeof *b.key);
+  b.val = sw_calloc(b.nslot, sizeof *b.val);
+  if (!b.key || !b.val) return sw_free(b.key), sw_free(b.val), -1;
+  for (size_t i = 0; i < t->nslot; i++)
+    if (t->key[i]) {
+      size_t j = names_slot(&b, t->key[i]);
+      b.key[j] = t->key[i], b.val[j] = t->val[i];
+    }
+  sw_names_free(t);
+  *t = b;
+  return 0;
+}
+
+int sw_names_add(sw_names *t, const char *name, int val) {
+  if (names_grow(t)) return -2;
+  size_t i = names_slot(t, name);
+  if (t->key[i]) return t->val[i];
+  t->key[i] = name, t->val[i] = val, t->n++;
+  return -1;
+}
+
+void sw_names_free(sw_names *t) {
+  sw_free(t->key);
+  sw_free(t->val);
+  memset(t, 0, sizeof *t);
+}
+
 /* ------------------------------------------------ restart files (util.h) */
 
 void sw_io_bytes(sw_io *io, void *p, size_t n) {

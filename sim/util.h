@@ -3,6 +3,7 @@
 #define SW_UTIL_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 /* Every allocation of the library goes through these two, so that tests can make the k-th one
  * fail.  sw_calloc returns zeroed memory, or NULL (n == 0 gives a valid unique pointer). */
@@ -21,6 +22,26 @@ double sw_now(void); /* monotonic wall clock, s */
 #define SW_MIN(a, b) ((a) < (b) ? (a) : (b))
 #define SW_MAX(a, b) ((a) > (b) ? (a) : (b))
 
+/* FNV-1a (Fowler, Noll and Vo) over n bytes at p, continuing from h (start from SW_HASH0):
+ * detects any change of a single byte, and others but with probability 2^-64. */
+#define SW_HASH0 1469598103934665603u
+uint64_t sw_hash64(uint64_t h, const void *p, size_t n);
+
+/* A hash table of names (open addressing, at most half full), each with an int value; the
+ * names are the caller's and must outlive the table.  Finding and adding take O(1) expected
+ * time, so loading n named things is O(n), not O(n^2) comparisons. */
+typedef struct sw_names {
+  size_t nslot, n;
+  const char **key; /* (nslot) the name in each slot, or NULL */
+  int *val;         /* (nslot) */
+} sw_names;
+/* The value of name, or -1 when absent. */
+int sw_names_find(const sw_names *t, const char *name);
+/* Add name with value val (>= 0) unless present: returns the value already there, -1 when
+ * added, -2 when out of memory. */
+int sw_names_add(sw_names *t, const char *name, int val);
+void sw_names_free(sw_names *t);
+
 /* A restart file's contents, written or read piece by piece in the same order (restart.c):
  * saving appends each piece to buf, loading copies it back out and fails past the end. */
 typedef struct sw_io {
@@ -29,6 +50,10 @@ typedef struct sw_io {
   size_t len, cap, pos;    /* bytes held, allocated, read so far */
   int bad;                 /* loading: past the end, or a check failed; saving: out of memory */
 } sw_io;
+
+/* restart.bin begins with this magic, whose last two characters are the format's version, and
+ * ends with the FNV-1a 64 of all the bytes before it (restart.c). */
+#define SW_RESTART_MAGIC "SWREST03"
 
 /* n bytes at p into (saving) or out of (loading) io. */
 void sw_io_bytes(sw_io *io, void *p, size_t n);

@@ -180,6 +180,8 @@ static void cv_counters(cv_state *s, sw_data *d) {
 static int cv_advance(cv_state *s, sw_data *d, double tout, sw_real *tret) {
   sw_real tn = 0.0;
   CVodeGetCurrentTime(s->mem, &tn);
+  const double out = tout - tn; /* s: the output interval */
+  long tiny = 0;
   for (long k = 0; tn < tout; k++) {
     if (k == SW_SUN_MXSTEP) return CV_TOO_MUCH_WORK;
     int flag = CVode(s->mem, tout, s->y, tret, CV_ONE_STEP);
@@ -188,6 +190,12 @@ static int cv_advance(cv_state *s, sw_data *d, double tout, sw_real *tret) {
     CVodeGetLastOrder(s->mem, &q);
     if (q >= 1 && q <= 5) d->nstep_order[q - 1]++;
     CVodeGetCurrentTime(s->mem, &tn);
+    sw_real h = 0.0;
+    CVodeGetLastStep(s->mem, &h);
+    if (sw_sun_tiny(&tiny, h, out, &s->sys.m->opt, d->err, sizeof d->err)) {
+      *tret = tn;
+      return CV_TOO_MUCH_WORK;
+    }
   }
   *tret = tout;
   return CVodeGetDky(s->mem, tout, 0, s->y);

@@ -179,6 +179,8 @@ static void ida_counters(ida_state *s, sw_data *d) {
 static int ida_advance(ida_state *s, sw_data *d, double tout, sw_real *tret) {
   sw_real tn = 0.0;
   IDAGetCurrentTime(s->mem, &tn);
+  const double out = tout - tn; /* s: the output interval */
+  long tiny = 0;
   for (long k = 0; tn < tout; k++) {
     if (k == SW_SUN_MXSTEP) return IDA_TOO_MUCH_WORK;
     int flag = IDASolve(s->mem, tout, tret, s->y, s->yp, IDA_ONE_STEP);
@@ -187,6 +189,12 @@ static int ida_advance(ida_state *s, sw_data *d, double tout, sw_real *tret) {
     IDAGetLastOrder(s->mem, &q);
     if (q >= 1 && q <= 5) d->nstep_order[q - 1]++;
     IDAGetCurrentTime(s->mem, &tn);
+    sw_real h = 0.0;
+    IDAGetLastStep(s->mem, &h);
+    if (sw_sun_tiny(&tiny, h, out, &s->sys.m->opt, d->err, sizeof d->err)) {
+      *tret = tn;
+      return IDA_TOO_MUCH_WORK;
+    }
   }
   *tret = tout;
   int flag = IDAGetDky(s->mem, tout, 0, s->y);

@@ -328,3 +328,14 @@ int sw_sunls_changed(const sw_sunls *sys, const sw_data *d, double h, double tla
   sw_sunls_gather(sys, d->x, d->v, ytmp);
   return memcmp(ytmp, ylast, 2 * (size_t)sys->n * sizeof(double)) != 0;
 }
+
+int sw_sun_tiny(long *tiny, double h, double out, const sw_options *o, char *err, size_t errsz) {
+  *tiny = h < SW_SUN_TINY * out ? *tiny + 1 : 0;
+  if (*tiny < SW_SUN_TINY_STEPS) return 0;
+  sw_errf(err, errsz, "%ld internal steps in a row below %g x the output interval (the last "
+          "%.3g s, the interval %g s): the problem looks unresolvable at this tolerance (rtol "
+          "%g, atol %g); expected a larger rtol or atol, a fixed-step method, or a model whose "
+          "fastest motion is slower (heavier or softer)", *tiny, SW_SUN_TINY, h, out, o->rtol,
+          o->atol);
+  return 1;
+}

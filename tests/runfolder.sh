@@ -143,5 +143,90 @@ done
 "$sinew" run --resume "$tmp/nothing" --quiet 2>"$tmp/err" && fail "resume of a folder without a run accepted"
 grep -q "cannot resume: .*restart.bin: cannot read the restart file" "$tmp/err" || fail "resume message: $(cat "$tmp/err")"
 
+# 5b. restart.bin is checked: a damaged file, an edited scene or OBJ, are refused with what
+# changed (nothing appended); --force goes on; --stiffness-scale and --grid are restored.
+cat >"$tmp/sq.obj" <<'OBJ'
+v 0 0 0
+v 1 0 0
+v 1 1 0
+v 0 1 0
+vt 0 0
+vt 1 0
+vt 1 1
+vt 0 1
+f 1/1 2/2 3/3
+f 1/1 3/3 4/4
+OBJ
+cat >"$tmp/sq.yaml" <<'YAML'
+mesh: {obj: sq.obj}
+material: {density: 0.1, membrane: {k_u: 100, k_v: 100, k_shear: 10}}
+pins: [{select: {vertices: [0, 1]}}]
+integrator: {dt: 0.01}
+duration: 0.05
+YAML
+rq() { "$sinew" run "$tmp/sq.yaml" --out "$tmp/sq" --quiet "$@"; }
+resume_refused() { # WHAT PATTERN: --resume $tmp/sq fails with PATTERN, the logs as they were
+  cp "$tmp/sq/tension.csv" "$tmp/sq_before.csv"
+  "$sinew" run --resume "$tmp/sq" --duration 0.1 --quiet 2>"$tmp/err" && fail "$1: resumed (exit 0)"
+  grep -Eq -- "$2" "$tmp/err" || fail "$1: message '$(cat "$tmp/err")', expected /$2/"
+  cmp -s "$tmp/sq/tension.csv" "$tmp/sq_before.csv" || fail "$1: tension.csv changed"
+}
+rq 2>/dev/null || fail "square: run"
+cp "$tmp/sq/restart.bin" "$tmp/restart.good"
+/usr/bin/python3 -c 'import sys; p = sys.argv[1]; b = bytearray(open(p, "rb").read())
+b[len(b) // 2] ^= 0x10; b[len(b) // 3] ^= 0x01; open(p, "wb").write(b)' "$tmp/sq/restart.bin"
+resume_refused "two flipped bits" "sq/restart.bin: damaged: its checksum does not match its contents"
+head -c 1000 "$tmp/restart.good" >"$tmp/sq/restart.bin"
+resume_refused "a cut restart.bin" "sq/restart.bin: damaged"
+printf 'SWREST01' | dd of="$tmp/sq/restart.bin" conv=notrunc status=none
+resume_refused "an older format" "a restart file of format 01; expected format 03"
+cp "$tmp/restart.good" "$tmp/sq/restart.bin"
+sed -i 's/density: 0.1/density: 5/' "$tmp/sq.yaml"
+resume_refused "an edited scene" "the model changed: the scene file '.*sq.yaml' changed since the run"
+sed -i 's/density: 5/density: 0.1/' "$tmp/sq.yaml"
+sed -i 's/^v 1 1 0$/v 1 1.01 0/' "$tmp/sq.obj"
+resume_refused "an edited OBJ" "the model changed: the file '.*sq.obj' changed since the run"
+"$sinew" run --resume "$tmp/sq" --duration 0.1 --force --quiet 2>"$tmp/err" ||
+  fail "--resume --force: $(cat "$tmp/err")"
+grep -q '"time_reached": 0.1,' "$tmp/sq/summary.json" || fail "--resume --force did not go on to 0.1 s"
+sed -i 's/^v 1 1.01 0$/v 1 1 0/' "$tmp/sq.obj"
+for ov in "--stiffness-scale 3" "--grid 5x5"; do # restored on resume: the straight run's logs
+  rh() { "$sinew" run scenes/hanging_cloth.yaml $ov --frames-every 0.05 --quiet "$@"; }
+  rh --out "$tmp/ovs" --duration 0.1 2>/dev/null || fail "$ov: straight run"
+  rh --out "$tmp/ovh" --duration 0.05 2>/dev/null || fail "$ov: 0.05 s run"
+  "$sinew" run --resume "$tmp/ovh" --duration 0.1 --quiet 2>"$tmp/err" || fail "$ov: resume: $(cat "$tmp/err")"
+  same_logs "$tmp/ovs" "$tmp/ovh" "$ov, 0.05 s + resume"
+  rm -rf "$tmp/ovs" "$tmp/ovh"
+done
+
+# 5c. restart points: at the start (a run killed before its first frame after t = 0 resumes from
+# t = 0) and every output.restart_every s of wall time; resumed, the logs are the straight run's.
+sed 's/^output:.*/&\n  restart_every: 1e-9/' scenes/hanging_cloth.yaml >"$tmp/every.yaml"
+grep -q "restart_every: 1e-9" "$tmp/every.yaml" || fail "restart_every: no output key to extend"
+"$sinew" run scenes/hanging_cloth.yaml --frames-every 100 --duration 0.3 --quiet \
+  --out "$tmp/rstraight" 2>/dev/null || fail "restart points: straight run"
+for case in start every; do
+  scene=scenes/hanging_cloth.yaml
+  [ $case = every ] && scene=$tmp/every.yaml
+  "$sinew" run "$scene" --frames-every 100 --duration 0.3 --quiet --out "$tmp/rk" 2>/dev/null &
+  pid=$!
+  wait_lines "$tmp/rk/tension.csv.part" 12 || fail "restart $case: the run did not get going"
+  kill -9 $pid
+  wait $pid 2>/dev/null
+  pid=
+  # the time of the last but one line logged (the restart may lag the last line by one step)
+  t_last=$(tail -n 2 "$tmp/rk/tension.csv.part" | head -n 1 | cut -d, -f1)
+  "$sinew" run --resume "$tmp/rk" --duration 0.3 2>"$tmp/err" >/dev/null || fail "restart $case: resume: $(cat "$tmp/err")"
+  t_from=$(sed -n 's/.* from t = \([^ ]*\) s:.*/\1/p' "$tmp/err")
+  if [ $case = start ]; then
+    [ "$t_from" = 0 ] || fail "restart at the start: resumed from t = '$t_from' s, expected 0"
+  else
+    awk -v a="$t_from" -v b="$t_last" 'BEGIN { exit !(a != "" && a + 0 >= b + 0) }' ||
+      fail "restart_every: resumed from t = '$t_from' s, before the killed run's t = $t_last s"
+  fi
+  same_logs "$tmp/rstraight" "$tmp/rk" "restart $case, kill -9 + resume"
+  rm -rf "$tmp/rk"
+done
+
 [ "$fails" = 0 ] && echo "runfolder: all checks passed"
 exit $((fails > 0))

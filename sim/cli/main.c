@@ -87,13 +87,16 @@ static void usage_run(FILE *fp) {
           "                 [--newton-tol V] [--newton-norm rms|max] [--hessian MODE]\n"
           "                 [--factorization auto|simplicial|supernodal]\n"
           "                 [--newton-reuse on|off|auto]\n"
-          "       sinew run --resume DIR [--duration T] [--threads N] [--quiet]\n"
+          "       sinew run --resume DIR [--duration T] [--threads N] [--force] [--quiet]\n"
           "\n"
           "Simulate SCENE (YAML) headless and write its logs and frames to the output folder\n"
           "(docs/scenes.md).  Exit 0 on success, 1 when the scene or the run fails, 2 on bad\n"
           "arguments, 130 (143) when stopped by SIGINT (SIGTERM) after a step.  --resume DIR\n"
           "goes on with the run in DIR (interrupted, failed or ended) from its last frame or the\n"
-          "state it stopped at, with its scene and options, to T if given, appending to its logs.\n"
+          "state it stopped at, with its scene and options, to T if given, appending to its logs;\n"
+          "it refuses a damaged restart.bin, and a scene, a file the scene reads or an option\n"
+          "changed since the run unless --force is given (for a change that leaves the model as\n"
+          "it was, such as an edited comment).\n"
           "\n"
           "  --out DIR       output folder (overrides output.dir)\n"
           "  --method M      integrator (overrides integrator.method); one of:\n");
@@ -293,33 +296,37 @@ static int finish_run(sw_model *m, int rc, const char *err, int quiet);
 static int cmd_resume(int argc, char **argv) {
   const char *dir = argv[3];
   double duration = -1.0;
-  int quiet = 0, threads = 0;
+  int quiet = 0, threads = 0, force = 0;
   for (int i = 4; i < argc; i++) {
     const char *a = argv[i];
     if (!strcmp(a, "--quiet")) quiet = 1;
+    else if (!strcmp(a, "--force")) force = 1;
     else if (!strcmp(a, "--duration") && i + 1 < argc) {
       if (cli_number(a, argv[++i], 0, &duration)) return 2;
     } else if (!strcmp(a, "--threads") && i + 1 < argc) {
       if (cli_int(a, argv[++i], 1, 1024, &threads)) return 2;
     } else
-      return fprintf(stderr, "sinew: with --resume only --duration, --threads and --quiet are "
+      return fprintf(stderr, "sinew: with --resume only --duration, --threads, --force and --quiet are "
                      "taken (the run's own options go on): %s\n", a), 2;
   }
   char err[SW_ERRSZ], scene[SW_PATHSZ];
   sw_options opt;
-  if (strlen(dir) >= SW_PATHSZ || sw_restart_options(dir, scene, sizeof scene, &opt, err, sizeof err))
+  sw_scene_overrides ov;
+  double t_from; /* s */
+  if (strlen(dir) >= SW_PATHSZ ||
+      sw_restart_options_ex(dir, scene, sizeof scene, &opt, &ov, &t_from, err, sizeof err))
     return fprintf(stderr, "sinew: cannot resume: %s\n", strlen(dir) >= SW_PATHSZ ? "path too long" : err), 1;
-  sw_model *m = sw_scene_load(scene, err, sizeof err);
+  sw_model *m = sw_scene_load_ex(scene, &ov, err, sizeof err);
   if (!m) return fprintf(stderr, "sinew: cannot resume: %s\n", err), 1;
   m->opt = opt;
   snprintf(m->opt.out_dir, sizeof m->opt.out_dir, "%s", dir);
   if (duration >= 0) m->opt.duration = duration;
   if (threads > 0) m->opt.blas_threads = threads;
   if (!quiet)
-    fprintf(stderr, "sinew: resuming %s in %s/: %s, to t = %g s\n", m->name, dir,
-            m->opt.method, m->opt.duration);
+    fprintf(stderr, "sinew: resuming %s in %s/ from t = %.9g s: %s, to t = %g s\n", m->name,
+            dir, t_from, m->opt.method, m->opt.duration);
   catch_stop_signals();
-  return finish_run(m, sw_resume(m, !quiet, err, sizeof err), err, quiet);
+  return finish_run(m, sw_resume_ex(m, !quiet, force, err, sizeof err), err, quiet);
 }
 
 static int cmd_run(int argc, char **argv) {

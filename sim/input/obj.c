@@ -347,11 +347,7 @@ static int read_face(obj_state *st) {
   return append_fan(st, nc);
 }
 
-static size_t name_hash(const char *s, size_t n) { /* FNV-1a */
-  uint64_t h = 1469598103934665603u;
-  for (size_t i = 0; i < n; i++) h = (h ^ (unsigned char)s[i]) * 1099511628211u;
-  return (size_t)h;
-}
+static size_t name_hash(const char *s, size_t n) { return (size_t)sw_hash64(SW_HASH0, s, n); }
 
 /* The hash slot holding the group called name (n bytes), or the empty slot where it goes. */
 static size_t group_slot(const obj_state *st, const char *name, size_t n) {

@@ -6,6 +6,7 @@
  * printed.  Then the tree is checked against the schema (docs/scenes.md) and the
  * model is filled.  Every error is "file:line:column: what was found; what was expected".
  * Units are SI: m, s, kg, N. */
+#define _XOPEN_SOURCE 700 /* realpath */
 #include "scene.h"
 #include "scene_material.h"
 #include "scene_fabric.h"
@@ -92,6 +93,29 @@ static int obj_path(const ctx *c, const ynode *y, const char *what, const char *
   return 0;
 }
 
+static char *read_file(const char *path, size_t *len, char *err, size_t errsz);
+
+int sc_note_input(const ctx *c, const ynode *y, const char *path, const char *buf, size_t len) {
+  sw_model *m = c->m;
+  sw_input *in = sw_realloc(m->input, (size_t)m->ninput + 1, sizeof *in);
+  if (!in) return sy_oom(c, y);
+  m->input = in;
+  in += m->ninput;
+  memset(in, 0, sizeof *in);
+  if (!realpath(path, in->path)) snprintf(in->path, sizeof in->path, "%s", path); /* absolute */
+  char *file = NULL;
+  if (!buf) { /* an OBJ, read again as bytes (sw_obj_read keeps no copy) */
+    char e[SW_ERRSZ];
+    if (!(file = read_file(path, &len, e, sizeof e))) return sy_fail(c, y, "%s", e);
+    buf = file;
+  }
+  in->bytes = (long long)len;
+  in->hash = sw_hash64(SW_HASH0, buf, len);
+  sw_free(file);
+  m->ninput++;
+  return 0;
+}
+
 int sc_read_obj(const ctx *c, const ynode *y, const char *what, sw_mesh *mesh, char *path) {
   const char *rel;
   if (sy_str(c, y, what, SW_PATHSZ, &rel) || obj_path(c, y, what, rel, path)) return -1;
@@ -102,6 +126,7 @@ int sc_read_obj(const ctx *c, const ynode *y, const char *what, sw_mesh *mesh, c
   fclose(f);
   char e[SW_ERRSZ];
   if (sw_obj_read(path, mesh, e, sizeof e)) return sy_fail(c, y, "in %s: %s", what, e);
+  if (sc_note_input(c, y, path, NULL, 0)) return -1;
   if (mesh->nv <= 0)
     return sy_fail(c, y, "%s '%s' has no vertices; expected at least one 'v' line", what, path);
   return 0;
@@ -497,13 +522,13 @@ static int load_integrator(const ctx *c, const ynode *y) {
 }
 
 static const char *const out_keys[] = {"dir", "frames_every", "positions_every",
-                                       "frames_format"};
+                                       "frames_format", "restart_every"};
 
 static int load_output(const ctx *c, const ynode *y) {
   sw_options *o = &c->m->opt;
-  const ynode *v[4];
+  const ynode *v[5];
   const char *dir;
-  if (sy_map(c, y, "output", out_keys, 4, v)) return -1;
+  if (sy_map(c, y, "output", out_keys, 5, v)) return -1;
   if (v[0]) {
     if (sy_str(c, v[0], "output dir", sizeof o->out_dir, &dir)) return -1;
     snprintf(o->out_dir, sizeof o->out_dir, "%s", dir);
@@ -513,6 +538,8 @@ static int load_output(const ctx *c, const ynode *y) {
     return -1;
   if (v[3] && sy_choice(c, v[3], "output frames_format", sw_frames_format_names(), SW_FRAMES_N,
                         &o->frames_format))
+    return -1;
+  if (v[4] && sy_num(c, v[4], "output restart_every", 0, 0, "s of wall time", &o->restart_every))
     return -1;
   return 0;
 }
@@ -605,10 +632,13 @@ sw_model *sw_scene_parse_ex(const char *name, const char *buf, size_t len,
   ynode *root = sy_parse(name, buf, len, err, errsz);
   if (!root) return NULL;
   const ynode *by_index = NULL;
+  sw_names gnames = {0};
   ctx c = {.name = name, .err = err, .errsz = errsz, .root = root, .ov = ov,
-           .by_index = &by_index};
+           .by_index = &by_index, .gnames = &gnames};
   c.m = sw_model_new();
-  int rc = c.m ? load_scene(&c) : sy_oom(&c, root);
+  int rc = c.m ? sc_note_input(&c, root, name, buf, len) : sy_oom(&c, root);
+  if (!rc && ov) memcpy(c.m->grid_override, ov->grid, sizeof ov->grid);
+  if (!rc) rc = load_scene(&c);
   if (!rc && by_index && ov && ov->grid[0] > 0) grid_warning(&c, by_index);
   if (!rc) sc_plausibility(&c); /* the scene's own numbers, before --stiffness-scale */
   int at[2] = {0, 0}; /* line and column of the mesh, for the model's own checks */
@@ -621,6 +651,7 @@ sw_model *sw_scene_parse_ex(const char *name, const char *buf, size_t len,
     if (p) p[0] = root->kid[k + 1]->line, p[1] = root->kid[k + 1]->col;
   }
   sw_free(c.sel);
+  sw_names_free(&gnames);
   sw_free(c.group);
   sw_free(c.fgroup);
   sy_free(root);

@@ -295,21 +295,25 @@ int sc_load_material(const ctx *c, const ynode *y, const sw_mesh *me, const char
   return load_keys(c, y, "material", 0, me, obj, &c->m->mat[0], &unused);
 }
 
-static int find_group(const sw_mesh *me, const char *name) {
-  for (int g = 0; g < me->ngroup; g++)
-    if (!strcmp(me->group[g], name)) return g;
-  return -1;
-}
 
-/* One panel: mat[k] = mat[0] + the panel's keys; its faces get material k and, with a
- * uv_scale, their (u,v) rescaled from the mesh's uv_scale (mesh_scale) to the panel's. */
+/* The panels being loaded: the mesh's groups by name (hashed), the panel of each group (0:
+ * none) and each panel's uv_scale. */
+typedef struct panels_in {
+  sw_names groups;
+  int *panel;    /* (ngroup) */
+  double *scale; /* (np + 1) */
+} panels_in;
+
+/* One panel: mat[k] = mat[0] + the panel's keys; its group's faces will get material k
+ * (pi->panel) and, with a uv_scale, their (u,v) rescaled from the mesh's uv_scale to the
+ * panel's (pi->scale[k]). */
 static int load_panel(const ctx *c, const ynode *key, const ynode *val, const sw_mesh *me,
-                      const char *obj, double mesh_scale, int k) {
+                      const char *obj, double mesh_scale, int k, panels_in *pi) {
   sw_model *m = c->m;
   char w[SW_NAMESZ + 16], d[96], groups[512];
   const char *name;
   if (sy_str(c, key, "panels key", SW_NAMESZ, &name)) return -1;
-  int g = find_group(me, name);
+  int g = sw_names_find(&pi->groups, name);
   if (g < 0) {
     const char *list[16];
     int n = me->ngroup < 16 ? me->ngroup : 16;
@@ -317,20 +321,26 @@ static int load_panel(const ctx *c, const ynode *key, const ynode *val, const sw
     return sy_fail(c, key, "panels names '%s', which is no group of mesh %s; expected one of: "
                    "%s", sy_clip(key, d, sizeof d), obj, sy_join(list, n, groups, sizeof groups));
   }
-  for (int j = 1; j < k; j++)
-    if (!strcmp(m->mat[j].group, name))
-      return sy_fail(c, key, "panels names '%s' twice; expected each panel once", name);
+  if (pi->panel[g])
+    return sy_fail(c, key, "panels names '%s' twice; expected each panel once", name);
+  pi->panel[g] = k;
   m->mat[k] = m->mat[0];
   snprintf(m->mat[k].group, sizeof m->mat[k].group, "%s", name);
   snprintf(w, sizeof w, "panel %s", name);
   double scale = mesh_scale;
   if (load_keys(c, val, w, 1, me, obj, &m->mat[k], &scale)) return -1;
-  for (int f = 0; f < m->nf; f++) {
-    if (me->fgroup[f] != g) continue;
-    m->face_mat[f] = k;
-    for (int q = 0; q < 6; q++) m->uv[6 * f + q] *= scale / mesh_scale;
-  }
+  pi->scale[k] = scale;
   return 0;
+}
+
+/* Each face of a panel's group: its material and (u,v) scale, in one pass over the faces. */
+static void apply_panels(sw_model *m, const sw_mesh *me, const panels_in *pi, double mesh_scale) {
+  for (int f = 0; me->fgroup && f < m->nf; f++) {
+    int k = pi->panel[me->fgroup[f]];
+    if (!k) continue;
+    m->face_mat[f] = k;
+    for (int q = 0; q < 6; q++) m->uv[6 * f + q] *= pi->scale[k] / mesh_scale;
+  }
 }
 
 int sc_load_panels(const ctx *c, const ynode *y, const sw_mesh *me, const char *obj,
@@ -344,11 +354,20 @@ int sc_load_panels(const ctx *c, const ynode *y, const sw_mesh *me, const char *
   m->mat = mat;
   if (!m->face_mat && !(m->face_mat = sw_calloc((size_t)m->nf + 1, sizeof *m->face_mat)))
     return sy_oom(c, y);
-  for (int p = 0; p < np; p++) {
-    if (load_panel(c, y->kid[2 * p], y->kid[2 * p + 1], me, obj, mesh_scale, p + 1)) return -1;
-    m->nmat = p + 2;
+  panels_in pi = {.panel = sw_calloc((size_t)me->ngroup, sizeof(int)),
+                  .scale = sw_calloc((size_t)np + 1, sizeof(double))};
+  int rc = !pi.panel || !pi.scale ? sy_oom(c, y) : 0;
+  for (int g = 0; !rc && g < me->ngroup; g++)
+    if (sw_names_add(&pi.groups, me->group[g], g) == -2) rc = sy_oom(c, y);
+  for (int p = 0; !rc && p < np; p++) {
+    rc = load_panel(c, y->kid[2 * p], y->kid[2 * p + 1], me, obj, mesh_scale, p + 1, &pi);
+    if (!rc) m->nmat = p + 2;
   }
-  return 0;
+  if (!rc) apply_panels(m, me, &pi, mesh_scale);
+  sw_names_free(&pi.groups);
+  sw_free(pi.panel);
+  sw_free(pi.scale);
+  return rc;
 }
 
 /* The stiffnesses of a material (N/m, bending N m); an explicit tension XY stiffness too. */

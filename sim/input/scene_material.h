@@ -18,6 +18,8 @@ int sc_load_tendons(const ctx *c, const ynode *y);
 /* Read the OBJ file that y names (a path relative to the scene's folder) into mesh (its full
  * path into path, SW_PATHSZ bytes); what names the key in messages ("mesh obj"). */
 int sc_read_obj(const ctx *c, const ynode *y, const char *what, sw_mesh *mesh, char *path);
+/* Remember a file the scene read (buf NULL: read path again) in m->input, for resumes. */
+int sc_note_input(const ctx *c, const ynode *y, const char *path, const char *buf, size_t len);
 /* `obstacles` (scene_contact.c). */
 int sc_load_obstacles(const ctx *c, const ynode *y);
 /* `contact` (y NULL: the defaults), which needs obstacles. */

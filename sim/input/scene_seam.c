@@ -104,8 +104,10 @@ static int walk(const sw_model *m, const boundary *bd, int from, int to, int s, 
 int sc_find_group(const ctx *c, const ynode *at, const char *w, const char *says,
                   const char *name, int *g) {
   char list[512];
-  for (*g = 0; c->fgroup && *g < c->ngroup; ++*g)
-    if (!strcmp(c->group[*g], name)) return 0;
+  if (c->fgroup && !c->gnames->n)
+    for (int k = 0; k < c->ngroup; k++)
+      if (sw_names_add(c->gnames, c->group[k], k) == -2) return sy_oom(c, at);
+  if (c->fgroup && (*g = sw_names_find(c->gnames, name)) >= 0) return 0;
   const char *names[16];
   int n = c->ngroup < 16 ? c->ngroup : 16;
   for (int i = 0; i < n; i++) names[i] = c->group[i];

@@ -184,7 +184,8 @@ static int load_rest(const ctx *c, const ynode *y, const char *w, double l0, sw_
   return 0;
 }
 
-static int load_tendon(const ctx *c, const ynode *y, int k, sw_tendon *td) {
+/* tendons[k]; names: the names of tendons[0..k-1] (hashed: a scene may have 1e5 tendons). */
+static int load_tendon(const ctx *c, const ynode *y, int k, sw_tendon *td, sw_names *names) {
   const ynode *v[TK_N];
   char w[SW_NAMESZ + 32], lab[SW_NAMESZ + 64];
   const char *name;
@@ -193,10 +194,11 @@ static int load_tendon(const ctx *c, const ynode *y, int k, sw_tendon *td) {
   if (v[TK_NAME] && sy_str(c, v[TK_NAME], "tendon name", SW_NAMESZ, &name)) return -1;
   snprintf(td->name, sizeof td->name, "%s", v[TK_NAME] ? name : "");
   if (!v[TK_NAME]) snprintf(td->name, sizeof td->name, "tendon%d", k);
-  for (int j = 0; j < k; j++)
-    if (!strcmp(c->m->tendon[j].name, td->name))
-      return sy_fail(c, v[TK_NAME] ? v[TK_NAME] : y, "%s is named '%s' like tendons[%d]; "
-                     "expected distinct names", w, td->name, j);
+  int j = sw_names_add(names, td->name, k);
+  if (j == -2) return sy_oom(c, y);
+  if (j >= 0)
+    return sy_fail(c, v[TK_NAME] ? v[TK_NAME] : y, "%s is named '%s' like tendons[%d]; "
+                   "expected distinct names", w, td->name, j);
   snprintf(w, sizeof w, "tendon %s", td->name);
   if (sy_need(c, y, v[TK_WAY], w, "waypoints", "waypoints: [i, j, ...] or a selection") ||
       sy_need(c, y, v[TK_K], w, "stiffness", "stiffness: K >= 0 (N/m)") ||
@@ -220,9 +222,12 @@ int sc_load_tendons(const ctx *c, const ynode *y) {
   if (sy_seq(c, y, "tendons", "a sequence of tendons {waypoints: ..., stiffness: ...}"))
     return -1;
   if (!(m->tendon = sw_calloc((size_t)y->n + 1, sizeof *m->tendon))) return sy_oom(c, y);
-  for (int k = 0; k < y->n; k++) {
+  sw_names names = {0};
+  int rc = 0;
+  for (int k = 0; k < y->n && !rc; k++) {
     m->ntendon = k + 1; /* so that sw_model_free releases what was allocated */
-    if (load_tendon(c, y->kid[k], k, &m->tendon[k])) return -1;
+    rc = load_tendon(c, y->kid[k], k, &m->tendon[k], &names);
   }
-  return 0;
+  sw_names_free(&names);
+  return rc;
 }

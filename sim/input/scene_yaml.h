@@ -7,6 +7,7 @@
 #include <stddef.h>
 
 #include "sinew.h"
+#include "util.h"
 
 enum { Y_SCALAR, Y_SEQ, Y_MAP };
 
@@ -34,6 +35,7 @@ typedef struct ctx {
                               --grid warning), NULL until one is seen */
   int ngroup;              /* the mesh's OBJ groups (seams and arrangement name them) */
   char (*group)[SW_NAMESZ];
+  sw_names *gnames;        /* group's names hashed (sc_find_group fills it on first use) */
   int *fgroup;             /* (nf) the group of each face, or NULL */
 } ctx;
 

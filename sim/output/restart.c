@@ -3,9 +3,12 @@
  * velocities, the integrator's history) then each format's (writer.h `io`: the bytes of each
  * log, the list of frames).  One function per part visits every field in a fixed order, for
  * saving and loading alike (sw_io), so the two cannot disagree.  Native byte order: a restart
- * file is read by the sinew that wrote it, on the same machine. */
+ * file is read by the sinew that wrote it, on the same machine.  The file begins with
+ * SW_RESTART_MAGIC (its format version) and ends with a checksum of the bytes before it, so a
+ * damaged or cut file is refused before anything of it is used. */
 #include <errno.h>
 #include <fcntl.h>
+#include <stdint.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -14,6 +17,30 @@
 #include "writer.h"
 
 #define RESTART_MAX (1L << 30) /* bytes */
+
+/* The magic, version and checksum of a restart file read whole; the checksum is then dropped
+ * from io->len.  -1 with err when the file is not one, of another version or damaged. */
+static int check_frame(sw_io *io, const char *path, char *err, size_t errsz) {
+  const size_t nm = sizeof SW_RESTART_MAGIC - 1;
+  uint64_t sum;
+  if (io->len < nm + sizeof sum || memcmp(io->buf, SW_RESTART_MAGIC, nm - 2))
+    return sw_errf(err, errsz, "%s: not a restart file of sinew (%zu bytes, no '%.*s' at its "
+                   "start); expected the restart.bin a run wrote", path, io->len, (int)nm - 2,
+                   SW_RESTART_MAGIC),
+           -1;
+  if (memcmp(io->buf, SW_RESTART_MAGIC, nm))
+    return sw_errf(err, errsz, "%s: a restart file of format %.2s; expected format %s (resume it "
+                   "with the sinew that wrote it)", path, (const char *)io->buf + nm - 2,
+                   SW_RESTART_MAGIC + nm - 2),
+           -1;
+  memcpy(&sum, io->buf + io->len - sizeof sum, sizeof sum);
+  if (sum != sw_hash64(SW_HASH0, io->buf, io->len - sizeof sum))
+    return sw_errf(err, errsz, "%s: damaged: its checksum does not match its contents; expected "
+                   "the file as the run wrote it", path),
+           -1;
+  io->len -= sizeof sum;
+  return 0;
+}
 
 int sw_io_read(sw_io *io, const char *dir, char *err, size_t errsz) {
   char path[SW_OUT_PATHMAX];
@@ -39,9 +66,10 @@ int sw_io_read(sw_io *io, const char *dir, char *err, size_t errsz) {
   }
   close(fd);
   io->len = io->cap = got;
-  if (io->buf && got == (size_t)st.st_size) return 0;
-  sw_errf(err, errsz, "%s: cannot read the restart file: %s", path,
-          io->buf ? "short read" : "out of memory");
+  if (io->buf && got == (size_t)st.st_size && !check_frame(io, path, err, errsz)) return 0;
+  if (!io->buf || got != (size_t)st.st_size)
+    sw_errf(err, errsz, "%s: cannot read the restart file: %s", path,
+            io->buf ? "short read" : "out of memory");
   sw_io_free(io);
   return -1;
 }
@@ -59,6 +87,8 @@ static void formats_io(sw_output *o, sw_io *io) {
 
 int sw_output_restart(sw_output *o, sw_io *io, char *err, size_t errsz) {
   formats_io(o, io);
+  uint64_t sum = sw_hash64(SW_HASH0, io->buf, io->len);
+  sw_io_bytes(io, &sum, sizeof sum);
   if (io->bad) return sw_errf(err, errsz, "%s: out of memory for the restart file", o->dir), -1;
   if (out_own(o, "restart.bin", err, errsz) || out_join(o->tmp, o->dir, "restart.bin.tmp", err, errsz) ||
       out_join(o->path, o->dir, "restart.bin", err, errsz))
