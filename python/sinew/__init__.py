@@ -6,8 +6,9 @@ out are numpy views of sinew's own memory (no copies), read-only: write through 
 (``sim.positions = ...``, ``tendon.rest_length = ...``), which tell the integrator to restart
 where its history no longer holds.  Units are SI: m, s, kg, N.  docs/python.md has the guide.
 
-The library is found at $SINEW_LIB (a path to libsinew.so), else where ``meson install`` put
-it (``_libpath.py``, written at install), else on the loader's path.
+The library is found at $SINEW_LIB (a path to libsinew.so), else in the package's folder (where
+``pip install .`` puts it), else where ``meson install`` put it (``_libpath.py``, written at
+install), else on the loader's path.
 """
 import ctypes
 import ctypes.util
@@ -31,6 +32,9 @@ class _Overrides(ctypes.Structure):
 
 def _find_library():
     path = os.environ.get("SINEW_LIB")
+    beside = os.path.join(os.path.dirname(os.path.abspath(__file__)), "libsinew.so")
+    if not path and os.path.exists(beside):  # pip install . puts it in the package
+        path = beside
     if not path:
         try:
             from . import _libpath  # written by meson install
