@@ -668,6 +668,30 @@ SW_API int sw_sim_step(sw_sim *s, char *err, size_t errsz);
 /* Steps until t = until (the last one shortened to land on it; a frame and a record of
  * positions.bin at until when the folder is written).  0 or nonzero with err. */
 SW_API int sw_sim_run(sw_sim *s, double until, char *err, size_t errsz);
+/* sw_sim_run taking at most max_steps steps (< 0: no limit): a caller that must see signals
+ * (Python's Ctrl-C) between steps runs one step a call until it reaches until.  Both refuse an
+ * until that is not finite or is before the current time (nonzero, err). */
+SW_API int sw_sim_run_steps(sw_sim *s, double until, long max_steps, char *err, size_t errsz);
+/* Back to the initial state as sw_sim_new made it (t = 0, x0, v0, counters and integrals 0,
+ * the fit stage again if the scene has one, the integrator started afresh); changes of the
+ * model (rest lengths, loads, dt) stay.  The arrays of sw_sim_array keep their addresses.  Not
+ * for a sim writing a run folder (nonzero, err). */
+SW_API int sw_sim_reset(sw_sim *s, char *err, size_t errsz);
+/* The time step from now on (s, > 0; not for the static method): the step grid starts again at
+ * the current time, and the integrator restarts its history as after sw_sim_set_state. */
+SW_API int sw_sim_set_dt(sw_sim *s, double dt, char *err, size_t errsz);
+/* Every tendon's rest length from now on (ntendon values, m, >= 0), with one evaluation of the
+ * changed state; and every tendon's rest length at the current time into rest (ntendon). */
+SW_API int sw_sim_set_rests(sw_sim *s, const double *rest, char *err, size_t errsz);
+SW_API void sw_sim_rests(const sw_sim *s, double *rest);
+/* A copy of the sim's whole state as bytes: what restart.bin holds (time, step grid, positions,
+ * velocities, counters and integrals, the integrator's history).  Returns its size; copies it
+ * into buf when size is enough (buf NULL: the size only).  sw_sim_put_state makes it the sim's
+ * state again (a copy from a sim of the same sizes and method): the steps after it are those
+ * after the copy was taken, to the bit, for methods with a history (all but CVODE and IDA,
+ * which restart there).  The model (rest lengths, loads) is not part of it. */
+SW_API size_t sw_sim_get_state(sw_sim *s, void *buf, size_t size);
+SW_API int sw_sim_put_state(sw_sim *s, const void *buf, size_t size, char *err, size_t errsz);
 /* Ask every sw_sim_run going to stop after its current step, as for signal sig (async-signal
  * safe: for a SIGINT or SIGTERM handler; 0 withdraws the request).  The run then returns
  * SW_INTERRUPTED, and sw_sim_close writes the state reached as a frame and summary.json with
@@ -676,7 +700,8 @@ SW_API void sw_interrupt(int sig);
 /* The signal of the pending sw_interrupt request, 0 if none. */
 SW_API int sw_interrupted(void);
 /* Finish the run folder (summary.json "ok", or "failed" with the message of the last step
- * when it failed, after a frame of the last good state).  0 without a folder. */
+ * when it failed, after a frame of the last good state).  0 without a folder.  After it, steps
+ * and changes fail with "the simulation is closed"; the state stays readable. */
 SW_API int sw_sim_close(sw_sim *s, char *err, size_t errsz);
 /* sw_sim_close (errors dropped) and free; the model is the caller's. */
 SW_API void sw_sim_free(sw_sim *s);
@@ -719,6 +744,8 @@ SW_API int sw_sim_size(const sw_sim *s, const char *name);
 SW_API const char *sw_sim_name(const sw_sim *s, const char *kind, int k);
 /* The current time d->t, s. */
 SW_API double sw_sim_time(const sw_sim *s);
+/* The time step m->opt.dt, s (sw_sim_set_dt changes it). */
+SW_API double sw_sim_dt(const sw_sim *s);
 /* Tendon k's rest length at the current time, m; its waypoints (vertex indices) and their
  * number in *n. */
 SW_API double sw_sim_rest(const sw_sim *s, int k);
