@@ -100,6 +100,9 @@ static int diagnose(sw_sim *s, double *u) {
   sw_tension_xy(s->m, s->d);
   sw_tendon_state(s->m, s->d);
   sw_seam_state(s->m, s->d);
+  double *e = s->d->energy; /* J */
+  sw_sim_energy(s, &e[0], &e[1], &e[3]);
+  e[2] = e[0] + e[1];
   return SW_OK;
 }
 

@@ -592,6 +592,8 @@ struct sw_data {
                                   (CHOLMOD's count for its ordering; 0: no factor yet, or a
                                   method without one) */
   int factor_super;            /* 1: the factor is supernodal, 0: simplicial (-1: none yet) */
+  double energy[4];            /* J at the current state (the stepping API, after each step and
+                                  change): kinetic, potential, their total, dissipated so far */
   char err[SW_ERRSZ];          /* why the last failing call failed */
 };
 
@@ -732,13 +734,16 @@ SW_API int sw_term_find(const sw_model *m, const char *name);
  * "x", "v" (nv x dim), "x0" (nv x dim), "mass" (nv x 1), "tension_xy", "stretch_u",
  * "stretch_v", "shear", "area" (nf x 1), "uv" (nf x 6), "tendon_length", "tendon_tension",
  * "tendon_delta" (ntendon x 1), "term_energy" (nterm x 1), "load" (nv x dim, or NULL without
- * loads), "contact_pressure" (nf x 1, or NULL without obstacles or self-contact).  Ints: "face" (nf x 3), "dof" (nv x dim: the free DOF of each component, -1 where
+ * loads), "contact_pressure" (nf x 1, or NULL without obstacles or self-contact), "energy"
+ * (4 x 1: kinetic, potential, total, dissipated, J).  Ints: "face" (nf x 3), "dof" (nv x dim: the free DOF of each component, -1 where
  * pinned).  The memory is the sim's (valid until sw_sim_free; x and v change as it steps). */
 SW_API double *sw_sim_array(sw_sim *s, const char *name, int *rows, int *cols);
 SW_API int *sw_sim_iarray(sw_sim *s, const char *name, int *rows, int *cols);
 /* A counter of sw_data by its field name ("nstep", "nnewton", "nfactor", "nassemble",
  * "nforce", "nretry", "nlinesearch", "nerrfail", "nsetup", "ncg"), or -1. */
 SW_API long sw_sim_counter(const sw_sim *s, const char *name);
+/* The first n of those counters, in that order, into out; returns how many there are. */
+SW_API int sw_sim_counters(const sw_sim *s, long *out, int n);
 /* Sizes and names: "nv", "dim", "nf", "ntendon", "nterm", "ndof"; names of tendon or term k. */
 SW_API int sw_sim_size(const sw_sim *s, const char *name);
 SW_API const char *sw_sim_name(const sw_sim *s, const char *kind, int k);

@@ -87,6 +87,7 @@ _SIGNATURES = {
     "sw_sim_array": (_DP, [_P, _S, _IP, _IP]),
     "sw_sim_iarray": (_IP, [_P, _S, _IP, _IP]),
     "sw_sim_counter": (ctypes.c_long, [_P, _S]),
+    "sw_sim_counters": (_I, [_P, ctypes.POINTER(ctypes.c_long), _I]),
     "sw_sim_size": (_I, [_P, _S]),
     "sw_sim_name": (_S, [_P, _S, _I]),
     "sw_sim_rest": (_D, [_P, _I]),
@@ -248,10 +249,13 @@ class State:
         return "<sinew.State t = %.9g s, %d bytes>" % (self.time, len(self._data))
 
 
+_COUNTERS = ("nstep", "nnewton", "nfactor", "nassemble", "nforce", "nretry", "nlinesearch",
+             "nerrfail", "nsetup", "ncg")  # sw_sim_counters' order
 _READ_VIEWS = {"positions": "x", "velocities": "v", "initial_positions": "x0", "masses": "mass",
                "tension_xy": "tension_xy", "stretch_u": "stretch_u", "stretch_v": "stretch_v",
                "shear": "shear", "tendon_length": "tendon_length",
-               "tendon_tension": "tendon_tension", "term_energy": "term_energy"}
+               "tendon_tension": "tendon_tension", "term_energy": "term_energy",
+               "energy": "energy"}
 
 
 class Simulation:
@@ -277,8 +281,12 @@ class Simulation:
             self._views[key] = self._views[key][:nt]
         self._rest = np.zeros(nt)
         self._rest_ptr = self._rest.ctypes.data_as(_DP)
-        self._energy_out = (_D(), _D(), _D())
-        self._energy_refs = tuple(ctypes.byref(c) for c in self._energy_out)
+        self._counter_buf = (ctypes.c_long * len(_COUNTERS))()
+        self._counter_ptr = ctypes.cast(self._counter_buf, ctypes.POINTER(ctypes.c_long))
+        self._counters_fn, self._rests_fn = lib.sw_sim_counters, lib.sw_sim_rests
+        self._counter_np = np.frombuffer(self._counter_buf, dtype=np.int_)
+        self._rest_out = self._rest.view()
+        self._rest_out.flags.writeable = False
         self._term_names = ["E_" + lib.sw_sim_name(ptr, b"term", i).decode()
                             for i in range(self._size("nterm"))]
         self.tendons = _Tendons(self)
@@ -489,10 +497,8 @@ class Simulation:
     def tendon_rest(self):
         """(ntendons,) every tendon's rest length at the current time, m: a read-only array,
         refilled at each read.  Settable: all rest lengths at once, from then on."""
-        _library().sw_sim_rests(self._ptr, self._rest_ptr)
-        out = self._rest.view()
-        out.flags.writeable = False
-        return out
+        self._rests_fn(self._ptr, self._rest_ptr)
+        return self._rest_out
 
     @tendon_rest.setter
     def tendon_rest(self, values):
@@ -504,18 +510,16 @@ class Simulation:
     def energy(self):
         """Energies of the current state, J: kinetic, potential, total, dissipated (by damping,
         so far) and one entry per term ("E_" + its name)."""
-        _library().sw_sim_energy(self._ptr, *self._energy_refs)
-        k, u, dis = (c.value for c in self._energy_out)
-        out = {"kinetic": k, "potential": u, "total": k + u, "dissipated": dis}
+        out = dict(zip(("kinetic", "potential", "total", "dissipated"),
+                       self._views["energy"].tolist()))
         out.update(zip(self._term_names, self._views["term_energy"].tolist()))
         return out
 
     @property
     def counters(self):
         """The solver's counters since the start: steps, Newton iterations, factorisations..."""
-        names = ["nstep", "nnewton", "nfactor", "nassemble", "nforce", "nretry",
-                 "nlinesearch", "nerrfail", "nsetup", "ncg"]
-        return {n: _library().sw_sim_counter(self._ptr, n.encode()) for n in names}
+        self._counters_fn(self._ptr, self._counter_ptr, len(_COUNTERS))
+        return dict(zip(_COUNTERS, self._counter_np.tolist()))
 
     # ---------------------------------------------------------------- changing
     def state(self):
