@@ -30,6 +30,7 @@ READS = [
     ("energy", "sim.energy"), ("counters", "sim.counters"),
 ]
 LOOP = "tendon.rest_length = 0.99; sim.positions[5, 0]; tendon.tension; sim.step()"
+READ_LOOP = "sim.positions[5, 0]; tendon.tension; sim.step()"
 STEP = "sim.step()"
 
 
@@ -60,6 +61,7 @@ def measure(pkg):
             continue
         out[what] = per_call(stmt, env, 20000)
     out["loop (set rest, 2 reads, step)"] = per_call(LOOP, env, 200)
+    out["loop (2 reads, step)"] = per_call(READ_LOOP, env, 200)
     out["step alone"] = per_call(STEP, env, 200)
     return out
 
