@@ -43,6 +43,7 @@ struct sw_sim {
   int finished;                /* the run folder was closed (finish ran) */
   int started;                 /* the integrator is going (a restart file can be written) */
   double last_restart;         /* s: wall clock of the last restart.bin written */
+  int closed;                  /* sw_sim_close was called: no more steps or changes */
 };
 
 static int write_restart(sw_sim *s, char *err, size_t errsz);
@@ -102,6 +103,9 @@ static int diagnose(sw_sim *s, double *u) {
   sw_tension_xy(s->m, s->d);
   sw_tendon_state(s->m, s->d);
   sw_seam_state(s->m, s->d);
+  double *e = s->d->energy; /* J */
+  sw_sim_energy(s, &e[0], &e[1], &e[3]);
+  e[2] = e[0] + e[1];
   return SW_OK;
 }
 
@@ -237,7 +241,16 @@ static double grid_next(const sw_sim *s) {
   return s->t0 + tidy_time((double)(s->n + 1) * dt, dt);
 }
 
+/* SW_FATAL with err "what: the simulation is closed" after sw_sim_close, else SW_OK. */
+static int check_open(const sw_sim *s, const char *what, char *err, size_t errsz) {
+  if (!s->closed) return SW_OK;
+  return sw_errf(err, errsz, "%s: the simulation is closed (its run folder finished); expected "
+                 "a simulation that is still open", what),
+         SW_FATAL;
+}
+
 int sw_sim_step(sw_sim *s, char *err, size_t errsz) {
+  if (check_open(s, "step", err, errsz)) return SW_FATAL;
   if (!s->ops) return static_step(s, err, errsz);
   int rc = step_to(s, grid_next(s), 0, err, errsz);
   if (rc == SW_OK) s->n++;
@@ -260,10 +273,19 @@ static int stop(sw_sim *s, char *err, size_t errsz) {
 }
 
 int sw_sim_run(sw_sim *s, double until, char *err, size_t errsz) {
+  return sw_sim_run_steps(s, until, -1, err, errsz);
+}
+
+int sw_sim_run_steps(sw_sim *s, double until, long max_steps, char *err, size_t errsz) {
+  if (check_open(s, "run", err, errsz)) return SW_FATAL;
+  if (!isfinite(until) || until < s->d->t)
+    return sw_errf(err, errsz, "run: until = %g s; expected a finite time >= the current time "
+                   "%.9g s", until, s->d->t),
+           SW_FATAL;
   if (!s->ops) return static_step(s, err, errsz);
   const double dt = s->m->opt.dt;
   int rc = SW_OK;
-  while (rc == SW_OK && s->d->t < until) {
+  for (long k = 0; rc == SW_OK && s->d->t < until && (max_steps < 0 || k < max_steps); k++) {
     if (stop_signal) return stop(s, err, errsz);
     /* a step ends on the grid (not a running sum), and a last sliver below dt/1e6 is merged */
     double grid = grid_next(s), end = fmin(grid, until);
@@ -292,7 +314,11 @@ static int finish(sw_sim *s, char *err, size_t errsz) {
   return rc;
 }
 
-int sw_sim_close(sw_sim *s, char *err, size_t errsz) { return s ? finish(s, err, errsz) : 0; }
+int sw_sim_close(sw_sim *s, char *err, size_t errsz) {
+  if (!s) return 0;
+  s->closed = 1;
+  return finish(s, err, errsz);
+}
 
 void sw_sim_free(sw_sim *s) {
   if (!s) return;
@@ -408,6 +434,24 @@ static sw_sim *sim_alloc(sw_model *m, int flags, char *err, size_t errsz) {
   return s;
 }
 
+/* The start of a run from s->d (the initial state): the sampling, the energy bound, the first
+ * state logged (the static solve logs only its answer), the fit stage, the method started. */
+static int begin(sw_sim *s, char *err, size_t errsz) {
+  const sw_model *m = s->m;
+  s->t0 = 0.0, s->n = 0;
+  s->next_frame = m->opt.frames_every;
+  s->next_positions = 0.0; /* a record at t = 0 */
+  s->d->energy_bound = m->opt.energy_bound > 0.0 ? m->opt.energy_bound : sw_energy_bound(m, s->d);
+  /* a failure of any is the run's: the folder says so */
+  int is_static = !strcmp(m->opt.method, "static");
+  int rc = is_static && !m->fit.on ? SW_OK : record(s, 1, err, errsz);
+  if (!rc) rc = fit_stage(s, err, errsz);
+  if (!rc) rc = start_method(s, err, errsz);
+  s->started = !rc;
+  if (!rc && write_restart(s, err, errsz)) rc = output_failed(s->d, err, errsz); /* the start */
+  return rc;
+}
+
 sw_sim *sw_sim_start(sw_model *m, int flags, int *status, char *err, size_t errsz) {
   if (status) *status = SW_FATAL;
   sw_sim *s = sim_alloc(m, flags, err, errsz);
@@ -419,17 +463,7 @@ sw_sim *sw_sim_start(sw_model *m, int flags, int *status, char *err, size_t errs
       return s->finished = 1, sw_sim_free(s), NULL;
     }
   }
-  s->next_frame = m->opt.frames_every;
-  s->next_positions = 0.0; /* a record at t = 0 */
-  s->d->energy_bound = m->opt.energy_bound > 0.0 ? m->opt.energy_bound : sw_energy_bound(m, s->d);
-  /* the first state is logged (the static solve logs only its answer), then the method starts;
-   * a failure of either is the run's: the folder says so */
-  int is_static = !strcmp(m->opt.method, "static");
-  int rc = is_static && !m->fit.on ? SW_OK : record(s, 1, err, errsz);
-  if (!rc) rc = fit_stage(s, err, errsz);
-  if (!rc) rc = start_method(s, err, errsz);
-  s->started = !rc;
-  if (!rc && write_restart(s, err, errsz)) rc = output_failed(s->d, err, errsz); /* the start */
+  int rc = begin(s, err, errsz);
   if (rc) {
     outcome(s, rc, err);
     char cerr[SW_ERRSZ];
@@ -689,6 +723,7 @@ static void set_grid(sw_sim *s, double t) {
 
 int sw_sim_set_state(sw_sim *s, double t, const double *x, const double *v, char *err,
                      size_t errsz) {
+  if (check_open(s, "set_state", err, errsz)) return SW_FATAL;
   const sw_model *m = s->m;
   sw_data *d = s->d;
   const long nd = (long)m->nv * m->dim;
@@ -705,19 +740,101 @@ int sw_sim_set_state(sw_sim *s, double t, const double *x, const double *v, char
   return changed(s, SW_CHANGED_STATE, e0, err, errsz);
 }
 
-int sw_sim_set_rest(sw_sim *s, int k, double rest, char *err, size_t errsz) {
+/* Tendon k exists and rest (m) is a length; else err. */
+static int check_rest(const sw_sim *s, int k, double rest, char *err, size_t errsz) {
   if (k < 0 || k >= s->m->ntendon)
     return sw_errf(err, errsz, "set_rest: no tendon %d (the scene has %d)", k, s->m->ntendon),
            SW_FATAL;
   if (!isfinite(rest) || rest < 0.0)
     return sw_errf(err, errsz, "set_rest: tendon '%s': rest length %g m; expected a finite "
-                   "value >= 0", s->m->tendon[k].name, rest), SW_FATAL;
-  double e0 = total_energy(s);
-  sw_tendon *td = &s->m->tendon[k];
+                   "value >= 0", s->m->tendon[k].name, rest),
+           SW_FATAL;
+  return SW_OK;
+}
+
+static void put_rest(sw_tendon *td, double rest) {
   td->nkey = 1; /* constant from now on */
   td->key_t[0] = 0.0;
   td->key_rest[0] = rest;
+}
+
+/* The arrays sw_sim_array hands out of sw_data: their addresses outlive sw_sim_reset. */
+static double **data_array(sw_data *d, int k, size_t *n, const sw_model *m) {
+  const size_t nd = (size_t)m->nv * (size_t)m->dim, nf = (size_t)m->nf;
+  const size_t nt = (size_t)m->ntendon + 1, ne = (size_t)m->nterm;
+  double **f[] = {&d->x, &d->v, &d->txy, &d->stretch_u, &d->stretch_v, &d->shear,
+                  &d->tendon_length, &d->tendon_tension, &d->tendon_delta, &d->term_energy,
+                  &d->contact_pressure, NULL};
+  const size_t len[] = {nd, nd, nf, nf, nf, nf, nt, nt, nt, ne, nf + 1, 0};
+  *n = len[k];
+  return f[k];
+}
+
+/* d becomes fresh (a new sw_data of m, freed here) but keeps the addresses of its arrays
+ * that bindings hold (data_array): their contents are fresh's. */
+static void renew_data(sw_data *d, sw_data *fresh, const sw_model *m) {
+  size_t n;
+  for (int k = 0; data_array(d, k, &n, m); k++) {
+    double **a = data_array(d, k, &n, m), **b = data_array(fresh, k, &n, m);
+    if (!*a) continue;
+    memcpy(*a, *b, n * sizeof(double));
+    double *t = *a;
+    *a = *b, *b = t; /* fresh holds d's array, with fresh's values */
+  }
+  sw_data tmp = *d;
+  *d = *fresh, *fresh = tmp;
+  sw_data_free(fresh);
+}
+
+int sw_sim_set_rest(sw_sim *s, int k, double rest, char *err, size_t errsz) {
+  if (check_open(s, "set_rest", err, errsz)) return SW_FATAL;
+  if (check_rest(s, k, rest, err, errsz)) return SW_FATAL;
+  double e0 = total_energy(s);
+  put_rest(&s->m->tendon[k], rest);
   return changed(s, SW_CHANGED_MODEL, e0, err, errsz);
+}
+
+int sw_sim_set_rests(sw_sim *s, const double *rest, char *err, size_t errsz) {
+  if (check_open(s, "set_rests", err, errsz)) return SW_FATAL;
+  for (int k = 0; k < s->m->ntendon; k++)
+    if (check_rest(s, k, rest[k], err, errsz)) return SW_FATAL;
+  double e0 = total_energy(s);
+  for (int k = 0; k < s->m->ntendon; k++) put_rest(&s->m->tendon[k], rest[k]);
+  return changed(s, SW_CHANGED_MODEL, e0, err, errsz);
+}
+
+void sw_sim_rests(const sw_sim *s, double *rest) {
+  for (int k = 0; k < s->m->ntendon; k++) rest[k] = sw_tendon_rest(&s->m->tendon[k], s->d->t);
+}
+
+int sw_sim_set_dt(sw_sim *s, double dt, char *err, size_t errsz) {
+  if (check_open(s, "set_dt", err, errsz)) return SW_FATAL;
+  if (!s->ops)
+    return sw_errf(err, errsz, "set_dt: the static method takes no time step"), SW_FATAL;
+  if (!isfinite(dt) || dt <= 0.0)
+    return sw_errf(err, errsz, "set_dt: dt = %g s; expected a finite value > 0", dt), SW_FATAL;
+  s->m->opt.dt = dt;
+  s->t0 = s->d->t, s->n = 0; /* a new grid from here */
+  s->changed |= SW_CHANGED_STATE; /* a history of the old step is not this one's */
+  return SW_OK;
+}
+
+int sw_sim_reset(sw_sim *s, char *err, size_t errsz) {
+  if (check_open(s, "reset", err, errsz)) return SW_FATAL;
+  if (s->out)
+    return sw_errf(err, errsz, "reset: the simulation writes a run folder (one trajectory); "
+                   "expected one without"),
+           SW_FATAL;
+  sw_data *fresh = sw_data_new(s->m);
+  if (!fresh) return sw_errf(err, errsz, "reset: out of memory"), SW_FATAL;
+  renew_data(s->d, fresh, s->m);
+  if (s->ops && s->st) s->ops->free(s->st);
+  s->ops = NULL, s->st = NULL;
+  s->logged = s->changed = s->failed = s->stopped = 0;
+  s->msg[0] = 0;
+  int rc = begin(s, err, errsz);
+  if (rc) outcome(s, rc, err);
+  return rc;
 }
 
 /* Vertex i in range, and the dim values at p finite; else err naming what (set_pin ...). */
@@ -732,6 +849,7 @@ static int check_vertex(const sw_sim *s, const char *what, int i, const double *
 }
 
 int sw_sim_set_pin(sw_sim *s, int i, const double *x, char *err, size_t errsz) {
+  if (check_open(s, "set_pin", err, errsz)) return SW_FATAL;
   const sw_model *m = s->m;
   if (check_vertex(s, "set_pin", i, x, err, errsz)) return SW_FATAL;
   if (!m->pinned[i])
@@ -743,6 +861,7 @@ int sw_sim_set_pin(sw_sim *s, int i, const double *x, char *err, size_t errsz) {
 }
 
 int sw_sim_set_load(sw_sim *s, int i, const double *f, char *err, size_t errsz) {
+  if (check_open(s, "set_load", err, errsz)) return SW_FATAL;
   sw_model *m = s->m;
   if (check_vertex(s, "set_load", i, f, err, errsz)) return SW_FATAL;
   if (!m->load)
@@ -751,6 +870,76 @@ int sw_sim_set_load(sw_sim *s, int i, const double *f, char *err, size_t errsz) 
   double e0 = total_energy(s);
   memcpy(m->load + (size_t)i * m->dim, f, (size_t)m->dim * sizeof(double));
   return changed(s, SW_CHANGED_MODEL, e0, err, errsz);
+}
+
+/* ------------------------------------------------------------------ state copies */
+
+/* What a state copy begins with: the sizes and the method of the sim it came from. */
+#define STATE_MAGIC "SWSTATE1"
+typedef struct state_head {
+  char magic[8];
+  int nv, dim, nf, ndof;
+  char method[64];
+} state_head;
+
+static void state_head_of(const sw_model *m, state_head *h) {
+  memset(h, 0, sizeof *h);
+  memcpy(h->magic, STATE_MAGIC, 8);
+  h->nv = m->nv, h->dim = m->dim, h->nf = m->nf, h->ndof = m->ndof;
+  snprintf(h->method, sizeof h->method, "%s", m->opt.method);
+}
+
+/* sim_io for the static method too (no integrator, no history). */
+static void state_io(sw_sim *s, sw_io *io) {
+  state_head h;
+  state_head_of(s->m, &h);
+  sw_io_bytes(io, &h, sizeof h);
+  if (s->ops) {
+    sim_io(s, io);
+    return;
+  }
+  const size_t nd = (size_t)s->m->nv * (size_t)s->m->dim;
+  IO(s->d->t), IO(s->d->nstep), IO(s->d->nnewton), IO(s->d->nfactor);
+  sw_io_bytes(io, s->d->x, nd * sizeof(double));
+  sw_io_bytes(io, s->d->v, nd * sizeof(double));
+}
+
+size_t sw_sim_get_state(sw_sim *s, void *buf, size_t size) {
+  sw_io io = {0};
+  state_io(s, &io);
+  size_t n = io.bad ? 0 : io.len;
+  if (buf && n && size >= n) memcpy(buf, io.buf, n);
+  sw_io_free(&io);
+  return n;
+}
+
+int sw_sim_put_state(sw_sim *s, const void *buf, size_t size, char *err, size_t errsz) {
+  if (check_open(s, "put_state", err, errsz)) return SW_FATAL;
+  state_head h, mine;
+  state_head_of(s->m, &mine);
+  if (size < sizeof h)
+    return sw_errf(err, errsz, "put_state: %zu bytes; expected a state copy", size), SW_FATAL;
+  memcpy(&h, buf, sizeof h);
+  if (memcmp(&h, &mine, sizeof h))
+    return sw_errf(err, errsz, "put_state: a state of %d vertices, %d faces in %dD with %.64s; "
+                   "expected this simulation's %d, %d, %dD, %s", h.nv, h.nf, h.dim, h.method,
+                   mine.nv, mine.nf, mine.dim, mine.method),
+           SW_FATAL;
+  sw_io io = {.load = 1, .buf = (unsigned char *)buf, .len = size};
+  state_io(s, &io);
+  if (io.bad || io.pos != size)
+    return sw_errf(err, errsz, "put_state: the copy is cut short or too long (%zu bytes)", size),
+           SW_FATAL;
+  s->failed = s->stopped = 0;
+  /* the history is the state's (a pending change of the model still counts); an integrator
+   * without one (CVODE, IDA) restarts at the state */
+  s->changed &= ~SW_CHANGED_STATE;
+  if (s->ops && !s->ops->history && s->ops->reset) s->ops->reset(s->st, s->m, s->d, SW_CHANGED_STATE);
+  double u;
+  if (diagnose(s, &u))
+    return sw_errf(err, errsz, "t = %.9g s: cannot evaluate the state: %s", s->d->t, s->d->err),
+           SW_FATAL;
+  return SW_OK;
 }
 
 /* ------------------------------------------------------------------ reading */
@@ -767,6 +956,7 @@ void sw_sim_energy(const sw_sim *s, double *kinetic, double *potential, double *
 }
 
 double sw_sim_time(const sw_sim *s) { return s->d->t; }
+double sw_sim_dt(const sw_sim *s) { return s->m->opt.dt; }
 
 double sw_sim_rest(const sw_sim *s, int k) {
   return k >= 0 && k < s->m->ntendon ? sw_tendon_rest(&s->m->tendon[k], s->d->t) : NAN;

@@ -51,6 +51,11 @@ static int extent(const sw_model *m, char c) {
 double *sw_sim_array(sw_sim *s, const char *name, int *rows, int *cols) {
   const sw_model *m = sw_sim_model(s);
   const sw_data *d = sw_sim_data(s);
+  if (!strcmp(name, "energy")) { /* inline in sw_data */
+    if (rows) *rows = 4;
+    if (cols) *cols = 1;
+    return (double *)d->energy;
+  }
   for (size_t k = 0; k < sizeof arrays / sizeof *arrays; k++) {
     const named_array *a = &arrays[k];
     if (strcmp(a->name, name)) continue;
@@ -73,14 +78,24 @@ int *sw_sim_iarray(sw_sim *s, const char *name, int *rows, int *cols) {
   return p;
 }
 
-long sw_sim_counter(const sw_sim *s, const char *name) {
+static const char *const counter_names[] = {"nstep",  "nnewton",     "nfactor",  "nassemble",
+                                            "nforce", "nretry",      "nlinesearch", "nerrfail",
+                                            "nsetup", "ncg"};
+#define NCOUNTER (int)(sizeof counter_names / sizeof *counter_names)
+
+int sw_sim_counters(const sw_sim *s, long *out, int n) {
   const sw_data *d = sw_sim_data(s);
-  static const char *const names[] = {"nstep", "nnewton", "nfactor", "nassemble", "nforce",
-                                      "nretry", "nlinesearch", "nerrfail", "nsetup", "ncg"};
-  const long vals[] = {d->nstep,  d->nnewton,     d->nfactor,  d->nassemble, d->nforce,
-                       d->nretry, d->nlinesearch, d->nerrfail, d->nsetup,    d->ncg};
-  for (size_t k = 0; k < sizeof names / sizeof *names; k++)
-    if (!strcmp(names[k], name)) return vals[k];
+  const long vals[NCOUNTER] = {d->nstep,  d->nnewton,     d->nfactor,  d->nassemble, d->nforce,
+                               d->nretry, d->nlinesearch, d->nerrfail, d->nsetup,    d->ncg};
+  for (int k = 0; k < n && k < NCOUNTER; k++) out[k] = vals[k];
+  return NCOUNTER;
+}
+
+long sw_sim_counter(const sw_sim *s, const char *name) {
+  long vals[NCOUNTER];
+  sw_sim_counters(s, vals, NCOUNTER);
+  for (int k = 0; k < NCOUNTER; k++)
+    if (!strcmp(counter_names[k], name)) return vals[k];
   return -1;
 }
 

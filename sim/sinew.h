@@ -607,6 +607,8 @@ struct sw_data {
                                   (CHOLMOD's count for its ordering; 0: no factor yet, or a
                                   method without one) */
   int factor_super;            /* 1: the factor is supernodal, 0: simplicial (-1: none yet) */
+  double energy[4];            /* J at the current state (the stepping API, after each step and
+                                  change): kinetic, potential, their total, dissipated so far */
   char err[SW_ERRSZ];          /* why the last failing call failed */
 };
 
@@ -692,6 +694,30 @@ SW_API int sw_sim_step(sw_sim *s, char *err, size_t errsz);
 /* Steps until t = until (the last one shortened to land on it; a frame and a record of
  * positions.bin at until when the folder is written).  0 or nonzero with err. */
 SW_API int sw_sim_run(sw_sim *s, double until, char *err, size_t errsz);
+/* sw_sim_run taking at most max_steps steps (< 0: no limit): a caller that must see signals
+ * (Python's Ctrl-C) between steps runs one step a call until it reaches until.  Both refuse an
+ * until that is not finite or is before the current time (nonzero, err). */
+SW_API int sw_sim_run_steps(sw_sim *s, double until, long max_steps, char *err, size_t errsz);
+/* Back to the initial state as sw_sim_new made it (t = 0, x0, v0, counters and integrals 0,
+ * the fit stage again if the scene has one, the integrator started afresh); changes of the
+ * model (rest lengths, loads, dt) stay.  The arrays of sw_sim_array keep their addresses.  Not
+ * for a sim writing a run folder (nonzero, err). */
+SW_API int sw_sim_reset(sw_sim *s, char *err, size_t errsz);
+/* The time step from now on (s, > 0; not for the static method): the step grid starts again at
+ * the current time, and the integrator restarts its history as after sw_sim_set_state. */
+SW_API int sw_sim_set_dt(sw_sim *s, double dt, char *err, size_t errsz);
+/* Every tendon's rest length from now on (ntendon values, m, >= 0), with one evaluation of the
+ * changed state; and every tendon's rest length at the current time into rest (ntendon). */
+SW_API int sw_sim_set_rests(sw_sim *s, const double *rest, char *err, size_t errsz);
+SW_API void sw_sim_rests(const sw_sim *s, double *rest);
+/* A copy of the sim's whole state as bytes: what restart.bin holds (time, step grid, positions,
+ * velocities, counters and integrals, the integrator's history).  Returns its size; copies it
+ * into buf when size is enough (buf NULL: the size only).  sw_sim_put_state makes it the sim's
+ * state again (a copy from a sim of the same sizes and method): the steps after it are those
+ * after the copy was taken, to the bit, for methods with a history (all but CVODE and IDA,
+ * which restart there).  The model (rest lengths, loads) is not part of it. */
+SW_API size_t sw_sim_get_state(sw_sim *s, void *buf, size_t size);
+SW_API int sw_sim_put_state(sw_sim *s, const void *buf, size_t size, char *err, size_t errsz);
 /* Ask every sw_sim_run going to stop after its current step, as for signal sig (async-signal
  * safe: for a SIGINT or SIGTERM handler; 0 withdraws the request).  The run then returns
  * SW_INTERRUPTED, and sw_sim_close writes the state reached as a frame and summary.json with
@@ -700,7 +726,8 @@ SW_API void sw_interrupt(int sig);
 /* The signal of the pending sw_interrupt request, 0 if none. */
 SW_API int sw_interrupted(void);
 /* Finish the run folder (summary.json "ok", or "failed" with the message of the last step
- * when it failed, after a frame of the last good state).  0 without a folder. */
+ * when it failed, after a frame of the last good state).  0 without a folder.  After it, steps
+ * and changes fail with "the simulation is closed"; the state stays readable. */
 SW_API int sw_sim_close(sw_sim *s, char *err, size_t errsz);
 /* sw_sim_close (errors dropped) and free; the model is the caller's. */
 SW_API void sw_sim_free(sw_sim *s);
@@ -731,18 +758,23 @@ SW_API int sw_term_find(const sw_model *m, const char *name);
  * "x", "v" (nv x dim), "x0" (nv x dim), "mass" (nv x 1), "tension_xy", "stretch_u",
  * "stretch_v", "shear", "area" (nf x 1), "uv" (nf x 6), "tendon_length", "tendon_tension",
  * "tendon_delta" (ntendon x 1), "term_energy" (nterm x 1), "load" (nv x dim, or NULL without
- * loads), "contact_pressure" (nf x 1, or NULL without obstacles or self-contact).  Ints: "face" (nf x 3), "dof" (nv x dim: the free DOF of each component, -1 where
+ * loads), "contact_pressure" (nf x 1, or NULL without obstacles or self-contact), "energy"
+ * (4 x 1: kinetic, potential, total, dissipated, J).  Ints: "face" (nf x 3), "dof" (nv x dim: the free DOF of each component, -1 where
  * pinned).  The memory is the sim's (valid until sw_sim_free; x and v change as it steps). */
 SW_API double *sw_sim_array(sw_sim *s, const char *name, int *rows, int *cols);
 SW_API int *sw_sim_iarray(sw_sim *s, const char *name, int *rows, int *cols);
 /* A counter of sw_data by its field name ("nstep", "nnewton", "nfactor", "nassemble",
  * "nforce", "nretry", "nlinesearch", "nerrfail", "nsetup", "ncg"), or -1. */
 SW_API long sw_sim_counter(const sw_sim *s, const char *name);
+/* The first n of those counters, in that order, into out; returns how many there are. */
+SW_API int sw_sim_counters(const sw_sim *s, long *out, int n);
 /* Sizes and names: "nv", "dim", "nf", "ntendon", "nterm", "ndof"; names of tendon or term k. */
 SW_API int sw_sim_size(const sw_sim *s, const char *name);
 SW_API const char *sw_sim_name(const sw_sim *s, const char *kind, int k);
 /* The current time d->t, s. */
 SW_API double sw_sim_time(const sw_sim *s);
+/* The time step m->opt.dt, s (sw_sim_set_dt changes it). */
+SW_API double sw_sim_dt(const sw_sim *s);
 /* Tendon k's rest length at the current time, m; its waypoints (vertex indices) and their
  * number in *n. */
 SW_API double sw_sim_rest(const sw_sim *s, int k);

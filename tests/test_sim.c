@@ -1,7 +1,8 @@
 /* test_sim.c — the stepping API (sim/sim.c): N steps are sw_run's run, a rest length changed
  * between steps is the scene with that rest length from then on (every integrator, CVODE and
  * IDA through their restart), a moved pin reaches CVODE's forces, the static solve after a
- * change has the analytic equilibrium, and bad changes are errors. */
+ * change has the analytic equilibrium, bad changes are errors; state copies and resets repeat
+ * steps to the bit, dt changes the grid, bad times and closed sims are errors. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -291,8 +292,93 @@ static void bad_changes(void **state) {
   sw_model_free(m);
 }
 
+/* n steps from s, their positions after each into xs (n x nd). */
+static void record_steps(sw_sim *s, int n, double *xs, long nd) {
+  for (int k = 0; k < n; k++) {
+    steps(s, 1);
+    memcpy(xs + k * nd, sw_sim_data(s)->x, (size_t)nd * sizeof(double));
+  }
+}
+
+/* A state copy put back (into the same sim and into another) repeats the steps after it to the
+ * bit; a reset repeats a fresh sim's steps to the bit and keeps the arrays' addresses. */
+static void state_copy_and_reset(const char *method) {
+  char err[SW_ERRSZ];
+  sw_model *m = cloth(0.9, method);
+  sw_sim *s = start(m, 0), *o = start(m, 0);
+  const long nd = (long)m->nv * m->dim, n = 5;
+  double *a = calloc((size_t)(n * nd), sizeof(double)), *b = calloc((size_t)(n * nd), sizeof(double));
+  record_steps(o, (int)n, a, nd); /* a fresh sim's first steps */
+  const double *x = sw_sim_array(s, "x", NULL, NULL);
+  steps(s, 7);
+  assert_int_equal(sw_sim_reset(s, err, sizeof err), 0);
+  assert_ptr_equal(sw_sim_array(s, "x", NULL, NULL), x);
+  assert_true(sw_sim_time(s) == 0.0 && sw_sim_counter(s, "nstep") == 0);
+  record_steps(s, (int)n, b, nd);
+  assert_memory_equal(a, b, (size_t)(n * nd) * sizeof(double));
+
+  size_t size = sw_sim_get_state(s, NULL, 0);
+  unsigned char *copy = malloc(size);
+  assert_true(size > 0 && sw_sim_get_state(s, copy, size) == size);
+  record_steps(s, (int)n, a, nd);
+  assert_int_equal(sw_sim_put_state(s, copy, size, err, sizeof err), 0);
+  record_steps(s, (int)n, b, nd);
+  assert_memory_equal(a, b, (size_t)(n * nd) * sizeof(double));
+  assert_int_equal(sw_sim_put_state(o, copy, size, err, sizeof err), 0);
+  record_steps(o, (int)n, b, nd);
+  assert_memory_equal(a, b, (size_t)(n * nd) * sizeof(double));
+  assert_int_not_equal(sw_sim_put_state(o, copy, size - 1, err, sizeof err), 0);
+  assert_non_null(strstr(err, "cut short"));
+  free(copy), free(a), free(b);
+  sw_sim_free(s), sw_sim_free(o);
+  sw_model_free(m);
+}
+
+static void state_copy_and_reset_be(void **st) { (void)st, state_copy_and_reset("backward-euler"); }
+static void state_copy_and_reset_bdf2(void **st) { (void)st, state_copy_and_reset("bdf2"); }
+
+/* dt changes the grid from the current time; bad times, closed sims and all rest lengths at
+ * once. */
+static void dt_times_close(void **state) {
+  (void)state;
+  char err[SW_ERRSZ];
+  sw_model *m = cloth(0.9, "backward-euler");
+  sw_sim *s = start(m, 0);
+  steps(s, 2);
+  assert_int_equal(sw_sim_set_dt(s, 0.004, err, sizeof err), 0);
+  assert_true(sw_sim_dt(s) == 0.004);
+  steps(s, 3);
+  assert_true(fabs(sw_sim_time(s) - 0.032) < 1e-15);
+  assert_int_not_equal(sw_sim_set_dt(s, -1.0, err, sizeof err), 0);
+  assert_int_not_equal(sw_sim_set_dt(s, NAN, err, sizeof err), 0);
+  assert_int_not_equal(sw_sim_run(s, NAN, err, sizeof err), 0);
+  assert_int_not_equal(sw_sim_run(s, INFINITY, err, sizeof err), 0);
+  assert_int_not_equal(sw_sim_run(s, 0.01, err, sizeof err), 0);
+  assert_non_null(strstr(err, "until"));
+  assert_int_equal(sw_sim_run_steps(s, 1.0, 2, err, sizeof err), 0); /* two steps only */
+  assert_true(fabs(sw_sim_time(s) - 0.04) < 1e-15);
+  double rest[1] = {0.7}, got[1];
+  assert_int_equal(sw_sim_set_rests(s, rest, err, sizeof err), 0);
+  sw_sim_rests(s, got);
+  assert_true(got[0] == 0.7 && sw_sim_rest(s, 0) == 0.7);
+  rest[0] = -1.0;
+  assert_int_not_equal(sw_sim_set_rests(s, rest, err, sizeof err), 0);
+  long c[16];
+  assert_int_equal(sw_sim_counters(s, c, 16), 10);
+  assert_int_equal(c[0], sw_sim_counter(s, "nstep"));
+  assert_int_equal(sw_sim_close(s, err, sizeof err), 0);
+  assert_int_not_equal(sw_sim_step(s, err, sizeof err), 0);
+  assert_non_null(strstr(err, "closed"));
+  assert_int_not_equal(sw_sim_reset(s, err, sizeof err), 0);
+  sw_sim_free(s);
+  sw_model_free(m);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
+      cmocka_unit_test(state_copy_and_reset_be),
+      cmocka_unit_test(state_copy_and_reset_bdf2),
+      cmocka_unit_test(dt_times_close),
       cmocka_unit_test(steps_are_run_be),
       cmocka_unit_test(steps_are_run_cvode),
       cmocka_unit_test(rest_change_be),

@@ -7,7 +7,8 @@ cd "$(dirname "$0")/.."
 packages=(libsuitesparse-dev libsundials-dev libopenblas-dev libfyaml-dev libcmocka-dev
           meson ninja-build pkg-config gcc python3-matplotlib python3-numpy python3-pytest
           python3-pandas zlib1g-dev python3-pil python3-vtk9 python3-yaml
-          python3-ezdxf python3-gmsh python3-scipy)
+          python3-ezdxf python3-gmsh python3-scipy python3-mesonpy
+          python3-pip python3-venv)
 
 missing=()
 for p in "${packages[@]}"; do

@@ -6,23 +6,28 @@ out are numpy views of sinew's own memory (no copies), read-only: write through 
 (``sim.positions = ...``, ``tendon.rest_length = ...``), which tell the integrator to restart
 where its history no longer holds.  Units are SI: m, s, kg, N.  docs/python.md has the guide.
 
-The library is found at $SINEW_LIB (a path to libsinew.so), else where ``meson install`` put
-it (``_libpath.py``, written at install), else on the loader's path.
+The library is found at $SINEW_LIB (a path to libsinew.so), else in the package's folder (where
+``pip install .`` puts it), else where ``meson install`` put it (``_libpath.py``, written at
+install), else on the loader's path.
 """
 import ctypes
 import ctypes.util
+import math
+import operator
 import os
+import threading
 from collections.abc import Mapping
 
 import numpy as np
 
-__all__ = ["load", "Simulation", "Tendon", "SinewError", "methods"]
+__all__ = ["load", "Simulation", "State", "Tendon", "SinewError", "methods"]
 
 _ERRSZ = 1024
 
 
-class SinewError(Exception):
-    """An error of libsinew, with its message (file:line:column for a bad scene)."""
+class SinewError(RuntimeError):
+    """An error of libsinew, with its message (file:line:column for a bad scene), or a
+    simulation used when it cannot be: closed, or being stepped by another thread."""
 
 
 class _Overrides(ctypes.Structure):
@@ -31,6 +36,9 @@ class _Overrides(ctypes.Structure):
 
 def _find_library():
     path = os.environ.get("SINEW_LIB")
+    beside = os.path.join(os.path.dirname(os.path.abspath(__file__)), "libsinew.so")
+    if not path and os.path.exists(beside):  # pip install . puts it in the package
+        path = beside
     if not path:
         try:
             from . import _libpath  # written by meson install
@@ -61,6 +69,14 @@ _SIGNATURES = {
     "sw_sim_new": (_P, [_P, _I, _S, _Z]),
     "sw_sim_step": (_I, [_P, _S, _Z]),
     "sw_sim_run": (_I, [_P, _D, _S, _Z]),
+    "sw_sim_run_steps": (_I, [_P, _D, ctypes.c_long, _S, _Z]),
+    "sw_sim_reset": (_I, [_P, _S, _Z]),
+    "sw_sim_set_dt": (_I, [_P, _D, _S, _Z]),
+    "sw_sim_dt": (_D, [_P]),
+    "sw_sim_set_rests": (_I, [_P, _DP, _S, _Z]),
+    "sw_sim_rests": (None, [_P, _DP]),
+    "sw_sim_get_state": (_Z, [_P, ctypes.c_char_p, _Z]),
+    "sw_sim_put_state": (_I, [_P, ctypes.c_char_p, _Z, _S, _Z]),
     "sw_sim_close": (_I, [_P, _S, _Z]),
     "sw_sim_free": (None, [_P]),
     "sw_sim_energy": (None, [_P, _DP, _DP, _DP]),
@@ -71,6 +87,7 @@ _SIGNATURES = {
     "sw_sim_array": (_DP, [_P, _S, _IP, _IP]),
     "sw_sim_iarray": (_IP, [_P, _S, _IP, _IP]),
     "sw_sim_counter": (ctypes.c_long, [_P, _S]),
+    "sw_sim_counters": (_I, [_P, ctypes.POINTER(ctypes.c_long), _I]),
     "sw_sim_size": (_I, [_P, _S]),
     "sw_sim_name": (_S, [_P, _S, _I]),
     "sw_sim_rest": (_D, [_P, _I]),
@@ -123,6 +140,15 @@ def _view(owner, ptr, shape, ctype, dtype):
     return a
 
 
+def _path(value, what):
+    """value (str or path-like) as bytes for C; a ValueError for a NUL byte, which C would take
+    for the end of the string."""
+    b = os.fsencode(value)
+    if b"\0" in b:
+        raise ValueError("%s %r: contains a NUL byte; expected a path without one" % (what, value))
+    return b
+
+
 def _vector(values, n, what):
     a = np.ascontiguousarray(values, dtype=np.float64).reshape(-1)
     if a.size != n:
@@ -143,21 +169,22 @@ class Tendon:
 
     @rest_length.setter
     def rest_length(self, value):
-        _call(_library().sw_sim_set_rest, self._sim._ptr, self.index, float(value))
+        with self._sim._using("set rest_length"):
+            _call(_library().sw_sim_set_rest, self._sim._ptr, self.index, float(value))
 
     @property
     def length(self):
-        return float(self._sim._array("tendon_length")[self.index])
+        return float(self._sim._views["tendon_length"][self.index])
 
     @property
     def tension(self):
-        return float(self._sim._array("tendon_tension")[self.index])
+        return float(self._sim._views["tendon_tension"][self.index])
 
     @property
     def waypoints(self):
         n = ctypes.c_int()
         p = _library().sw_sim_waypoints(self._sim._ptr, self.index, ctypes.byref(n))
-        return _view(self._sim, p, (n.value,), ctypes.c_int, np.intc)
+        return _view(self._sim._handle, p, (n.value,), ctypes.c_int, np.intc)
 
     def __repr__(self):
         return "<Tendon %r: length %.6g m, rest %.6g m, tension %.6g N>" % (
@@ -190,26 +217,100 @@ class _Tendons(Mapping):
         return "<tendons: %s>" % ", ".join(repr(t) for t in self._items.values())
 
 
+class _Handle:
+    """The C simulation and its model: freed when the Simulation and every array handed out
+    of it are gone (the arrays keep it, not the Simulation, so nothing is kept in a cycle)."""
+
+    def __init__(self, ptr, model):
+        self.ptr, self.model = ptr, model
+
+    def __del__(self):
+        lib = _lib
+        if lib is None:
+            return
+        if self.ptr:
+            lib.sw_sim_free(self.ptr)
+            self.ptr = None
+        if self.model:
+            lib.sw_model_free(self.model)
+            self.model = None
+
+
+class State:
+    """A copy of a simulation's whole state (Simulation.state()): time, positions, velocities,
+    counters and the integrator's history, for Simulation.set_state(state).  .time (s),
+    .positions and .velocities ((nv, dim) copies) are there to look at."""
+
+    def __init__(self, data, time, positions, velocities):
+        self._data, self.time = bytes(data), time
+        self.positions, self.velocities = positions, velocities
+
+    def __repr__(self):
+        return "<sinew.State t = %.9g s, %d bytes>" % (self.time, len(self._data))
+
+
+_COUNTERS = ("nstep", "nnewton", "nfactor", "nassemble", "nforce", "nretry", "nlinesearch",
+             "nerrfail", "nsetup", "ncg")  # sw_sim_counters' order
+_READ_VIEWS = {"positions": "x", "velocities": "v", "initial_positions": "x0", "masses": "mass",
+               "tension_xy": "tension_xy", "stretch_u": "stretch_u", "stretch_v": "stretch_v",
+               "shear": "shear", "tendon_length": "tendon_length",
+               "tendon_tension": "tendon_tension", "term_energy": "term_energy",
+               "energy": "energy"}
+
+
 class Simulation:
     """A scene being simulated, one step at a time (sinew.h: sw_sim).  Made by sinew.load."""
 
     def __init__(self, model, flags):
         lib = _library()
-        self._model, self._ptr = model, None
         err = ctypes.create_string_buffer(_ERRSZ)
         ptr = lib.sw_sim_new(model, flags, err, _ERRSZ)
         if not ptr:
             lib.sw_model_free(model)
-            self._model = None
             raise SinewError(err.value.decode(errors="replace"))
+        self._handle = _Handle(ptr, model)
         self._ptr = ptr
+        self._closed = False
+        self._lock = threading.Lock()
+        self._static = self.method == "static"
+        # the arrays of sw_sim_array keep their addresses for the simulation's life (a reset
+        # too): one read-only view each, made once
+        self._views = {key: self._array(name) for key, name in _READ_VIEWS.items()}
+        nt = self._size("ntendon")
+        for key in ("tendon_length", "tendon_tension"):
+            self._views[key] = self._views[key][:nt]
+        self._rest = np.zeros(nt)
+        self._rest_ptr = self._rest.ctypes.data_as(_DP)
+        self._counter_buf = (ctypes.c_long * len(_COUNTERS))()
+        self._counter_ptr = ctypes.cast(self._counter_buf, ctypes.POINTER(ctypes.c_long))
+        self._counters_fn, self._rests_fn = lib.sw_sim_counters, lib.sw_sim_rests
+        self._counter_np = np.frombuffer(self._counter_buf, dtype=np.int_)
+        self._rest_out = self._rest.view()
+        self._rest_out.flags.writeable = False
+        self._term_names = ["E_" + lib.sw_sim_name(ptr, b"term", i).decode()
+                            for i in range(self._size("nterm"))]
         self.tendons = _Tendons(self)
         """The tendons by name: each with .length, .tension, settable .rest_length."""
 
     # ---------------------------------------------------------------- lifetime
+    def _using(self, what):
+        """The simulation, held for one change or run: a SinewError when it is closed or when
+        another thread holds it (one simulation is stepped by one thread at a time)."""
+        if self._closed:
+            raise SinewError("%s: the simulation is closed; load the scene again to go on" % what)
+        if not self._lock.acquire(blocking=False):
+            raise SinewError("%s: the simulation is being used by another thread; give each "
+                             "thread its own simulation (sinew.load) or hold a lock around it"
+                             % what)
+        return _Held(self._lock)
+
     def close(self):
-        """Finish the run folder (summary.json; nothing without one).  Arrays stay valid."""
-        if self._ptr:
+        """Finish the run folder (summary.json; nothing without one).  From then on, steps and
+        changes raise SinewError; the arrays stay readable."""
+        if self._closed:
+            return
+        with self._using("close"):
+            self._closed = True
             _call(_library().sw_sim_close, self._ptr)
 
     def __enter__(self):
@@ -219,25 +320,61 @@ class Simulation:
         self.close()
 
     def __del__(self):
-        lib = _lib
-        if lib is None:
+        # close() (the memory goes with the last array that views it, see _Handle)
+        if getattr(self, "_closed", True) or _lib is None:
             return
-        if getattr(self, "_ptr", None):
-            lib.sw_sim_free(self._ptr)
-            self._ptr = None
-        if getattr(self, "_model", None):
-            lib.sw_model_free(self._model)
-            self._model = None
+        self._closed = True
+        if self._lock.acquire(blocking=False):
+            try:
+                _lib.sw_sim_close(self._ptr, None, 0)
+            finally:
+                self._lock.release()
 
     # ---------------------------------------------------------------- stepping
     def step(self, n=1):
-        """n steps of dt (the static method: an equilibrium solve from the current positions)."""
+        """n steps of dt (n >= 0; the static method: an equilibrium solve from the current
+        positions)."""
+        n = operator.index(n)
+        if n < 0:
+            raise ValueError("step: n = %d; expected a number of steps >= 0" % n)
+        lib = _library()
         for _ in range(n):
-            _call(_library().sw_sim_step, self._ptr)
+            with self._using("step"):
+                _call(lib.sw_sim_step, self._ptr)
 
     def run(self, until):
-        """Step until the time `until` (s); the last step is shortened to land on it."""
-        _call(_library().sw_sim_run, self._ptr, float(until))
+        """Step until the time `until` (s, finite, not before the current time); the last step
+        is shortened to land on it.  One step at a time, so Ctrl-C stops it after the step
+        going (KeyboardInterrupt, with the state of that step)."""
+        until = float(until)
+        if not math.isfinite(until) or until < self.time:
+            raise ValueError("run: until = %r s; expected a finite time >= the current time "
+                             "%.9g s" % (until, self.time))
+        lib = _library()
+        while True:
+            with self._using("run"):
+                _call(lib.sw_sim_run_steps, self._ptr, until, 1)
+            if self._static or self.time >= until:
+                return
+
+    def reset(self):
+        """Back to the initial state (t = 0, the scene's positions and velocities, counters 0,
+        the integrator afresh), as sinew.load made it; changed rest lengths, loads and dt stay.
+        Not for a simulation writing a run folder."""
+        with self._using("reset"):
+            _call(_library().sw_sim_reset, self._ptr)
+
+    @property
+    def dt(self):
+        """The time step, s (with CVODE and IDA: the interval the state is handed out at).
+        Settable (not for the static method): the step grid starts again at the current time
+        and the integrator's history restarts."""
+        return _library().sw_sim_dt(self._ptr)
+
+    @dt.setter
+    def dt(self, value):
+        with self._using("set dt"):
+            _call(_library().sw_sim_set_dt, self._ptr, float(value))
 
     # ---------------------------------------------------------------- reading
     def _size(self, name):
@@ -248,7 +385,12 @@ class Simulation:
         p = _library().sw_sim_array(self._ptr, name.encode(), ctypes.byref(rows),
                                     ctypes.byref(cols))
         shape = (rows.value,) if cols.value == 1 else (rows.value, cols.value)
-        return _view(self, p, shape, ctypes.c_double, np.float64)
+        return _view(self._handle, p, shape, ctypes.c_double, np.float64)
+
+    @property
+    def closed(self):
+        """True after close()."""
+        return self._closed
 
     @property
     def time(self):
@@ -274,7 +416,7 @@ class Simulation:
     @property
     def positions(self):
         """(nv, dim) positions, m: a read-only view that follows the simulation."""
-        return self._array("x")
+        return self._views["positions"]
 
     @positions.setter
     def positions(self, x):
@@ -283,7 +425,7 @@ class Simulation:
     @property
     def velocities(self):
         """(nv, dim) velocities, m/s: a read-only view."""
-        return self._array("v")
+        return self._views["velocities"]
 
     @velocities.setter
     def velocities(self, v):
@@ -291,98 +433,165 @@ class Simulation:
 
     @property
     def initial_positions(self):
-        return self._array("x0")
+        return self._views["initial_positions"]
 
     @property
     def faces(self):
         rows, cols = ctypes.c_int(), ctypes.c_int()
         p = _library().sw_sim_iarray(self._ptr, b"face", ctypes.byref(rows), ctypes.byref(cols))
-        return _view(self, p, (rows.value, cols.value), ctypes.c_int, np.intc)
+        return _view(self._handle, p, (rows.value, cols.value), ctypes.c_int, np.intc)
 
     @property
     def pinned(self):
         """(nv,) bool: the vertices with a pinned component."""
         rows, cols = ctypes.c_int(), ctypes.c_int()
         p = _library().sw_sim_iarray(self._ptr, b"dof", ctypes.byref(rows), ctypes.byref(cols))
-        return (_view(self, p, (rows.value, cols.value), ctypes.c_int, np.intc) < 0).any(axis=1)
+        return (_view(self._handle, p, (rows.value, cols.value), ctypes.c_int,
+                      np.intc) < 0).any(axis=1)
 
     @property
     def masses(self):
         """(nv,) lumped masses, kg."""
-        return self._array("mass")
+        return self._views["masses"]
 
     @property
     def tension_xy(self):
         """(nfaces,) tension XY of each face, N/m."""
-        return self._array("tension_xy")
+        return self._views["tension_xy"]
 
     @property
     def contact_pressure(self):
         """(nfaces,) contact pressure on each face (obstacles and self-contact), N/m^2; None in a
         scene without obstacles or self-contact."""
-        if not _library().sw_sim_array(self._ptr, b"contact_pressure", None, None):
-            return None
-        return self._array("contact_pressure")
+        if "contact_pressure" not in self._views:
+            p = _library().sw_sim_array(self._ptr, b"contact_pressure", None, None)
+            self._views["contact_pressure"] = self._array("contact_pressure") if p else None
+        return self._views["contact_pressure"]
 
     @property
     def stretch_u(self):
         """(nfaces,) warp stretch |w_u| of each face (1: unstretched)."""
-        return self._array("stretch_u")
+        return self._views["stretch_u"]
 
     @property
     def stretch_v(self):
         """(nfaces,) weft stretch |w_v| of each face."""
-        return self._array("stretch_v")
+        return self._views["stretch_v"]
 
     @property
     def shear(self):
         """(nfaces,) shear angle between the warp and weft directions, rad."""
-        return self._array("shear")
+        return self._views["shear"]
+
+    @property
+    def tendon_length(self):
+        """(ntendons,) every tendon's length, m, in the order of sim.tendons: a read-only view."""
+        return self._views["tendon_length"]
+
+    @property
+    def tendon_tension(self):
+        """(ntendons,) every tendon's tension, N: a read-only view."""
+        return self._views["tendon_tension"]
+
+    @property
+    def tendon_rest(self):
+        """(ntendons,) every tendon's rest length at the current time, m: a read-only array,
+        refilled at each read.  Settable: all rest lengths at once, from then on."""
+        self._rests_fn(self._ptr, self._rest_ptr)
+        return self._rest_out
+
+    @tendon_rest.setter
+    def tendon_rest(self, values):
+        r = _vector(values, len(self._rest), "tendon_rest")
+        with self._using("set tendon_rest"):
+            _call(_library().sw_sim_set_rests, self._ptr, r.ctypes.data_as(_DP))
 
     @property
     def energy(self):
         """Energies of the current state, J: kinetic, potential, total, dissipated (by damping,
         so far) and one entry per term ("E_" + its name)."""
-        k, u, dis = _D(), _D(), _D()
-        _library().sw_sim_energy(self._ptr, ctypes.byref(k), ctypes.byref(u), ctypes.byref(dis))
-        out = {"kinetic": k.value, "potential": u.value, "total": k.value + u.value,
-               "dissipated": dis.value}
-        te = self._array("term_energy")
-        for i in range(self._size("nterm")):
-            out["E_" + _library().sw_sim_name(self._ptr, b"term", i).decode()] = float(te[i])
+        out = dict(zip(("kinetic", "potential", "total", "dissipated"),
+                       self._views["energy"].tolist()))
+        out.update(zip(self._term_names, self._views["term_energy"].tolist()))
         return out
 
     @property
     def counters(self):
         """The solver's counters since the start: steps, Newton iterations, factorisations..."""
-        names = ["nstep", "nnewton", "nfactor", "nassemble", "nforce", "nretry",
-                 "nlinesearch", "nerrfail", "nsetup", "ncg"]
-        return {n: _library().sw_sim_counter(self._ptr, n.encode()) for n in names}
+        self._counters_fn(self._ptr, self._counter_ptr, len(_COUNTERS))
+        return dict(zip(_COUNTERS, self._counter_np.tolist()))
 
     # ---------------------------------------------------------------- changing
-    def set_state(self, time=None, positions=None, velocities=None):
-        """Set the time (s), positions ((nv, dim), m: pinned rows move the pins) and velocities
-        ((nv, dim), m/s); None keeps one."""
+    def state(self):
+        """A copy of the whole state (a State): time, positions, velocities, counters and the
+        integrator's history; set_state(copy) goes on from it exactly (to the bit, for every
+        method but CVODE and IDA, which restart there).  Rest lengths and loads are the model's,
+        not the state's."""
+        lib = _library()
+        n = lib.sw_sim_get_state(self._ptr, None, 0)
+        buf = ctypes.create_string_buffer(n)
+        if n == 0 or lib.sw_sim_get_state(self._ptr, buf, n) != n:
+            raise SinewError("state: out of memory copying the state")
+        return State(buf.raw, self.time, self.positions.copy(), self.velocities.copy())
+
+    def set_state(self, state=None, time=None, positions=None, velocities=None):
+        """set_state(copy): the state of a State from state(); or set the time (s), positions
+        ((nv, dim), m: pinned rows move the pins) and velocities ((nv, dim), m/s), None keeping
+        one (the integrator then restarts its history)."""
+        if isinstance(state, State):
+            if time is not None or positions is not None or velocities is not None:
+                raise TypeError("set_state: a State, or time/positions/velocities; not both")
+            with self._using("set_state"):
+                _call(_library().sw_sim_put_state, self._ptr, state._data, len(state._data))
+            return
+        if state is not None:  # set_state(t, x, v) by position
+            if time is not None:
+                raise TypeError("set_state: time given twice")
+            time = state
         nd = self.nv * self.dim
         t = self.time if time is None else float(time)
         x = None if positions is None else _vector(positions, nd, "positions")
         v = None if velocities is None else _vector(velocities, nd, "velocities")
         as_ptr = (lambda a: None if a is None else a.ctypes.data_as(_DP))
-        _call(_library().sw_sim_set_state, self._ptr, t, as_ptr(x), as_ptr(v))
+        with self._using("set_state"):
+            _call(_library().sw_sim_set_state, self._ptr, t, as_ptr(x), as_ptr(v))
+
+    def _vertex(self, vertex, what):
+        i = operator.index(vertex)
+        if not 0 <= i < self.nv:
+            raise IndexError("%s: vertex %d; expected 0 <= vertex < %d" % (what, i, self.nv))
+        return i
 
     def set_pin(self, vertex, position):
         """Move pinned vertex `vertex` to position (dim values, m)."""
+        i = self._vertex(vertex, "set_pin")
         p = _vector(position, self.dim, "position")
-        _call(_library().sw_sim_set_pin, self._ptr, int(vertex), p.ctypes.data_as(_DP))
+        with self._using("set_pin"):
+            _call(_library().sw_sim_set_pin, self._ptr, i, p.ctypes.data_as(_DP))
 
     def set_load(self, vertex, force):
         """The point load on `vertex` (dim values, N); the scene must have `loads`."""
+        i = self._vertex(vertex, "set_load")
         f = _vector(force, self.dim, "force")
-        _call(_library().sw_sim_set_load, self._ptr, int(vertex), f.ctypes.data_as(_DP))
+        with self._using("set_load"):
+            _call(_library().sw_sim_set_load, self._ptr, i, f.ctypes.data_as(_DP))
 
     def __repr__(self):
-        return "<sinew.Simulation %s: %d vertices, %d faces, t = %.6g s>" % (
-            self.method, self.nv, self.nfaces, self.time)
+        return "<sinew.Simulation %s: %d vertices, %d faces, t = %.6g s%s>" % (
+            self.method, self.nv, self.nfaces, self.time, ", closed" if self._closed else "")
+
+
+class _Held:
+    """A held lock, released at the end of a with block."""
+
+    def __init__(self, lock):
+        self._lock = lock
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self._lock.release()
 
 
 def load(scene, method=None, dt=None, out=None, grid=None, stiffness_scale=None, **options):
@@ -401,7 +610,7 @@ def load(scene, method=None, dt=None, out=None, grid=None, stiffness_scale=None,
     if stiffness_scale is not None:
         ov.stiffness_scale = float(stiffness_scale)
     err = ctypes.create_string_buffer(_ERRSZ)
-    model = lib.sw_scene_load_ex(os.fsencode(scene), ctypes.byref(ov), err, _ERRSZ)
+    model = lib.sw_scene_load_ex(_path(scene, "scene"), ctypes.byref(ov), err, _ERRSZ)
     if not model:
         raise SinewError(err.value.decode(errors="replace"))
     settings = dict(options)
@@ -413,7 +622,8 @@ def load(scene, method=None, dt=None, out=None, grid=None, stiffness_scale=None,
         settings["out"] = os.fspath(out)
     try:
         for key, value in settings.items():
-            _call(lib.sw_model_set_option, model, key.encode(), str(value).encode())
+            _call(lib.sw_model_set_option, model, key.encode(),
+                  _path(value if key == "out" else str(value), key))
     except SinewError:
         lib.sw_model_free(model)
         raise
