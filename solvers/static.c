@@ -50,8 +50,9 @@ static double max_abs(const double *v, int n) {
 /* Sum of the diagonal of H over that of M on the free DOFs: the scale of mu (1/s^2).  (The
  * low-rank part of H is left out: a scale, not a value.) */
 static double stiffness_ratio(sw_newton *nw, const sw_model *m, sw_data *d) {
-  double *val = sw_chol_values(&nw->chol), h = 0.0, mm = 0.0;
-  sw_pattern_fill(&nw->pat, m, d, 0.0, 1.0, val);
+  double h = 0.0, mm = 0.0;
+  sw_newton_hessian(nw, m, d, 0.0); /* the pattern holds the pairs already: it cannot fail */
+  const double *val = sw_chol_values(&nw->chol);
   for (int c = 0; c < nw->n; c++) h += val[nw->pat.diag[c]];
   for (int i = 0; i < m->nv * m->dim; i++)
     if (m->dof[i] >= 0) mm += m->mass[i / m->dim];
@@ -71,11 +72,12 @@ static double external_force(const sw_model *m, int i) {
  * last sw_newton_phi left in d->hess and d->lowrank (see the top of the file):
  * rho_i = 2 eps (X sum_j |H_ij| + external force on i's vertex).  The system's value array is
  * the scratch for H on the pattern (every iteration refills it before factorising). */
-static void roundoff_floor(sw_newton *nw, const sw_model *m, const sw_data *d, const double *x,
+static void roundoff_floor(sw_newton *nw, const sw_model *m, sw_data *d, const double *x,
                            double *rho) {
   const sw_pattern *p = &nw->pat;
-  double *val = sw_chol_values(&nw->chol), X = 0.0;
-  sw_pattern_fill(p, m, d, 0.0, 1.0, val);
+  double X = 0.0;
+  sw_newton_hessian(nw, m, d, 0.0); /* the pattern holds the pairs already: it cannot fail */
+  const double *val = sw_chol_values(&nw->chol);
   for (int i = 0; i < m->nv * m->dim; i++) X = fmax(X, fabs(x[i]));
   memset(rho, 0, (size_t)p->n * sizeof(double));
   for (int c = 0; c < p->n; c++) /* row sums of |H| from the upper triangle */
@@ -107,10 +109,11 @@ static void pin_reactions(const sw_model *m, const sw_data *d, double reaction[3
  * failure is the line search's), *full when the whole step was taken. */
 static int static_iteration(sw_newton *nw, const sw_model *m, sw_data *d, double *x, double mu,
                             double phi, int *solved, int *full) {
-  sw_pattern_fill(&nw->pat, m, d, mu, 1.0, sw_chol_values(&nw->chol));
+  int rc = sw_newton_hessian(nw, m, d, mu);
+  if (rc) return rc;
   sw_pattern_fill_lowrank(&nw->pat, d, sw_chol_lowrank(&nw->chol, 1.0));
   d->nfactor++;
-  int rc = sw_chol_factor(&nw->chol, d->err, sizeof d->err);
+  rc = sw_chol_factor(&nw->chol, d->err, sizeof d->err);
   d->factor_nnz = sw_chol_nnz(&nw->chol);
   d->factor_super = sw_chol_super(&nw->chol);
   if (rc) return rc;
@@ -155,6 +158,7 @@ static int static_loop(sw_newton *nw, const sw_model *m, sw_data *d, double *xf,
   sw_static_info *info = &d->static_info, saved = {0};
   for (int it = 0; it < STATIC_MAX_ITER; it++) {
     int rc = sw_newton_phi(nw, m, d, x, x, 0.0, d->t, 1, 1, project, &phi);
+    if (!rc) rc = sw_newton_hessian(nw, m, d, 0.0); /* grows the pattern for new contact pairs */
     if (rc) return sw_errf(err, errsz, "static solve: %s", d->err), rc;
     double res = max_abs(nw->g, nw->n); /* N */
     if (it == 0) {

@@ -164,6 +164,18 @@ static void summary_seams(out_file *w, const sw_model *m, const sw_data *d) {
   w_json_num(w, "fit_wall_s", d->fit_wall);
 }
 
+/* Where the static solve stopped (sw_data.static_info; docs/integrators.md, "The static
+ * solve"). */
+static void summary_static(out_file *w, const sw_model *m, const sw_data *d) {
+  if (strcmp(m->opt.method, "static")) return;
+  const sw_static_info *s = &d->static_info;
+  w_json_long(w, "static_iterations", s->iterations);
+  w_json_num(w, "static_force_N", s->force);
+  w_json_num(w, "static_tol_N", s->tol);
+  w_json_num(w, "static_floor_N", s->floor);
+  w_json_long(w, "static_roundoff", s->roundoff);
+}
+
 typedef struct file_list {
   out_file *w;
   int n;
@@ -205,6 +217,7 @@ static int summary_write(void *self, sw_output *o, const sw_model *m, const sw_d
   summary_counters(&w, m, d ? d : &not_started, o->wall);
   summary_intersections(&w, m, d);
   summary_seams(&w, m, d ? d : &not_started);
+  summary_static(&w, m, d ? d : &not_started);
   summary_files(&w, o);
   out_puts(&w, "\n}\n");
   return out_tmp_commit(&w, o->tmp, o->path, err, errsz);
