@@ -126,6 +126,8 @@ static void summary_counters(out_file *w, const sw_model *m, const sw_data *d, d
     w_json_num(w, "time_self_broadphase_s", d->time_broadphase);
     w_json_num(w, "time_pattern_s", d->time_pattern);
     w_json_long(w, "pattern_growths", d->npattern);
+    if (m->contact.kappa_mesh_auto) /* the adapted stiffness's factor at the end */
+      w_json_num(w, "self_stiffness_factor", sw_mcontact_kappa_scale(d->mc));
   }
   w_json_num(w, "time_step_s", d->time_step);
   w_json_long(w, "factor_nnz", d->factor_nnz);
