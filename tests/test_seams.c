@@ -183,6 +183,13 @@ static void tube_static(void **st) {
   print_message("static against 3 s of damped dynamics: positions differ by at most %.3g m; "
                 "closest vertex %.4f m from the axis\n", dmax, rmin);
   assert_true(dmax < 1e-9);
+  /* the automatic contact stiffness grew with the tube's pressure on the body (docs/contact.md,
+   * "Adaptive stiffness") until the body's pairs sat beyond a gap of dhat/4 */
+  double factor = sw_mcontact_kappa_scale(dd->mc);
+  print_message("contact stiffness factor %g; smallest gap %.3g m to the body, %.3g m in the "
+                "tube (dhat %g m)\n", factor, dd->contact_min, dd->self_min, md->contact.dhat);
+  assert_true(factor >= 2.0);
+  assert_true(dd->contact_min >= md->contact.dhat / 8.0);
   assert_true(rmin > 0.1 * cos(3.14159265358979 / 16)); /* on the prism, not in it */
   for (int k = 0; k < 2; k++) {
     const sw_model *m = k ? md : ms;
