@@ -136,6 +136,16 @@ typedef struct sw_mc_pair {
 
 /* The run's mutable workspace of mesh contact (broad phase, the active pairs and their
  * Hessian blocks): NULL for a model without the term mesh_contact. */
+/* The automatic stiffness adapts as in IPC (Li et al., "Incremental Potential Contact",
+ * SIGGRAPH 2020, section 4.3): after each accepted step whose diagnostics found a pair's gap
+ * (distance - thickness) below SW_KAPPA_GAP dhat, kappa_s doubles (at most SW_KAPPA_SCALE_MAX
+ * times its start).  sw_mcontact_adapt returns 1 when it doubled; the factor so far is part of
+ * the run's state (restart.bin).  A scene's own contact.self_stiffness is never changed. */
+#define SW_KAPPA_GAP 0.25 /* measured: docs/contact.md */
+#define SW_KAPPA_SCALE_MAX 65536.0
+int sw_mcontact_adapt(const sw_model *m, sw_mcontact *mc);
+double sw_mcontact_kappa_scale(const sw_mcontact *mc);
+void sw_mcontact_set_kappa_scale(sw_mcontact *mc, double s);
 sw_mcontact *sw_mcontact_new(const sw_model *m);
 void sw_mcontact_free(sw_mcontact *mc);
 /* The active pairs of the last evaluation (0 for mc NULL) and their filtered Hessian blocks

@@ -85,6 +85,8 @@ struct sw_mcontact {
   float *tbox[3];       /* the node boxes of p->tree[k] at the obstacles' places last queried */
   int tree_fit;         /* 1: tbox holds the obstacles' places (static obstacles: fit once) */
   int placed;           /* static obstacles: bit 0 (1) set once xa (xb) holds their places */
+  double kscale;        /* the automatic stiffness's factor so far (sw_mcontact_adapt) */
+  double gap_min;       /* m: smallest gap of a pair at the last diagnostics (inf: none) */
 };
 
 int sw_mesh_contact_on(const sw_model *m) { return m->contact.self || m->nmesh_obstacle > 0; }
@@ -173,6 +175,8 @@ sw_mcontact *sw_mcontact_new(const sw_model *m) {
   if (sw_contact_friction_on(m) && !(mc->fr = sw_mfriction_new(p->nvt)))
     return sw_mcontact_free(mc), NULL;
   mc->nsewn = m->nv, mc->sewn_ptr = m->sewn_ptr, mc->sewn_idx = m->sewn_idx;
+  mc->kscale = 1.0;
+  mc->gap_min = INFINITY;
   return mc;
 }
 
@@ -537,13 +541,13 @@ static int each_candidate(const sw_model *m, sw_mcontact *mc, const double *x0,
 
 /* -------------------------------------------------------------------- the term */
 
-/* The mean mass of the pair's cloth vertices times kappa_s, kg/(s^2 m^2). */
-static double pair_weight(const sw_model *m, const int *v) {
+/* The mean mass of the pair's cloth vertices times kappa_s (with its factor so far), kg/(s^2 m^2). */
+static double pair_weight(const sw_model *m, const sw_mcontact *mc, const int *v) {
   double w = 0.0;
   int nc = 0;
   for (int k = 0; k < 4; k++)
     if (v[k] < m->nv) w += m->mass[v[k]], nc++;
-  return w * m->contact.kappa_mesh / nc;
+  return w * m->contact.kappa_mesh * mc->kscale / nc;
 }
 
 /* The energy of one pair with vertices v at x (nvt x 3; J), its gradient g (12; NULL: the
@@ -551,9 +555,10 @@ static double pair_weight(const sw_model *m, const int *v) {
  * semi-definite (144); *gap = d - xi (m).  INFINITY when the pair is within xi.  The clamp is
  * found on the block's span (models/barrier_block.c), except for an edge-edge pair the
  * mollifier scales (nearly parallel edges): its exact 12 x 12 Hessian, eigen-decomposed. */
-static double pair_energy(const sw_model *m, const mc_param *pm, int kind, const int *v,
+static double pair_energy(const sw_model *m, const sw_mcontact *mc, int kind, const int *v,
                           const double *x, double *g, double *H, double *gap) {
   const sw_contact *c = &m->contact;
+  const mc_param *pm = mc->p;
   double p[12], g2[12];
   sw_pair_form pf;
   gather(x, v, p);
@@ -566,7 +571,7 @@ static double pair_energy(const sw_model *m, const mc_param *pm, int kind, const
   *gap = sqrt(fmax(d2, 0.0)) - xi;
   if (!(s > 0.0)) return INFINITY;
   if (s >= shat) return 0.0;
-  double w = pair_weight(m, v), db, d2b, b = sw_barrier(s, shat, &db, &d2b);
+  double w = pair_weight(m, mc, v), db, d2b, b = sw_barrier(s, shat, &db, &d2b);
   double mo = 1.0, mg[12], mH[144], r[12];
   if (kind == SW_MC_EE) { /* the mollifier vanishes as the edges become parallel (IPC sec. 4.3) */
     gather_rest(m, pm, v, r);
@@ -602,7 +607,7 @@ static int eval_pair(const sw_model *m, sw_mcontact *mc, int kind, const int *v,
   const sw_eval *ev = a->ev;
   const int want_h = ev->hess != NULL;
   double g[12], gap, Hb[144];
-  double ek = pair_energy(m, mc->p, kind, v, a->x, ev->grad || want_h ? g : NULL,
+  double ek = pair_energy(m, mc, kind, v, a->x, ev->grad || want_h ? g : NULL,
                           want_h ? Hb : NULL, &gap);
   if (!isfinite(ek)) {
     sw_eval_why(ev, "%s pair (vertices %d %d %d %d) closer than the thickness (gap %g m)",
@@ -1017,7 +1022,7 @@ static int start_pair(const sw_model *m, sw_mcontact *mc, int kind, const int *v
   for (int j = 0; j < 4; j++) with_obstacle |= v[j] >= m->nv;
   if (with_obstacle != a->obstacles) return 0;
   double g[12], gap;
-  if (isfinite(pair_energy(m, mc->p, kind, v, a->x, g, NULL, &gap))) return 0;
+  if (isfinite(pair_energy(m, mc, kind, v, a->x, g, NULL, &gap))) return 0;
   describe_pair(m, mc->p, kind, v, gap, a->err, a->errsz);
   return 1;
 }
@@ -1080,8 +1085,9 @@ int sw_mcontact_check_start(const sw_model *m, const double *x, int obstacles, c
 static int state_pair(const sw_model *m, sw_mcontact *mc, int kind, const int *v, void *arg) {
   sw_data *d = arg;
   double g[12], gap;
-  double e = pair_energy(m, mc->p, kind, v, mc->xa, g, NULL, &gap);
+  double e = pair_energy(m, mc, kind, v, mc->xa, g, NULL, &gap);
   if (!isfinite(e) || gap >= m->contact.dhat) return 0;
+  mc->gap_min = fmin(mc->gap_min, gap);
   int obst = 0;
   for (int j = 0; j < 4; j++) obst |= v[j] >= m->nv;
   if (obst) {
@@ -1105,6 +1111,7 @@ void sw_mcontact_state(const sw_model *m, sw_data *d) {
   d->self_count = 0;
   d->self_min = INFINITY;
   d->self_force = 0.0;
+  mc->gap_min = INFINITY;
   if (m->nobstacle == 0) { /* else sw_contact_state has set them for the shapes */
     d->contact_count = 0;
     d->contact_min = INFINITY;
@@ -1147,7 +1154,7 @@ static int lag_pair(const sw_model *m, sw_mcontact *mc, int kind, const int *v, 
     mo = sw_ee_mollifier(p, p + 3, p + 6, p + 9, eps, NULL, NULL);
   }
   return sw_mfriction_lag_pair(mc->fr, kind, v, p, xi, shat_of(xi, m->contact.dhat),
-                               mo * pair_weight(m, v),
+                               mo * pair_weight(m, mc, v),
                                self ? m->contact.self_friction : m->contact.friction);
 }
 
@@ -1182,4 +1189,19 @@ static void state_friction(const sw_model *m, sw_data *d, const double *x) {
       d->friction_power += g[j] * d->v[3 * v[j / 3] + j % 3];
     }
   }
+}
+
+/* ------------------------------------------------------------ adaptive stiffness */
+
+double sw_mcontact_kappa_scale(const sw_mcontact *mc) { return mc ? mc->kscale : 1.0; }
+
+void sw_mcontact_set_kappa_scale(sw_mcontact *mc, double s) {
+  if (mc && s >= 1.0 && isfinite(s)) mc->kscale = s;
+}
+
+int sw_mcontact_adapt(const sw_model *m, sw_mcontact *mc) {
+  if (!mc || !m->contact.kappa_mesh_auto || mc->kscale >= SW_KAPPA_SCALE_MAX) return 0;
+  if (!(mc->gap_min < SW_KAPPA_GAP * m->contact.dhat)) return 0;
+  mc->kscale *= 2.0;
+  return 1;
 }

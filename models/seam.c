@@ -265,16 +265,3 @@ double sw_seam_auto_stiffness(const sw_model *m) {
   h = ne > 0 ? h / ne : 1.0;
   return SW_SEAM_STIFFNESS_FACTOR * (kmax > 0.0 ? kmax : 1.0) / h; /* N/m^2 */
 }
-
-double sw_seam_contact_scale(const sw_model *m) {
-  if (m->nseam == 0) return 1.0;
-  double kmax = 0.0, rho = HUGE_VAL, g = 0.0; /* N/m, kg/m^2, m/s^2 */
-  for (int k = 0; k < m->nmat; k++) {
-    kmax = fmax(kmax, fmax(m->mat[k].tx_k_u, m->mat[k].tx_k_v));
-    if (m->mat[k].density > 0.0) rho = fmin(rho, m->mat[k].density);
-  }
-  for (int a = 0; a < m->dim; a++) g += m->gravity[a] * m->gravity[a];
-  g = m->has_gravity && g > 0.0 ? sqrt(g) : 9.81;
-  double a = SW_SEAM_CONTACT_STRAIN * kmax / SW_SEAM_CONTACT_RADIUS / rho; /* m/s^2 */
-  return isfinite(a) && a > g ? a / g : 1.0;
-}

@@ -151,14 +151,6 @@ int sw_seam_start(sw_model *m, char *err, size_t errsz);
  * (docs/garments.md has the measurement). */
 #define SW_SEAM_STIFFNESS_FACTOR 10.0
 double sw_seam_auto_stiffness(const sw_model *m);
-/* The factor on the automatic mesh-contact stiffness of a garment (1 without seams): a sewn
- * garment presses on the body with the pressure of its tension over the body's curvature,
- * SW_SEAM_CONTACT_STRAIN x the stiffest panel's tension XY stiffness over a radius of
- * SW_SEAM_CONTACT_RADIUS, per unit of the lightest panel's density, against the gravity the
- * automatic stiffness is made for (docs/garments.md). */
-#define SW_SEAM_CONTACT_STRAIN 0.1
-#define SW_SEAM_CONTACT_RADIUS 0.1 /* m */
-double sw_seam_contact_scale(const sw_model *m);
 
 /* models/tension_xy.c: the reference stretch rlu, rlv of every face (Optitex, "Tension XY calculations explanation"). */
 void sw_tension_xy_reference(const sw_model *m, sw_data *d);

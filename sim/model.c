@@ -272,7 +272,7 @@ static int build_terms(sw_model *m, char *err, size_t errsz) {
   }
   if (sw_mesh_contact_on(m)) {
     if (m->contact.kappa_mesh <= 0.0) {
-      m->contact.kappa_mesh = sw_mesh_contact_auto_kappa(m) * sw_seam_contact_scale(m);
+      m->contact.kappa_mesh = sw_mesh_contact_auto_kappa(m); /* adapted in the run */
       m->contact.kappa_mesh_auto = 1;
     }
     if (add_term(m, sw_mesh_contact_build, err, errsz)) return -1;
@@ -509,11 +509,11 @@ void sw_model_print(const sw_model *m, void *file) {
   if (m->contact.self)
     fprintf(fp, "self        distance %g m, thickness %g m, stiffness %g 1/(s^2 m^2)%s, "
             "friction %g\n", m->contact.dhat, m->contact.thickness, m->contact.kappa_mesh,
-            m->contact.kappa_mesh_auto ? " (automatic)" : "", m->contact.self_friction);
+            m->contact.kappa_mesh_auto ? " (automatic, at the start)" : "", m->contact.self_friction);
   else if (m->nmesh_obstacle) /* the mesh obstacles' pairs use the same kappa_mesh */
     fprintf(fp, "mesh        distance %g m, stiffness %g 1/(s^2 m^2)%s, friction %g\n",
             m->contact.dhat, m->contact.kappa_mesh,
-            m->contact.kappa_mesh_auto ? " (automatic)" : "", m->contact.friction);
+            m->contact.kappa_mesh_auto ? " (automatic, at the start)" : "", m->contact.friction);
   for (int k = 0; k < m->nseam; k++) {
     const sw_seam *sm = &m->seam[k];
     fprintf(fp, "seam %-7s %s %d vertices (%.4g m) to %s %d vertices (%.4g m), %d pairs\n",

@@ -122,6 +122,7 @@ static int record(sw_sim *s, int force, char *err, size_t errsz) {
   int rc = sw_damped(m) || sw_contact_friction_on(m) || m->fit.on ? damping_power(s) : SW_OK;
   if (sw_actuated(m)) actuation_power(s);
   if (!rc) rc = diagnose(s, &u);
+  if (d->mc) sw_mcontact_adapt(m, d->mc); /* the stiffness of the steps from here on */
   if (rc) /* e.g. a step accepted a state whose energy is not finite */
     return sw_errf(err, errsz, "t = %.9g s: %s: cannot evaluate the state to log it: %s", d->t,
                    m->opt.method, d->err),
@@ -514,6 +515,9 @@ static void sim_io(sw_sim *s, sw_io *io) {
   IO(d->ncg);
   IO(d->energy_bound), IO(d->last_newton), IO(d->last_dt);
   IO(d->fit_end), IO(d->fit_steps), IO(d->fit_wall);
+  double ks = sw_mcontact_kappa_scale(d->mc); /* the adapted contact stiffness's factor */
+  IO(ks);
+  sw_mcontact_set_kappa_scale(d->mc, ks);
   IO(d->time_assemble), IO(d->time_factor), IO(d->time_solve), IO(d->time_step);
   double wall = d->wall_before + (sw_now() - s->wall0); /* s: every part's, to this state */
   IO(wall);

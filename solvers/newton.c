@@ -414,6 +414,15 @@ static int assemble(sw_newton *nw, const sw_model *m, sw_data *d, double a) {
   return SW_OK;
 }
 
+int sw_newton_hessian(sw_newton *nw, const sw_model *m, sw_data *d, double a) {
+  int rc = d->mc ? grow_pattern(nw, m, d) : SW_OK;
+  if (rc) return rc;
+  double *val = sw_chol_values(&nw->chol);
+  sw_pattern_fill(&nw->pat, m, d, a, 1.0, val);
+  if (d->mc) add_pair_blocks(nw, m, d, val);
+  return SW_OK;
+}
+
 /* Factorise the assembled S; on success it is the kept factorisation. */
 static int factor(sw_newton *nw, sw_data *d) {
   double t0 = sw_now();

@@ -234,6 +234,11 @@ int sw_newton_system(sw_newton *nw, const sw_model *m, sw_data *d, const double 
 int sw_newton_factor(sw_newton *nw, sw_data *d);
 int sw_newton_pcg(sw_newton *nw, sw_data *d, const sw_newton_opts *o);
 
+/* a M + H into the factorisation's value array (sw_chol_values), H from the last evaluation
+ * with want_hess: the terms' blocks and the mesh-contact pairs' (the pattern grown first when a
+ * pair couples vertices it does not hold yet); the low-rank part is left to the caller. */
+int sw_newton_hessian(sw_newton *nw, const sw_model *m, sw_data *d, double a);
+
 /* Backtracking (Armijo) along nw->dx from x, slope = grad Phi . dx < 0; on success x holds the
  * accepted point.  Each halving counts in d->nlinesearch. */
 int sw_newton_line_search(sw_newton *nw, const sw_model *m, sw_data *d, double *x,

@@ -5,9 +5,9 @@
  *
  * Stopping rule (docs/integrators.md, "The static solve").  g = grad U on the free DOFs is the
  * force each free DOF is out of balance by (N).  The solve has converged when either
- *  - the tolerance is met: max_i |g_i| <= force_tol F, with F (N) the largest external force
- *    on one vertex (m_v |gravity| + |point load|), or in a model without any, max_i |g_i| at
- *    the start (the forces of prestressed tendons);
+ *  - the tolerance is met: max_i |g_i| <= force_tol F, with F (N) the scene's force scale: the
+ *    largest force that one term, or the external load (m_v |gravity| + |point load|), puts on
+ *    one free vertex at the start (weight, the pull of membranes, seams and tendons, contact);
  *  - or the residual is at its round-off floor: |g_i| <= rho_i for every free DOF i, with
  *      rho_i = 2 eps (X sum_j |H_ij| + |external force on the vertex of i|),
  *    eps the machine epsilon, X the largest coordinate magnitude (m) and H the Hessian on the
@@ -25,6 +25,8 @@
  *    component, and a Newton step from there still finds its sag, where a step damped by the
  *    start's shift finds a fraction of it.)  The line search may cut that step: near U = 0 its
  *    noise allowance, relative to |U|, lets only steps that round to nothing through.
+ * The matrix is H + mu M with H every term's Hessian and the mesh-contact pairs' blocks (the
+ * pattern grown for them as in Newton's steps, solvers/newton.c).
  * Then the pin reactions are grad U at the pinned DOFs (the force each pin must supply) and
  * their sum is reported. */
 #include <float.h>
@@ -50,8 +52,9 @@ static double max_abs(const double *v, int n) {
 /* Sum of the diagonal of H over that of M on the free DOFs: the scale of mu (1/s^2).  (The
  * low-rank part of H is left out: a scale, not a value.) */
 static double stiffness_ratio(sw_newton *nw, const sw_model *m, sw_data *d) {
-  double *val = sw_chol_values(&nw->chol), h = 0.0, mm = 0.0;
-  sw_pattern_fill(&nw->pat, m, d, 0.0, 1.0, val);
+  double h = 0.0, mm = 0.0;
+  sw_newton_hessian(nw, m, d, 0.0); /* the pattern holds the pairs already: it cannot fail */
+  const double *val = sw_chol_values(&nw->chol);
   for (int c = 0; c < nw->n; c++) h += val[nw->pat.diag[c]];
   for (int i = 0; i < m->nv * m->dim; i++)
     if (m->dof[i] >= 0) mm += m->mass[i / m->dim];
@@ -71,11 +74,12 @@ static double external_force(const sw_model *m, int i) {
  * last sw_newton_phi left in d->hess and d->lowrank (see the top of the file):
  * rho_i = 2 eps (X sum_j |H_ij| + external force on i's vertex).  The system's value array is
  * the scratch for H on the pattern (every iteration refills it before factorising). */
-static void roundoff_floor(sw_newton *nw, const sw_model *m, const sw_data *d, const double *x,
+static void roundoff_floor(sw_newton *nw, const sw_model *m, sw_data *d, const double *x,
                            double *rho) {
   const sw_pattern *p = &nw->pat;
-  double *val = sw_chol_values(&nw->chol), X = 0.0;
-  sw_pattern_fill(p, m, d, 0.0, 1.0, val);
+  double X = 0.0;
+  sw_newton_hessian(nw, m, d, 0.0); /* the pattern holds the pairs already: it cannot fail */
+  const double *val = sw_chol_values(&nw->chol);
   for (int i = 0; i < m->nv * m->dim; i++) X = fmax(X, fabs(x[i]));
   memset(rho, 0, (size_t)p->n * sizeof(double));
   for (int c = 0; c < p->n; c++) /* row sums of |H| from the upper triangle */
@@ -96,6 +100,30 @@ static void roundoff_floor(sw_newton *nw, const sw_model *m, const sw_data *d, c
   for (int c = 0; c < p->n; c++) rho[c] *= 2.0 * DBL_EPSILON;
 }
 
+/* The scene's force scale F (N): the largest force that one term, or the external load, puts on
+ * one free vertex at x: weight and point loads, and the pull of the membranes, seams, tendons
+ * and contact that the equilibrium balances.  g (nv x dim) is scratch. */
+static int force_scale(const sw_model *m, sw_data *d, const double *x, double *g, double *f) {
+  const size_t nd = (size_t)m->nv * (size_t)m->dim;
+  double scale = 0.0;
+  for (int i = 0; i < m->nv; i++)
+    if (!m->pinned[i]) scale = fmax(scale, external_force(m, i));
+  for (int k = 0; k < m->nterm; k++) {
+    memset(g, 0, nd * sizeof *g);
+    sw_eval ev = {.t = d->t, .x = x, .grad = g, .mc = d->mc};
+    double e = 0.0;
+    int rc = m->term[k].ops->eval(&m->term[k], m, &ev, &e);
+    if (rc) return sw_errf(d->err, sizeof d->err, "term %s failed at the start", m->term[k].name), rc;
+    for (int i = 0; i < m->nv; i++) {
+      double s = 0.0;
+      for (int a = 0; a < m->dim; a++) s += g[i * m->dim + a] * g[i * m->dim + a];
+      if (!m->pinned[i]) scale = fmax(scale, sqrt(s));
+    }
+  }
+  *f = scale;
+  return SW_OK;
+}
+
 static void pin_reactions(const sw_model *m, const sw_data *d, double reaction[3]) {
   reaction[0] = reaction[1] = reaction[2] = 0.0;
   for (int i = 0; i < m->nv; i++)
@@ -107,10 +135,11 @@ static void pin_reactions(const sw_model *m, const sw_data *d, double reaction[3
  * failure is the line search's), *full when the whole step was taken. */
 static int static_iteration(sw_newton *nw, const sw_model *m, sw_data *d, double *x, double mu,
                             double phi, int *solved, int *full) {
-  sw_pattern_fill(&nw->pat, m, d, mu, 1.0, sw_chol_values(&nw->chol));
+  int rc = sw_newton_hessian(nw, m, d, mu);
+  if (rc) return rc;
   sw_pattern_fill_lowrank(&nw->pat, d, sw_chol_lowrank(&nw->chol, 1.0));
   d->nfactor++;
-  int rc = sw_chol_factor(&nw->chol, d->err, sizeof d->err);
+  rc = sw_chol_factor(&nw->chol, d->err, sizeof d->err);
   d->factor_nnz = sw_chol_nnz(&nw->chol);
   d->factor_super = sw_chol_super(&nw->chol);
   if (rc) return rc;
@@ -147,20 +176,18 @@ static int at_floor(sw_newton *nw, const sw_model *m, sw_data *d, const double *
 }
 
 /* xf (nv x dim): where the last step from an iterate at the floor started. */
-static int static_loop(sw_newton *nw, const sw_model *m, sw_data *d, double *xf, char *err,
-                       size_t errsz) {
+static int static_loop(sw_newton *nw, const sw_model *m, sw_data *d, double *xf, double scale,
+                       char *err, size_t errsz) {
   const size_t nx = (size_t)m->nv * (size_t)m->dim;
   double *x = d->x, phi, tol = 0.0, mu = 0.0, ratio = 1.0;
   int project = m->opt.hessian == SW_HESSIAN_PROJECTED, from_floor = 0, newton_failed = 0;
   sw_static_info *info = &d->static_info, saved = {0};
   for (int it = 0; it < STATIC_MAX_ITER; it++) {
     int rc = sw_newton_phi(nw, m, d, x, x, 0.0, d->t, 1, 1, project, &phi);
+    if (!rc) rc = sw_newton_hessian(nw, m, d, 0.0); /* grows the pattern for new contact pairs */
     if (rc) return sw_errf(err, errsz, "static solve: %s", d->err), rc;
     double res = max_abs(nw->g, nw->n); /* N */
     if (it == 0) {
-      double scale = 0.0; /* the largest external force on a vertex, else the start's */
-      for (int i = 0; i < m->nv; i++) scale = fmax(scale, external_force(m, i));
-      if (!(scale > 0.0)) scale = res;
       tol = m->opt.newton_force_tol * scale;
       ratio = stiffness_ratio(nw, m, d);
       mu = 1e-3 * ratio;
@@ -220,7 +247,10 @@ int sw_static_solve(const sw_model *m, sw_data *d, double reaction[3], char *err
     sw_errf(err, errsz, "static solve: cannot start: %s", why);
   }
   memset(&d->static_info, 0, sizeof d->static_info);
-  if (!rc && nw.n > 0) rc = static_loop(&nw, m, d, xf, err, errsz);
+  double scale = 0.0; /* N */
+  if (!rc && nw.n > 0 && (rc = force_scale(m, d, d->x, xf, &scale)))
+    sw_errf(err, errsz, "static solve: %s", d->err);
+  if (!rc && nw.n > 0) rc = static_loop(&nw, m, d, xf, scale, err, errsz);
   if (!rc) {
     double u;
     rc = sw_eval_terms(m, d, d->x, d->t, 1, 0, 0, &u);

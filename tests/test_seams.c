@@ -123,6 +123,86 @@ static void tube_fit(void **st) {
   sw_model_free(m);
 }
 
+/* The tube of tube_fit cut 4 % smaller than its body, a closed 16-sided prism of radius 10 cm
+ * (perimeter 0.624 m, the tube 0.6 m), wrapped 3 cm out, with gravity across the axis (a tight
+ * sleeve on a level arm), body and self-contact on; `method` after the fit. */
+static sw_sim *tight_tube(const char *method, double duration, sw_model **mp) {
+  char text[4096], err[SW_ERRSZ];
+  snprintf(text, sizeof text,
+           "dimension: 3\n"
+           "mesh: {obj: tube_pieces.obj}\n"
+           "material: {density: 0.15, membrane: {model: bw98, k_u: 2000, k_v: 1500, k_shear: 50},\n"
+           "           bending: {model: quadratic, stiffness: 1e-5}}\n"
+                     "gravity: [-9.81, 0, 0]\n"
+                     "obstacles: [{mesh: cylinder_tight.obj}]\n"
+                     "contact: {self: true, thickness: 5e-4}\n"
+                     "arrange:\n"
+                     "  front: {cylinder: {angle: 270, top: 0.1, radius: 0.13}}\n"
+                     "  back: {cylinder: {angle: 90, top: 0.1, radius: 0.13}}\n" TUBE_SEAMS
+                     "sewing: {ramp: 0.3}\n"
+                     "fit: {speed: 0.05, gap: 2e-3}\n"
+                     "damping: {mass: 5}\n"
+                     "integrator: {method: %s, dt: 0.01}\n"
+                     "duration: %g\n",
+           method, duration);
+  *mp = th_scene("tests/data/tube.yaml", text);
+  sw_sim *s = sw_sim_new(*mp, 0, err, sizeof err); /* the fit runs as the sim starts */
+  if (!s) print_error("%s\n", err);
+  assert_non_null(s);
+  (*mp)->opt.newton_tol = 1e-7; /* m/s: the dynamics after the fit to a tight tolerance */
+  if (sw_sim_run(s, sw_sim_data(s)->fit_end + duration, err, sizeof err)) print_error("%s\n", err);
+  assert_true(sw_sim_data(s)->t >= sw_sim_data(s)->fit_end + duration - 1e-9);
+  return s;
+}
+
+/* A sewn garment pressed on its body: after the fit, the static solve with contact (mesh body,
+ * self-contact, seams) reaches its tolerance, 1e-10 of the scene's force scale F (the largest
+ * force one term puts on one vertex), in at most 100 iterations, and lands where 3 s of damped
+ * dynamics from the same fit (Newton to 1e-7 m/s) come to rest, within 1 nm; nothing crosses in
+ * either.  The fit ends early (at 5 cm/s, the seams sewn over 0.3 s), so both have work to do. */
+static void tube_static(void **st) {
+  (void)st;
+  sw_model *ms, *md;
+  sw_sim *ss = tight_tube("static", 0.0, &ms);
+  const sw_data *ds = sw_sim_data(ss);
+  const sw_static_info *info = &ds->static_info;
+  double weight = 0.0; /* N: the heaviest vertex's weight */
+  for (int i = 0; i < ms->nv; i++) weight = fmax(weight, 9.81 * ms->mass[i]);
+  print_message("tight tube, static after the fit: %d iterations, largest free force %.3g N, "
+                "tolerance %.3g N (%.3g vertex weights), floor %.3g N%s\n", info->iterations,
+                info->force, info->tol, info->tol / (1e-10 * weight), info->floor,
+                info->roundoff ? " (at the floor)" : "");
+  assert_true(info->force <= info->tol || info->roundoff);
+  assert_true(info->tol > 1e-10 * weight); /* the contact and the seams set the scale */
+  assert_true(info->iterations <= 100);
+  sw_sim *sd = tight_tube("backward-euler", 3.0, &md);
+  const sw_data *dd = sw_sim_data(sd);
+  double dmax = 0.0, rmin = HUGE_VAL;
+  for (int i = 0; i < ms->nv * 3; i++) dmax = fmax(dmax, fabs(ds->x[i] - dd->x[i]));
+  for (int i = 0; i < ms->nv; i++) rmin = fmin(rmin, hypot(ds->x[3 * i], ds->x[3 * i + 1]));
+  print_message("static against 3 s of damped dynamics: positions differ by at most %.3g m; "
+                "closest vertex %.4f m from the axis\n", dmax, rmin);
+  assert_true(dmax < 1e-9);
+  /* the automatic contact stiffness grew with the tube's pressure on the body (docs/contact.md,
+   * "Adaptive stiffness") until the body's pairs sat beyond a gap of dhat/4 */
+  double factor = sw_mcontact_kappa_scale(dd->mc);
+  print_message("contact stiffness factor %g; smallest gap %.3g m to the body, %.3g m in the "
+                "tube (dhat %g m)\n", factor, dd->contact_min, dd->self_min, md->contact.dhat);
+  assert_true(factor >= 2.0);
+  assert_true(dd->contact_min >= md->contact.dhat / 8.0);
+  assert_true(rmin > 0.1 * cos(3.14159265358979 / 16)); /* on the prism, not in it */
+  for (int k = 0; k < 2; k++) {
+    const sw_model *m = k ? md : ms;
+    const sw_data *d = k ? dd : ds;
+    assert_true(d->seam_gap_max < 1e-3);
+    assert_int_equal(sw_mesh_self_intersections_sewn(m->nv, d->x, m->nf, m->face, m->sewn_ptr,
+                                                     m->sewn_idx), 0);
+    assert_int_equal(sw_mcontact_obstacle_intersections(m, d->mc, d->x, d->t, NULL), 0);
+  }
+  sw_sim_free(ss), sw_sim_free(sd);
+  sw_model_free(ms), sw_model_free(md);
+}
+
 /* The arrangement places each piece from its pattern: on the cylinder every vertex at the
  * radius, its height top + (v - v_top), its angle that of the reference point plus (u - u_mid)
  * / R (so the wrap keeps the pattern's lengths along u); rigidly, R (u - u_mid, v - v_top, 0)
@@ -211,6 +291,7 @@ int main(void) {
       cmocka_unit_test(pairing),
       cmocka_unit_test(arrangement),
       cmocka_unit_test(tube_fit),
+      cmocka_unit_test(tube_static),
       cmocka_unit_test(bad_input),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

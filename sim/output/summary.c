@@ -126,6 +126,8 @@ static void summary_counters(out_file *w, const sw_model *m, const sw_data *d, d
     w_json_num(w, "time_self_broadphase_s", d->time_broadphase);
     w_json_num(w, "time_pattern_s", d->time_pattern);
     w_json_long(w, "pattern_growths", d->npattern);
+    if (m->contact.kappa_mesh_auto) /* the adapted stiffness's factor at the end */
+      w_json_num(w, "self_stiffness_factor", sw_mcontact_kappa_scale(d->mc));
   }
   w_json_num(w, "time_step_s", d->time_step);
   w_json_long(w, "factor_nnz", d->factor_nnz);
@@ -163,6 +165,18 @@ static void summary_seams(out_file *w, const sw_model *m, const sw_data *d) {
   w_json_num(w, "fit_end_s", d->fit_end);
   w_json_long(w, "fit_steps", d->fit_steps);
   w_json_num(w, "fit_wall_s", d->fit_wall);
+}
+
+/* Where the static solve stopped (sw_data.static_info; docs/integrators.md, "The static
+ * solve"). */
+static void summary_static(out_file *w, const sw_model *m, const sw_data *d) {
+  if (strcmp(m->opt.method, "static")) return;
+  const sw_static_info *s = &d->static_info;
+  w_json_long(w, "static_iterations", s->iterations);
+  w_json_num(w, "static_force_N", s->force);
+  w_json_num(w, "static_tol_N", s->tol);
+  w_json_num(w, "static_floor_N", s->floor);
+  w_json_long(w, "static_roundoff", s->roundoff);
 }
 
 typedef struct file_list {
@@ -206,6 +220,7 @@ static int summary_write(void *self, sw_output *o, const sw_model *m, const sw_d
   summary_counters(&w, m, d ? d : &not_started, o->wall);
   summary_intersections(&w, m, d);
   summary_seams(&w, m, d ? d : &not_started);
+  summary_static(&w, m, d ? d : &not_started);
   summary_files(&w, o);
   out_puts(&w, "\n}\n");
   return out_tmp_commit(&w, o->tmp, o->path, err, errsz);
