@@ -135,6 +135,20 @@ grep -q ',damaged,damaged data,runs/wp_backward-euler_dt0.02_r1/positions.bin:2:
   fail "NaN positions not damaged: $row1"
 grep -q ',damaged,damaged data,runs/wp_backward-euler_dt0.01_r1/tension.csv:4: 2 fields; expected 7' <<<"$row2" ||
   fail "a cut row not damaged: $row2"
+# a FIFO in place of a log does not block the merge; a run folder replaced by a symbolic link to
+# another run is refused, not read as that run
+for f in tension.csv energy.csv; do rm -f "$r1/$f"; done
+cp -r "$r2" "$tmp/r2_copy"
+sed -i '4s/^\([^,]*,[^,]*\),.*/\1/' "$tmp/r2_copy/tension.csv"
+mkfifo "$r1/tension.csv" && cp "$tmp/r2_copy/energy.csv" "$r1/energy.csv"
+rm -rf "$r2" && ln -s "$tmp/r2_copy" "$r2"
+timeout 20 "$sinew" bench --merge "$b" --no-charts >"$tmp/merge.out" 2>&1
+[ $? -eq 124 ] && fail "bench --merge: blocked on a FIFO"
+row1=$(grep '^backward-euler,fixed,dt,0.02,' "$csv") row2=$(grep '^backward-euler,fixed,dt,0.01,' "$csv")
+grep -q ',damaged,damaged data,runs/wp_backward-euler_dt0.02_r1/tension.csv: not a regular file (a FIFO  device  folder or symbolic link); expected the log the run wrote' <<<"$row1" ||
+  fail "a FIFO log not damaged: $row1"
+grep -q ',damaged,damaged data,runs/wp_backward-euler_dt0.01_r1: a symbolic link; expected the run.s own folder' <<<"$row2" ||
+  fail "a symlinked run folder not refused: $row2"
 mkdir "$tmp/bigplan" && cp "$b/bench_work_precision.cfg" "$tmp/bigplan/"
 { head -1 "$b/plan_work_precision.csv"; yes 'x,run,bdf2,0,0.01,0,0,1,0,1' | head -n 1000001; } \
   >"$tmp/bigplan/plan_work_precision.csv"

@@ -228,5 +228,22 @@ for case in start every; do
   rm -rf "$tmp/rk"
 done
 
+# 6. a rerun where one file of the earlier run cannot be removed (chattr +i) removes nothing
+touch "$tmp/probe" && if chattr +i "$tmp/probe" 2>/dev/null; then
+  chattr -i "$tmp/probe"
+  "$sinew" run scenes/hanging_cloth.yaml --duration 0.02 --out "$tmp/imm" --quiet 2>/dev/null || fail "immutable: first run"
+  chattr +i "$tmp/imm/summary.json"
+  "$sinew" run scenes/hanging_cloth.yaml --duration 0.04 --out "$tmp/imm" --quiet 2>"$tmp/err" &&
+    fail "immutable summary.json: the rerun went on"
+  chattr -i "$tmp/imm/summary.json"
+  grep -q "imm/summary.json: a file of an earlier run that cannot be removed (immutable, chattr +i); expected files sinew may replace: nothing of the earlier run was removed" "$tmp/err" ||
+    fail "immutable summary.json: message '$(cat "$tmp/err")'"
+  grep -q "the files of an earlier run in .*imm/ are as they were" "$tmp/err" || fail "immutable: no 'as they were'"
+  [ -f "$tmp/imm/tension.csv" ] && [ -f "$tmp/imm/energy.csv" ] && [ -f "$tmp/imm/restart.bin" ] ||
+    fail "immutable summary.json: the earlier run's logs were removed"
+else
+  echo "note: chattr +i not available here; the immutable-file case is not checked"
+fi
+
 [ "$fails" = 0 ] && echo "runfolder: all checks passed"
 exit $((fails > 0))

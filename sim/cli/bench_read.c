@@ -16,6 +16,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <fcntl.h>
+#include <unistd.h>
 
 /* ------------------------------------------------------------ sample times */
 
@@ -67,8 +69,20 @@ static void damaged(bench_result *r, const bench_job *j, const char *file, long 
 
 /* ------------------------------------------------------------ whole files */
 
+/* path opened for reading only if it is a regular file (not a FIFO, which would block the
+ * merge forever, a device or a symbolic link); NULL otherwise. */
+static FILE *open_regular(const char *path) {
+  int fd = open(path, O_RDONLY | O_NONBLOCK | O_NOFOLLOW | O_NOCTTY | O_CLOEXEC);
+  struct stat st;
+  if (fd < 0) return NULL;
+  if (fstat(fd, &st) || !S_ISREG(st.st_mode) || fcntl(fd, F_SETFL, 0)) return close(fd), NULL;
+  FILE *f = fdopen(fd, "rb");
+  if (!f) close(fd);
+  return f;
+}
+
 static char *slurp(const char *path, size_t max) {
-  FILE *f = fopen(path, "rb");
+  FILE *f = open_regular(path);
   if (!f) return NULL;
   size_t cap = 4096, n = 0;
   char *buf = malloc(cap);
@@ -169,7 +183,7 @@ static void read_summary(const char *js, bench_result *r) {
 static void classify(const bench_cfg *c, const bench_job *j, bench_result *r) {
   char path[SW_PATHSZ + BENCH_IDSZ + 16], line[64] = "";
   snprintf(path, sizeof path, "%s/logs/%s.exit", c->dir, j->id);
-  FILE *f = fopen(path, "r");
+  FILE *f = open_regular(path);
   if (f) {
     if (!fgets(line, sizeof line, f)) line[0] = '\0';
     fclose(f);
@@ -387,8 +401,11 @@ static char *read_log(const bench_cfg *c, const bench_job *j, bench_result *r, c
                       int optional, int text_col, const char *const *used) {
   char path[SW_PATHSZ + BENCH_IDSZ + 32];
   struct stat st;
-  if (run_file(path, sizeof path, c, j, file) || stat(path, &st))
+  if (run_file(path, sizeof path, c, j, file) || lstat(path, &st))
     return optional ? NULL : (damaged(r, j, file, 0, "missing"), NULL);
+  if (!S_ISREG(st.st_mode))
+    return damaged(r, j, file, 0, "not a regular file (a FIFO, device, folder or symbolic "
+                   "link); expected the log the run wrote"), NULL;
   if (st.st_size > BENCH_LOG_MAX)
     return damaged(r, j, file, 0, "%lld bytes; expected at most %ld", (long long)st.st_size,
                    BENCH_LOG_MAX), NULL;
@@ -454,7 +471,7 @@ static size_t positions_header(const bench_job *j, bench_result *r, FILE *f) {
 static void read_positions(const bench_cfg *c, const bench_job *j, bench_result *r) {
   char path[SW_PATHSZ + BENCH_IDSZ + 32];
   if (run_file(path, sizeof path, c, j, "positions.bin")) return;
-  FILE *f = fopen(path, "rb");
+  FILE *f = open_regular(path);
   if (!f) {
     damaged(r, j, "positions.bin", 0, "missing");
     return;
@@ -485,6 +502,17 @@ int bench_read(const bench_cfg *c, const bench_job *j, int want_positions, bench
   memset(r, 0, sizeof *r);
   r->wall = r->time_step = r->max_rss_mb = r->step_median = NAN;
   char path[SW_PATHSZ + BENCH_IDSZ + 32];
+  struct stat st;
+  int n = snprintf(path, sizeof path, "%s/runs/%s", c->dir, j->id);
+  if (n > 0 && (size_t)n < sizeof path && !lstat(path, &st) && !S_ISDIR(st.st_mode)) {
+    classify(c, j, r); /* the process's exit, then the folder refused */
+    snprintf(r->status, sizeof r->status, "damaged");
+    snprintf(r->how, sizeof r->how, "damaged data");
+    snprintf(r->message, sizeof r->message, "runs/%s: %s; expected the run's own folder", j->id,
+             S_ISLNK(st.st_mode) ? "a symbolic link" : "not a folder");
+    r->ns = bench_nsample(c);
+    return 0;
+  }
   char *js = run_file(path, sizeof path, c, j, "summary.json") ? NULL : slurp(path, 1 << 20);
   if (js) {
     r->present = 1;

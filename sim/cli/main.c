@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 #include <sys/stat.h>
 
 #include "bench.h"
@@ -368,9 +369,16 @@ static int cmd_run(int argc, char **argv) {
  * success); the exit code. */
 static int finish_run(sw_model *m, int rc, const char *err, int quiet) {
   if (rc == SW_INTERRUPTED) fprintf(stderr, "sinew: %s\n", err);
-  else if (rc == SW_NOSTART)
-    fprintf(stderr, "sinew: run not started: %s\nsinew: nothing written; the files of an "
-            "earlier run in %s/ are as they were\n", err, m->opt.out_dir);
+  else if (rc == SW_NOSTART) {
+    char manifest[SW_PATHSZ + 32];
+    snprintf(manifest, sizeof manifest, "%s/sinew.manifest", m->opt.out_dir);
+    if (access(manifest, F_OK)) /* no earlier run there */
+      fprintf(stderr, "sinew: run not started: %s\nsinew: nothing written in %s/\n", err,
+              m->opt.out_dir);
+    else
+      fprintf(stderr, "sinew: run not started: %s\nsinew: nothing written; the files of an "
+              "earlier run in %s/ are as they were\n", err, m->opt.out_dir);
+  }
   else if (rc) fprintf(stderr, "sinew: run failed: %s\n", err);
   struct stat st;
   if (rc != SW_NOSTART && !(quiet && rc == SW_OK) && stat(m->opt.out_dir, &st) == 0 &&

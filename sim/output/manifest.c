@@ -12,7 +12,9 @@
  * make sinew remove anything else. */
 #include <errno.h>
 #include <fcntl.h>
+#include <linux/fs.h>
 #include <string.h>
+#include <sys/ioctl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -116,8 +118,34 @@ static int remove_old(void *ctx, const char *name) {
   return 0;
 }
 
+/* NAME, NAME.tmp and NAME.part of the earlier run can be removed: none is immutable or
+ * append-only (chattr +i, +a: unlink(2) then fails, whatever the folder's permissions). */
+static int check_old(void *ctx, const char *name) {
+  removal *r = ctx;
+  static const char *const forms[] = {"", ".tmp", ".part"};
+  for (int k = 0; k < 3; k++) {
+    char file[SW_OUT_PATHMAX];
+    snprintf(file, sizeof file, "%s%s", name, forms[k]);
+    if (out_join(r->o->path, r->o->dir, file, r->err, r->errsz)) return -1;
+    int fd = open(r->o->path, O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_NOCTTY | O_CLOEXEC);
+    if (fd < 0) continue; /* absent, or a link (removing a link needs only the folder) */
+    int flags = 0;
+    int fixed = !ioctl(fd, FS_IOC_GETFLAGS, &flags) &&
+                (flags & (FS_IMMUTABLE_FL | FS_APPEND_FL));
+    close(fd);
+    if (fixed)
+      return sw_errf(r->err, r->errsz, "%s: a file of an earlier run that cannot be removed "
+                     "(%s); expected files sinew may replace: nothing of the earlier run was "
+                     "removed", r->o->path, flags & FS_IMMUTABLE_FL ? "immutable, chattr +i"
+                                                                     : "append-only, chattr +a"),
+             -1;
+  }
+  return 0;
+}
+
 int out_manifest_commit(sw_output *o, char *err, size_t errsz) {
   removal r = {o, err, errsz};
+  if (each_old(o, check_old, &r)) return -1;
   if (each_old(o, remove_old, &r)) return -1;
   sw_free(o->old);
   o->old = NULL;
