@@ -150,15 +150,17 @@ static void show_progress(sw_sim *s, int final) {
   if (!final && now - s->last_progress < 0.25) return;
   s->last_progress = now;
   const sw_data *d = s->d;
-  /* done: the share of this process's simulated time; the rest at the rate so far */
-  double span = s->m->opt.duration - s->t_begin, done = span > 0 ? (d->t - s->t_begin) / span : 1;
-  double wall = now - s->wall0, left = done > 0 ? wall * (1.0 - done) / done : NAN;
+  /* the share of the simulated time reached; the rest at this process's rate so far (a
+   * resumed run: since the resume) */
+  const double T = s->m->opt.duration, wall = now - s->wall0, ran = d->t - s->t_begin;
+  double pct = T > 0 ? 100.0 * fmin(fmax(d->t / T, 0.0), 1.0) : 100.0;
+  double left = ran > 0 ? wall * (T - d->t) / ran : NAN;
   char eta[32] = "";
-  if (!final && done > 0.005 && isfinite(left))
+  if (!final && ran > 0.005 * (T - s->t_begin) && isfinite(left))
     snprintf(eta, sizeof eta, "  ~%.0f s left", fmax(left, 0.0));
   fprintf(stderr, "\r  t = %9.4f / %g s (%5.1f%%)  steps %ld  newton %ld  factorizations %ld  "
-          "%6.1f s%s%s", d->t, s->m->opt.duration, 100.0 * fmin(fmax(done, 0.0), 1.0), d->nstep,
-          d->nnewton, d->nfactor, wall, eta, final ? "\n" : "         ");
+          "%6.1f s%s%s", d->t, T, pct, d->nstep, d->nnewton, d->nfactor, wall, eta,
+          final ? "\n" : "         ");
   fflush(stderr);
 }
 
