@@ -214,7 +214,7 @@ if command -v flock >/dev/null; then # a lock held by any process counts
 fi
 
 # Loading is linear in the scene's size: 100 000 named tendons (a 4.6 MB scene) load in a few
-# seconds of CPU at most (measured: 0.8 s; names are hashed).  Comparing each name with every
+# seconds of CPU at most (measured: 0.8 s, 6.5 s under ASan; names are hashed).  Comparing each name with every
 # earlier one took minutes.  CPU time, not wall time: the machine may be shared.
 awk 'BEGIN { print "mesh: {grid: {size: [1, 1], vertices: [3, 3]}}"; print "material: {density: 0.1}";
   print "tendons:"; for (k = 0; k < 100000; k++) printf "  - {name: t%d, waypoints: [0, 8], stiffness: 1}\n", k }' \
@@ -225,7 +225,7 @@ rc=$?
 unset TIMEFORMAT
 cpu=$(awk '{ print $1 + $2 }' "$tmp/cpu" | tail -1)
 [ $rc -eq 0 ] || fail "100000 tendons: exit $rc $(head -c 300 "$tmp/err")"
-awk -v c="$cpu" 'BEGIN { exit !(c < 5) }' || fail "100000 tendons: $cpu s of CPU to load; expected < 5 s"
+awk -v c="$cpu" 'BEGIN { exit !(c < 15) }' || fail "100000 tendons: $cpu s of CPU to load; expected < 15 s"
 grep -q "tendons *100000" "$tmp/out" || fail "100000 tendons: 'sinew check' says $(grep -i tendon "$tmp/out")"
 sed -i 's/name: t99999,/name: t5,/' "$tmp/tendons.yaml"
 expect_error "a duplicate among 100000 tendon names" "tendons\\[99999\\] is named 't5' like tendons\\[5\\]" \
