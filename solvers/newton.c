@@ -639,6 +639,27 @@ static double round_off_floor(const sw_model *m, const double *x) {
   return 1e3 * DBL_EPSILON * xmax;
 }
 
+/* After Newton failed: when the obstacles clipped the last update (a vertex's fraction below
+ * 1/2), name the obstacle nearest the most clipped vertex in d->err, so that a failure at a
+ * fast obstacle says which one and where. */
+static void name_obstacle(const sw_newton *nw, const sw_model *m, sw_data *d, const double *x,
+                          double t) {
+  if (!nw->vfrac || m->nobstacle == 0) return;
+  int iv = -1, ko = -1;
+  for (int i = 0; i < m->nv; i++)
+    if (nw->vfrac[i] < 0.5 && (iv < 0 || nw->vfrac[i] < nw->vfrac[iv])) iv = i;
+  if (iv < 0) return;
+  double best = INFINITY;
+  for (int k = 0; k < m->nobstacle; k++) {
+    double dist = sw_obstacle_sdf(&m->obstacle[k], m->dim, t, x + (size_t)iv * m->dim, NULL, NULL);
+    if (dist < best) best = dist, ko = k;
+  }
+  size_t n = strlen(d->err);
+  snprintf(d->err + n, sizeof d->err - n, ": obstacles[%d] held vertex %d to %.2g of its last "
+           "update at t = %g s (a smaller dt or more max_halvings)", m->obstacle[ko].item, iv,
+           nw->vfrac[iv], t);
+}
+
 int sw_newton_solve(sw_newton *nw, const sw_model *m, sw_data *d, double *x, const double *xhat,
                     const sw_newton_opts *o) {
   d->last_newton = 0;
@@ -703,5 +724,6 @@ int sw_newton_solve(sw_newton *nw, const sw_model *m, sw_data *d, double *x, con
   if (!o->must_converge) return SW_OK;
   sw_errf(d->err, sizeof d->err, "Newton did not converge in %d iterations at t = %g s",
           o->max_iter, o->t);
+  name_obstacle(nw, m, d, x, o->t);
   return SW_RECOVER;
 }
