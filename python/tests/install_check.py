@@ -47,6 +47,14 @@ def version():
 def check_program(exe):
     out = run(exe, "--version", capture_output=True, text=True).stdout.strip()
     assert out == "sinew " + version(), out
+    # the subcommands written in Python find the installed package beside the program (a
+    # wheel's program knows no source tree), and bench's chart script is in it
+    for sub in ("render", "drape", "pattern"):
+        out = run(exe, sub, "--help", capture_output=True, text=True).stdout
+        assert out.startswith("usage: "), (sub, out)
+    found = glob.glob(os.path.join(os.path.dirname(exe), "..", "**", "sinew", "bench_charts.py"),
+                      recursive=True)
+    assert found, "bench_charts.py not installed beside " + exe
 
 
 def main():

@@ -11,6 +11,7 @@
  *              (absolute when the reference series is zero) for tension XY max and mean, and
  *              the max form over every tendon's tension. */
 #include "bench.h"
+#include "cli.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -440,7 +441,12 @@ static int merge_scaling(const bench_plan *p) {
  * names another script.  A missing Python or matplotlib is a warning: the CSV files stand. */
 static void charts(const bench_cfg *c) {
   const char *script = getenv("SINEW_CHARTS");
+  char installed[4200];
   if (!script || !*script) script = SW_CHARTS_SCRIPT;
+  if (access(script, R_OK) && !getenv("SINEW_CHARTS") && !cli_package_dir(installed, 4096)) {
+    strcat(installed, "/sinew/bench_charts.py"); /* a pip install: the copy in the package */
+    script = installed;
+  }
   if (access(script, R_OK) || access("/usr/bin/python3", X_OK)) {
     fprintf(stderr, "sinew: bench: no charts: %s or /usr/bin/python3 not found (the CSV files "
             "are complete; set SINEW_CHARTS to the script)\n", script);

@@ -3,6 +3,8 @@
 #ifndef SW_CLI_H
 #define SW_CLI_H
 
+#include <stddef.h>
+
 /* A positive number (>= 0 when allow_zero). */
 int cli_number(const char *opt, const char *s, int allow_zero, double *out);
 /* An integer in [lo, hi]. */
@@ -15,5 +17,7 @@ int cli_render(int argc, char **argv);
 /* `sinew pattern ARGS` (render.c): runs Python's sinew.pattern (DXF pattern import) likewise. */
 int cli_pattern(int argc, char **argv);
 int cli_drape(int argc, char **argv);
+/* The folder holding the package sinew/ installed beside this program (render.c): 0, or -1. */
+int cli_package_dir(char *dir, size_t size);
 
 #endif

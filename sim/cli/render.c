@@ -2,8 +2,9 @@
  * run folder, python/sinew/render.py, matplotlib), `sinew pattern ...` (pattern import from
  * DXF, python/sinew/pattern/, ezdxf and gmsh) and `sinew drape RUN_DIR` (the drape coefficient
  * and nodes of a Cusick drape test run, python/sinew/drape.py, numpy).  Each runs as `PYTHON -m sinew.MODULE ARGS`
- * with the package's folders (the source tree's python/, then where meson install puts it)
- * before any PYTHONPATH already set.  SW_PYTHON and SW_PYTHONPATH are set by meson.build. */
+ * with the package's folders (the installed package beside this program, when there is one;
+ * the source tree's python/ and where meson install puts it, unless built as a wheel) before any
+ * PYTHONPATH already set.  SW_PYTHON and SW_PYTHONPATH are set by meson.build. */
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -15,11 +16,15 @@
 /* Replace this process by `SW_PYTHON -m module argv[2:]`; returns 2 only on failure. */
 static int run_module(const char *cmd, const char *module, int argc, char **argv) {
   const char *old = getenv("PYTHONPATH");
-  size_t n = strlen(SW_PYTHONPATH) + (old ? strlen(old) + 2 : 1);
+  char pkg[4096] = "";
+  int installed = !cli_package_dir(pkg, sizeof pkg);
+  size_t n = strlen(pkg) + strlen(SW_PYTHONPATH) + (old ? strlen(old) : 0) + 3;
   char *path = malloc(n);
   char **args = calloc((size_t)argc + 2, sizeof *args);
   if (!path || !args) return fprintf(stderr, "sinew %s: out of memory\n", cmd), 2;
-  snprintf(path, n, "%s%s%s", SW_PYTHONPATH, old && *old ? ":" : "", old && *old ? old : "");
+  snprintf(path, n, "%s%s%s", installed ? pkg : "", installed && *SW_PYTHONPATH ? ":" : "",
+           SW_PYTHONPATH);
+  if (old && *old) snprintf(path + strlen(path), n - strlen(path), "%s%s", *path ? ":" : "", old);
   if (setenv("PYTHONPATH", path, 1))
     return fprintf(stderr, "sinew %s: cannot set PYTHONPATH: %s\n", cmd, strerror(errno)), 2;
   args[0] = SW_PYTHON;
