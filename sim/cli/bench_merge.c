@@ -142,8 +142,8 @@ static int read_reference(const bench_plan *p, double scale, bench_result *ref) 
   bench_read(&p->cfg, &p->job[k], 1, ref);
   if (!strcmp(ref->status, "ok") && ref->pos) return 0;
   fprintf(stderr, "sinew: bench: the reference run %s %s%s%s%s: no errors can be measured "
-          "(logs/%s.log)\n", p->job[k].id, ref->status, ref->how[0] ? " (" : "", ref->how,
-          ref->how[0] ? ")" : "", p->job[k].id);
+          "(logs/%s.log%s%s)\n", p->job[k].id, ref->status, ref->how[0] ? " (" : "", ref->how,
+          ref->how[0] ? ")" : "", p->job[k].id, ref->message[0] ? "; " : "", ref->message);
   return -1;
 }
 
@@ -193,7 +193,7 @@ static void wp_row(FILE *f, const bench_plan *p, int k, const bench_result *ref,
   put_text(f, r.how), put_text(f, r.message);
   fprintf(f, ",%d", w.n);
   /* a failed run's wall time is its time to failure (first repeat) */
-  double wall = ok ? w.median : r.wall;
+  double wall = ok ? w.median : strcmp(r.status, "damaged") ? r.wall : NAN; /* damaged: none */
   put_num(f, wall), put_num(f, w.lo), put_num(f, w.hi);
   fprintf(f, ",%ld,%ld,%ld,%ld,%ld,%ld", r.steps, r.newton, r.force, r.assemble, r.factor,
           r.retries);
@@ -220,6 +220,11 @@ static void describe(char *out, size_t sz, const bench_job *j, const char *metho
 static void put_setting(FILE *f, const bench_job *j) {
   put_num(f, j && j->adaptive ? j->rtol : NAN);
   put_num(f, j && !j->adaptive ? j->dt : NAN);
+}
+
+/* How a reference or confirm run ended, in a word or two: ok, damaged, timed out (S s), ... */
+static const char *ended(int ok, const bench_result *r) {
+  return ok ? "ok" : !strcmp(r->status, "damaged") ? "damaged" : r->how[0] ? r->how : "missing";
 }
 
 static const char *const ref_header =
@@ -251,10 +256,13 @@ static int wp_reference(const bench_plan *p, const bench_result *ref, int have_r
   fprintf(f, ",%ld,%ld", have_ref ? ref->retries : 0L, cr.retries);
   fprintf(f, ",runs/%s,runs/%s\n", jr ? jr->id : "", jc ? jc->id : "");
   describe(rd, sizeof rd, jr, c->ref_method), describe(cd, sizeof cd, jc, c->confirm_method);
-  printf("reference: %s; %s agrees to %.3g of the size (positions), %.3g (tension XY max): %s "
-         "(bound %g)\n", rd, cd, e.pos_max, e.txy_max_l2, confirmed ? "confirmed"
-                                                                    : "NOT CONFIRMED",
-         c->confirm_tol);
+  if (!have_ref || !jc || strcmp(cr.status, "ok")) /* a run that did not finish: how it ended */
+    printf("reference: %s %s; %s %s: NOT CONFIRMED, nothing measured\n", rd,
+           ended(have_ref, ref), cd, jc ? ended(!strcmp(cr.status, "ok"), &cr) : "missing");
+  else
+    printf("reference: %s; %s agrees to %.3g of the size (positions), %.3g (tension XY max): "
+           "%s (bound %g)\n", rd, cd, e.pos_max, e.txy_max_l2,
+           confirmed ? "confirmed" : "NOT CONFIRMED", c->confirm_tol);
   if (have_ref && (ref->retries || cr.retries))
     printf("reference: halved steps: %ld (reference), %ld (confirm)\n", ref->retries,
            cr.retries);

@@ -179,6 +179,69 @@ static void read_summary(const char *js, bench_result *r) {
   r->nv = json_long(js, "vertices");
 }
 
+/* The line of js that p points into (1-based), for "summary.json:LINE". */
+static long line_of(const char *js, const char *p) {
+  long n = 1;
+  for (const char *q = js; q < p; q++) n += *q == '\n';
+  return n;
+}
+
+/* The time the run was planned to reach (s): the bench's duration, or a scaling run's steps. */
+static double planned_end(const bench_cfg *c, const bench_job *j) {
+  return c->mode == BM_SCALING ? c->steps * j->dt : c->duration;
+}
+
+static int same_value(double a, double b) { return fabs(a - b) <= 1e-9 * fmax(fabs(a), fabs(b)); }
+
+/* Costs and counters of an ok summary: each one present is a finite number >= 0, and the wall
+ * time is present (a summary saying `"wall_time_s": -1e308` is damaged, not a fast run). */
+static int check_costs(const char *js, const bench_job *j, bench_result *r) {
+  static const char *const keys[] = {"wall_time_s", "time_step_s", "time_assemble_s",
+      "time_factor_s", "time_solve_s", "max_rss_mb", "steps", "newton_iterations",
+      "factorizations", "assemblies", "force_evaluations", "retries", "free_dofs", "vertices"};
+  for (size_t k = 0; k < sizeof keys / sizeof *keys; k++) {
+    const char *p = json_at(js, keys[k]);
+    if (!p && k == 0) return damaged(r, j, "summary.json", 0, "no wall_time_s; expected the "
+                                     "run's wall time"), -1;
+    double v = json_num(js, keys[k]);
+    int len = p ? (int)strcspn(p, ",\n}") : 0;
+    if (p && !(v >= 0 && v < 1e18))
+      return damaged(r, j, "summary.json", line_of(js, p), "%s is %.*s; expected a number >= 0",
+                     keys[k], len < 40 ? len : 40, p), -1;
+  }
+  return 0;
+}
+
+/* An ok summary against its plan entry: the method (and BDF order), dt, rtol, stiffness scale,
+ * scene file and duration of the run the plan asked for, so that a folder holding another run's
+ * numbers is not read as this one. */
+static void check_summary(const bench_cfg *c, const bench_job *j, const char *js,
+                          bench_result *r) {
+  char name[SW_NAMESZ], got[SW_PATHSZ];
+  int order = 0;
+  if (bench_method_split(j->method, name, sizeof name, &order)) name[0] = '\0';
+  const struct { const char *key, *want; } str[] = {{"method", name}, {"scene_file", c->scene}};
+  for (size_t k = 0; k < sizeof str / sizeof *str; k++) {
+    json_str(js, str[k].key, got, sizeof got);
+    const char *p = json_at(js, str[k].key);
+    if (strcmp(got, str[k].want))
+      return damaged(r, j, "summary.json", p ? line_of(js, p) : 0, "%s is '%.80s'; the plan "
+                     "says '%.80s' for this run", str[k].key, got, str[k].want);
+  }
+  const struct { const char *key; double want; int used; } num[] = {
+      {"dt", j->dt, 1}, {"rtol", j->rtol, j->adaptive}, {"stiffness_scale", j->scale, 1},
+      {"duration", planned_end(c, j), 1}, {"max_order", order, order > 0},
+      {"vertices", (double)j->grid * j->grid, j->grid > 0}};
+  for (size_t k = 0; k < sizeof num / sizeof *num; k++) {
+    const char *p = json_at(js, num[k].key);
+    double v = json_num(js, num[k].key);
+    if (num[k].used && !same_value(v, num[k].want))
+      return damaged(r, j, "summary.json", p ? line_of(js, p) : 0, "%s is %.17g; the plan "
+                     "says %.17g for this run", num[k].key, v, num[k].want);
+  }
+  check_costs(js, j, r);
+}
+
 /* The status from the process's exit (DIR/logs/ID.exit) and the summary. */
 static void classify(const bench_cfg *c, const bench_job *j, bench_result *r) {
   char path[SW_PATHSZ + BENCH_IDSZ + 16], line[64] = "";
@@ -256,15 +319,42 @@ static int field_ok(const char *line, int col, int finite) {
   return end != p && (*end == ',' || *end == '\n') && (!finite || isfinite(v));
 }
 
+/* What the times of a log must be: increasing (strictly, or not for logs of several lines per
+ * time), up to and ending at the planned end (s). */
+typedef struct log_times {
+  int strict;
+  double end;
+} log_times;
+
+/* The time t (s) of a log line after one at *prev: in order and not after the planned end. */
+static int check_time(bench_result *r, const bench_job *j, const char *file, long line, double t,
+                      double *prev, const log_times *lt) {
+  if (lt->strict ? !(t > *prev) : !(t >= *prev))
+    return damaged(r, j, file, line, "t = %g s after t = %g s on the line before; expected "
+                   "increasing times", t, *prev), -1;
+  if (t > lt->end && !same_value(t, lt->end))
+    return damaged(r, j, file, line, "t = %g s is after the planned end %g s", t, lt->end), -1;
+  *prev = t;
+  return 0;
+}
+
+/* The start of the last line of text (whose last character is its newline). */
+static const char *last_line(const char *text) {
+  const char *e = text + strlen(text) - 1, *s = e;
+  while (s > text && s[-1] != '\n') s--;
+  return s;
+}
+
 /* A log of a run that says ok: every line whole (a newline at its end, the header's number of
  * fields), every field a number but column `text_col` (-1: none), and the columns in used[]
  * (nused of them, -1 entries skipped) finite.  0, or -1 with the run marked damaged. */
 static int check_log(bench_result *r, const bench_job *j, const char *file, const char *text,
-                     int text_col, const int *used, int nused) {
+                     int text_col, const int *used, int nused, const log_times *lt) {
   const char *p = strchr(text, '\n');
   if (!p) return damaged(r, j, file, 1, "no whole header line"), -1;
   int nh = nfields(text);
-  for (long line = 2; p[1]; line++) {
+  long line = 2;
+  for (double prev = -INFINITY; p[1]; line++) {
     const char *s = p + 1;
     p = strchr(s, '\n');
     if (!p) return damaged(r, j, file, line, "the line is cut short (no end of line)"), -1;
@@ -277,7 +367,13 @@ static int check_log(bench_result *r, const bench_job *j, const char *file, cons
     for (int u = 0; u < nused; u++)
       if (used[u] >= 0 && !field_ok(s, used[u], 1))
         return damaged(r, j, file, line, "field %d is not finite", used[u] + 1), -1;
+    if (check_time(r, j, file, line, field(s, 0), &prev, lt)) return -1;
   }
+  if (line == 2) return damaged(r, j, file, 1, "no line after the header"), -1;
+  double last = field(last_line(text), 0);
+  if (!same_value(last, lt->end))
+    return damaged(r, j, file, line - 1, "the log ends at t = %g s; expected the planned end "
+                   "%g s", last, lt->end), -1;
   return 0;
 }
 
@@ -413,8 +509,19 @@ static char *read_log(const bench_cfg *c, const bench_job *j, bench_result *r, c
   if (!text) return damaged(r, j, file, 0, "cannot be read"), NULL;
   int cols[8], n = 0;
   for (; used[n] && n < 8; n++) cols[n] = column(text, used[n]);
-  if (check_log(r, j, file, text, text_col, cols, n)) return free(text), NULL;
+  log_times lt = {.strict = text_col < 0, .end = planned_end(c, j)};
+  if (check_log(r, j, file, text, text_col, cols, n, &lt)) return free(text), NULL;
   return text;
+}
+
+/* Every common sample time has its line in a log (values v at the samples, NaN where none):
+ * a deleted line leaves a sample unmeasured.  Scaling runs take no samples. */
+static void check_samples(const bench_cfg *c, const bench_job *j, bench_result *r,
+                          const char *file, const double *v) {
+  for (int k = 0; k < r->ns && c->mode != BM_SCALING; k++)
+    if (isnan(v[k]))
+      return damaged(r, j, file, 0, "no line at the sample time t = %g s; expected one at every "
+                     "%g s and at the end", bench_sample_time(c, k), c->sample);
 }
 
 static void read_logs(const bench_cfg *c, const bench_job *j, bench_result *r) {
@@ -428,10 +535,12 @@ static void read_logs(const bench_cfg *c, const bench_job *j, bench_result *r) {
   for (int k = 0; k < r->ns; k++) r->t[k] = bench_sample_time(c, k);
   char *text = read_log(c, j, r, "tension.csv", 0, -1, t_used);
   if (text) read_pair(c, text, "txy_max", "txy_mean", r->txy_max, r->txy_mean);
+  if (text) check_samples(c, j, r, "tension.csv", r->txy_max);
   free(text);
   text = read_log(c, j, r, "energy.csv", 0, -1, e_used);
   if (text) {
     read_pair(c, text, "total", "kinetic", r->energy, r->kinetic);
+    check_samples(c, j, r, "energy.csv", r->energy);
     r->step_median = step_median(text);
   }
   free(text);
@@ -494,6 +603,10 @@ static void read_positions(const bench_cfg *c, const bench_job *j, bench_result 
   }
   free(buf);
   fclose(f);
+  for (int k = 0; r->pos && k < r->ns; k++)
+    if (isnan(r->pos[(size_t)k * (rec - 1)]))
+      return damaged(r, j, "positions.bin", 0, "no record at the sample time t = %g s; expected "
+                     "one at every %g s and at the end", bench_sample_time(c, k), c->sample);
 }
 
 /* ------------------------------------------------------------------ entry */
@@ -517,10 +630,11 @@ int bench_read(const bench_cfg *c, const bench_job *j, int want_positions, bench
   if (js) {
     r->present = 1;
     read_summary(js, r);
-    free(js);
   }
   classify(c, j, r);
   r->ns = bench_nsample(c);
+  if (!strcmp(r->status, "ok")) check_summary(c, j, js, r);
+  free(js);
   if (strcmp(r->status, "ok")) return 0;
   read_logs(c, j, r);
   if (want_positions) read_positions(c, j, r);
