@@ -567,82 +567,132 @@ static int write_plan(const bench_plan *p) {
 
 /* -------------------------------------------------------- reading a plan */
 
-static int cfg_line(bench_cfg *g, const char *key, const char *val) {
+/* The plan's files are read as data, not trusted: every value a whole number in its range, or
+ * "FILE:LINE: KEY = VALUE; expected ..." (a plan edited by hand says where). */
+
+/* A whole finite number at least lo (above lo when strict); 0, or -1. */
+static int plan_num(const char *s, double lo, int strict, double *v) {
+  char *end;
+  *v = strtod(s, &end);
+  return end == s || *end || !isfinite(*v) || *v < lo || (strict && *v == lo) ? -1 : 0;
+}
+
+/* A whole integer in [lo, hi]; 0, or -1. */
+static int plan_int(const char *s, long lo, long hi, int *v) {
+  char *end;
+  errno = 0;
+  long x = strtol(s, &end, 10);
+  if (end == s || *end || errno || x < lo || x > hi) return -1;
+  return *v = (int)x, 0;
+}
+
+static int cfg_line(bench_cfg *g, const char *key, const char *val, char *why, size_t sz) {
   if (!strcmp(key, "mode")) {
     for (int k = 0; k < BM_NMODE; k++)
       if (!strcmp(val, bench_mode_name(k))) return g->mode = k, 0;
-    return -1;
+    return snprintf(why, sz, "expected work_precision, stability or scaling"), -1;
   }
   struct { const char *k; char *s; size_t sz; } str[] = {{"scene", g->scene, SW_PATHSZ},
       {"exe", g->exe, SW_PATHSZ}, {"reference", g->ref_method, SW_NAMESZ},
       {"confirm", g->confirm_method, SW_NAMESZ}};
   for (size_t k = 0; k < sizeof str / sizeof *str; k++)
     if (!strcmp(key, str[k].k)) return snprintf(str[k].s, str[k].sz, "%s", val), 0;
-  struct { const char *k; double *v; } nums[] = {{"duration", &g->duration},
-      {"sample", &g->sample}, {"size", &g->size}, {"reference_rtol", &g->ref_rtol},
-      {"confirm_tol", &g->confirm_tol}, {"reference_dt", &g->ref_dt},
-      {"confirm_dt", &g->confirm_dt}, {"reference_newton_tol", &g->ref_newton_tol},
-      {"overdamped", &g->overdamped},
-      {"diverged", &g->diverged}, {"tension_diverged", &g->tension_diverged},
-      {"timeout", &g->timeout}};
+  /* lo: the least value; strict: above it */
+  struct { const char *k; double *v; double lo; int strict; } nums[] = {
+      {"duration", &g->duration, 0, 0}, {"sample", &g->sample, 0, 1}, {"size", &g->size, 0, 1},
+      {"reference_rtol", &g->ref_rtol, 0, 0}, {"confirm_tol", &g->confirm_tol, 0, 0},
+      {"reference_dt", &g->ref_dt, 0, 0}, {"confirm_dt", &g->confirm_dt, 0, 0},
+      {"reference_newton_tol", &g->ref_newton_tol, 0, 0}, {"overdamped", &g->overdamped, 0, 0},
+      {"diverged", &g->diverged, 0, 1}, {"tension_diverged", &g->tension_diverged, 0, 1},
+      {"timeout", &g->timeout, 0, 0}};
   for (size_t k = 0; k < sizeof nums / sizeof *nums; k++)
-    if (!strcmp(key, nums[k].k)) return *nums[k].v = strtod(val, NULL), 0;
-  if (!strcmp(key, "repeat")) return g->repeat = bench_atoi(val), 0;
-  if (!strcmp(key, "steps")) return g->steps = bench_atoi(val), 0;
-  if (!strcmp(key, "max_halvings")) return g->max_halvings = bench_atoi(val), 0;
+    if (!strcmp(key, nums[k].k))
+      return plan_num(val, nums[k].lo, nums[k].strict, nums[k].v)
+                 ? snprintf(why, sz, "expected a number %s 0", nums[k].strict ? ">" : ">="), -1
+                 : 0;
+  struct { const char *k; int *v; long lo; } ints[] = {{"repeat", &g->repeat, 1},
+      {"steps", &g->steps, 1}, {"max_halvings", &g->max_halvings, -1}};
+  for (size_t k = 0; k < sizeof ints / sizeof *ints; k++)
+    if (!strcmp(key, ints[k].k))
+      return plan_int(val, ints[k].lo, 1000000000L, ints[k].v)
+                 ? snprintf(why, sz, "expected an integer >= %ld", ints[k].lo), -1 : 0;
   return 0; /* unknown keys: from a newer sinew; ignored */
 }
 
-static int read_cfg(const char *dir, int mode, bench_cfg *g) {
-  char path[SW_PATHSZ + 64], line[SW_PATHSZ + 64];
+/* DIR/bench_MODE.cfg: 1 when absent (this mode was not run here), -1 with err when a value is
+ * not what `sinew bench` writes. */
+static int read_cfg(const char *dir, int mode, bench_cfg *g, char *err, size_t errsz) {
+  char path[SW_PATHSZ + 64], line[SW_PATHSZ + 64], why[128];
   snprintf(path, sizeof path, "%s/bench_%s.cfg", dir, bench_mode_name(mode));
   FILE *f = fopen(path, "r");
-  if (!f) return 1; /* this mode was not run here */
+  if (!f) return 1;
   int rc = 0;
-  while (!rc && fgets(line, sizeof line, f)) {
+  for (int n = 1; !rc && fgets(line, sizeof line, f); n++) {
     line[strcspn(line, "\n")] = '\0';
     char *eq = strstr(line, " = ");
     if (line[0] == '#' || !eq) continue;
     *eq = '\0';
-    rc = cfg_line(g, line, eq + 3);
+    if ((rc = cfg_line(g, line, eq + 3, why, sizeof why)))
+      snprintf(err, errsz, "%s:%d: %s = %.60s; %s", path, n, line, eq + 3, why);
   }
   fclose(f);
+  if (rc) return -1;
+  if (g->mode != mode)
+    return snprintf(err, errsz, "%s: mode = %s; expected %s (the file's name)", path,
+                    bench_mode_name(g->mode), bench_mode_name(mode)), -1;
   /* at most 1e7 sample times: the readers allocate per sample */
-  int sane = g->sample > 0 && g->size > 0 && g->duration >= 0 && g->duration / g->sample <= 1e7;
-  return rc || g->mode != mode || !sane ? -1 : 0;
+  if (!(g->sample > 0 && g->size > 0 && g->duration / g->sample <= 1e7))
+    return snprintf(err, errsz, "%s: duration %g s, sample %g s, size %g m; expected a sample "
+                    "> 0 (at most 1e7 of them) and a size > 0", path, g->duration, g->sample,
+                    g->size), -1;
+  return 0;
 }
 
-static int parse_job(char *line, bench_job *j) {
-  char *f[10];
-  int n = 0;
+/* One line of plan_MODE.csv: id,role,method,adaptive,dt,rtol,atol,scale,grid,rep; 0, or -1
+ * with why (the field and what was expected). */
+static int parse_job(char *line, bench_job *j, char *why, size_t sz) {
+  static const char *const names[] = {"id", "role", "method", "adaptive", "dt", "rtol", "atol",
+                                      "scale", "grid", "rep"};
+  char *f[10], name[SW_NAMESZ];
+  int n = 0, order, bad = -1;
   for (char *s = line; n < 10; n++) {
     f[n] = s;
     s = strchr(s, ',');
     if (!s) { n++; break; }
     *s++ = '\0';
   }
-  if (n != 10 || strlen(f[0]) >= sizeof j->id || strlen(f[2]) >= sizeof j->method) return -1;
+  if (n != 10) return snprintf(why, sz, "%d fields; expected 10 (%s)", n,
+                               "id,role,method,adaptive,dt,rtol,atol,scale,grid,rep"), -1;
   memset(j, 0, sizeof *j);
-  snprintf(j->id, sizeof j->id, "%s", f[0]);
   j->role = !strcmp(f[1], "reference") ? BR_REFERENCE : !strcmp(f[1], "confirm") ? BR_CONFIRM
-                                                                                 : BR_RUN;
+            : !strcmp(f[1], "run") ? BR_RUN : -1;
+  if (!*f[0] || strlen(f[0]) >= sizeof j->id || strchr(f[0], '/') || !strcmp(f[0], "..")) bad = 0;
+  else if (j->role < 0) bad = 1;
+  else if (bench_method_split(f[2], name, sizeof name, &order) || strlen(f[2]) >= sizeof j->method) bad = 2;
+  else if (plan_int(f[3], 0, 1, &j->adaptive)) bad = 3;
+  else if (plan_num(f[4], 0, 1, &j->dt)) bad = 4;
+  else if (plan_num(f[5], 0, 0, &j->rtol)) bad = 5;
+  else if (plan_num(f[6], 0, 0, &j->atol)) bad = 6;
+  else if (plan_num(f[7], 0, 1, &j->scale)) bad = 7;
+  else if (plan_int(f[8], 0, 100000, &j->grid)) bad = 8;
+  else if (plan_int(f[9], 1, 1000000, &j->rep)) bad = 9;
+  static const char *const want[] = {"a run folder's name", "reference, confirm or run",
+      "a method name (NAME or NAME:qN)", "0 or 1", "a number > 0 (s)", "a number >= 0",
+      "a number >= 0", "a number > 0", "an integer >= 0", "an integer >= 1"};
+  if (bad >= 0)
+    return snprintf(why, sz, "%s = '%.60s'; expected %s", names[bad], f[bad], want[bad]), -1;
+  snprintf(j->id, sizeof j->id, "%s", f[0]);
   snprintf(j->method, sizeof j->method, "%s", f[2]);
-  j->adaptive = bench_atoi(f[3]);
-  j->dt = strtod(f[4], NULL), j->rtol = strtod(f[5], NULL), j->atol = strtod(f[6], NULL);
-  j->scale = strtod(f[7], NULL), j->grid = bench_atoi(f[8]), j->rep = bench_atoi(f[9]);
   return 0;
 }
 
 int bench_plan_read(const char *dir, int mode, bench_plan *p, char *err, size_t errsz) {
   memset(p, 0, sizeof *p);
   p->cfg.tension_diverged = BENCH_TENSION_DIVERGED; /* a folder of an older sinew has none */
-  int rc = read_cfg(dir, mode, &p->cfg);
-  if (rc) {
-    if (rc < 0) snprintf(err, errsz, "%s/bench_%s.cfg: unreadable settings", dir, bench_mode_name(mode));
-    return rc;
-  }
+  int rc = read_cfg(dir, mode, &p->cfg, err, errsz);
+  if (rc) return rc;
   snprintf(p->cfg.dir, sizeof p->cfg.dir, "%s", dir);
-  char path[SW_PATHSZ + 64], line[512];
+  char path[SW_PATHSZ + 64], line[512], why[160];
   snprintf(path, sizeof path, "%s/plan_%s.csv", dir, bench_mode_name(mode));
   FILE *f = fopen(path, "r");
   if (!f) return snprintf(err, errsz, "%s: %s", path, strerror(errno)), -1;
@@ -664,8 +714,8 @@ int bench_plan_read(const char *dir, int mode, bench_plan *p, char *err, size_t 
       }
       p->job = nj;
     }
-    if (parse_job(line, &p->job[p->njob])) {
-      snprintf(err, errsz, "%s:%d: a malformed plan line", path, lineno);
+    if (parse_job(line, &p->job[p->njob], why, sizeof why)) {
+      snprintf(err, errsz, "%s:%d: %s", path, lineno, why);
       fclose(f);
       return -1;
     }
