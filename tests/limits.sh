@@ -124,6 +124,7 @@ b=$tmp/bench
 "$sinew" bench tests/data/bench_tiny.yaml --out "$b" --methods backward-euler --dts 0.02,0.01 \
   --no-charts >"$tmp/bench.out" 2>&1 || fail "bench: $(tail -3 "$tmp/bench.out")"
 r1=$b/runs/wp_backward-euler_dt0.02_r1 r2=$b/runs/wp_backward-euler_dt0.01_r1
+cp -r "$b" "$tmp/bench0" # the folder as the bench left it, for the cases of 4b
 # record 2 (t = 0.02 s) of the 36-vertex 3D file: 8 + 36 x 3 x 8 = 872 bytes each; its 4th value
 printf '\x00\x00\x00\x00\x00\x00\xf8\x7f' | dd of="$r1/positions.bin" bs=1 seek=$((16 + 872 + 32)) \
   conv=notrunc status=none
@@ -158,6 +159,56 @@ rm -rf "$tmp/bigplan"
 for row in "$row1" "$row2"; do
   [ -z "$(cut -d, -f18-23 <<<"$row" | tr -d ,)" ] || fail "a damaged run has error values: $row"
 done
+
+# 4b. `bench --merge` checks what it reads against the plan: each case on a fresh copy of the
+# bench folder; the damaged run has no error value, the reference that did not finish is said so.
+c=$tmp/bench1 ids=wp_backward-euler
+fresh() { rm -rf "$c" && cp -r "$tmp/bench0" "$c"; }
+merged_row() { # DT PATTERN WHAT: merge, then the row of dt DT matches PATTERN and has no errors
+  "$sinew" bench --merge "$c" --no-charts >"$tmp/merge.out" 2>&1
+  local row
+  row=$(grep "^backward-euler,fixed,dt,$1," "$c/work_precision.csv")
+  grep -Eq -- ",damaged,damaged data,$2" <<<"$row" || fail "$3: $row"
+  [ -z "$(cut -d, -f9,12-23 <<<"$row" | tr -d ,)" ] || fail "$3: numbers of a damaged run: $row"
+}
+fresh; rm -rf "$c/runs/${ids}_dt0.01_r1" && cp -r "$c/runs/${ids}_dt0.02_r1" "$c/runs/${ids}_dt0.01_r1"
+merged_row 0.01 "runs/${ids}_dt0.01_r1/summary.json:[0-9]+: dt is 0.02; the plan says 0.01 for this run" \
+  "a run folder holding another run's summary"
+fresh; sed -i 4d "$c/runs/${ids}_dt0.02_r1/tension.csv"
+merged_row 0.02 "runs/${ids}_dt0.02_r1/tension.csv: no line at the sample time t = 0.04 s; expected one at every 0.02 s and at the end" \
+  "a log line deleted"
+fresh; sed -i '4{h;d};5G' "$c/runs/${ids}_dt0.02_r1/energy.csv"
+merged_row 0.02 "runs/${ids}_dt0.02_r1/energy.csv:5: t = 0.04 s after t = 0.06 s on the line before; expected increasing times" \
+  "log lines out of order"
+fresh; e=$c/runs/${ids}_dt0.01_r1/energy.csv
+awk -F, -v OFS=, 'END { for (k = 1; k <= 200000; k++) { $1 = 0.2 + k * 0.01; print } }' "$e" >"$tmp/more"
+cat "$tmp/more" >>"$e"
+merged_row 0.01 "runs/${ids}_dt0.01_r1/energy.csv:23: t = 0.21 s is after the planned end 0.2 s" \
+  "200000 log lines appended"
+fresh; sed -i 's/"wall_time_s": .*/"wall_time_s": -1e308,/' "$c/runs/${ids}_dt0.02_r1/summary.json"
+merged_row 0.02 "runs/${ids}_dt0.02_r1/summary.json:[0-9]+: wall_time_s is -1e308; expected a number >= 0" \
+  "wall_time_s: -1e308"
+fresh; head -3 "$tmp/bench0/runs/wp_reference/energy.csv" >"$c/runs/wp_reference/energy.csv"
+"$sinew" bench --merge "$c" --no-charts >"$tmp/merge.out" 2>"$tmp/merge.err" && fail "a cut reference: exit 0"
+grep -q 'the reference run wp_reference damaged (damaged data): no errors can be measured (logs/wp_reference.log; runs/wp_reference/energy.csv:3: the log ends at t = 0.01 s; expected the planned end 0.2 s)' "$tmp/merge.err" ||
+  fail "a reference log cut to 3 lines: $(cat "$tmp/merge.err")"
+grep -q '^reference: cvode:q5 rtol 1e-10 damaged; ida:q5 rtol 1e-10 ok: NOT CONFIRMED, nothing measured$' "$tmp/merge.out" ||
+  fail "a reference log cut to 3 lines: $(head -3 "$tmp/merge.out")"
+[ -z "$(cut -d, -f18-23 "$c/work_precision.csv" | tail -n +2 | tr -d ,)" ] || fail "errors against a cut reference"
+fresh; echo timeout >"$c/logs/wp_reference.exit"; sed -i 's/^timeout = .*/timeout = 5/' "$c/bench_work_precision.cfg"
+"$sinew" bench --merge "$c" --no-charts >"$tmp/merge.out" 2>&1 && fail "a timed-out reference: exit 0"
+grep -q '^reference: cvode:q5 rtol 1e-10 timed out (5 s); ida:q5 rtol 1e-10 ok: NOT CONFIRMED, nothing measured$' "$tmp/merge.out" ||
+  fail "a timed-out reference: $(grep reference: "$tmp/merge.out")"
+fresh; sed -i 's/^reference_rtol = .*/reference_rtol = banana/' "$c/bench_work_precision.cfg"
+rm "$c/work_precision.csv"
+expect_error "reference_rtol = banana" 'bench_work_precision.cfg:10: reference_rtol = banana; expected a number >= 0' \
+  "$sinew" bench --merge "$c" --no-charts
+fresh; sed -i "s/^${ids}_dt0.02_r1,run,backward-euler,0,0.02,/${ids}_dt0.02_r1,run,backward-euler,0,-1,/" "$c/plan_work_precision.csv"
+rm "$c/work_precision.csv"
+expect_error "a plan's dt = -1" "plan_work_precision.csv:4: dt = '-1'; expected a number > 0 \\(s\\)" \
+  "$sinew" bench --merge "$c" --no-charts
+[ -e "$c/work_precision.csv" ] && fail "bench --merge wrote its CSV after refusing the plan"
+rm -rf "$c" "$tmp/bench0" "$tmp/more"
 
 # 5. Messages that say what was found and what was expected, with line:column in a scene.
 printf 'mesh: {grid: {size: [1e300, 1e300], vertices: [3, 3]}}\n%s\n' "$MAT" >"$tmp/area_big.yaml"

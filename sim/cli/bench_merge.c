@@ -195,8 +195,9 @@ static void wp_row(FILE *f, const bench_plan *p, int k, const bench_result *ref,
   /* a failed run's wall time is its time to failure (first repeat) */
   double wall = ok ? w.median : strcmp(r.status, "damaged") ? r.wall : NAN; /* damaged: none */
   put_num(f, wall), put_num(f, w.lo), put_num(f, w.hi);
-  fprintf(f, ",%ld,%ld,%ld,%ld,%ld,%ld", r.steps, r.newton, r.force, r.assemble, r.factor,
-          r.retries);
+  if (!strcmp(r.status, "damaged")) fputs(",,,,,,", f); /* its counters are not its own */
+  else fprintf(f, ",%ld,%ld,%ld,%ld,%ld,%ld", r.steps, r.newton, r.force, r.assemble, r.factor,
+               r.retries);
   if (!ok) e = (errors){NAN, NAN, NAN, NAN, NAN, NAN, NAN}; /* a failed run has no errors */
   put_num(f, e.pos_max), put_num(f, e.pos_final), put_num(f, e.txy_max_l2);
   put_num(f, e.txy_max_linf), put_num(f, e.txy_mean_l2), put_num(f, e.txy_mean_linf);
