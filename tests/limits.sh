@@ -203,6 +203,7 @@ fresh; sed -i 's/^reference_rtol = .*/reference_rtol = banana/' "$c/bench_work_p
 rm "$c/work_precision.csv"
 expect_error "reference_rtol = banana" 'bench_work_precision.cfg:10: reference_rtol = banana; expected a number >= 0' \
   "$sinew" bench --merge "$c" --no-charts
+[ -e "$c/work_precision.csv" ] && fail "bench --merge wrote its CSV after refusing the settings"
 fresh; sed -i "s/^${ids}_dt0.02_r1,run,backward-euler,0,0.02,/${ids}_dt0.02_r1,run,backward-euler,0,-1,/" "$c/plan_work_precision.csv"
 rm "$c/work_precision.csv"
 expect_error "a plan's dt = -1" "plan_work_precision.csv:4: dt = '-1'; expected a number > 0 \\(s\\)" \
