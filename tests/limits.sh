@@ -174,9 +174,13 @@ merged_row() { # DT PATTERN WHAT: merge, then the row of dt DT matches PATTERN a
 fresh; rm -rf "$c/runs/${ids}_dt0.01_r1" && cp -r "$c/runs/${ids}_dt0.02_r1" "$c/runs/${ids}_dt0.01_r1"
 merged_row 0.01 "runs/${ids}_dt0.01_r1/summary.json:[0-9]+: dt is 0.02; the plan says 0.01 for this run" \
   "a run folder holding another run's summary"
-fresh; sed -i 4d "$c/runs/${ids}_dt0.02_r1/tension.csv"
+fresh; sed -i 4d "$c/runs/${ids}_dt0.02_r1/tension.csv"; sed -i 4d "$c/runs/${ids}_dt0.02_r2/tension.csv"
 merged_row 0.02 "runs/${ids}_dt0.02_r1/tension.csv: no line at the sample time t = 0.04 s; expected one at every 0.02 s and at the end" \
   "a log line deleted"
+grep -q "repeat 2 of ${ids}_dt0.02_r1 damaged, left out of the medians: runs/${ids}_dt0.02_r2/tension.csv: no line at the sample time t = 0.04 s" "$tmp/merge.out" ||
+  fail "a damaged repeat not named: $(grep repeat "$tmp/merge.out")"
+[ "$(grep "^backward-euler,fixed,dt,0.02," "$c/work_precision.csv" | cut -d, -f8)" = 1 ] ||
+  fail "a damaged repeat counted among the repeats"
 fresh; sed -i '4{h;d};5G' "$c/runs/${ids}_dt0.02_r1/energy.csv"
 merged_row 0.02 "runs/${ids}_dt0.02_r1/energy.csv:5: t = 0.04 s after t = 0.06 s on the line before; expected increasing times" \
   "log lines out of order"

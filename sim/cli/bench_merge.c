@@ -125,6 +125,20 @@ static spread repeat_spread(const bench_plan *p, int k, double (*what)(const ben
   return (spread){med, n ? v[0] : NAN, n ? v[n - 1] : NAN, n};
 }
 
+/* The other repeats of job k that are damaged, each named on stderr: they are left out of the
+ * medians, and the table shows only the first repeat's status. */
+static void warn_damaged_repeats(const bench_plan *p, int k) {
+  for (int i = 0; i < p->njob; i++) {
+    if (i == k || !same_setting(&p->job[k], &p->job[i])) continue;
+    bench_result r;
+    bench_read(&p->cfg, &p->job[i], 0, &r);
+    if (!strcmp(r.status, "damaged"))
+      fprintf(stderr, "sinew: bench: repeat %d of %s damaged, left out of the medians: %s\n",
+              p->job[i].rep, p->job[k].id, r.message);
+    bench_result_free(&r);
+  }
+}
+
 static double wall_of(const bench_result *r) { return r->wall; }
 static double step_of(const bench_result *r) { return r->step_median; }
 static double rss_of(const bench_result *r) { return r->max_rss_mb; }
@@ -188,6 +202,7 @@ static void wp_row(FILE *f, const bench_plan *p, int k, const bench_result *ref,
   int ok = !strcmp(r.status, "ok");
   *pt = (bench_point){j->method, j->adaptive, ok, j->adaptive ? j->rtol : j->dt, e.pos_max};
   spread w = repeat_spread(p, k, wall_of);
+  warn_damaged_repeats(p, k);
   fprintf(f, "%s,%s,%s,%.6g,%s", j->method, j->adaptive ? "adaptive" : "fixed",
           j->adaptive ? "rtol" : "dt", j->adaptive ? j->rtol : j->dt, r.status);
   put_text(f, r.how), put_text(f, r.message);
@@ -426,6 +441,7 @@ static int merge_scaling(const bench_plan *p) {
     bench_result r;
     bench_read(&p->cfg, j, 0, &r);
     int ok = !strcmp(r.status, "ok");
+    warn_damaged_repeats(p, k);
     double step = ok ? repeat_spread(p, k, step_of).median : NAN;
     double ts = r.time_step > 0 ? r.time_step : NAN;
     fprintf(f, "%s,%d,%ld,%ld,%ld", j->method, j->grid, r.nv, r.dofs, r.steps);
