@@ -42,11 +42,15 @@ struct sw_sim {
   char msg[SW_ERRSZ];
   int finished;                /* the run folder was closed (finish ran) */
   int started;                 /* the integrator is going (a restart file can be written) */
+  int fitting;                 /* the fit stage is going: ops and st are its backward Euler */
+  double fit_wall0;            /* s: wall clock the fit stage's time counts from */
+  double kept_damp, kept_tol, kept_ramp; /* the model's own, while the fit holds its own */
   double last_restart;         /* s: wall clock of the last restart.bin written */
   int closed;                  /* sw_sim_close was called: no more steps or changes */
 };
 
 static int write_restart(sw_sim *s, char *err, size_t errsz);
+static void fit_restore(sw_sim *s);
 
 /* The power damping dissipates at the current state (d->grad as scratch for D v) and its
  * integral by the trapezoid rule between log lines. */
@@ -328,6 +332,7 @@ void sw_sim_free(sw_sim *s) {
   char err[SW_ERRSZ];
   finish(s, err, sizeof err);
   if (s->ops && s->st) s->ops->free(s->st);
+  if (s->fitting) fit_restore(s); /* interrupted in the fit: the model as it was */
   sw_data_free(s->d);
   sw_free(s);
 }
@@ -342,9 +347,56 @@ static double rms_speed(const sw_model *m, const sw_data *d) {
 /* One step of the fit to end, logged; the sim's integrator is the fit's meanwhile. */
 static int fit_step(sw_sim *s, double end, char *err, size_t errsz) {
   int rc = step_with_retries(s, end, err, errsz);
+  s->d->fit_steps++; /* counted before the log: a restart file written there holds it */
   if (!rc) rc = record(s, 0, err, errsz);
-  s->d->fit_steps++;
   return rc;
+}
+
+/* The model's damping, Newton tolerance and gravity ramp back as they were before the fit. */
+static void fit_restore(sw_sim *s) {
+  sw_model *m = s->m;
+  m->damp_mass = s->kept_damp, m->opt.newton_tol = s->kept_tol;
+  m->gravity_delay = 0.0, m->gravity_ramp = s->kept_ramp;
+}
+
+/* The fit's model and its backward Euler integrator started at d (the fit's start, or the
+ * state a resumed run loaded).  Its mass damping is added, gravity is held over the seams'
+ * ramp time and then grows over as long, the Newton tolerance is the fit's. */
+static int fit_enter(sw_sim *s, char *err, size_t errsz) {
+  sw_model *m = s->m;
+  const sw_fit *f = &m->fit;
+  s->kept_damp = m->damp_mass, s->kept_tol = m->opt.newton_tol, s->kept_ramp = m->gravity_ramp;
+  m->damp_mass += f->damping;
+  m->gravity_delay = m->seam_ramp;
+  m->gravity_ramp = fmax(s->kept_ramp, m->seam_ramp);
+  m->opt.newton_tol = fmin(s->kept_tol, f->newton_tol);
+  s->fitting = 1;
+  s->fit_wall0 = sw_now() - s->d->fit_wall; /* a resumed fit: its time so far */
+  s->ops = sw_integrator_find("backward-euler");
+  int rc = s->ops ? s->ops->init(&s->st, m, s->d, err, errsz) : SW_FATAL;
+  if (rc) s->st = NULL;
+  s->started = !rc; /* restart files from here on */
+  return rc;
+}
+
+/* 1 when the fit is over after its last step: the seams closed to fit.gap and the RMS speed
+ * below fit.speed once gravity is on in full (*rc SW_OK), or fit.max_time reached (*rc
+ * SW_FATAL, with err).  Checked before each step, so that a resumed fit ends where a straight
+ * one does. */
+static int fit_over(sw_sim *s, int *rc, char *err, size_t errsz) {
+  const sw_model *m = s->m;
+  const sw_data *d = s->d;
+  const sw_fit *f = &m->fit;
+  if (d->fit_steps == 0) return 0; /* one step at least */
+  const double t_min = m->gravity_delay + m->gravity_ramp, eps = 1e-9 * f->dt; /* s */
+  double v = rms_speed(m, d);
+  if (d->t >= t_min - eps && d->seam_gap_max <= f->gap && v <= f->speed) return 1;
+  if (d->t < f->max_time - eps) return 0;
+  sw_errf(err, errsz, "t = %.9g s: the garment did not fit within fit max_time = %g s: "
+          "largest seam gap %.3g m (fit gap %g m), RMS speed %.3g m/s (fit speed %g m/s)",
+          d->t, f->max_time, d->seam_gap_max, f->gap, v, f->speed);
+  *rc = SW_FATAL;
+  return 1;
 }
 
 /* The fit stage (sinew.h, sw_fit; docs/garments.md): backward Euler steps of fit.dt with the
@@ -353,50 +405,31 @@ static int fit_step(sw_sim *s, double end, char *err, size_t errsz) {
  * scene's own method then starts from there, its step grid and duration counted from the
  * fit's end, which is written as a frame.  Gravity grows over the seams' ramp time once they
  * are sewn (the fit ends no earlier than twice the ramp time).  The model's damping, Newton
- * tolerance and gravity ramp are the fit's only while it lasts. */
+ * tolerance and gravity ramp are the fit's only while it lasts.  Restart files are written
+ * during the fit as during the method's steps (record); an interrupted fit stays entered, to
+ * be written so and resumed (sw_sim_resume goes on here). */
 static int fit_stage(sw_sim *s, char *err, size_t errsz) {
   sw_model *m = s->m;
   sw_data *d = s->d;
   const sw_fit *f = &m->fit;
   if (!f->on) return SW_OK;
-  const double alpha = m->damp_mass, tol = m->opt.newton_tol, wall = sw_now(); /* 1/s, m/s, s */
-  const sw_integrator_ops *ops = sw_integrator_find("backward-euler");
-  void *st = NULL;
-  const double g_ramp = m->gravity_ramp; /* s */
-  m->damp_mass += f->damping;
-  /* gravity grows once the seams are sewn, over the seams' ramp time */
-  m->gravity_delay = m->seam_ramp;
-  m->gravity_ramp = fmax(g_ramp, m->seam_ramp);
-  const double t_min = m->gravity_delay + m->gravity_ramp; /* s: gravity on in full */
-  m->opt.newton_tol = fmin(tol, f->newton_tol);
-  int rc = ops ? ops->init(&st, m, d, err, errsz) : SW_FATAL;
-  s->ops = ops, s->st = st;
-  long n = 0;
-  while (rc == SW_OK) {
-    if (stop_signal) { rc = stop(s, err, errsz); break; }
-    double end = tidy_time((double)++n * f->dt, f->dt);
-    if ((rc = fit_step(s, end, err, errsz))) break;
-    double v = rms_speed(m, d);
-    if (d->t >= t_min - 1e-9 * f->dt && d->seam_gap_max <= f->gap && v <= f->speed) break;
-    if (d->t >= f->max_time - 1e-9 * f->dt) {
-      sw_errf(err, errsz, "t = %.9g s: the garment did not fit within fit max_time = %g s: "
-              "largest seam gap %.3g m (fit gap %g m), RMS speed %.3g m/s (fit speed %g m/s)",
-              d->t, f->max_time, d->seam_gap_max, f->gap, v, f->speed);
-      rc = SW_FATAL;
-    }
+  int rc = s->fitting ? SW_OK : fit_enter(s, err, errsz);
+  while (rc == SW_OK && !fit_over(s, &rc, err, errsz)) {
+    if (stop_signal) return stop(s, err, errsz);
+    double end = tidy_time((double)(d->fit_steps + 1) * f->dt, f->dt);
+    rc = fit_step(s, end, err, errsz);
   }
-  if (rc && rc != SW_INTERRUPTED && err && strncmp(err, "fit: ", 5)) {
+  if (rc && err && strncmp(err, "fit: ", 5)) {
     char why[SW_ERRSZ];
     snprintf(why, sizeof why, "%s", err);
     sw_errf(err, errsz, "fit: %s", why);
   }
-  if (st) ops->free(st);
-  s->ops = NULL, s->st = NULL;
-  m->damp_mass = alpha, m->opt.newton_tol = tol;
-  m->gravity_delay = 0.0, m->gravity_ramp = g_ramp;
+  if (s->st) s->ops->free(s->st);
+  s->ops = NULL, s->st = NULL, s->started = 0, s->fitting = 0;
+  fit_restore(s);
   if (!rc && s->out && m->opt.frames_every >= 0.0 && sw_output_frame(s->out, m, d, err, errsz))
     rc = output_failed(d, err, errsz); /* the fitted garment */
-  d->fit_end = d->t, d->fit_wall = sw_now() - wall;
+  d->fit_end = d->t, d->fit_wall = sw_now() - s->fit_wall0;
   s->t0 = d->t, s->n = 0;
   return rc;
 }
@@ -437,6 +470,27 @@ static sw_sim *sim_alloc(sw_model *m, int flags, char *err, size_t errsz) {
   return s;
 }
 
+/* The sim's start after the first state was logged (begin) or a fit was resumed: the fit stage
+ * (the rest of it), the method started, the restart file of the start. */
+static int fit_then_start(sw_sim *s, char *err, size_t errsz) {
+  int rc = fit_stage(s, err, errsz);
+  if (!rc) rc = start_method(s, err, errsz);
+  s->started = !rc;
+  if (!rc && write_restart(s, err, errsz)) rc = output_failed(s->d, err, errsz); /* the start */
+  return rc;
+}
+
+/* A sim that could not start (rc: why; SW_INTERRUPTED: a fit stopped by a signal, which
+ * stop() recorded) closed and freed; its status in *status. */
+static sw_sim *start_failed(sw_sim *s, int rc, int *status, char *err) {
+  if (rc != SW_INTERRUPTED) outcome(s, rc, err);
+  if (status) *status = rc == SW_INTERRUPTED ? rc : SW_FATAL;
+  char cerr[SW_ERRSZ];
+  finish(s, cerr, sizeof cerr); /* an interrupted fit: its state, to resume from */
+  sw_sim_free(s);
+  return NULL;
+}
+
 /* The start of a run from s->d (the initial state): the sampling, the energy bound, the first
  * state logged (the static solve logs only its answer), the fit stage, the method started. */
 static int begin(sw_sim *s, char *err, size_t errsz) {
@@ -448,11 +502,7 @@ static int begin(sw_sim *s, char *err, size_t errsz) {
   /* a failure of any is the run's: the folder says so */
   int is_static = !strcmp(m->opt.method, "static");
   int rc = is_static && !m->fit.on ? SW_OK : record(s, 1, err, errsz);
-  if (!rc) rc = fit_stage(s, err, errsz);
-  if (!rc) rc = start_method(s, err, errsz);
-  s->started = !rc;
-  if (!rc && write_restart(s, err, errsz)) rc = output_failed(s->d, err, errsz); /* the start */
-  return rc;
+  return rc ? rc : fit_then_start(s, err, errsz);
 }
 
 sw_sim *sw_sim_start(sw_model *m, int flags, int *status, char *err, size_t errsz) {
@@ -467,13 +517,7 @@ sw_sim *sw_sim_start(sw_model *m, int flags, int *status, char *err, size_t errs
     }
   }
   int rc = begin(s, err, errsz);
-  if (rc) {
-    outcome(s, rc, err);
-    char cerr[SW_ERRSZ];
-    finish(s, cerr, sizeof cerr);
-    return sw_sim_free(s), NULL;
-  }
-  return s;
+  return rc ? start_failed(s, rc, status, err) : s;
 }
 
 /* ------------------------------------------------------------------ restart */
@@ -488,6 +532,7 @@ typedef struct restart_head {
   int nv, dim, nf;
   int grid[2];           /* sw_scene_overrides */
   double stiffness_scale;
+  int fitting;           /* written during the fit stage: its backward Euler's history follows */
   int ninput;            /* sw_input records after the header */
 } restart_head;
 
@@ -516,7 +561,13 @@ static void sim_io(sw_sim *s, sw_io *io) {
   IO(d->nretry), IO(d->nlinesearch), IO(d->nerrfail), IO(d->nsetup), IO(d->nstep_order);
   IO(d->ncg);
   IO(d->energy_bound), IO(d->last_newton), IO(d->last_dt);
-  IO(d->fit_end), IO(d->fit_steps), IO(d->fit_wall);
+  IO(d->fit_end), IO(d->fit_steps);
+  if (s->fitting && !io->load) d->fit_wall = sw_now() - s->fit_wall0; /* s: the fit's so far */
+  IO(d->fit_wall);
+  if (s->fitting) { /* the fit's model: its damping, gravity held and ramped, Newton tolerance */
+    sw_model *m = s->m;
+    IO(m->damp_mass), IO(m->gravity_delay), IO(m->gravity_ramp), IO(m->opt.newton_tol);
+  }
   double ks = sw_mcontact_kappa_scale(d->mc); /* the adapted contact stiffness's factor */
   IO(ks);
   sw_mcontact_set_kappa_scale(d->mc, ks);
@@ -535,6 +586,7 @@ static int write_restart(sw_sim *s, char *err, size_t errsz) {
   sw_io io = {0};
   restart_head h;
   head_of(s->m, &h);
+  h.fitting = s->fitting;
   sw_io_bytes(&io, &h, sizeof h);
   sw_io_bytes(&io, s->m->input, (size_t)s->m->ninput * sizeof *s->m->input);
   sim_io(s, &io);
@@ -587,9 +639,9 @@ static int model_changed(const restart_head *h, const sw_input *in, const sw_mod
 }
 
 /* The header of io and the inputs after it, checked against m (loading); force: a changed
- * scene, files or option is taken (sinew run --resume --force). */
-static int check_head(sw_io *io, const sw_model *m, int force, const char *dir, char *err,
-                      size_t errsz) {
+ * scene, files or option is taken (sinew run --resume --force); *fitting: written in the fit. */
+static int check_head(sw_io *io, const sw_model *m, int force, int *fitting, const char *dir,
+                      char *err, size_t errsz) {
   restart_head h;
   sw_io_bytes(io, &h, sizeof h);
   if (io->bad || memcmp(h.magic, SW_RESTART_MAGIC, 8) || h.ninput < 0 ||
@@ -600,6 +652,11 @@ static int check_head(sw_io *io, const sw_model *m, int force, const char *dir, 
                    "expected this scene's %d, %d, %dD, %s", dir, h.nv, h.nf, h.dim,
                    h.opt.method, m->nv, m->nf, m->dim, m->opt.method),
            -1;
+  if (h.fitting && !m->fit.on)
+    return sw_errf(err, errsz, "%s/restart.bin: written during a fit stage; expected a scene "
+                   "with seams to fit", dir),
+           -1;
+  *fitting = h.fitting;
   sw_input *copy = sw_calloc((size_t)h.ninput + 1, sizeof *copy);
   if (!copy) return sw_errf(err, errsz, "%s/restart.bin: out of memory", dir), -1;
   sw_io_bytes(io, copy, (size_t)h.ninput * sizeof *copy);
@@ -648,15 +705,19 @@ static int resume_from(sw_sim *s, int flags, char *err, size_t errsz) {
   const char *dir = s->m->opt.out_dir;
   sw_io io;
   if (sw_io_read(&io, dir, err, errsz)) return SW_NOSTART;
-  int rc = check_head(&io, s->m, flags & SW_SIM_FORCE, dir, err, errsz) ||
-                   start_method(s, err, errsz) ? SW_NOSTART
-                                                                                 : SW_OK;
+  int fitting = 0; /* the fit's integrator, or the method's */
+  int rc = check_head(&io, s->m, flags & SW_SIM_FORCE, &fitting, dir, err, errsz) ||
+                   (fitting ? fit_enter(s, err, errsz) : start_method(s, err, errsz))
+               ? SW_NOSTART
+               : SW_OK;
   if (!rc) {
     sim_io(s, &io);
     if (io.bad) rc = SW_NOSTART, sw_errf(err, errsz, "%s/restart.bin: cut short", dir);
     s->t_begin = s->d->t;
-    /* written by the step that reached grid point n + 1, before the loop counted it */
-    if (!rc && grid_next(s) <= s->d->t + 1e-9 * s->m->opt.dt) s->n++;
+    if (fitting) s->fit_wall0 = sw_now() - s->d->fit_wall; /* its time so far, loaded */
+    /* written by the step that reached grid point n + 1, before the loop counted it (the fit
+     * counts its steps in d->fit_steps) */
+    else if (!rc && grid_next(s) <= s->d->t + 1e-9 * s->m->opt.dt) s->n++;
   }
   if (!rc && !s->ops->history && s->ops->reset) s->ops->reset(s->st, s->m, s->d, SW_CHANGED_STATE);
   if (!rc && (flags & SW_SIM_OUTPUT) && !(s->out = sw_output_resume(s->m, s->d, &io, err, errsz)))
@@ -683,6 +744,8 @@ sw_sim *sw_sim_resume(sw_model *m, int flags, int *status, char *err, size_t err
     outcome(s, SW_FATAL, err);
     return sw_sim_free(s), NULL;
   }
+  if (s->fitting && (rc = fit_then_start(s, err, errsz))) /* the rest of the fit, as begin */
+    return start_failed(s, rc, status, err);
   *status = SW_OK;
   return s;
 }

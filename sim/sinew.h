@@ -653,7 +653,8 @@ SW_API int sw_run(const sw_model *m, int progress, char *err, size_t errsz);
 SW_API int sw_restart_options(const char *dir, char *scene, size_t scenesz, sw_options *opt,
                               char *err, size_t errsz);
 /* Go on with the run in m->opt.out_dir from its restart.bin to m->opt.duration, appending to
- * its logs (m: the scene loaded again, with the options sw_restart_options gave).  Returns as
+ * its logs (m: the scene loaded again, with the options sw_restart_options gave); a run stopped
+ * in its fit stage goes on with the fit where it stopped.  Returns as
  * sw_run; SW_NOSTART when the folder or its restart file cannot be used (nothing changed). */
 SW_API int sw_resume(const sw_model *m, int progress, char *err, size_t errsz);
 /* sw_restart_options, the overrides the run's scene was loaded with (sw_scene_load_ex) and

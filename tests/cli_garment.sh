@@ -6,6 +6,9 @@
 # written.  The run folder of a sewn tube: seams.csv, seams.json, seam_gap_max.  And the
 # shipped garments (skirt, tank top) load with nothing crossing and every seam paired, their
 # OBJ is what the command on its first line writes, and their seams are the ones it prints.
+# A tube run stopped by SIGTERM during its fit (exit 143, summary "interrupted", fit_end_s 0)
+# or killed with SIGKILL there, then `sinew run --resume`, writes the logs of a straight run
+# bit for bit (but the step_wall_s column) and its fit_steps.
 set -u
 sinew=$1
 tmp=$(mktemp -d)
@@ -70,6 +73,48 @@ for g in skirt tank; do
     grep -qxF "$line" "$scene" || echo "$line"
   done >"$tmp/missing_$g"
   [ -s "$tmp/missing_$g" ] && fail "$g: seams the generator prints, not in $scene: $(cat "$tmp/missing_$g")"
+done
+
+# a fit interrupted (SIGTERM) or killed (SIGKILL) part-way, resumed: the straight run's logs
+# wait_lines FILE N: until FILE has N lines (at most 60 s)
+wait_lines() {
+  local i
+  for i in $(seq 3000); do
+    [ -f "$1" ] && [ "$(wc -l <"$1")" -ge "$2" ] && return 0
+    sleep 0.02
+  done
+  return 1
+}
+nowall() { # energy.csv without its step_wall_s column
+  awk -F, -v OFS=, 'NR == 1 { for (i = 1; i <= NF; i++) if ($i == "step_wall_s") c = i } { $c = ""; print }' "$1"
+}
+summary() { sed -n "s/.*\"$2\": \([0-9.e+-]*\).*/\1/p" "$1/summary.json"; }
+# fit dt 2 ms: about 1550 fit steps, then 0.3 s of dynamics
+sed -e 's/^duration: 0$/duration: 0.3\nfit: {dt: 0.002}/' "$good" >"$tmp/fit.yaml"
+rf() { "$sinew" run "$tmp/fit.yaml" --frames-every 0.1 --quiet "$@"; }
+rf --out "$tmp/straight" 2>"$tmp/err" || fail "fit straight run: $(cat "$tmp/err")"
+for sig in TERM KILL; do
+  d=$tmp/fit$sig
+  "$sinew" run "$tmp/fit.yaml" --frames-every 0.1 --quiet --out "$d" 2>/dev/null &
+  pid=$!
+  wait_lines "$d/tension.csv.part" 200 || fail "SIG$sig: the fit did not get going"
+  kill -$sig $pid
+  wait $pid
+  code=$?
+  if [ $sig = TERM ]; then
+    [ $code = 143 ] || fail "SIGTERM in the fit: exit $code, expected 143"
+    grep -q '"status": "interrupted"' "$d/summary.json" || fail "SIGTERM in the fit: not interrupted"
+    [ "$(summary "$d" fit_end_s)" = 0 ] || fail "SIGTERM came after the fit (fit_end_s $(summary "$d" fit_end_s))"
+  fi
+  "$sinew" run --resume "$d" --quiet 2>"$tmp/err" || fail "SIG$sig in the fit: resume: $(cat "$tmp/err")"
+  grep -q '"status": "ok"' "$d/summary.json" || fail "SIG$sig in the fit: resumed run not ok"
+  for f in tension contact seams; do
+    cmp -s "$tmp/straight/$f.csv" "$d/$f.csv" || fail "SIG$sig in the fit: $f.csv differs from the straight run's"
+  done
+  cmp -s <(nowall "$tmp/straight/energy.csv") <(nowall "$d/energy.csv") ||
+    fail "SIG$sig in the fit: energy.csv differs from the straight run's"
+  [ "$(summary "$d" fit_steps)" = "$(summary "$tmp/straight" fit_steps)" ] ||
+    fail "SIG$sig in the fit: fit_steps $(summary "$d" fit_steps), the straight run's $(summary "$tmp/straight" fit_steps)"
 done
 
 [ $fails -eq 0 ] && echo "cli_garment: all passed"
