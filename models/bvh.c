@@ -16,6 +16,7 @@
 #include <string.h>
 
 #include "contact_geom.h"
+#include "sinew.h"
 #include "util.h"
 
 enum { SW_BVH_LEAF = 4, SW_BVH_DEPTH = 64 };
@@ -84,6 +85,7 @@ int sw_bvh_build(sw_bvh *t, int n, sw_bvh_box_fn box, const void *ctx) {
   if (!c || !t->prim || !t->node || !t->box) return sw_free(c), sw_bvh_free(t), -1;
   t->n = n;
   for (int i = 0; i < n; i++) {
+    if ((i & 0xffff) == 0 && sw_interrupted()) return sw_free(c), sw_bvh_free(t), -2;
     double b[6];
     box(ctx, i, b);
     for (int a = 0; a < 3; a++) c[3 * (size_t)i + a] = (float)(0.5 * (b[a] + b[3 + a]));
@@ -96,6 +98,7 @@ int sw_bvh_build(sw_bvh *t, int n, sw_bvh_box_fn box, const void *ctx) {
   while (top > 0) {
     top--;
     int k = stack[top][0], lo = stack[top][1], hi = stack[top][2];
+    if (hi - lo > 65536 && sw_interrupted()) return sw_free(c), sw_bvh_free(t), -2;
     if (hi - lo <= SW_BVH_LEAF) {
       t->node[2 * k] = lo, t->node[2 * k + 1] = hi - lo;
       continue;

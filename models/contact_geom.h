@@ -208,7 +208,8 @@ typedef struct sw_bvh {
   int *prim;     /* (n) the primitives in leaf order */
 } sw_bvh;
 
-/* 0, or -1 when out of memory (t then empty). */
+/* 0, -1 when out of memory, -2 when stopped by a signal (sw_interrupt) while building (t
+ * then empty in both). */
 int sw_bvh_build(sw_bvh *t, int n, sw_bvh_box_fn box, const void *ctx);
 void sw_bvh_refit(sw_bvh *t, sw_bvh_box_fn box, const void *ctx);
 /* Call hit on every primitive whose box overlaps b (closed boxes): the primitives of every

@@ -711,7 +711,8 @@ static int join_meshes(mc_param *p, const sw_model *m) {
 }
 
 /* The obstacles' trees over their primitives at their stated place (the edges sort by their
- * lower vertex, so the cloth's come first); -1 when out of memory. */
+ * lower vertex, so the cloth's come first); -1 when out of memory or stopped by a signal
+ * (sw_interrupt) while building. */
 static int build_trees(mc_param *p, const sw_model *m, char *err, size_t errsz) {
   for (p->ne_cloth = 0; p->ne_cloth < p->ne && p->edge[2 * p->ne_cloth] < m->nv;) p->ne_cloth++;
   int n[3] = {p->nvt - m->nv, p->ne - p->ne_cloth, p->nf - m->nf};
@@ -719,8 +720,11 @@ static int build_trees(mc_param *p, const sw_model *m, char *err, size_t errsz) 
     p->moving |= m->mesh_obstacle[k].nkey > 0 || m->mesh_obstacle[k].nrot > 0;
   for (int k = 0; k < 3; k++) {
     tree_ctx c = {p, m->nv, m->nf, k, m->nv, p->rest, p->rest};
-    if (sw_bvh_build(&p->tree[k], n[k], tree_box, &c))
-      return sw_errf(err, errsz, "out of memory for the mesh obstacles' trees"), -1;
+    int rc = sw_bvh_build(&p->tree[k], n[k], tree_box, &c);
+    if (rc == -2)
+      return sw_errf(err, errsz, "stopped by signal %d while building the mesh obstacles' "
+                     "trees", sw_interrupted()), -1;
+    if (rc) return sw_errf(err, errsz, "out of memory for the mesh obstacles' trees"), -1;
     sw_free(p->tree[k].box); /* each workspace fits its own (fit_trees) */
     p->tree[k].box = NULL;
   }

@@ -292,6 +292,16 @@ static void catch_stop_signals(void) {
 
 static int finish_run(sw_model *m, int rc, const char *err, int quiet);
 
+/* A scene that could not be loaded: its message; 130 (143) when SIGINT (SIGTERM) stopped the
+ * loading (nothing is written before the load), else 1. */
+static int load_failed(const char *what, const char *err) {
+  int sig = sw_interrupted();
+  if (!sig) return fprintf(stderr, "sinew: %s%s\n", what, err), 1;
+  fprintf(stderr, "sinew: stopped by %s while loading the scene: %s\nsinew: nothing written\n",
+          sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : "a signal", err);
+  return 128 + sig;
+}
+
 /* sinew run --resume DIR [--duration T] [--threads N] [--quiet]: the run in DIR goes on from
  * its restart.bin with its own scene and options (a longer duration if given). */
 static int cmd_resume(int argc, char **argv) {
@@ -317,8 +327,9 @@ static int cmd_resume(int argc, char **argv) {
   if (strlen(dir) >= SW_PATHSZ ||
       sw_restart_options_ex(dir, scene, sizeof scene, &opt, &ov, &t_from, err, sizeof err))
     return fprintf(stderr, "sinew: cannot resume: %s\n", strlen(dir) >= SW_PATHSZ ? "path too long" : err), 1;
+  catch_stop_signals(); /* loading a large mesh obstacle takes seconds */
   sw_model *m = sw_scene_load_ex(scene, &ov, err, sizeof err);
-  if (!m) return fprintf(stderr, "sinew: cannot resume: %s\n", err), 1;
+  if (!m) return load_failed("cannot resume: ", err);
   m->opt = opt;
   snprintf(m->opt.out_dir, sizeof m->opt.out_dir, "%s", dir);
   if (duration >= 0) m->opt.duration = duration;
@@ -326,7 +337,6 @@ static int cmd_resume(int argc, char **argv) {
   if (!quiet)
     fprintf(stderr, "sinew: resuming %s in %s/ from t = %.9g s: %s, to t = %g s\n", m->name,
             dir, t_from, m->opt.method, m->opt.duration);
-  catch_stop_signals();
   return finish_run(m, sw_resume_ex(m, !quiet, force, err, sizeof err), err, quiet);
 }
 
@@ -337,8 +347,9 @@ static int cmd_run(int argc, char **argv) {
            .factor = -1, .max_order = -1, .frames_format = -1};
   if (parse_run_args(argc, argv, &c)) return 2;
   char err[SW_ERRSZ];
+  catch_stop_signals(); /* loading a large mesh obstacle takes seconds */
   sw_model *m = sw_scene_load_ex(c.scene, &c.ov, err, sizeof err);
-  if (!m) return fprintf(stderr, "sinew: %s\n", err), 1;
+  if (!m) return load_failed("", err);
   if (m->warning[0]) fprintf(stderr, "sinew: warning: %s\n", m->warning);
   if (c.out) snprintf(m->opt.out_dir, sizeof m->opt.out_dir, "%s", c.out);
   if (c.method) snprintf(m->opt.method, sizeof m->opt.method, "%s", c.method);
@@ -361,7 +372,6 @@ static int cmd_run(int argc, char **argv) {
   if (!c.quiet)
     fprintf(stderr, "sinew: %s: %d vertices, %d free DOFs, %s, dt = %g s, to t = %g s\n",
             m->name, m->nv, m->ndof, m->opt.method, m->opt.dt, m->opt.duration);
-  catch_stop_signals();
   return finish_run(m, sw_run(m, !c.quiet, err, sizeof err), err, c.quiet);
 }
 
@@ -402,8 +412,9 @@ static int cmd_check(int argc, char **argv) {
                      argv[i]), 2;
   }
   char err[SW_ERRSZ];
+  catch_stop_signals(); /* loading a large mesh obstacle takes seconds */
   sw_model *m = sw_scene_load_ex(argv[2], &ov, err, sizeof err);
-  if (!m) return fprintf(stderr, "sinew: %s\n", err), 1;
+  if (!m) return load_failed("", err);
   if (m->warning[0]) fprintf(stderr, "sinew: warning: %s\n", m->warning);
   sw_model_print(m, stdout);
   sw_model_free(m);

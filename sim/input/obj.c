@@ -17,6 +17,7 @@
  * file whose first statement is no OBJ keyword is "not an OBJ file", without a quote (it may
  * be any file: a line of /etc/passwd has no place in a message). */
 #include "obj.h"
+#include "sinew.h"
 #include "util.h"
 
 #include <errno.h>
@@ -459,8 +460,12 @@ static int read_line(obj_state *st, const char *buf, size_t len, size_t pos, siz
 static int read_lines(obj_state *st, const char *buf, size_t len) {
   size_t pos = 0;
   if (len >= 3 && memcmp(buf, "\xef\xbb\xbf", 3) == 0) pos = 3; /* UTF-8 byte order mark */
-  while (pos < len)
+  while (pos < len) {
+    if ((st->line & 0xffff) == 0 && sw_interrupted()) /* a stop request, every 65536 lines */
+      return sw_errf(st->err, st->errsz, "%s: stopped by signal %d at line %zu", st->name,
+                     sw_interrupted(), st->line + 1), -1;
     if (read_line(st, buf, len, pos, &pos)) return -1;
+  }
   if (st->nf == 0) {
     sw_errf(st->err, st->errsz, "%s: found no faces, expected at least one f statement",
             st->name);
@@ -551,6 +556,12 @@ static int read_all(const char *path, FILE *fp, char **out, size_t *len, char *e
   char *buf = NULL;
   size_t n = 0, cap = 0;
   for (;;) {
+    if (sw_interrupted()) { /* a stop request, polled every read */
+      sw_free(buf);
+      sw_errf(err, errsz, "%s: stopped by signal %d after reading %zu bytes", path,
+              sw_interrupted(), n);
+      return -1;
+    }
     char *b = reserve(buf, &cap, n + 65536, 1);
     if (!b) {
       sw_free(buf);
