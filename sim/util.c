@@ -106,7 +106,7 @@ void sw_names_free(sw_names *t) {
 /* ------------------------------------------------ restart files (util.h) */
 
 void sw_io_bytes(sw_io *io, void *p, size_t n) {
-  if (io->bad) return;
+  if (io->bad || n == 0) return; /* n == 0: p may be NULL (an empty array) */
   if (io->load) {
     if (n > io->len - io->pos) {
       io->bad = 1;
