@@ -106,7 +106,9 @@ for sig in TERM KILL; do
     grep -q '"status": "interrupted"' "$d/summary.json" || fail "SIGTERM in the fit: not interrupted"
     [ "$(summary "$d" fit_end_s)" = 0 ] || fail "SIGTERM came after the fit (fit_end_s $(summary "$d" fit_end_s))"
   fi
-  "$sinew" run --resume "$d" --quiet 2>"$tmp/err" || fail "SIG$sig in the fit: resume: $(cat "$tmp/err")"
+  "$sinew" run --resume "$d" 2>"$tmp/err" >/dev/null || fail "SIG$sig in the fit: resume: $(cat "$tmp/err")"
+  grep -q "to t = the fit's end + " "$tmp/err" ||
+    fail "SIG$sig in the fit: the resume message does not count the duration from the fit's end: $(head -1 "$tmp/err")"
   grep -q '"status": "ok"' "$d/summary.json" || fail "SIG$sig in the fit: resumed run not ok"
   for f in tension contact seams; do
     cmp -s "$tmp/straight/$f.csv" "$d/$f.csv" || fail "SIG$sig in the fit: $f.csv differs from the straight run's"

@@ -304,6 +304,10 @@ static int load_failed(const char *what, const char *err) {
 
 /* sinew run --resume DIR [--duration T] [--threads N] [--quiet]: the run in DIR goes on from
  * its restart.bin with its own scene and options (a longer duration if given). */
+/* The start of the duration in the start message: a garment's duration counts from the end
+ * of its fit stage (docs/garments.md). */
+static const char *until_fit(const sw_model *m) { return m->fit.on ? "the fit's end + " : ""; }
+
 static int cmd_resume(int argc, char **argv) {
   const char *dir = argv[3];
   double duration = -1.0;
@@ -335,8 +339,8 @@ static int cmd_resume(int argc, char **argv) {
   if (duration >= 0) m->opt.duration = duration;
   if (threads > 0) m->opt.blas_threads = threads;
   if (!quiet)
-    fprintf(stderr, "sinew: resuming %s in %s/ from t = %.9g s: %s, to t = %g s\n", m->name,
-            dir, t_from, m->opt.method, m->opt.duration);
+    fprintf(stderr, "sinew: resuming %s in %s/ from t = %.9g s: %s, to t = %s%g s\n", m->name,
+            dir, t_from, m->opt.method, until_fit(m), m->opt.duration);
   return finish_run(m, sw_resume_ex(m, !quiet, force, err, sizeof err), err, quiet);
 }
 
@@ -370,8 +374,8 @@ static int cmd_run(int argc, char **argv) {
   if (c.frames_format >= 0) m->opt.frames_format = c.frames_format;
   if (c.positions_every >= 0) m->opt.positions_every = c.positions_every;
   if (!c.quiet)
-    fprintf(stderr, "sinew: %s: %d vertices, %d free DOFs, %s, dt = %g s, to t = %g s\n",
-            m->name, m->nv, m->ndof, m->opt.method, m->opt.dt, m->opt.duration);
+    fprintf(stderr, "sinew: %s: %d vertices, %d free DOFs, %s, dt = %g s, to t = %s%g s\n",
+            m->name, m->nv, m->ndof, m->opt.method, m->opt.dt, until_fit(m), m->opt.duration);
   return finish_run(m, sw_run(m, !c.quiet, err, sizeof err), err, c.quiet);
 }
 
