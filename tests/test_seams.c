@@ -228,6 +228,57 @@ static void arrangement(void **st) {
   sw_model_free(m);
 }
 
+/* A cylinder about any axis: the tube's front wrapped about the axis (1, 0, 1) through
+ * (0.2, 0, 0.5), radius 0.11, top 0.1 along the axis.  The frame, by the test's own hand: e3 =
+ * (1, 0, 1)/sqrt 2, e1 = +x's part across the axis = (1, 0, -1)/sqrt 2, e2 = e3 x e1 = +y; the
+ * vertex at (u, v) at c + 0.11 (cos th e1 + sin th e2) + (0.1 + v) e3, th = angle + u / 0.11. */
+static void arrangement_axis(void **st) {
+  (void)st;
+  sw_model *m = th_scene("tests/data/tube.yaml", TUBE_HEAD
+                         "arrange:\n"
+                         "  front: {cylinder: {angle: 30, top: 0.1, radius: 0.11, axis: [1, 0, 1], "
+                         "center: [0.2, 0, 0.5]}}\n");
+  assert_non_null(m);
+  const double h = sqrt(0.5), e1[3] = {h, 0, -h}, e2[3] = {0, 1, 0}, e3[3] = {h, 0, h};
+  const double c[3] = {0.2, 0, 0.5}, pi = 3.14159265358979;
+  for (int i = 0; i < 35; i++) {
+    const double *x = m->x0 + 3 * i, u = -0.15 + 0.05 * (i % 7), v = -0.05 * (i / 7);
+    double th = 30 * pi / 180 + u / 0.11;
+    for (int a = 0; a < 3; a++) {
+      double want = c[a] + 0.11 * (cos(th) * e1[a] + sin(th) * e2[a]) + (0.1 + v) * e3[a];
+      assert_true(fabs(x[a] - want) < 1e-12);
+    }
+  }
+  sw_model_free(m);
+}
+
+/* clearance counts only the closed surfaces that hold the axis: beside the cylinder of radius
+ * 0.08 (the body) a box reaches 0.30 m from its axis (an arm), so the radius is 0.08 + 0.03,
+ * not 0.33; a piece wrapped about an axis through the box takes the box's corners. */
+static void clearance_surfaces(void **st) {
+  (void)st;
+  sw_model *m = th_scene("tests/data/tube.yaml", TUBE_HEAD
+                         "obstacles: [{mesh: two_bodies.obj}]\n"
+                         "arrange:\n"
+                         "  front: {cylinder: {angle: 270, top: 0.1, clearance: 0.03}}\n"
+                         "  back: {rigid: {translate: [0, 1, 1]}}\n");
+  assert_non_null(m);
+  for (int i = 0; i < 35; i++)
+    assert_true(fabs(hypot(m->x0[3 * i], m->x0[3 * i + 1]) - 0.11) < 1e-9);
+  sw_model_free(m);
+  /* about the vertical axis through the box's middle (0.25, 0): its corners 0.0559 m away */
+  m = th_scene("tests/data/tube.yaml", TUBE_HEAD
+               "obstacles: [{mesh: two_bodies.obj}]\n"
+               "arrange:\n"
+               "  front: {cylinder: {angle: 0, top: 0.1, clearance: 0.03, center: [0.25, 0]}}\n"
+               "  back: {rigid: {translate: [0, 1, 1]}}\n");
+  assert_non_null(m);
+  double want = hypot(0.05, 0.05) + 0.03;
+  for (int i = 0; i < 35; i++)
+    assert_true(fabs(hypot(m->x0[3 * i] - 0.25, m->x0[3 * i + 1]) - want) < 1e-9);
+  sw_model_free(m);
+}
+
 /* A bad scene's message: at the line and column given, naming `name`. */
 static void bad(const char *text, const char *where, const char *name) {
   char err[SW_ERRSZ];
@@ -279,6 +330,13 @@ static void bad_input(void **st) {
       "  front: {cylinder: {angle: 270, top: 0.1, radius: 0.11}}\n"
       "  back: {cylinder: {angle: 300, top: 0.1, radius: 0.11}}\n" TUBE_SEAMS,
       "tube.yaml:5:3: ", "arrange front: the piece crosses piece back");
+  /* a zero axis; a tilted axis placed by a point of two coordinates */
+  bad(TUBE_HEAD "arrange:\n"
+      "  front: {cylinder: {top: 0.1, radius: 0.11, axis: [0, 0, 0]}}\n",
+      "tube.yaml:5:52: ", "arrange front cylinder axis is [0, 0, 0]; expected a nonzero direction");
+  bad(TUBE_HEAD "arrange:\n"
+      "  front: {cylinder: {top: 0.1, radius: 0.11, axis: [1, 0, 1], center: [0, 0]}}\n",
+      "tube.yaml:5:", "arrange front cylinder center");
   /* an unknown piece */
   bad(TUBE_HEAD "arrange: {sleeve: {rigid: {translate: [0, 0, 0]}}}\n",
       "tube.yaml:4:11: ", "arrange names 'sleeve'");
@@ -290,6 +348,8 @@ int main(void) {
       cmocka_unit_test(conformance_closed),
       cmocka_unit_test(pairing),
       cmocka_unit_test(arrangement),
+      cmocka_unit_test(arrangement_axis),
+      cmocka_unit_test(clearance_surfaces),
       cmocka_unit_test(tube_fit),
       cmocka_unit_test(tube_static),
       cmocka_unit_test(bad_input),

@@ -62,31 +62,126 @@ static int piece_of(const ctx *c, const ynode *at, const char *name, int g, unsi
   return 0;
 }
 
-/* The largest horizontal distance from the axis (cx, cy) of a mesh obstacle's vertex with z in
- * [z0, z1], m (-1: none). */
-static double body_radius(const sw_model *m, double cx, double cy, double z0, double z1) {
-  double r = -1.0;
+/* A cylinder's frame: a point on the axis, the axis e3 (unit), and e1, e2 spanning the plane
+ * across it (e1 along +x's part across the axis, or +y's when the axis is nearly x; e2 = e3 x
+ * e1), so that a vertical axis has e1 = +x, e2 = +y as before. */
+typedef struct cyl_frame {
+  double c[3], e1[3], e2[3], e3[3]; /* m; unit vectors */
+} cyl_frame;
+
+static void cross3(const double *a, const double *b, double *o) {
+  o[0] = a[1] * b[2] - a[2] * b[1];
+  o[1] = a[2] * b[0] - a[0] * b[2];
+  o[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+static void frame_of(const double *ctr, const double *axis, cyl_frame *f) {
+  double n = sqrt(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]);
+  for (int a = 0; a < 3; a++) f->c[a] = ctr[a], f->e3[a] = axis[a] / n;
+  double ref[3] = {1, 0, 0};
+  if (fabs(f->e3[0]) > 0.9) ref[0] = 0.0, ref[1] = 1.0;
+  double d = ref[0] * f->e3[0] + ref[1] * f->e3[1] + ref[2] * f->e3[2], len = 0.0;
+  for (int a = 0; a < 3; a++) f->e1[a] = ref[a] - d * f->e3[a], len += f->e1[a] * f->e1[a];
+  for (int a = 0; a < 3; a++) f->e1[a] /= sqrt(len);
+  cross3(f->e3, f->e1, f->e2);
+}
+
+/* p's coordinate along the axis and its distance from it, m. */
+static void axial(const cyl_frame *f, const double *p, double *s, double *r) {
+  double q[3], t = 0.0, r2 = 0.0;
+  for (int a = 0; a < 3; a++) q[a] = p[a] - f->c[a], t += q[a] * f->e3[a];
+  for (int a = 0; a < 3; a++) r2 += (q[a] - t * f->e3[a]) * (q[a] - t * f->e3[a]);
+  *s = t, *r = sqrt(r2);
+}
+
+/* Which closed surface (connected set of faces) of obstacle o each vertex belongs to, labels
+ * 0 .. *nsurf - 1 in lab (mesh_nv); union-find over the faces' vertices. */
+static int surfaces(const sw_obstacle *o, int *lab, int *nsurf) {
+  int *up = lab;
+  for (int i = 0; i < o->mesh_nv; i++) up[i] = i;
+  for (int f = 0; f < o->mesh_nf; f++)
+    for (int k = 1; k < 3; k++) {
+      int a = o->mesh_face[3 * f], b = o->mesh_face[3 * f + k];
+      while (up[a] != a) a = up[a] = up[up[a]];
+      while (up[b] != b) b = up[b] = up[up[b]];
+      if (a != b) up[a < b ? b : a] = a < b ? a : b;
+    }
+  int n = 0;
+  for (int i = 0; i < o->mesh_nv; i++) /* roots come first: up[i] <= i */
+    lab[i] = up[i] == i ? n++ : lab[up[i]];
+  *nsurf = n;
+  return 0;
+}
+
+/* Whether point p lies inside each closed surface of o: in[s] = the parity of a long ray's
+ * crossings with surface s's faces (a direction no axis-aligned mesh meets edge-on). */
+static void inside_surfaces(const sw_obstacle *o, const int *lab, const double *p,
+                            unsigned char *in) {
+  static const double dir[3] = {0.5427, 0.3111, 0.7807};
+  double q[3];
+  for (int a = 0; a < 3; a++) q[a] = p[a] + 1e3 * dir[a]; /* m */
+  for (int f = 0; f < o->mesh_nf; f++) {
+    const int *v = o->mesh_face + 3 * f;
+    in[lab[v[0]]] ^= (unsigned char)sw_segment_triangle_intersect(
+        p, q, o->mesh_x + 3 * v[0], o->mesh_x + 3 * v[1], o->mesh_x + 3 * v[2]);
+  }
+}
+
+/* For obstacle o: the surface of each vertex (lab) and whether each surface holds point p (in);
+ * *any: 1 when one does.  lab and in hold mesh_nv + 1 entries; 0, or -1 out of memory. */
+static int holding(const sw_obstacle *o, const double *p, int **lab, unsigned char **in,
+                   int *any) {
+  *lab = sw_calloc((size_t)o->mesh_nv + 1, sizeof(int));
+  *in = *lab ? sw_calloc((size_t)o->mesh_nv + 1, 1) : NULL;
+  if (!*in) return sw_free(*lab), *lab = NULL, -1;
+  int ns = 0;
+  surfaces(o, *lab, &ns);
+  inside_surfaces(o, *lab, p, *in);
+  for (int j = 0; j < ns; j++) *any |= (*in)[j];
+  return 0;
+}
+
+/* The largest distance from the axis of a mesh obstacle's vertex with its axial coordinate in
+ * [s0, s1], counting only the closed surfaces (of every mesh obstacle) that hold the axis's
+ * point at mid, so that arms beside a torso do not widen the torso's cylinder nor the torso an
+ * arm's; every surface when none holds it; m (-1: no vertex; -2: out of memory). */
+static double body_radius(const sw_model *m, const cyl_frame *f, double s0, double s1, double mid) {
+  double r = -1.0, p[3];
+  int any = 0, *lab;
+  unsigned char *in;
+  for (int a = 0; a < 3; a++) p[a] = f->c[a] + mid * f->e3[a];
+  for (int k = 0; k < m->nmesh_obstacle; k++) { /* does a surface hold p? */
+    if (holding(&m->mesh_obstacle[k], p, &lab, &in, &any)) return -2.0;
+    sw_free(lab), sw_free(in);
+  }
   for (int k = 0; k < m->nmesh_obstacle; k++) {
     const sw_obstacle *o = &m->mesh_obstacle[k];
+    int dummy = 0;
+    if (holding(o, p, &lab, &in, &dummy)) return -2.0;
     for (int i = 0; i < o->mesh_nv; i++) {
-      const double *p = o->mesh_x + 3 * i;
-      if (p[2] >= z0 && p[2] <= z1) r = fmax(r, hypot(p[0] - cx, p[1] - cy));
+      double s, d;
+      axial(f, o->mesh_x + 3 * i, &s, &d);
+      if (s >= s0 && s <= s1 && (!any || in[lab[i]])) r = fmax(r, d);
     }
+    sw_free(lab), sw_free(in);
   }
   return r;
 }
 
-static const char *const cyl_keys[] = {"angle", "top", "radius", "clearance", "center"};
+static const char *const cyl_keys[] = {"angle", "top", "radius", "clearance", "center", "axis"};
 
+/* Wrapped without stretch onto the cylinder: u round the axis (anticlockwise seen from the
+ * axis's tip), v along it; the reference point at `angle` from e1 and at `top` along the axis
+ * from `center`. */
 static int place_cylinder(const ctx *c, const ynode *y, const char *name, const piece *pc,
                           const unsigned char *mark, const double *uvv) {
   sw_model *m = c->m;
-  const ynode *v[5];
-  double ang = 0.0, top = 0.0, R = 0.0, clear = 0.0, ctr[3] = {0, 0, 0};
+  const ynode *v[6];
+  double ang = 0.0, top = 0.0, R = 0.0, clear = 0.0, ctr[3] = {0, 0, 0}, axis[3] = {0, 0, 1};
   char w[SW_NAMESZ + 32], lab[SW_NAMESZ + 64];
   snprintf(w, sizeof w, "arrange %s cylinder", name);
-  if (sy_map(c, y, w, cyl_keys, 5, v) ||
-      sy_need(c, y, v[1], w, "top", "top: the height of the piece's top, m"))
+  if (sy_map(c, y, w, cyl_keys, 6, v) ||
+      sy_need(c, y, v[1], w, "top", "top: where the piece's top is along the axis, m"))
     return -1;
   if (!!v[2] == !!v[3])
     return sy_fail(c, y, "%s has %s; expected exactly one of radius (m) or clearance (m, from "
@@ -96,20 +191,33 @@ static int place_cylinder(const ctx *c, const ynode *y, const char *name, const 
   if (v[0] && sy_num(c, v[0], lab, -HUGE_VAL, 0, "degrees", &ang)) return -1;
   snprintf(lab, sizeof lab, "%s top", w);
   if (sy_num(c, v[1], lab, -HUGE_VAL, 0, "m", &top)) return -1;
+  snprintf(lab, sizeof lab, "%s axis", w);
+  if (v[5]) {
+    if (sy_vec(c, v[5], lab, 3, -HUGE_VAL, 0, "", axis)) return -1;
+    double n = sqrt(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]);
+    if (!(n > 1e-12) || !isfinite(n))
+      return sy_fail(c, v[5], "%s is [%g, %g, %g]; expected a nonzero direction", lab, axis[0],
+                     axis[1], axis[2]);
+  }
   snprintf(lab, sizeof lab, "%s center", w);
-  if (v[4] && sy_vec(c, v[4], lab, 2, -HUGE_VAL, 0, "m", ctr)) return -1;
+  /* a vertical axis is placed by [x, y]; any other by a point [x, y, z] */
+  int vertical = !v[5] || (axis[0] == 0.0 && axis[1] == 0.0 && axis[2] > 0.0);
+  if (v[4] && sy_vec(c, v[4], lab, vertical ? 2 : 3, -HUGE_VAL, 0, "m", ctr)) return -1;
+  cyl_frame fr;
+  frame_of(ctr, axis, &fr);
+  double len = pc->vtop - pc->vbot; /* m: the piece along the axis */
   if (v[2]) {
     snprintf(lab, sizeof lab, "%s radius", w);
     if (sy_num(c, v[2], lab, 0, 1, "m", &R)) return -1;
   } else {
     snprintf(lab, sizeof lab, "%s clearance", w);
     if (sy_num(c, v[3], lab, 0, 0, "m", &clear)) return -1;
-    double zb = top - (pc->vtop - pc->vbot);
-    double rb = body_radius(m, ctr[0], ctr[1], zb - clear, top + clear);
+    double rb = body_radius(m, &fr, top - len - clear, top + clear, top - 0.5 * len);
+    if (rb == -2.0) return sy_oom(c, v[3]);
     if (rb < 0.0)
-      return sy_fail(c, v[3], "%s: no mesh obstacle has a vertex between z = %g and %g m; "
-                     "expected a body (obstacles: - {mesh: ...}) beside the piece, or a radius",
-                     lab, zb - clear, top + clear);
+      return sy_fail(c, v[3], "%s: no mesh obstacle has a vertex between %g and %g m along the "
+                     "axis; expected a body (obstacles: - {mesh: ...}) beside the piece, or a "
+                     "radius", lab, top - len - clear, top + clear);
     R = rb + clear; /* m */
   }
   if (pc->width >= 2.0 * ARR_PI * R)
@@ -119,8 +227,9 @@ static int place_cylinder(const ctx *c, const ynode *y, const char *name, const 
   for (int i = 0; i < m->nv; i++) {
     if (!mark[i]) continue;
     double th = a0 + (uvv[2 * i] - pc->umid) / R, *x = m->x0 + 3 * i;
-    x[0] = ctr[0] + R * cos(th), x[1] = ctr[1] + R * sin(th);
-    x[2] = top + (uvv[2 * i + 1] - pc->vtop); /* m */
+    double s = top + (uvv[2 * i + 1] - pc->vtop); /* m along the axis */
+    for (int a = 0; a < 3; a++)
+      x[a] = fr.c[a] + R * (cos(th) * fr.e1[a] + sin(th) * fr.e2[a]) + s * fr.e3[a];
   }
   return 0;
 }
