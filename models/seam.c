@@ -181,25 +181,66 @@ static void pair_links(const sw_seam *sm, int k, int p, int *ptr, int *fill, int
     if (i >= 0 && i < n) link(ptr, fill, idx, q[0], c[i]);
 }
 
+/* Every link of the seams, each once per direction it is given: pass the pairs' links
+ * (a with the points round its partner on the other curve) and, with `end` (the curves' end
+ * vertices), the links through a junction: an end a sewn to an end b is also sewn to every
+ * vertex b is sewn to.  add(a, c) is called for each; dp/di: the direct links (CSR), NULL on
+ * the first pass. */
+typedef struct links {
+  int *ptr, *fill, *idx; /* CSR: counted (idx NULL), then filled */
+} links;
+
+static void links_add(links *l, int a, int b) { link(l->ptr, l->fill, l->idx, a, b); }
+
+static void pair_links_all(const sw_model *m, links *l) {
+  for (int j = 0; j < m->nseam; j++) {
+    const sw_seam *sm = &m->seam[j];
+    for (int p = 0; p < sm->npair; p++) pair_links(sm, p < sm->n[0] ? 0 : 1, p, l->ptr, l->fill, l->idx);
+  }
+}
+
+/* Fill l (two passes: count, then fill) with the pairs' links and, when dl (the direct links)
+ * and end are given, the junctions' (both ways); -1 out of memory. */
+static int build_links(const sw_model *m, const links *dl, const unsigned char *end, links *l) {
+  l->ptr = sw_calloc((size_t)m->nv + 1, sizeof(int)), l->fill = sw_calloc((size_t)m->nv + 1, sizeof(int));
+  l->idx = NULL;
+  if (!l->ptr || !l->fill) return -1;
+  for (int pass = 0; pass < 2; pass++) {
+    pair_links_all(m, l);
+    for (int a = 0; dl && a < m->nv; a++)
+      for (int k = dl->ptr[a]; end[a] && k < dl->ptr[a + 1]; k++) {
+        int b = dl->idx[k];
+        for (int q = dl->ptr[b]; end[b] && q < dl->ptr[b + 1]; q++)
+          if (dl->idx[q] != a) links_add(l, a, dl->idx[q]);
+      }
+    if (pass) break;
+    for (int i = 0; i < m->nv; i++) l->ptr[i + 1] += l->ptr[i];
+    if (!(l->idx = sw_calloc((size_t)l->ptr[m->nv] + 1, sizeof(int)))) return -1;
+  }
+  sw_free(l->fill);
+  l->fill = NULL;
+  return 0;
+}
+
+static void links_free(links *l) { sw_free(l->ptr), sw_free(l->fill), sw_free(l->idx); }
+
+/* The vertices sewn to each: the pairs' links and, where seams meet at a point (the ends of
+ * their curves: the underarm of a T-shirt, where a sleeve's two edges, the front and the back
+ * meet), the links of every curve end an end is sewn to, so that the pieces meeting there are
+ * one point of the garment for self-contact, not layers held a thickness apart. */
 int sw_seam_sewn(sw_model *m, char *err, size_t errsz) {
   if (m->nseam == 0) return 0;
-  int *ptr = sw_calloc((size_t)m->nv + 1, sizeof(int)), *fill = sw_calloc((size_t)m->nv + 1, sizeof(int));
-  if (!ptr || !fill) return sw_free(ptr), sw_free(fill), sw_errf(err, errsz, "out of memory"), -1;
-  for (int pass = 0; pass < 2; pass++) {
-    int *idx = pass ? m->sewn_idx : NULL;
-    for (int j = 0; j < m->nseam; j++) {
-      const sw_seam *sm = &m->seam[j];
-      for (int p = 0; p < sm->npair; p++) pair_links(sm, p < sm->n[0] ? 0 : 1, p, ptr, fill, idx);
-    }
-    if (pass) break;
-    for (int i = 0; i < m->nv; i++) ptr[i + 1] += ptr[i];
-    if (!(m->sewn_idx = sw_calloc((size_t)ptr[m->nv] + 1, sizeof(int)))) {
-      sw_free(ptr), sw_free(fill);
-      return sw_errf(err, errsz, "out of memory"), -1;
-    }
-  }
-  sw_free(fill);
-  m->sewn_ptr = ptr;
+  links dl = {0}, all = {0};
+  unsigned char *end = sw_calloc((size_t)m->nv + 1, 1);
+  int rc = !end || build_links(m, NULL, NULL, &dl) ? -1 : 0;
+  for (int j = 0; !rc && j < m->nseam; j++)
+    for (int k = 0; k < 2; k++)
+      end[m->seam[j].curve[k][0]] = end[m->seam[j].curve[k][m->seam[j].n[k] - 1]] = 1;
+  if (!rc) rc = build_links(m, &dl, end, &all);
+  sw_free(end);
+  links_free(&dl);
+  if (rc) return links_free(&all), sw_errf(err, errsz, "out of memory"), -1;
+  m->sewn_ptr = all.ptr, m->sewn_idx = all.idx;
   return 0;
 }
 

@@ -279,6 +279,34 @@ static void clearance_surfaces(void **st) {
   sw_model_free(m);
 }
 
+static int is_sewn(const sw_model *m, int a, int b) {
+  for (int k = m->sewn_ptr[a]; k < m->sewn_ptr[a + 1]; k++)
+    if (m->sewn_idx[k] == b) return 1;
+  return 0;
+}
+
+/* Where seams end at one point (the T-shirt's underarm: the sleeve's two corners, the front's
+ * and the back's armpit), every piece is sewn to every other there, both ways, though no seam
+ * pairs the sleeve's corner with the back's armpit; a vertex in the middle of a seam is sewn
+ * only near its partner. */
+static void junction(void **st) {
+  (void)st;
+  char err[SW_ERRSZ];
+  sw_model *m = sw_scene_load("scenes/garment_tshirt.yaml", err, sizeof err);
+  if (!m) print_error("%s\n", err);
+  assert_non_null(m);
+  /* the left underarm: sleeve corners 566, 578; front armpit 112, back armpit 379 */
+  const int at[4] = {566, 578, 112, 379};
+  for (int i = 0; i < 4; i++)
+    for (int j = 0; j < 4; j++)
+      if (i != j) assert_true(is_sewn(m, at[i], at[j]));
+  assert_true(is_sewn(m, 566, 367) && is_sewn(m, 367, 566)); /* the back's armhole, next up */
+  /* the front's armhole at its middle (59) and the back's (331): no seam joins them */
+  assert_false(is_sewn(m, 59, 331));
+  assert_false(is_sewn(m, 59, 379));
+  sw_model_free(m);
+}
+
 /* A bad scene's message: at the line and column given, naming `name`. */
 static void bad(const char *text, const char *where, const char *name) {
   char err[SW_ERRSZ];
@@ -350,6 +378,7 @@ int main(void) {
       cmocka_unit_test(arrangement),
       cmocka_unit_test(arrangement_axis),
       cmocka_unit_test(clearance_surfaces),
+      cmocka_unit_test(junction),
       cmocka_unit_test(tube_fit),
       cmocka_unit_test(tube_static),
       cmocka_unit_test(bad_input),

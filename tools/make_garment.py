@@ -7,6 +7,10 @@
     /usr/bin/python3 tools/make_garment.py tank [--bust 0.88] [--ease -0.07] [--length 0.275]
         [--strap-length 0.185] [--strap-width 0.05] [--strap-at 0.11] [--columns 16]
         [--rows 10] [--strap-columns 5] [--strap-rows 8] [-o scenes/meshes/garment_tank.obj]
+    /usr/bin/python3 tools/make_garment.py tshirt [--bust 0.88] [--ease -0.03] [--length 0.30]
+        [--strap-length 0.20] [--strap-width 0.10] [--strap-at 0.115] [--columns 16] [--rows 10]
+        [--strap-columns 5] [--strap-rows 8] [--sleeve-width 0.36] [--sleeve-length 0.12]
+        [--sleeve-columns 12] [--sleeve-rows 8] [-o scenes/meshes/garment_tshirt.obj]
     /usr/bin/python3 tools/make_garment.py tube [--width 0.3] [--height 0.2] [--columns 6]
         [--rows 4] [-o tests/data/tube_pieces.obj]
     /usr/bin/python3 tools/make_garment.py body [--waist 0.70] [--hip 1.00] [--bust 0.90]
@@ -14,7 +18,7 @@
     /usr/bin/python3 tools/make_garment.py cylinder [--radius 0.08] [--height 0.4]
         [--around 16] [--rows 5] [-o tests/data/cylinder.obj]
 
-Pieces (skirt, tank, tube) are separate flat panels: each its own vertices (`v` at the flat layout,
+Pieces (skirt, tank, tshirt, tube) are separate flat panels: each its own vertices (`v` at the flat layout,
 z = 0, laid side by side), its own per-corner (u,v) in metres (`vt`, u across, v up) and its
 own group (`usemtl NAME`); the scene sews them with `seams` and places them with `arrange`
 (docs/garments.md).  Each piece is a grid of quads (the tank's with the neckline cut out); its
@@ -37,6 +41,15 @@ outer strap-columns columns, at the shoulder seam it is strap-width wide centred
 the piece's centre line; its neckline edge is straight, its armhole edge a parabola, steepest
 at the armpit.  Sewn at the two shoulders (the straps' tops) and the two sides (armpit to hem),
 the front facing -y and the back +y.
+
+tshirt: a T-shirt's front and back (the tank's pattern with the straps as wide shoulders,
+strap-width the shoulder seam's length) and two short sleeves: each sleeve-width round at the
+foot of its cap and sleeve-length from there to the hem, sleeve-columns x sleeve-rows quads, its
+cap a bell v = h cos^2(pi u / sleeve-width) with h solved so that each half of the cap is as
+long as one armhole (the strap's outer edge, armpit to shoulder point).  Sewn at the shoulders,
+the sides, the armholes (a sleeve's cap half that faces the front to the front's armhole, the
+other to the back's) and each sleeve's underarm; the sleeves are wrapped about the arms
+(scenes/garment_tshirt.yaml).
 
 tube: two rectangles (front, back) of width x height, sewn along both sides into a tube.
 
@@ -194,23 +207,111 @@ def tank_piece(name, a):
     return name, uv, qs, cs
 
 
+def top_seams():
+    """The seams of a top's front and back: the shoulders and the sides.  The front is wrapped
+    facing -y and the back facing +y, u anticlockwise seen from above: the front's left (u < 0)
+    and the back's right are on the body's right (-x)."""
+    return [("right_shoulder", ("front", "shoulder_left_out", "shoulder_left_in"),
+             ("back", "shoulder_right_out", "shoulder_right_in")),
+            ("left_shoulder", ("front", "shoulder_right_out", "shoulder_right_in"),
+             ("back", "shoulder_left_out", "shoulder_left_in")),
+            ("right_side", ("front", "armpit_left", "hem_left"),
+             ("back", "armpit_right", "hem_right")),
+            ("left_side", ("front", "armpit_right", "hem_right"),
+             ("back", "armpit_left", "hem_left"))]
+
+
+def top_title(what, a):
+    """The command that writes a top's pieces, as the OBJ's title."""
+    return ("%s --bust %g --ease %g --length %g --strap-length %g --strap-width %g --strap-at %g "
+            "--columns %d --rows %d --strap-columns %d --strap-rows %d"
+            % (what, a.bust, a.ease, a.length, a.strap_length, a.strap_width, a.strap_at,
+               a.columns, a.rows, a.strap_columns, a.strap_rows))
+
+
 def tank(a):
     pieces = [tank_piece(n, a) for n in ("front", "back")]
-    # the front wrapped facing -y and the back facing +y, u anticlockwise seen from above:
-    # the front's left (u < 0) and the back's right are on the body's right (-x)
-    seams = [("right_shoulder", ("front", "shoulder_left_out", "shoulder_left_in"),
-              ("back", "shoulder_right_out", "shoulder_right_in")),
-             ("left_shoulder", ("front", "shoulder_right_out", "shoulder_right_in"),
-              ("back", "shoulder_left_out", "shoulder_left_in")),
-             ("right_side", ("front", "armpit_left", "hem_left"),
-              ("back", "armpit_right", "hem_right")),
-             ("left_side", ("front", "armpit_right", "hem_right"),
-              ("back", "armpit_left", "hem_left"))]
-    title = ("tank top: tools/make_garment.py tank --bust %g --ease %g --length %g "
-             "--strap-length %g --strap-width %g --strap-at %g --columns %d --rows %d "
-             "--strap-columns %d --strap-rows %d"
-             % (a.bust, a.ease, a.length, a.strap_length, a.strap_width, a.strap_at, a.columns,
-                a.rows, a.strap_columns, a.strap_rows))
+    pieces_obj(a.output, top_title("tank top: tools/make_garment.py tank", a), pieces, top_seams())
+
+
+def polyline_length(pts):
+    return sum(math.hypot(b[0] - a[0], b[1] - a[1]) for a, b in zip(pts, pts[1:]))
+
+
+def armhole_length(a):
+    """The length of one armhole edge of a top's body piece (tank_piece's strap outer edge, from
+    the armpit up to the shoulder point), m."""
+    half = a.bust * (1 + a.ease) / 4
+    outer1 = a.strap_at + a.strap_width / 2
+    pts = []
+    for j in range(a.strap_rows + 1):
+        t = 1 - j / a.strap_rows
+        pts.append((outer1 + (half - outer1) * (1 - t) ** 2, -a.strap_length * j / a.strap_rows))
+    return polyline_length(pts)
+
+
+def sleeve_piece(name, a, cap_height):
+    """A short sleeve as (name, uv, quads, corners): width sleeve_width at the cap's foot,
+    sleeve_length from the cap's foot to the hem, the cap a bell v = h cos^2(pi u / width) over
+    the foot line (v = 0 at the foot), columns x rows quads, each column from the cap to the
+    hem."""
+    nx, ny, w, L = a.sleeve_columns, a.sleeve_rows, a.sleeve_width, a.sleeve_length
+    uv = []
+    for j in range(ny + 1):
+        for i in range(nx + 1):
+            u = (i / nx - 0.5) * w
+            top = cap_height * math.cos(math.pi * u / w) ** 2
+            uv.append((u, top - (top + L) * j / ny))
+    cs = corners(0, nx, ny)
+    cs = {"cap_left": cs["top_left"], "cap_right": cs["top_right"], "cap_mid": nx // 2,
+          "hem_left": cs["bottom_left"], "hem_right": cs["bottom_right"]}
+    return name, uv, quads(0, nx, ny), cs
+
+
+def cap_height_for(a, want):
+    """The cap height h whose half cap (foot corner to the top) is `want` m long (bisection)."""
+    def half_len(h):
+        n = 400
+        pts = []
+        for k in range(n + 1):
+            u = -a.sleeve_width / 2 * (1 - k / n)
+            pts.append((u, h * math.cos(math.pi * u / a.sleeve_width) ** 2))
+        return polyline_length(pts)
+    lo, hi = 0.0, 1.0
+    if half_len(lo) > want:
+        raise SystemExit("make_garment: the sleeve is wider than its armhole: a half cap of "
+                         "%.3g m against %.3g m; expected a narrower --sleeve-width"
+                         % (half_len(lo), want))
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if half_len(mid) < want else (lo, mid)
+    return 0.5 * (lo + hi)
+
+
+def tshirt(a):
+    want = armhole_length(a)
+    h = cap_height_for(a, want)
+    pieces = [tank_piece(n, a) for n in ("front", "back")]
+    pieces += [sleeve_piece(n, a, h) for n in ("left_sleeve", "right_sleeve")]
+    # the armholes: the left sleeve (on the body's left, +x) has its u < 0 half towards the
+    # front, the right sleeve its u > 0 half (docs/garments.md, "The T-shirt")
+    seams = top_seams() + [
+        ("left_armhole_front", ("front", "armpit_right", "shoulder_right_out"),
+         ("left_sleeve", "cap_left", "cap_mid")),
+        ("left_armhole_back", ("back", "armpit_left", "shoulder_left_out"),
+         ("left_sleeve", "cap_right", "cap_mid")),
+        ("right_armhole_front", ("front", "armpit_left", "shoulder_left_out"),
+         ("right_sleeve", "cap_right", "cap_mid")),
+        ("right_armhole_back", ("back", "armpit_right", "shoulder_right_out"),
+         ("right_sleeve", "cap_left", "cap_mid")),
+        ("left_underarm", ("left_sleeve", "cap_left", "hem_left"),
+         ("left_sleeve", "cap_right", "hem_right")),
+        ("right_underarm", ("right_sleeve", "cap_left", "hem_left"),
+         ("right_sleeve", "cap_right", "hem_right"))]
+    title = ("%s --sleeve-width %g --sleeve-length %g --sleeve-columns %d --sleeve-rows %d\n"
+             "# armhole %.4g m, sleeve cap height %.4g m"
+             % (top_title("T-shirt: tools/make_garment.py tshirt", a), a.sleeve_width,
+                a.sleeve_length, a.sleeve_columns, a.sleeve_rows, want, h))
     pieces_obj(a.output, title, pieces, seams)
 
 
@@ -277,6 +378,35 @@ def revolution(path, title, zs, rs, around, rows, cap):
             f.write("f %d %d %d\n" % tuple(k + 1 for k in t))
 
 
+def top_options(k, ease, length, strap_length, strap_width, strap_at, output):
+    """The options of a top's body pieces (tank and tshirt), with their defaults."""
+    k.add_argument("--bust", type=float, default=0.88, help="body bust girth, m")
+    k.add_argument("--ease", type=float, default=ease, help="relative ease at the bust")
+    k.add_argument("--length", type=float, default=length, help="armpit line to hem, m")
+    k.add_argument("--strap-length", type=float, default=strap_length,
+                   help="armpit line to shoulder seam, m")
+    k.add_argument("--strap-width", type=float, default=strap_width,
+                   help="the strap (shoulder) at the shoulder seam, m")
+    k.add_argument("--strap-at", type=float, default=strap_at,
+                   help="its centre from the piece's centre line at the shoulder seam, m")
+    k.add_argument("--columns", type=int, default=16, help="across the body")
+    k.add_argument("--rows", type=int, default=10, help="armpit line to hem")
+    k.add_argument("--strap-columns", type=int, default=5, help="across a strap")
+    k.add_argument("--strap-rows", type=int, default=8, help="armpit line to shoulder seam")
+    k.add_argument("-o", "--output", default=output)
+
+
+def check_top(ap, a):
+    """Refuse a top's body options that make no piece."""
+    half = a.bust * (1 + a.ease) / 4
+    if (a.columns < 1 or a.rows < 1 or a.strap_rows < 1 or a.strap_columns < 1
+            or 2 * a.strap_columns >= a.columns or a.length <= 0 or a.strap_length <= 0):
+        ap.error("need columns > 2 strap-columns >= 2, rows, strap-rows >= 1 and positive "
+                 "lengths")
+    if not 0 < a.strap_at - a.strap_width / 2 < a.strap_at + a.strap_width / 2 < half:
+        ap.error("the straps must lie between the neckline and the piece's side edge")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     sub = ap.add_subparsers(dest="what", required=True)
@@ -298,19 +428,15 @@ def main():
     t.add_argument("--rows", type=int, default=4)
     t.add_argument("-o", "--output", default="tests/data/tube_pieces.obj")
     k = sub.add_parser("tank", help="front and back of a tank top")
-    k.add_argument("--bust", type=float, default=0.88, help="body bust girth, m")
-    k.add_argument("--ease", type=float, default=-0.07, help="relative ease at the bust")
-    k.add_argument("--length", type=float, default=0.275, help="armpit line to hem, m")
-    k.add_argument("--strap-length", type=float, default=0.185,
-                   help="armpit line to shoulder seam, m")
-    k.add_argument("--strap-width", type=float, default=0.05, help="at the shoulder seam, m")
-    k.add_argument("--strap-at", type=float, default=0.11,
-                   help="strap centre from the piece's centre line at the shoulder seam, m")
-    k.add_argument("--columns", type=int, default=16, help="across the body")
-    k.add_argument("--rows", type=int, default=10, help="armpit line to hem")
-    k.add_argument("--strap-columns", type=int, default=5, help="across a strap")
-    k.add_argument("--strap-rows", type=int, default=8, help="armpit line to shoulder seam")
-    k.add_argument("-o", "--output", default="scenes/meshes/garment_tank.obj")
+    top_options(k, ease=-0.07, length=0.275, strap_length=0.185, strap_width=0.05,
+                strap_at=0.11, output="scenes/meshes/garment_tank.obj")
+    k = sub.add_parser("tshirt", help="front, back and two short sleeves of a T-shirt")
+    top_options(k, ease=-0.03, length=0.30, strap_length=0.20, strap_width=0.10, strap_at=0.115,
+                output="scenes/meshes/garment_tshirt.obj")
+    k.add_argument("--sleeve-width", type=float, default=0.36, help="at the cap's foot, m")
+    k.add_argument("--sleeve-length", type=float, default=0.12, help="cap's foot to hem, m")
+    k.add_argument("--sleeve-columns", type=int, default=12, help="round the sleeve (even)")
+    k.add_argument("--sleeve-rows", type=int, default=8, help="cap to hem")
     b = sub.add_parser("body", help="a closed body of revolution")
     b.add_argument("--height", type=float, default=1.70, help="m")
     b.add_argument("--bust", type=float, default=0.90, help="girth, m")
@@ -335,14 +461,15 @@ def main():
             ap.error("need columns, rows >= 1 and 0 < hip-depth < length")
         skirt(a)
     elif a.what == "tank":
-        half = a.bust * (1 + a.ease) / 4
-        if (a.columns < 1 or a.rows < 1 or a.strap_rows < 1 or a.strap_columns < 1
-                or 2 * a.strap_columns >= a.columns or a.length <= 0 or a.strap_length <= 0):
-            ap.error("need columns > 2 strap-columns >= 2, rows, strap-rows >= 1 and positive "
-                     "lengths")
-        if not 0 < a.strap_at - a.strap_width / 2 < a.strap_at + a.strap_width / 2 < half:
-            ap.error("the straps must lie between the neckline and the piece's side edge")
+        check_top(ap, a)
         tank(a)
+    elif a.what == "tshirt":
+        check_top(ap, a)
+        if (a.sleeve_columns < 2 or a.sleeve_columns % 2 or a.sleeve_rows < 1
+                or a.sleeve_width <= 0 or a.sleeve_length <= 0):
+            ap.error("need an even sleeve-columns >= 2, sleeve-rows >= 1 and a positive "
+                     "sleeve width and length")
+        tshirt(a)
     elif a.what == "tube":
         if a.columns < 1 or a.rows < 1 or a.width <= 0 or a.height <= 0:
             ap.error("need columns, rows >= 1 and a positive width and height")

@@ -301,8 +301,8 @@ def main(argv=None):
             ap.error("--%s %g: expected between 0.25 and 1.0 times the height" % (name, g))
     if args.around < 8 or args.rings < 12:
         ap.error("--around must be >= 8 and --rings >= 12")
-    verts, tris, _ = mannequin(args.height, args.bust, args.waist, args.hip,
-                               args.around, args.rings, args.arms)
+    verts, tris, zr = mannequin(args.height, args.bust, args.waist, args.hip,
+                                args.around, args.rings, args.arms)
     cmd = "tools/make_mannequin.py --height %g --bust %g --waist %g --hip %g --around %d " \
           "--rings %d --arms %s" % (args.height, args.bust, args.waist, args.hip, args.around,
                                     args.rings, args.arms)
@@ -312,6 +312,15 @@ def main(argv=None):
                 "z = %.4g (hip), %.4g (waist), %.4g (bust)\n"
                 % (len(verts), len(tris), HIP * args.height, WAIST * args.height,
                    BUST * args.height))
+        if args.arms != "none":  # each arm's first vertex is its cap's top, its last the fingertips
+            torso = len(zr) * args.around + 2
+            n = (len(verts) - torso) // 2
+            for name, k in (("left", torso), ("right", torso + n)):
+                top, tip = verts[k], verts[k + n - 1]
+                d = (tip - top) / np.linalg.norm(tip - top)
+                f.write("# %s arm: axis from the cap's top (%.6f, %.6f, %.6f) towards the "
+                        "fingertips (%.6f, %.6f, %.6f), %.4g m long\n"
+                        % ((name,) + tuple(top) + tuple(d) + (np.linalg.norm(tip - top),)))
         for v in verts:
             f.write("v %.9g %.9g %.9g\n" % tuple(v))
         for t in tris:

@@ -143,13 +143,38 @@ def test_does_not_cross_itself(body):
             assert not hit.any(), (e, k[hit])
 
 
-def test_shipped_file_is_its_command(tmp_path):
-    with open(SHIPPED) as f:
+@pytest.mark.parametrize("shipped", [SHIPPED, SHIPPED.replace("mannequin.obj", "mannequin_arms.obj")])
+def test_shipped_file_is_its_command(tmp_path, shipped):
+    with open(shipped) as f:
         first = f.readline()
     args = first.split("tools/make_mannequin.py")[1].split()
     out = tmp_path / "m.obj"
     mm.main(args + ["-o", str(out)])
-    with open(SHIPPED) as f:
+    with open(shipped) as f:
         assert f.read() == out.read_text()
-    verts, _ = read_obj(SHIPPED)
+    verts, _ = read_obj(shipped)
     assert 450 <= len(verts) <= 3000
+
+
+def test_arm_axes_in_the_header():
+    """The header's arm axes are the arms' own: every arm vertex at its ring's radius about
+    the stated axis (the rings of a surface of revolution lie across it)."""
+    path = SHIPPED.replace("mannequin.obj", "mannequin_arms.obj")
+    with open(path) as f:
+        axes = [line for line in f if line.startswith("# ") and " arm: axis from" in line]
+    assert len(axes) == 2
+    verts, _ = read_obj(path)
+    torso = 30 * 32 + 2
+    n = (len(verts) - torso) // 2
+    for line, k in zip(axes, (torso, torso + n)):
+        nums = [float(v) for v in line.replace("(", " ").replace(")", " ").replace(",", " ").split()
+                if v.lstrip("-").replace(".", "", 1).isdigit()]
+        top, d = np.array(nums[0:3]), np.array(nums[3:6])
+        arm = verts[k:k + n] - top
+        along = arm @ d
+        radial = np.linalg.norm(arm - np.outer(along, d), axis=1)
+        assert abs(np.linalg.norm(d) - 1) < 1e-5
+        # each ring (around vertices at one `along`) has one radius
+        for a in np.unique(np.round(along, 4)):
+            ring = radial[np.abs(along - a) < 5e-5]
+            assert ring.max() - ring.min() < 1e-5

@@ -5,16 +5,20 @@
  *   arrange:
  *     front: {cylinder: {angle: 90, top: 1.0, clearance: 0.03, center: [0, 0]}}
  *     back:  {cylinder: {angle: 270, top: 1.0, radius: 0.2}}
+ *     sleeve: {cylinder: {top: 0, clearance: 0.02, axis: [-1, 0, 1], center: [0.2, 0, 1.37]}}
  *     yoke:  {rigid: {rotate: [90, 0, 0], translate: [0, 0.2, 1.1]}}
  *
  * The piece's reference point is the middle of its (u,v) extent across (u) at its top (the
- * largest v).  cylinder: wrapped without stretch onto the vertical cylinder of that radius
- * about the axis through center (x, y; default the origin), u going round anticlockwise seen
- * from above, v up; the reference point at `angle` (degrees from +x) and height `top` (m).
- * `clearance` instead of `radius`: the radius is the largest distance of a mesh obstacle's
- * vertex from the axis over the piece's height range (widened by the clearance) plus the
- * clearance.  rigid: the flat piece (u, v, 0) rotated about x, then y, then z by `rotate`
- * (degrees) and moved so that its reference point is at `translate` (m).
+ * largest v).  cylinder: wrapped without stretch onto the cylinder of that radius about the
+ * axis (default vertical) through center (x, y for a vertical axis, else x, y, z; default the
+ * origin), u going round anticlockwise seen from the axis's tip, v along the axis; the
+ * reference point at `angle` (degrees from e1, +x's part across the axis, towards e2 = axis x
+ * e1) and at `top` along the axis from center (for a vertical axis, the height).  `clearance`
+ * instead of `radius`: the radius is the largest distance from the axis of a mesh obstacle's
+ * vertex over the piece's range along the axis (widened by the clearance), on the closed
+ * surfaces that hold the axis's point at the middle of that range, plus the clearance.  rigid:
+ * the flat piece (u, v, 0) rotated about x, then y, then z by `rotate` (degrees) and moved so
+ * that its reference point is at `translate` (m).
  * Checked exactly (models/intersect.c): no arranged piece may cross or lie inside a mesh
  * obstacle, or cross another piece. */
 #include "contact.h"
