@@ -198,15 +198,18 @@ static int place_cylinder(const ctx *c, const ynode *y, const char *name, const 
   snprintf(lab, sizeof lab, "%s axis", w);
   if (v[5]) {
     if (sy_vec(c, v[5], lab, 3, -HUGE_VAL, 0, "", axis)) return -1;
-    double n = sqrt(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]);
-    if (!(n > 1e-12) || !isfinite(n))
+    double big = fmax(fabs(axis[0]), fmax(fabs(axis[1]), fabs(axis[2])));
+    if (!(big > 0.0))
       return sy_fail(c, v[5], "%s is [%g, %g, %g]; expected a nonzero direction", lab, axis[0],
                      axis[1], axis[2]);
+    for (int a = 0; a < 3; a++) axis[a] /= big; /* no overflow in its length */
   }
   snprintf(lab, sizeof lab, "%s center", w);
-  /* a vertical axis is placed by [x, y]; any other by a point [x, y, z] */
+  /* a vertical axis may be placed by [x, y] (top is then the height); any other by a point
+   * [x, y, z] */
   int vertical = !v[5] || (axis[0] == 0.0 && axis[1] == 0.0 && axis[2] > 0.0);
-  if (v[4] && sy_vec(c, v[4], lab, vertical ? 2 : 3, -HUGE_VAL, 0, "m", ctr)) return -1;
+  int ncenter = vertical && !(v[4] && v[4]->kind == Y_SEQ && v[4]->n == 3) ? 2 : 3;
+  if (v[4] && sy_vec(c, v[4], lab, ncenter, -HUGE_VAL, 0, "m", ctr)) return -1;
   cyl_frame fr;
   frame_of(ctr, axis, &fr);
   double len = pc->vtop - pc->vbot; /* m: the piece along the axis */
@@ -227,13 +230,16 @@ static int place_cylinder(const ctx *c, const ynode *y, const char *name, const 
   if (pc->width >= 2.0 * ARR_PI * R)
     return sy_fail(c, y, "%s: the piece is %g m wide, more than once round a radius of %g m "
                    "(%g m); expected a larger radius", w, pc->width, R, 2.0 * ARR_PI * R);
-  double a0 = ang * ARR_PI / 180.0; /* rad */
+  double a0 = fmod(ang, 360.0) * ARR_PI / 180.0; /* rad (a huge angle keeps its digits) */
   for (int i = 0; i < m->nv; i++) {
     if (!mark[i]) continue;
     double th = a0 + (uvv[2 * i] - pc->umid) / R, *x = m->x0 + 3 * i;
     double s = top + (uvv[2 * i + 1] - pc->vtop); /* m along the axis */
     for (int a = 0; a < 3; a++)
       x[a] = fr.c[a] + R * (cos(th) * fr.e1[a] + sin(th) * fr.e2[a]) + s * fr.e3[a];
+    if (!isfinite(x[0] + x[1] + x[2]))
+      return sy_fail(c, y, "%s puts vertex %d at a non-finite place; expected center, top and "
+                     "the radius within the range of double", w, i);
   }
   return 0;
 }
