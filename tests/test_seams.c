@@ -365,6 +365,10 @@ static void bad_input(void **st) {
   bad(TUBE_HEAD "arrange:\n"
       "  front: {cylinder: {top: 0.1, radius: 0.11, axis: [1, 0, 1], center: [0, 0]}}\n",
       "tube.yaml:5:", "arrange front cylinder center");
+  /* a placement past the range of double */
+  bad(TUBE_HEAD "arrange:\n"
+      "  front: {cylinder: {top: 0.1, radius: 1e307, axis: [1, 0, 0], center: [1.7e308, 0, 0]}}\n",
+      "tube.yaml:5:21: ", "arrange front cylinder puts vertex 0 at a non-finite place");
   /* an unknown piece */
   bad(TUBE_HEAD "arrange: {sleeve: {rigid: {translate: [0, 0, 0]}}}\n",
       "tube.yaml:4:11: ", "arrange names 'sleeve'");

@@ -230,7 +230,7 @@ static int place_cylinder(const ctx *c, const ynode *y, const char *name, const 
   if (pc->width >= 2.0 * ARR_PI * R)
     return sy_fail(c, y, "%s: the piece is %g m wide, more than once round a radius of %g m "
                    "(%g m); expected a larger radius", w, pc->width, R, 2.0 * ARR_PI * R);
-  double a0 = fmod(ang, 360.0) * ARR_PI / 180.0; /* rad (a huge angle keeps its digits) */
+  double a0 = fmod(ang, 360.0) * ARR_PI / 180.0; /* rad, reduced first so that u / R is not lost beside a huge angle */
   for (int i = 0; i < m->nv; i++) {
     if (!mark[i]) continue;
     double th = a0 + (uvv[2 * i] - pc->umid) / R, *x = m->x0 + 3 * i;
