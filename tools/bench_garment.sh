@@ -1,15 +1,16 @@
 #!/usr/bin/env bash
 # tools/bench_garment.sh [SINEW] — the shipped garments (scenes/garment_skirt.yaml: four flat
 # panels, 756 cloth vertices; scenes/garment_tank.yaml: front and back, 566 vertices; each on
-# the 962-vertex mannequin, self-contact on) from their
+# the 962-vertex mannequin; scenes/garment_tshirt.yaml: front, back and sleeves, 800 vertices,
+# on the 1254-vertex mannequin with arms; self-contact on) from their
 # arrangement to rest and on through their dynamics, REPS times (default 1): wall and CPU time of
 # the whole run, wall time of the fit stage, steps and Newton iterations of each, the cost per step and per
 # Newton iteration, and the share of the step time of each term's evaluations, of self-contact's
 # continuous collision detection, of the factorisations and of the solves; then the fit check
 # (tools/garment_check.py: seam_gap_max < 1 mm, no intersection, tension XY higher on the hip
 # line, or the tank's bust line, than at the hem; the tank's top at least 1.40 m high, on the
-# shoulders, whose ridge is at 1.42-1.43 m).  Writes docs/bench/garment/skirt.csv and
-# tank.csv and prints each as a table.  GARMENTS="skirt" runs one of them.
+# shoulders, whose ridge is at 1.42-1.43 m; the T-shirt's likewise).  Writes
+# docs/bench/garment/GARMENT.csv and prints each as a table.  GARMENTS="skirt" runs one of them.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bin=${1:-build/sinew}
@@ -20,8 +21,8 @@ trap 'rm -rf "$work"' EXIT
 mkdir -p "$out"
 status=0
 # the height of each garment's tight line on the mannequin: the hips, the bust
-declare -A line_z=([skirt]=0.85 [tank]=1.224) top_z=([skirt]=0 [tank]=1.40)
-for g in ${GARMENTS:-skirt tank}; do
+declare -A line_z=([skirt]=0.85 [tank]=1.224 [tshirt]=1.224) top_z=([skirt]=0 [tank]=1.40 [tshirt]=1.40)
+for g in ${GARMENTS:-skirt tank tshirt}; do
   csv=$out/$g.csv
   for r in $(seq "$reps"); do
     d=$work/$g$r
