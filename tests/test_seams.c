@@ -252,6 +252,37 @@ static void arrangement_axis(void **st) {
   sw_model_free(m);
 }
 
+/* up: u wraps a piece with its u along the axis (a piece whose grain line runs down the body)
+ * and -v round: the tube's front (u in [-0.15, 0.15], v in [-0.2, 0]) about the vertical axis,
+ * radius 0.11, at angle 270 and top 0.1: height 0.1 + (u - 0.15), angle 270° + (-v - 0.1) /
+ * 0.11; its faces' normals (u x v) point away from the axis. */
+static void arrangement_up(void **st) {
+  (void)st;
+  sw_model *m = th_scene("tests/data/tube.yaml", TUBE_HEAD
+                         "arrange:\n"
+                         "  front: {cylinder: {angle: 270, top: 0.1, radius: 0.11, up: u}}\n"
+                         "  back: {rigid: {translate: [0, 1, 1]}}\n");
+  assert_non_null(m);
+  const double pi = 3.14159265358979;
+  for (int i = 0; i < 35; i++) {
+    const double *x = m->x0 + 3 * i, u = -0.15 + 0.05 * (i % 7), v = -0.05 * (i / 7);
+    double th = atan2(x[1], x[0]), want = 1.5 * pi + (-v - 0.1) / 0.11;
+    assert_true(fabs(hypot(x[0], x[1]) - 0.11) < 1e-12);
+    assert_true(fabs(x[2] - (0.1 + u - 0.15)) < 1e-12);
+    assert_true(fabs(remainder(th - want, 2.0 * pi)) < 1e-12);
+  }
+  for (int f = 0; f < m->nf; f++) {
+    const int *t = m->face + 3 * f;
+    if (t[0] >= 35) continue;
+    const double *a = m->x0 + 3 * t[0], *b = m->x0 + 3 * t[1], *c = m->x0 + 3 * t[2];
+    double e1[3], e2[3], n[3], mid[2] = {(a[0] + b[0] + c[0]) / 3, (a[1] + b[1] + c[1]) / 3};
+    for (int k = 0; k < 3; k++) e1[k] = b[k] - a[k], e2[k] = c[k] - a[k];
+    n[0] = e1[1] * e2[2] - e1[2] * e2[1], n[1] = e1[2] * e2[0] - e1[0] * e2[2];
+    assert_true(n[0] * mid[0] + n[1] * mid[1] > 0.0); /* outward */
+  }
+  sw_model_free(m);
+}
+
 /* clearance counts only the closed surfaces that hold the axis: beside the cylinder of radius
  * 0.08 (the body) a box reaches 0.30 m from its axis (an arm), so the radius is 0.08 + 0.03,
  * not 0.33; a piece wrapped about an axis through the box takes the box's corners. */
@@ -381,6 +412,7 @@ int main(void) {
       cmocka_unit_test(pairing),
       cmocka_unit_test(arrangement),
       cmocka_unit_test(arrangement_axis),
+      cmocka_unit_test(arrangement_up),
       cmocka_unit_test(clearance_surfaces),
       cmocka_unit_test(junction),
       cmocka_unit_test(tube_fit),

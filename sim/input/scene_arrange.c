@@ -6,6 +6,7 @@
  *     front: {cylinder: {angle: 90, top: 1.0, clearance: 0.03, center: [0, 0]}}
  *     back:  {cylinder: {angle: 270, top: 1.0, radius: 0.2}}
  *     sleeve: {cylinder: {top: 0, clearance: 0.02, axis: [-1, 0, 1], center: [0.2, 0, 1.37]}}
+ *     panel: {cylinder: {angle: 45, top: 1.05, clearance: 0.03, up: u}}
  *     yoke:  {rigid: {rotate: [90, 0, 0], translate: [0, 0.2, 1.1]}}
  *
  * The piece's reference point is the middle of its (u,v) extent across (u) at its top (the
@@ -16,7 +17,10 @@
  * e1) and at `top` along the axis from center (for a vertical axis, the height).  `clearance`
  * instead of `radius`: the radius is the largest distance from the axis of a mesh obstacle's
  * vertex over the piece's range along the axis (widened by the clearance), on the closed
- * surfaces that hold the axis's point at the middle of that range, plus the clearance.  rigid:
+ * surfaces that hold the axis's point at the middle of that range, plus the clearance.  `up: u`
+ * (a piece imported with u along its grain line, which runs down the body): u along the axis
+ * and -v round instead (the reference point then the middle of its -v extent at its largest
+ * u), so that the cloth's normal u x v still points away from the axis.  rigid:
  * the flat piece (u, v, 0) rotated about x, then y, then z by `rotate` (degrees) and moved so
  * that its reference point is at `translate` (m).
  * Checked exactly (models/intersect.c): no arranged piece may cross or lie inside a mesh
@@ -172,19 +176,44 @@ static double body_radius(const sw_model *m, const cyl_frame *f, double s0, doub
   return r;
 }
 
-static const char *const cyl_keys[] = {"angle", "top", "radius", "clearance", "center", "axis"};
+static const char *const cyl_keys[] = {"angle", "top", "radius", "clearance", "center", "axis",
+                                        "up"};
+static const char *const up_names[] = {"v", "u"};
+
+/* A vertex's coordinates on the wrap: round (across the axis) and along the axis, m; with
+ * up_u the pattern's u runs along the axis and -v round (so that the cloth's normal u x v
+ * still points out), else u round and v along. */
+static void wrap_uv(const double *uv, int up_u, double *round, double *along) {
+  *round = up_u ? -uv[1] : uv[0];
+  *along = up_u ? uv[0] : uv[1];
+}
+
+/* The piece's extent on the wrap: the middle and width of its round coordinate, the top and
+ * bottom of its coordinate along the axis, m. */
+static void wrap_extent(const sw_model *m, const unsigned char *mark, const double *uvv, int up_u,
+                        double *mid, double *width, double *top, double *bot) {
+  double lo = HUGE_VAL, hi = -HUGE_VAL, r, a;
+  *top = -HUGE_VAL, *bot = HUGE_VAL;
+  for (int i = 0; i < m->nv; i++) {
+    if (!mark[i]) continue;
+    wrap_uv(uvv + 2 * i, up_u, &r, &a);
+    lo = fmin(lo, r), hi = fmax(hi, r), *top = fmax(*top, a), *bot = fmin(*bot, a);
+  }
+  *mid = 0.5 * (lo + hi), *width = hi - lo;
+}
 
 /* Wrapped without stretch onto the cylinder: u round the axis (anticlockwise seen from the
  * axis's tip), v along it; the reference point at `angle` from e1 and at `top` along the axis
  * from `center`. */
-static int place_cylinder(const ctx *c, const ynode *y, const char *name, const piece *pc,
+static int place_cylinder(const ctx *c, const ynode *y, const char *name,
                           const unsigned char *mark, const double *uvv) {
   sw_model *m = c->m;
-  const ynode *v[6];
+  const ynode *v[7];
   double ang = 0.0, top = 0.0, R = 0.0, clear = 0.0, ctr[3] = {0, 0, 0}, axis[3] = {0, 0, 1};
   char w[SW_NAMESZ + 32], lab[SW_NAMESZ + 64];
+  int up_u = 0;
   snprintf(w, sizeof w, "arrange %s cylinder", name);
-  if (sy_map(c, y, w, cyl_keys, 6, v) ||
+  if (sy_map(c, y, w, cyl_keys, 7, v) ||
       sy_need(c, y, v[1], w, "top", "top: where the piece's top is along the axis, m"))
     return -1;
   if (!!v[2] == !!v[3])
@@ -210,9 +239,13 @@ static int place_cylinder(const ctx *c, const ynode *y, const char *name, const 
   int vertical = !v[5] || (axis[0] == 0.0 && axis[1] == 0.0 && axis[2] > 0.0);
   int ncenter = vertical && !(v[4] && v[4]->kind == Y_SEQ && v[4]->n == 3) ? 2 : 3;
   if (v[4] && sy_vec(c, v[4], lab, ncenter, -HUGE_VAL, 0, "m", ctr)) return -1;
+  snprintf(lab, sizeof lab, "%s up", w);
+  if (v[6] && sy_choice(c, v[6], lab, up_names, 2, &up_u)) return -1;
   cyl_frame fr;
   frame_of(ctr, axis, &fr);
-  double len = pc->vtop - pc->vbot; /* m: the piece along the axis */
+  double mid, width, ptop, pbot; /* m: the piece on the wrap */
+  wrap_extent(m, mark, uvv, up_u, &mid, &width, &ptop, &pbot);
+  double len = ptop - pbot; /* m: the piece along the axis */
   if (v[2]) {
     snprintf(lab, sizeof lab, "%s radius", w);
     if (sy_num(c, v[2], lab, 0, 1, "m", &R)) return -1;
@@ -227,14 +260,15 @@ static int place_cylinder(const ctx *c, const ynode *y, const char *name, const 
                      "radius", lab, top - len - clear, top + clear);
     R = rb + clear; /* m */
   }
-  if (pc->width >= 2.0 * ARR_PI * R)
+  if (width >= 2.0 * ARR_PI * R)
     return sy_fail(c, y, "%s: the piece is %g m wide, more than once round a radius of %g m "
-                   "(%g m); expected a larger radius", w, pc->width, R, 2.0 * ARR_PI * R);
+                   "(%g m); expected a larger radius", w, width, R, 2.0 * ARR_PI * R);
   double a0 = fmod(ang, 360.0) * ARR_PI / 180.0; /* rad, reduced first so that u / R is not lost beside a huge angle */
   for (int i = 0; i < m->nv; i++) {
     if (!mark[i]) continue;
-    double th = a0 + (uvv[2 * i] - pc->umid) / R, *x = m->x0 + 3 * i;
-    double s = top + (uvv[2 * i + 1] - pc->vtop); /* m along the axis */
+    double r, a, *x = m->x0 + 3 * i;
+    wrap_uv(uvv + 2 * i, up_u, &r, &a);
+    double th = a0 + (r - mid) / R, s = top + (a - ptop); /* rad; m along the axis */
     for (int a = 0; a < 3; a++)
       x[a] = fr.c[a] + R * (cos(th) * fr.e1[a] + sin(th) * fr.e2[a]) + s * fr.e3[a];
     if (!isfinite(x[0] + x[1] + x[2]))
@@ -420,7 +454,7 @@ int sc_load_arrange(const ctx *c, const ynode *y) {
                    w, v[0] ? "both cylinder and rigid" : "neither cylinder nor rigid");
       break;
     }
-    rc = v[0] ? place_cylinder(c, v[0], name, &pc, mark, uvv)
+    rc = v[0] ? place_cylinder(c, v[0], name, mark, uvv)
               : place_rigid(c, v[1], name, &pc, mark, uvv);
     arranged[g] = 1, at[g] = key;
   }
