@@ -144,6 +144,8 @@ def skirt(a):
             return wq + (hq - wq) * math.sin(0.5 * math.pi * y / a.hip_depth)
         return hq + (mq - hq) * (y - a.hip_depth) / (a.length - a.hip_depth)
 
+    if a.dxf:
+        return skirt_dxf(a, width)
     names = ["back_left", "back_right", "front_right", "front_left"]
     pieces = [grid(n, grid_piece(width, a.length, a.columns, a.rows), a.columns, a.rows)
               for n in names]
@@ -156,6 +158,44 @@ def skirt(a):
              % (a.waist, a.hip, a.hem, a.ease, a.waist_ease, a.hip_depth, a.length, a.columns,
                 a.rows))
     pieces_obj(a.output, title, pieces, seams)
+
+
+def skirt_dxf(a, width):
+    """The skirt's pattern as a pattern CAD system exports it (ASTM D6673, as CLO writes it: DXF
+    R2000, millimetres in $INSUNITS, LWPOLYLINE boundaries): a FRONT and a BACK block, the
+    same quarter panel (a skirt symmetric front to back), each placed twice, the second time
+    mirrored; the grain line (layer 7) from the hem up to the waist, so that u runs up the
+    body; a notch (layer 4) at the hip line on both sides.  The boundary's sides follow
+    width(y) at 2 mm steps of depth."""
+    import ezdxf  # Debian's python3-ezdxf; only this output needs it
+
+    ezdxf.options.write_fixed_meta_data_for_testing = True  # the same file for the same command
+    mm = 1000.0
+    steps = max(2, int(round(a.length * mm / 2)))
+    ys = [a.length * k / steps for k in range(steps + 1)]  # depth below the waist, m
+    hip = a.length - a.hip_depth  # the hip line's height above the hem, m
+    right = [(width(y) / 2 * mm, (a.length - y) * mm) for y in reversed(ys)]  # hem to waist
+    left = [(-x, yy) for x, yy in reversed(right)]                             # waist to hem
+    doc = ezdxf.new("R2000")
+    doc.header["$INSUNITS"] = 4
+    msp = doc.modelspace()
+    for name in ("FRONT", "BACK"):
+        b = doc.blocks.new(name)
+        b.add_lwpolyline(right + left, close=True, dxfattribs={"layer": "1"})
+        b.add_line((0, 0.1 * a.length * mm), (0, 0.9 * a.length * mm), dxfattribs={"layer": "7"})
+        for side in (-1, 1):
+            b.add_point((side * width(a.hip_depth) / 2 * mm, hip * mm), dxfattribs={"layer": "4"})
+        b.add_text("Piece Name: %s" % name.title(), dxfattribs={"layer": "1"})
+        b.add_text("Quantity: 2", dxfattribs={"layer": "1"})
+    gap = (max(a.hem / 4, a.hip * (1 + a.ease) / 4) + 0.05) * mm
+    for k, name in enumerate(("FRONT", "BACK")):
+        msp.add_blockref(name, (2 * k * gap, 0))
+        msp.add_blockref(name, ((2 * k + 1) * gap, 0), dxfattribs={"xscale": -1})
+    msp.add_text("Style Name: four-panel skirt (tools/make_garment.py skirt --dxf)")
+    for var in ("$TDCREATE", "$TDUPDATE"):  # a fixed date: 2026-01-01 (Julian day)
+        doc.header[var] = 2461041.5
+    doc.saveas(a.dxf)
+    print("wrote %s: FRONT and BACK, each placed twice (once mirrored), mm" % a.dxf)
 
 
 def tube(a):
@@ -421,6 +461,7 @@ def main():
     s.add_argument("--columns", type=int, default=8)
     s.add_argument("--rows", type=int, default=20)
     s.add_argument("-o", "--output", default="scenes/meshes/garment_skirt.obj")
+    s.add_argument("--dxf", help="write the pattern as a DXF file (ASTM D6673) instead of an OBJ")
     t = sub.add_parser("tube", help="two rectangles sewn into a tube")
     t.add_argument("--width", type=float, default=0.3, help="m")
     t.add_argument("--height", type=float, default=0.2, help="m")

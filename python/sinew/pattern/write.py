@@ -80,11 +80,14 @@ def write_atomic(files):
     """files: [(path, text)].  Each is written to a temporary file beside it; all are renamed
     into place only when every one is written (and removed on any failure)."""
     temps = []
+    umask = os.umask(0)  # mkstemp makes its file 0600: give the result the usual 0666 & ~umask
+    os.umask(umask)
     try:
         for path, text in files:
             folder = os.path.dirname(os.path.abspath(path))
             fd, tmp = tempfile.mkstemp(prefix=".%s." % os.path.basename(path), dir=folder)
             temps.append(tmp)
+            os.fchmod(fd, 0o666 & ~umask)
             with os.fdopen(fd, "w", encoding="utf-8") as f:
                 f.write(text)
         for (path, _), tmp in zip(files, temps):
