@@ -245,7 +245,7 @@ class Scene:
         """The scene of the run folder run_dir (scene: its file, when not the run's); with no
         run_dir, none: no name, obstacles, groups or seams."""
         self.name, self.obstacles, self.groups, self.bias, self.panel_names = "", [], None, {}, None
-        self.dimension, self.seams = 3, []
+        self.dimension, self.seams, self.turned = 3, [], set()
         if run_dir is None:
             return
         summary = read_json(os.path.join(run_dir, "summary.json")) or {}
@@ -270,6 +270,12 @@ class Scene:
         self.bias = {name: float((p or {}).get("bias", default_bias))
                      for name, p in panels.items()}
         self.bias[None] = default_bias
+        # pieces wrapped with their u up the body (`arrange: NAME: {cylinder: {up: u}}`):
+        # drawn turned, u up the page, as they are worn
+        for name, place in (doc.get("arrange") or {}).items():
+            cyl = place.get("cylinder") if isinstance(place, dict) else None
+            if isinstance(cyl, dict) and cyl.get("up") == "u":
+                self.turned.add(str(name))
         mesh = doc.get("mesh") or {}
         if isinstance(mesh, dict) and mesh.get("obj"):
             try:
@@ -317,6 +323,10 @@ class Scene:
         known = self.panel_names or []
         names = [known[i] if i < len(known) and len(ids) > 1 else None for i in ids]
         return np.searchsorted(ids, panel), names
+
+    def turned_ids(self, names):
+        """The ids of the pieces drawn turned (their u up the page)."""
+        return {p for p, n in enumerate(names) if n in self.turned}
 
     def piece_bias(self, name):
         """The piece's bias, degrees: its panel's, else the material's."""
@@ -487,14 +497,22 @@ def row_layout(boxes, ids, rows):
     return shift, (width, -y - gap)
 
 
-def pattern_layout(cloth, piece=None, aspect=None):
+def turn(uv):
+    """(u, v) -> (-v, u): a piece drawn with its u up the page, as `up: u` wraps it."""
+    return np.stack([-uv[..., 1], uv[..., 0]], axis=-1)
+
+
+def pattern_layout(cloth, piece=None, aspect=None, turned=()):
     """Each face's corners in the flat view, m: each piece (piece: a per-face id, default the
-    `panel` array) in its (u,v) layout; pieces whose boxes overlap are laid side by side (in
-    the number of rows that best fills a view of width / height `aspect`, one row when it is
-    None); and the shift of each piece (piece id -> (du, dv))."""
+    `panel` array) in its (u,v) layout, turned (u up) when its id is in `turned`; pieces whose
+    boxes overlap are laid side by side (in the number of rows that best fills a view of
+    width / height `aspect`, one row when it is None); and the shift of each piece (piece id
+    -> (du, dv), after the turn)."""
     uv = face_uv(cloth).copy()
     if piece is None:
         piece = cloth.cell_data.get("panel", np.zeros(len(uv), dtype=np.int32))
+    for p in turned:
+        uv[piece == p] = turn(uv[piece == p])
     ids = sorted(set(np.asarray(piece).tolist()))
     boxes = {p: (uv[piece == p].reshape(-1, 2).min(0), uv[piece == p].reshape(-1, 2).max(0))
              for p in ids}
@@ -516,8 +534,9 @@ def pattern_layout(cloth, piece=None, aspect=None):
     return uv, piece, shift
 
 
-def tendon_pattern(cloth, tend, panel, shift):
-    """Each tendon's waypoints in the flat view: the (u,v) of the vertex in its first face."""
+def tendon_pattern(cloth, tend, panel, shift, turned=()):
+    """Each tendon's waypoints in the flat view: the (u,v) of the vertex in its first face
+    (turned with its piece)."""
     nf = len(cloth.offsets)
     tri = cloth.connectivity.reshape(nf, 3)
     first = np.full(len(cloth.points), -1)
@@ -527,7 +546,8 @@ def tendon_pattern(cloth, tend, panel, shift):
     lines = []
     for cell in tend.cells():
         verts = tend.point_data["vertex"][cell]
-        lines.append(np.array([uv[v] + shift[panel[first[v]]] if first[v] >= 0 else uv[v]
+        lines.append(np.array([(turn(uv[v]) if panel[first[v]] in turned else uv[v])
+                               + shift[panel[first[v]]] if first[v] >= 0 else uv[v]
                                for v in verts]))
     return lines
 
@@ -617,14 +637,16 @@ def draw_flat(ax, cloth, tend, txy_norm, t_norm, scene=None):
     piece, names = scene.pieces(cloth)
     box = ax.get_position()
     fig_w, fig_h = ax.figure.get_size_inches()
-    uv, piece, shift = pattern_layout(cloth, piece, box.width * fig_w / (box.height * fig_h))
+    turned = scene.turned_ids(names)
+    uv, piece, shift = pattern_layout(cloth, piece, box.width * fig_w / (box.height * fig_h),
+                                      turned)
     ax.add_collection(PolyCollection(uv, array=cloth.cell_data["tension_xy"], cmap="viridis",
                                      norm=txy_norm, edgecolors="face", linewidths=0.2))
     ax.add_collection(LineCollection(outlines(cloth, uv, piece), colors="black",
                                      linewidths=0.8))
     for p in sorted(set(piece.tolist())):
         name = names[p] if p < len(names) else None
-        a, b = grain_line(uv[piece == p], scene.piece_bias(name))
+        a, b = grain_line(uv[piece == p], scene.piece_bias(name) + (90.0 if p in turned else 0.0))
         ax.annotate("", b, a, arrowprops={"arrowstyle": "<|-|>", "color": "white", "lw": 1.2,
                                           "shrinkA": 0, "shrinkB": 0, "mutation_scale": 9})
         if name:
@@ -639,7 +661,7 @@ def draw_flat(ax, cloth, tend, txy_norm, t_norm, scene=None):
         label_outside(ax, name, pts, uv[piece == p].reshape(-1, 2).mean(0), colour,
                       (1 + side) / 3)
     if tend is not None:
-        lines = tendon_pattern(cloth, tend, piece, shift)
+        lines = tendon_pattern(cloth, tend, piece, shift, turned)
         tension = tend.cell_data["tension"]
         ax.add_collection(LineCollection(lines, array=tension, cmap="autumn_r", norm=t_norm,
                                          linewidths=2.5))
@@ -654,8 +676,12 @@ def draw_flat(ax, cloth, tend, txy_norm, t_norm, scene=None):
     ax.set_ylim(lo[1] - pad, hi[1] + pad)
     ax.set_aspect("equal", adjustable="datalim")
     ax.tick_params(labelsize=8)
-    ax.set_xlabel("u (m)", fontsize=9)
-    ax.set_ylabel("v (m)", fontsize=9)
+    every = bool(turned) and turned == set(piece.tolist())
+    some = bool(turned) and not every
+    ax.set_xlabel("−v (m)" if every else "u (m)" + (", turned pieces: −v" if some else ""),
+                  fontsize=9)
+    ax.set_ylabel("u (m)" if every else "v (m)" + (", turned pieces: u" if some else ""),
+                  fontsize=9)
     ax.set_title("flat pattern: grain lines (arrows)%s" % (", seams" if scene.seams else ""),
                  fontsize=10)
 
@@ -736,8 +762,10 @@ def view_widths(fig, cloth, scene, t):
     layout fills at the view's height, at least 0.42; the 3D view takes what is left."""
     flat_most = VIEWS_WIDTH - shape_width(fig, cloth, scene, t)
     fig_w, fig_h = fig.get_size_inches()
-    piece, _ = (scene or Scene()).pieces(cloth)
-    uv = pattern_layout(cloth, piece, flat_most * fig_w / (FLAT_HEIGHT * fig_h))[0]
+    scene = scene or Scene()
+    piece, names = scene.pieces(cloth)
+    uv = pattern_layout(cloth, piece, flat_most * fig_w / (FLAT_HEIGHT * fig_h),
+                        scene.turned_ids(names))[0]
     w, h = np.ptp(uv.reshape(-1, 2), axis=0) * 1.04  # draw_flat's 2 % pad each side
     need = w / max(h, 1e-12) * FLAT_HEIGHT * fig_h / fig_w
     flat = float(np.clip(need, 0.42, max(flat_most, 0.42)))

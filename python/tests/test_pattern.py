@@ -170,6 +170,10 @@ def test_import_writes_obj_and_skeleton_that_sinew_check_loads(fx, tmp_path):
     assert r.returncode == 0, r.stderr
     assert "4 entities not used" not in r.stderr and "5 entities not used" in r.stderr
     assert sorted(os.listdir(out)) == ["aama_skirt.obj", "aama_skirt.yaml"]
+    umask = os.umask(0)
+    os.umask(umask)
+    for f in os.listdir(out):  # as any file written, not the temporary file's 0600
+        assert os.stat(out / f).st_mode & 0o777 == 0o666 & ~umask, f
     obj = (out / "aama_skirt.obj").read_text()
     assert re.findall(r"^g (\S+)$", obj, re.M) == ["Front", "Back", "Pocket", "Pocket_2"]
     chk = subprocess.run([SINEW, "check", str(out / "aama_skirt.yaml")],
@@ -294,3 +298,50 @@ def test_out_of_spec_integers_are_repaired_and_listed(fx, tmp_path, capsys):
     err = capsys.readouterr().err
     assert "ezdxf repaired %d things" % len(pat.repaired) in err
     assert "recovered invalid integer" not in err  # listed by --list, not printed
+
+
+def test_shipped_dxf_garment_is_its_commands(tmp_path):
+    """scenes/patterns/garment_skirt.dxf is what `make_garment.py skirt --dxf` writes (the same
+    bytes: no dates or GUIDs of the moment), scenes/meshes/garment_skirt_dxf.obj is what `sinew
+    pattern import` makes of it (gmsh is deterministic here), each piece's rest area is the
+    drawn polygon's within 0.5 %, and the scene that sews them loads: four seams, nothing
+    crossing at the start."""
+    import ezdxf
+    scenes = os.path.join(ROOT, "scenes")
+    dxf = os.path.join(scenes, "patterns", "garment_skirt.dxf")
+    obj = os.path.join(scenes, "meshes", "garment_skirt_dxf.obj")
+    subprocess.run(["/usr/bin/python3", os.path.join(ROOT, "tools", "make_garment.py"), "skirt",
+                    "--hip", "0.96", "--hip-depth", "0.204", "--dxf", str(tmp_path / "p.dxf")],
+                   check=True, capture_output=True)
+    assert (tmp_path / "p.dxf").read_bytes() == open(dxf, "rb").read()
+    (tmp_path / "patterns").mkdir()
+    (tmp_path / "meshes").mkdir()
+    (tmp_path / "patterns" / "garment_skirt.dxf").write_bytes(open(dxf, "rb").read())
+    r = subprocess.run([os.path.abspath(SINEW), "pattern", "import", "patterns/garment_skirt.dxf", "--obj",
+                        "meshes/garment_skirt_dxf.obj", "--scene", "skel.yaml", "--quiet"],
+                       cwd=tmp_path, capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    assert (tmp_path / "meshes" / "garment_skirt_dxf.obj").read_text() == open(obj).read()
+    # the drawn polygon's area, m² (the boundary is an LWPOLYLINE of 2 mm steps, in mm)
+    poly = [e for e in ezdxf.readfile(dxf).blocks.get("FRONT") if e.dxftype() == "LWPOLYLINE"]
+    p = np.array([pt[:2] for pt in poly[0].get_points()]) / 1000.0
+    drawn = 0.5 * abs(np.dot(p[:, 0], np.roll(p[:, 1], 1)) - np.dot(p[:, 1], np.roll(p[:, 0], 1)))
+    chk = subprocess.run([SINEW, "check", os.path.join(scenes, "garment_skirt_dxf.yaml")],
+                         capture_output=True, text=True)
+    assert chk.returncode == 0, chk.stderr
+    vt, areas, group = [], {}, None
+    for line in open(obj):
+        t = line.split()
+        if t and t[0] == "vt":
+            vt.append([float(t[1]), float(t[2])])
+        elif t and t[0] == "g":
+            group = t[1]
+        elif t and t[0] == "f":
+            a, b, c = (np.array(vt[int(k.split("/")[1]) - 1]) for k in t[1:4])
+            e, f = b - a, c - a
+            areas[group] = areas.get(group, 0.0) + 0.5 * (e[0] * f[1] - e[1] * f[0])
+    assert sorted(areas) == ["Back", "Back_2", "Front", "Front_2"]
+    for name, area in areas.items():  # (u,v) counter-clockwise: positive
+        assert area == pytest.approx(drawn, rel=5e-3), name
+    assert len(re.findall(r"^seam ", chk.stdout, re.M)) == 4
+    assert "crossings   0 face pairs intersect at the start" in chk.stdout

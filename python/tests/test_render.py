@@ -71,6 +71,29 @@ def test_overlapping_panels_are_laid_side_by_side():
     assert np.allclose(shift[1], [1.05, 0])
 
 
+def test_turned_pieces_are_drawn_u_up(tmp_path):
+    """A piece the scene wraps with `up: u` is drawn turned, (u, v) -> (-v, u): a 2 x 1 panel
+    stands 2 high and 1 wide, its grain line (u) vertical; the scene's other pieces are not."""
+    scene_file = tmp_path / "s.yaml"
+    scene_file.write_text("arrange:\n  a: {cylinder: {top: 1, radius: 1, up: u}}\n"
+                          "  b: {cylinder: {top: 1, radius: 1}}\n")
+    scene = render.Scene()
+    scene.read_scene(render.load_yaml(str(scene_file)), str(tmp_path))
+    assert scene.turned == {"a"} and scene.turned_ids(["a", "b"]) == {0}
+    piece = frames.Piece()
+    rect = np.array([[0, 0], [2, 0], [2, 1], [0, 0], [2, 1], [0, 1]], dtype=float)
+    piece.points = np.zeros((8, 3))
+    piece.connectivity = np.arange(12)
+    piece.offsets = np.arange(3, 13, 3)
+    piece.cell_data = {"uv_corners": np.concatenate([rect, rect]).reshape(4, 6)}
+    uv, _, shift = render.pattern_layout(piece, np.array([0, 0, 1, 1]), None, {0})
+    a, b = uv[:2].reshape(-1, 2), uv[2:].reshape(-1, 2)
+    assert np.allclose(np.ptp(a, axis=0), [1, 2]) and np.allclose(np.ptp(b, axis=0), [2, 1])
+    assert np.allclose(a - shift[0], render.turn(rect))  # (-v, u), then laid out
+    g0, g1 = render.grain_line(uv[:2], 90.0)
+    assert abs(g1[0] - g0[0]) < 1e-12 and abs(g1[1] - g0[1]) > 0
+
+
 # ---------------------------------------------------------------- colour range
 
 def test_parse_range():
