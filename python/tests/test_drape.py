@@ -101,19 +101,42 @@ def test_radius_profile_of_a_polygon(disc):
     assert r.max() <= 0.15 + 1e-3 and r.min() >= 0.15 * np.cos(np.pi / n) - 1e-3
 
 
+def test_refined_disc_rings():
+    """make_disc's refined rings: the clamp's edge is a ring, the spacing is at most H inside
+    each band and at most the coarse spacing elsewhere, the rings end on the radius, and the
+    triangles tile the outline polygon (their areas sum to its area)."""
+    bands = [(0.08, 0.11, 0.0025), (0.0875, 0.0925, 0.00125)]
+    r = make_disc.refined_radii(0.15, 0.01, bands, rings=[0.09])
+    steps = np.diff(np.concatenate([[0.0], r]))
+    mid = r - steps / 2
+    assert np.isclose(r, 0.09, atol=1e-12).any() and abs(r[-1] - 0.15) < 1e-12
+    for r0, r1, h in bands:
+        inside = (mid > r0) & (mid < r1)
+        assert inside.any() and (steps[inside] <= h * (1 + 1e-9)).all()
+    assert (steps <= 0.01 * (1 + 1e-9)).all()
+    p, tri = make_disc.disc_mesh(0.15, 0.01, bands, [0.09])
+    a = p[tri[:, 1]] - p[tri[:, 0]]
+    b = p[tri[:, 2]] - p[tri[:, 0]]
+    cross = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
+    assert (cross > 0).all()
+    assert abs(0.5 * cross.sum() / polygon_area(outline(p, tri)) - 1) < 1e-12
+
+
 SINEW = os.environ.get("SINEW_EXE", os.path.join(ROOT, "build", "sinew"))
 SCENE = os.path.join(ROOT, "scenes", "cusick_drape.yaml")
 
 
-def test_shipped_scene_clamps_the_inner_nine_rings():
-    """The disc selection of the shipped scene pins the centre and the rings 1 to 9 (radius up
-    to 0.09 m), round(2 pi k) vertices on ring k: 284 vertices, all within 0.09 m."""
+def test_shipped_scene_clamps_the_disc_to_its_edge_ring():
+    """The disc selection of the shipped scene pins every vertex within 0.09 m of the centre,
+    the clamp's edge ring of round(2 pi 0.09 / 1.25 mm) = 452 vertices included, and nothing
+    of the next ring, 1.25 mm further out (tools/make_disc.py --ring 0.09 --refine ...)."""
     import sinew
     sim = sinew.load(SCENE)
-    want = 1 + sum(int(round(2 * np.pi * k)) for k in range(1, 10))
-    assert want == 284 and sim.pinned.sum() == want
     r = np.hypot(sim.positions[:, 0], sim.positions[:, 1])
-    assert r[sim.pinned].max() < 0.09 + 1e-8 and r[~sim.pinned].min() > 0.0999
+    edge = np.abs(r - 0.09) < 1e-8
+    assert edge.sum() == 452 and sim.pinned[edge].all()
+    assert (sim.pinned == (r < 0.09 + 1e-8)).all()
+    assert abs(r[~sim.pinned].min() - 0.09125) < 1e-8
 
 
 def test_command_on_the_start_of_the_shipped_scene(tmp_path):
