@@ -227,3 +227,48 @@ int sw_pair_barrier_block(const sw_pair_form *pf, double db, double d2b, double 
     }
   return 0;
 }
+
+/* An orthonormal basis of the vectors of R^4 whose entries sum to 0 (Helmert's contrasts):
+ * the differences of the 4 vertices' motions, which is all a translation-free energy sees. */
+static const double HELMERT[3][4] = {
+    {0.70710678118654752, -0.70710678118654752, 0.0, 0.0},
+    {0.40824829046386302, 0.40824829046386302, -0.81649658092772603, 0.0},
+    {0.28867513459481289, 0.28867513459481289, 0.28867513459481289, -0.86602540378443865}};
+
+int sw_pair_clamp_free(double *H) {
+  /* Q = HELMERT^T (x) I_3 (12 x 9): M = Q^T H Q, its clamp, then H = Q M Q^T; each product
+   * goes vertex by vertex (T = Q^T H is 9 x 12) */
+  double T[9][12], M[81];
+  for (int k = 0; k < 3; k++)
+    for (int a = 0; a < 3; a++)
+      for (int q = 0; q < 12; q++) {
+        double s = 0.0;
+        for (int i = 0; i < 4; i++) s += HELMERT[k][i] * H[(3 * i + a) * 12 + q];
+        T[3 * k + a][q] = s;
+      }
+  for (int r = 0; r < 9; r++)
+    for (int l = 0; l < 3; l++)
+      for (int b = 0; b < 3; b++) {
+        double s = 0.0;
+        for (int j = 0; j < 4; j++) s += T[r][3 * j + b] * HELMERT[l][j];
+        M[r * 9 + 3 * l + b] = s;
+      }
+  for (int r = 0; r < 9; r++) /* symmetric to round-off: make it exactly so */
+    for (int c = r + 1; c < 9; c++) M[r * 9 + c] = M[c * 9 + r] = 0.5 * (M[r * 9 + c] + M[c * 9 + r]);
+  if (sw_psd_project(M, 9, SW_FILTER_CLAMP)) return -1;
+  for (int r = 0; r < 9; r++) /* T = M Q^T (9 x 12) */
+    for (int j = 0; j < 4; j++)
+      for (int b = 0; b < 3; b++) {
+        double s = 0.0;
+        for (int l = 0; l < 3; l++) s += M[r * 9 + 3 * l + b] * HELMERT[l][j];
+        T[r][3 * j + b] = s;
+      }
+  for (int i = 0; i < 4; i++)
+    for (int a = 0; a < 3; a++)
+      for (int q = 0; q < 12; q++) {
+        double s = 0.0;
+        for (int k = 0; k < 3; k++) s += HELMERT[k][i] * T[3 * k + a][q];
+        H[(3 * i + a) * 12 + q] = s;
+      }
+  return 0;
+}
