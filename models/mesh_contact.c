@@ -785,6 +785,17 @@ double sw_mcontact_toi(const sw_model *m, sw_mcontact *mc, const double *x0, dou
   return a.toi;
 }
 
+int sw_mcontact_limit(const sw_model *m, const sw_mcontact *mc, int *vertex) {
+  int i = -1, k = -1;
+  for (int j = 0; mc && mc->limit[0] >= 0 && j < 4; j++) {
+    int o = owner_of(m, mc->p, mc->limit[j]);
+    if (o < 0 && i < 0) i = mc->limit[j];
+    if (o >= 0 && k < 0) k = o;
+  }
+  *vertex = i;
+  return k < 0 || i < 0 ? -1 : m->mesh_obstacle[k].item;
+}
+
 int sw_mcontact_settled(const sw_model *m, const sw_mcontact *mc, const double *x0,
                         const double *x1) {
   for (int k = 0; mc && k < mc->npair; k++) {

@@ -236,6 +236,7 @@ static double self_bound(sw_newton *nw, const sw_model *m, sw_data *d, const dou
   add_step(m, x, nw->dx, alpha, nw->xtry);
   double s = sw_mcontact_toi(m, d->mc, x, t, nw->xtry, t, &d->time_broadphase);
   d->time_ccd += sw_now() - t0;
+  nw->mfrac = s * alpha;
   return s;
 }
 
@@ -705,23 +706,29 @@ static double round_off_floor(const sw_model *m, const double *x) {
 
 /* After Newton failed: when the obstacles clipped the last update (a vertex's fraction below
  * 1/2), name the obstacle nearest the most clipped vertex in d->err, so that a failure at a
- * fast obstacle says which one and where. */
+ * fast obstacle says which one and where; else when a mesh obstacle's pair cut the last update
+ * below 1/2 (its CCD), name that obstacle and the pair's cloth vertex. */
 static void name_obstacle(const sw_newton *nw, const sw_model *m, sw_data *d, const double *x,
                           double t) {
-  if (!nw->vfrac || m->nobstacle == 0) return;
-  int iv = -1, ko = -1;
-  for (int i = 0; i < m->nv; i++)
+  int iv = -1, item = -1;
+  double frac = 1.0;
+  for (int i = 0; nw->vfrac && m->nobstacle > 0 && i < m->nv; i++)
     if (nw->vfrac[i] < 0.5 && (iv < 0 || nw->vfrac[i] < nw->vfrac[iv])) iv = i;
-  if (iv < 0) return;
-  double best = INFINITY;
-  for (int k = 0; k < m->nobstacle; k++) {
-    double dist = sw_obstacle_sdf(&m->obstacle[k], m->dim, t, x + (size_t)iv * m->dim, NULL, NULL);
-    if (dist < best) best = dist, ko = k;
+  if (iv >= 0) {
+    double best = INFINITY;
+    for (int k = 0; k < m->nobstacle; k++) {
+      double dist = sw_obstacle_sdf(&m->obstacle[k], m->dim, t, x + (size_t)iv * m->dim, NULL, NULL);
+      if (dist < best) best = dist, item = m->obstacle[k].item;
+    }
+    frac = nw->vfrac[iv];
+  } else if (d->mc && nw->mfrac < 0.5) {
+    item = sw_mcontact_limit(m, d->mc, &iv);
+    frac = nw->mfrac;
   }
+  if (item < 0) return;
   size_t n = strlen(d->err);
   snprintf(d->err + n, sizeof d->err - n, ": obstacles[%d] held vertex %d to %.2g of its last "
-           "update at t = %g s (a smaller dt or more max_halvings)", m->obstacle[ko].item, iv,
-           nw->vfrac[iv], t);
+           "update at t = %g s (a smaller dt or more max_halvings)", item, iv, frac, t);
 }
 
 int sw_newton_solve(sw_newton *nw, const sw_model *m, sw_data *d, double *x, const double *xhat,
@@ -736,6 +743,7 @@ int sw_newton_solve(sw_newton *nw, const sw_model *m, sw_data *d, double *x, con
     nw->fac_stale = 1;
   }
   const double xfloor = round_off_floor(m, x);
+  nw->mfrac = 1.0;
   double prev = 0.0, phi = 0.0; /* max |dx| of the last iteration; Phi at x */
   int redo = 0; /* 1: the same iterate again, with a fresh factorisation */
   for (int it = 0; it < o->max_iter; it++) {

@@ -163,6 +163,7 @@ typedef struct sw_newton {
   double *wdof;          /* (n) each free DOF's share of the free mass, m_i / sum m_i */
   int iter;              /* the current iteration of the solve */
   double *vfrac;         /* (nv) with obstacles: each vertex's allowed fraction of a step */
+  double mfrac;          /* mesh contact: the fraction of the last update its CCD allowed */
   /* self-contact: the vertex pairs its Hessian has coupled so far, on top of the stencils'
    * pattern (it only grows: a pair once in contact keeps its entries for the run) */
   int *xpair;            /* (2 nxpair) */
