@@ -24,7 +24,10 @@
  * of IPC barrier energy", ACM TOG 2024: a rank-one normal part b'' grad d2 grad d2^T and a
  * second part projected analytically); its Gauss-Newton simplification of dropping the negative
  * tangential part 2 b' c c^T (x) (I - n n^T) while keeping |b'| K was measured here and
- * needed more Newton iterations (docs/contact.md, "Cost"), so the block is the exact clamp. */
+ * needed more Newton iterations (docs/contact.md, "Cost"), so the block is the exact clamp.
+ * A point and a line (k = 1) need only 3 of the 4 dimensions: c (x) (n x t), n the normal and
+ * t the line's direction, is an eigenvector of eigenvalue 2 w b' |c|^2 <= 0 (the gradient and
+ * v_0 are orthogonal to it), which the clamp takes to 0, so it is left out of Q. */
 #include <math.h>
 #include <string.h>
 
@@ -149,32 +152,63 @@ void sw_pair_hess_d2(const sw_pair_form *pf, double *H) {
     }
 }
 
+/* Gram-Schmidt of vector q (12) against Q[0..r), twice for round-off; 1 and q normalised when
+ * it keeps more than 1e-12 of its size (else it lies in their span already). */
+static int orthonormalise(double Q[5][12], int r, double *q) {
+  double n0 = 0.0, n1 = 0.0;
+  for (int p = 0; p < 12; p++) n0 += q[p] * q[p];
+  for (int j = 0; j < r; j++)
+    for (int pass = 0; pass < 2; pass++) {
+      double s = 0.0;
+      for (int p = 0; p < 12; p++) s += Q[j][p] * q[p];
+      for (int p = 0; p < 12; p++) q[p] -= s * Q[j][p];
+    }
+  for (int p = 0; p < 12; p++) n1 += q[p] * q[p];
+  if (!(n1 > 1e-24 * n0)) return 0;
+  for (int p = 0; p < 12; p++) q[p] /= sqrt(n1);
+  return 1;
+}
+
+/* For one sliding direction (a point and a line): the unit normal n = r/|r| and the unit
+ * tangent t along the line, into e[0] and e[1]; 0 when they cannot be told apart. */
+static int line_frame(const sw_pair_form *pf, double e[2][3]) {
+  int i = 0; /* the vertex of the largest coefficient: r = g_i / (2 c_i) there */
+  for (int j = 1; j < 4; j++)
+    if (fabs(pf->c[j]) > fabs(pf->c[i])) i = j;
+  double nn = 0.0, tt = 0.0, vn = 0.0;
+  for (int a = 0; a < 3; a++) nn += pf->g[3 * i + a] * pf->g[3 * i + a];
+  if (!(nn > 0.0)) return 0;
+  for (int a = 0; a < 3; a++) e[0][a] = pf->g[3 * i + a] / sqrt(nn) * (pf->c[i] > 0.0 ? 1.0 : -1.0);
+  for (int a = 0; a < 3; a++) vn += pf->v[0][3 * i + a] * e[0][a];
+  for (int a = 0; a < 3; a++) { /* v_0 at vertex i is L (c_i R + dc_i r), R orthogonal to r */
+    e[1][a] = pf->v[0][3 * i + a] - vn * e[0][a];
+    tt += e[1][a] * e[1][a];
+  }
+  if (!(tt > 1e-24 * (tt + vn * vn))) return 0;
+  for (int a = 0; a < 3; a++) e[1][a] /= sqrt(tt);
+  return 1;
+}
+
 /* The orthonormal basis Q (12 x *r, column j at Q[j]) of the span of c (x) e_a (a = 0, 1, 2)
  * and the v_m, which holds every column of the exact Hessian; directions of v_m below 1e-12 of
- * its size are dropped (they lie in the span already). */
-static int span_basis(const sw_pair_form *pf, double Q[5][12]) {
-  double cc = 0.0;
+ * its size are dropped (they lie in the span already).  *nc: how many columns are of the form
+ * c (x) e (the first ones).  With one sliding direction and drop_side, the direction
+ * c (x) (n x t) (n the normal, t the line's direction) is left out: v_0 and the gradient are
+ * orthogonal to it, so it is an eigenvector of eigenvalue 2 w b' |c|^2 <= 0, which the clamp
+ * takes to 0. */
+static int span_basis(const sw_pair_form *pf, int drop_side, double Q[5][12], int *nc) {
+  double cc = 0.0, e[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
   for (int i = 0; i < 4; i++) cc += pf->c[i] * pf->c[i];
   double lc = sqrt(cc);
   memset(Q, 0, 5 * sizeof Q[0]);
-  for (int a = 0; a < 3; a++)
-    for (int i = 0; i < 4; i++) Q[a][3 * i + a] = pf->c[i] / lc;
-  int r = 3;
+  *nc = pf->k == 1 && drop_side && line_frame(pf, e) ? 2 : 3;
+  for (int j = 0; j < *nc; j++)
+    for (int i = 0; i < 4; i++)
+      for (int a = 0; a < 3; a++) Q[j][3 * i + a] = pf->c[i] / lc * e[j][a];
+  int r = *nc;
   for (int m = 0; m < pf->k; m++) {
-    double *q = Q[r], n0 = 0.0, n1 = 0.0;
-    memcpy(q, pf->v[m], sizeof Q[0]);
-    for (int p = 0; p < 12; p++) n0 += q[p] * q[p];
-    for (int j = 0; j < r; j++) { /* Gram-Schmidt, twice for round-off */
-      for (int pass = 0; pass < 2; pass++) {
-        double s = 0.0;
-        for (int p = 0; p < 12; p++) s += Q[j][p] * q[p];
-        for (int p = 0; p < 12; p++) q[p] -= s * Q[j][p];
-      }
-    }
-    for (int p = 0; p < 12; p++) n1 += q[p] * q[p];
-    if (!(n1 > 1e-24 * n0)) continue;
-    for (int p = 0; p < 12; p++) q[p] /= sqrt(n1);
-    r++;
+    memcpy(Q[r], pf->v[m], sizeof Q[0]);
+    r += orthonormalise(Q, r, Q[r]);
   }
   return r;
 }
@@ -196,7 +230,7 @@ int sw_pair_barrier_block(const sw_pair_form *pf, double db, double d2b, double 
       for (int q = 0; q < 12; q++) H[p * 12 + q] = lam / gg * pf->g[p] * pf->g[q];
     return 0;
   }
-  int r = span_basis(pf, Q);
+  int nc, r = span_basis(pf, db <= 0.0, Q, &nc);
   for (int j = 0; j < r; j++) { /* the coordinates of g and the v_m in Q */
     gq[j] = vq[0][j] = vq[1][j] = 0.0;
     for (int p = 0; p < 12; p++) {
@@ -204,10 +238,10 @@ int sw_pair_barrier_block(const sw_pair_form *pf, double db, double d2b, double 
       for (int m = 0; m < pf->k; m++) vq[m][j] += Q[j][p] * pf->v[m][p];
     }
   }
-  /* Q^T Hess b Q = b'' gq gq^T + 2 b' |c|^2 (I_3 + 0) - 2 b' sum_m vq_m vq_m^T */
+  /* Q^T Hess b Q = b'' gq gq^T + 2 b' |c|^2 (I_nc + 0) - 2 b' sum_m vq_m vq_m^T */
   for (int i = 0; i < r; i++)
     for (int j = 0; j < r; j++) {
-      double s = d2b * gq[i] * gq[j] + (i == j && i < 3 ? 2.0 * db * cc : 0.0);
+      double s = d2b * gq[i] * gq[j] + (i == j && i < nc ? 2.0 * db * cc : 0.0);
       for (int m = 0; m < pf->k; m++) s -= 2.0 * db * vq[m][i] * vq[m][j];
       M[i * r + j] = w * s;
     }
@@ -225,5 +259,50 @@ int sw_pair_barrier_block(const sw_pair_form *pf, double db, double d2b, double 
       for (int j = 0; j < r; j++) s += QM[j][p] * Q[j][q];
       H[p * 12 + q] = H[q * 12 + p] = s;
     }
+  return 0;
+}
+
+/* An orthonormal basis of the vectors of R^4 whose entries sum to 0 (Helmert's contrasts):
+ * the differences of the 4 vertices' motions, which is all a translation-free energy sees. */
+static const double HELMERT[3][4] = {
+    {0.70710678118654752, -0.70710678118654752, 0.0, 0.0},
+    {0.40824829046386302, 0.40824829046386302, -0.81649658092772603, 0.0},
+    {0.28867513459481289, 0.28867513459481289, 0.28867513459481289, -0.86602540378443865}};
+
+int sw_pair_clamp_free(double *H) {
+  /* Q = HELMERT^T (x) I_3 (12 x 9): M = Q^T H Q, its clamp, then H = Q M Q^T; each product
+   * goes vertex by vertex (T = Q^T H is 9 x 12) */
+  double T[9][12], M[81];
+  for (int k = 0; k < 3; k++)
+    for (int a = 0; a < 3; a++)
+      for (int q = 0; q < 12; q++) {
+        double s = 0.0;
+        for (int i = 0; i < 4; i++) s += HELMERT[k][i] * H[(3 * i + a) * 12 + q];
+        T[3 * k + a][q] = s;
+      }
+  for (int r = 0; r < 9; r++)
+    for (int l = 0; l < 3; l++)
+      for (int b = 0; b < 3; b++) {
+        double s = 0.0;
+        for (int j = 0; j < 4; j++) s += T[r][3 * j + b] * HELMERT[l][j];
+        M[r * 9 + 3 * l + b] = s;
+      }
+  for (int r = 0; r < 9; r++) /* symmetric to round-off: make it exactly so */
+    for (int c = r + 1; c < 9; c++) M[r * 9 + c] = M[c * 9 + r] = 0.5 * (M[r * 9 + c] + M[c * 9 + r]);
+  if (sw_psd_project(M, 9, SW_FILTER_CLAMP)) return -1;
+  for (int r = 0; r < 9; r++) /* T = M Q^T (9 x 12) */
+    for (int j = 0; j < 4; j++)
+      for (int b = 0; b < 3; b++) {
+        double s = 0.0;
+        for (int l = 0; l < 3; l++) s += M[r * 9 + 3 * l + b] * HELMERT[l][j];
+        T[r][3 * j + b] = s;
+      }
+  for (int i = 0; i < 4; i++)
+    for (int a = 0; a < 3; a++)
+      for (int q = 0; q < 12; q++) {
+        double s = 0.0;
+        for (int k = 0; k < 3; k++) s += HELMERT[k][i] * T[3 * k + a][q];
+        H[(3 * i + a) * 12 + q] = s;
+      }
   return 0;
 }

@@ -158,6 +158,10 @@ int sw_mcontact_pairs(const sw_mcontact *mc, const sw_mc_pair **pair, const doub
  * 1 for mc NULL. */
 double sw_mcontact_toi(const sw_model *m, sw_mcontact *mc, const double *x0, double t0,
                        const double *x1, double t1, double *time_bp);
+/* The mesh obstacle (its index k of the scene's obstacles[k]) of the pair that limited the last
+ * sw_mcontact_toi, and that pair's first cloth vertex into *vertex; -1 when that CCD was not
+ * limited, or by a pair of the cloth alone. */
+int sw_mcontact_limit(const sw_model *m, const sw_mcontact *mc, int *vertex);
 /* Whether the update x0 -> x1 moves every vertex of an active pair of the last evaluation by at
  * most SW_CONTACT_SETTLE of the pair's gap (the test sw_contact_settled makes for obstacles). */
 int sw_mcontact_settled(const sw_model *m, const sw_mcontact *mc, const double *x0,

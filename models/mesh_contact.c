@@ -554,7 +554,8 @@ static double pair_weight(const sw_model *m, const sw_mcontact *mc, const int *v
  * energy alone) and, when H is not NULL (g then too), its Hessian block clamped to positive
  * semi-definite (144); *gap = d - xi (m).  INFINITY when the pair is within xi.  The clamp is
  * found on the block's span (models/barrier_block.c), except for an edge-edge pair the
- * mollifier scales (nearly parallel edges): its exact 12 x 12 Hessian, eigen-decomposed. */
+ * mollifier scales (nearly parallel edges): its exact 12 x 12 Hessian, eigen-decomposed on
+ * the 9 dimensions a translation leaves out (sw_pair_clamp_free). */
 static double pair_energy(const sw_model *m, const sw_mcontact *mc, int kind, const int *v,
                           const double *x, double *g, double *H, double *gap) {
   const sw_contact *c = &m->contact;
@@ -590,7 +591,7 @@ static double pair_energy(const sw_model *m, const sw_mcontact *mc, int kind, co
   double e = sw_product_derivs(12, mo, mg, mH, b, bg, bH, g, H);
   for (int i = 0; i < 12; i++) g[i] *= w;
   for (int i = 0; H && i < 144; i++) H[i] *= w;
-  if (H) sw_psd_project(H, 12, SW_FILTER_CLAMP); /* indefinite */
+  if (H) (void)sw_pair_clamp_free(H); /* indefinite; not finite: as the clamp's */
   return w * e;
 }
 
@@ -782,6 +783,17 @@ double sw_mcontact_toi(const sw_model *m, sw_mcontact *mc, const double *x0, dou
   if (rc) return 0.0;
   each_candidate(m, mc, a.x0, a.x1, 0.0, toi_pair, &a);
   return a.toi;
+}
+
+int sw_mcontact_limit(const sw_model *m, const sw_mcontact *mc, int *vertex) {
+  int i = -1, k = -1;
+  for (int j = 0; mc && mc->limit[0] >= 0 && j < 4; j++) {
+    int o = owner_of(m, mc->p, mc->limit[j]);
+    if (o < 0 && i < 0) i = mc->limit[j];
+    if (o >= 0 && k < 0) k = o;
+  }
+  *vertex = i;
+  return k < 0 || i < 0 ? -1 : m->mesh_obstacle[k].item;
 }
 
 int sw_mcontact_settled(const sw_model *m, const sw_mcontact *mc, const double *x0,

@@ -102,6 +102,9 @@ void sw_newton_free(sw_newton *nw) {
   sw_free(nw->wdof);
   sw_free(nw->vfrac);
   sw_free(nw->xpair);
+  sw_free(nw->ktab);
+  sw_free(nw->kv);
+  sw_free(nw->kslot);
   sw_free(nw->sval);
   sw_free(nw->lrcur);
   sw_free(nw->cr);
@@ -233,6 +236,7 @@ static double self_bound(sw_newton *nw, const sw_model *m, sw_data *d, const dou
   add_step(m, x, nw->dx, alpha, nw->xtry);
   double s = sw_mcontact_toi(m, d->mc, x, t, nw->xtry, t, &d->time_broadphase);
   d->time_ccd += sw_now() - t0;
+  nw->mfrac = s * alpha;
   return s;
 }
 
@@ -326,6 +330,61 @@ static int push_xpair(sw_newton *nw, int i, int j) {
   return 0;
 }
 
+/* Self-contact's kept slots: none (a new pattern, or too many kept). */
+static void forget_slots(sw_newton *nw) {
+  nw->nslot = 0;
+  for (int q = 0; q < nw->captab; q++) nw->ktab[q] = -1;
+}
+
+/* The position in nw->ktab of the entry of vertices v, or of the free place where it goes. */
+static int slot_place(const sw_newton *nw, const int *v) {
+  unsigned h = 2166136261u; /* FNV-1a over the four indices */
+  for (int i = 0; i < 4; i++) h = (h ^ (unsigned)v[i]) * 16777619u;
+  for (unsigned q = h & (unsigned)(nw->captab - 1);; q = (q + 1) & (unsigned)(nw->captab - 1)) {
+    int e = nw->ktab[q];
+    if (e < 0 || !memcmp(nw->kv + 4 * (size_t)e, v, 4 * sizeof(int))) return (int)q;
+  }
+}
+
+/* Room for one more kept entry, the table at most half full; -1 when out of memory. */
+static int slot_room(sw_newton *nw) {
+  if (nw->nslot == nw->capslot) {
+    int cap = nw->capslot + nw->capslot / 2 + 256;
+    int *kv = sw_realloc(nw->kv, (size_t)cap * 4, sizeof(int));
+    if (kv) nw->kv = kv;
+    int *ks = kv ? sw_realloc(nw->kslot, (size_t)cap * 144, sizeof(int)) : NULL;
+    if (!ks) return -1;
+    nw->kslot = ks, nw->capslot = cap;
+  }
+  if (2 * (nw->nslot + 1) <= nw->captab) return 0;
+  int cap = nw->captab ? 2 * nw->captab : 1024;
+  int *t = sw_realloc(nw->ktab, (size_t)cap, sizeof(int));
+  if (!t) return -1;
+  nw->ktab = t, nw->captab = cap;
+  for (int q = 0; q < cap; q++) t[q] = -1;
+  for (int e = 0; e < nw->nslot; e++) t[slot_place(nw, nw->kv + 4 * (size_t)e)] = e;
+  return 0;
+}
+
+/* The kept slots of pair pr's block, or NULL. */
+static const int *kept_slots(const sw_newton *nw, const sw_mc_pair *pr) {
+  if (!nw->captab) return NULL;
+  int e = nw->ktab[slot_place(nw, pr->v)];
+  return e < 0 ? NULL : nw->kslot + 144 * (size_t)e;
+}
+
+/* The slots of pair pr's block, found and kept when not kept yet; NULL when they cannot be
+ * kept (out of memory). */
+static const int *pair_slots(sw_newton *nw, const sw_model *m, const sw_mc_pair *pr) {
+  const int *s = kept_slots(nw, pr);
+  if (s || slot_room(nw)) return s;
+  int e = nw->nslot++, *slot = nw->kslot + 144 * (size_t)e;
+  memcpy(nw->kv + 4 * (size_t)e, pr->v, 4 * sizeof(int));
+  sw_pattern_block_slots(&nw->pat, m, pr->v, 4, slot);
+  nw->ktab[slot_place(nw, pr->v)] = e;
+  return slot;
+}
+
 /* Rebuild the pattern with nw->xpair and analyse it again (the damping matrix carried over). */
 static int regrow(sw_newton *nw, const sw_model *m, sw_data *d) {
   sw_pattern np;
@@ -353,6 +412,7 @@ static int regrow(sw_newton *nw, const sw_model *m, sw_data *d) {
   sw_pattern_free(&nw->pat, m->nterm);
   nw->pat = np;
   nw->fac_valid = 0;
+  forget_slots(nw); /* the kept slots were the old pattern's */
   d->npattern++;
   return sw_chol_init(&nw->chol, &nw->pat, nw->factor_mode, d->err, sizeof d->err);
 }
@@ -365,7 +425,8 @@ static int grow_pattern(sw_newton *nw, const sw_model *m, sw_data *d) {
   const sw_mc_pair *pr;
   int np = sw_mcontact_pairs(d->mc, &pr, NULL);
   long before = nw->nxpair;
-  for (int k = 0; k < np; k++)
+  for (int k = 0; k < np; k++) {
+    if (kept_slots(nw, &pr[k])) continue; /* its slots were found on this pattern: all held */
     for (int i = 0; i < 4; i++)
       for (int j = i + 1; j < 4; j++) {
         int a = pr[k].v[i], b = pr[k].v[j];
@@ -375,6 +436,7 @@ static int grow_pattern(sw_newton *nw, const sw_model *m, sw_data *d) {
           return SW_FATAL;
         }
       }
+  }
   if (nw->nxpair == before) return SW_OK;
   double t0 = sw_now();
   qsort(nw->xpair, (size_t)nw->nxpair, 2 * sizeof(int), cmp_pair);
@@ -388,14 +450,17 @@ static int grow_pattern(sw_newton *nw, const sw_model *m, sw_data *d) {
   return rc;
 }
 
-/* The active self-contact pairs' Hessian blocks into val. */
-static void add_pair_blocks(const sw_newton *nw, const sw_model *m, const sw_data *d,
-                            double *val) {
+/* The active self-contact pairs' Hessian blocks into val, by their kept slots. */
+static void add_pair_blocks(sw_newton *nw, const sw_model *m, const sw_data *d, double *val) {
   const sw_mc_pair *pr;
   const double *blk;
   int np = sw_mcontact_pairs(d->mc, &pr, &blk);
-  for (int k = 0; blk && k < np; k++)
-    sw_pattern_add_block(&nw->pat, m, pr[k].v, 4, blk + 144 * (size_t)k, 1.0, val);
+  if (nw->nslot > 4 * np + 4096) forget_slots(nw); /* pairs long gone: keep memory bounded */
+  for (int k = 0; blk && k < np; k++) {
+    const int *slot = pair_slots(nw, m, &pr[k]);
+    if (slot) sw_pattern_add_slots(slot, 12, blk + 144 * (size_t)k, 1.0, val);
+    else sw_pattern_add_block(&nw->pat, m, pr[k].v, 4, blk + 144 * (size_t)k, 1.0, val);
+  }
 }
 
 /* S = a M + H (H from the last evaluation: blocks, self-contact pairs and low-rank vectors)
@@ -641,23 +706,29 @@ static double round_off_floor(const sw_model *m, const double *x) {
 
 /* After Newton failed: when the obstacles clipped the last update (a vertex's fraction below
  * 1/2), name the obstacle nearest the most clipped vertex in d->err, so that a failure at a
- * fast obstacle says which one and where. */
+ * fast obstacle says which one and where; else when a mesh obstacle's pair cut the last update
+ * below 1/2 (its CCD), name that obstacle and the pair's cloth vertex. */
 static void name_obstacle(const sw_newton *nw, const sw_model *m, sw_data *d, const double *x,
                           double t) {
-  if (!nw->vfrac || m->nobstacle == 0) return;
-  int iv = -1, ko = -1;
-  for (int i = 0; i < m->nv; i++)
+  int iv = -1, item = -1;
+  double frac = 1.0;
+  for (int i = 0; nw->vfrac && m->nobstacle > 0 && i < m->nv; i++)
     if (nw->vfrac[i] < 0.5 && (iv < 0 || nw->vfrac[i] < nw->vfrac[iv])) iv = i;
-  if (iv < 0) return;
-  double best = INFINITY;
-  for (int k = 0; k < m->nobstacle; k++) {
-    double dist = sw_obstacle_sdf(&m->obstacle[k], m->dim, t, x + (size_t)iv * m->dim, NULL, NULL);
-    if (dist < best) best = dist, ko = k;
+  if (iv >= 0) {
+    double best = INFINITY;
+    for (int k = 0; k < m->nobstacle; k++) {
+      double dist = sw_obstacle_sdf(&m->obstacle[k], m->dim, t, x + (size_t)iv * m->dim, NULL, NULL);
+      if (dist < best) best = dist, item = m->obstacle[k].item;
+    }
+    frac = nw->vfrac[iv];
+  } else if (d->mc && nw->mfrac < 0.5) {
+    item = sw_mcontact_limit(m, d->mc, &iv);
+    frac = nw->mfrac;
   }
+  if (item < 0) return;
   size_t n = strlen(d->err);
   snprintf(d->err + n, sizeof d->err - n, ": obstacles[%d] held vertex %d to %.2g of its last "
-           "update at t = %g s (a smaller dt or more max_halvings)", m->obstacle[ko].item, iv,
-           nw->vfrac[iv], t);
+           "update at t = %g s (a smaller dt or more max_halvings)", item, iv, frac, t);
 }
 
 int sw_newton_solve(sw_newton *nw, const sw_model *m, sw_data *d, double *x, const double *xhat,
@@ -672,6 +743,7 @@ int sw_newton_solve(sw_newton *nw, const sw_model *m, sw_data *d, double *x, con
     nw->fac_stale = 1;
   }
   const double xfloor = round_off_floor(m, x);
+  nw->mfrac = 1.0;
   double prev = 0.0, phi = 0.0; /* max |dx| of the last iteration; Phi at x */
   int redo = 0; /* 1: the same iterate again, with a fresh factorisation */
   for (int it = 0; it < o->max_iter; it++) {

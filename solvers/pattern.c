@@ -240,12 +240,13 @@ static long next_slot(const sw_pattern *p, long q, int r, int c) {
   return q < end && p->rowind[q] == r ? q : -1;
 }
 
-void sw_pattern_add_block(const sw_pattern *p, const sw_model *m, const int *v, int nvert,
-                          const double *block, double coef, double *values) {
+void sw_pattern_block_slots(const sw_pattern *p, const sw_model *m, const int *v, int nvert,
+                            int *slot) {
   const int d = m->dim, w = nvert * d;
   int dof[12]; /* an index >= nv (a mesh obstacle's vertex) has no DOF */
   if (w > 12) return; /* at most 4 vertices in 3D (solver.h) */
   for (int i = 0; i < w; i++) dof[i] = v[i / d] < m->nv ? m->dof[v[i / d] * d + i % d] : -1;
+  for (int q = 0; q < w * w; q++) slot[q] = -1;
   for (int j = 0; j < w; j++) { /* column c: per vertex, one search and then a scan */
     int c = dof[j];
     for (int a = 0; c >= 0 && a < nvert; a++) {
@@ -256,10 +257,24 @@ void sw_pattern_add_block(const sw_pattern *p, const sw_model *m, const int *v, 
         if (r < 0 || r > c) continue;
         q = q >= 0 && r > rq ? next_slot(p, q, r, c) : find_slot(p, r, c);
         rq = r;
-        if (q >= 0) values[q] += coef * block[i * w + j];
+        slot[i * w + j] = (int)q;
       }
     }
   }
+}
+
+void sw_pattern_add_slots(const int *slot, int w, const double *block, double coef,
+                          double *values) {
+  for (int q = 0; q < w * w; q++)
+    if (slot[q] >= 0) values[slot[q]] += coef * block[q];
+}
+
+void sw_pattern_add_block(const sw_pattern *p, const sw_model *m, const int *v, int nvert,
+                          const double *block, double coef, double *values) {
+  int slot[144];
+  if (nvert * m->dim > 12) return;
+  sw_pattern_block_slots(p, m, v, nvert, slot);
+  sw_pattern_add_slots(slot, nvert * m->dim, block, coef, values);
 }
 
 void sw_pattern_symv(const sw_pattern *p, const double *values, const double *x, double *y) {

@@ -42,6 +42,13 @@ void sw_pattern_remap(const sw_pattern *from, const double *vfrom, const sw_patt
  * obstacle vertices, index >= nv, dropped). */
 void sw_pattern_add_block(const sw_pattern *p, const sw_model *m, const int *v, int nvert,
                           const double *block, double coef, double *values);
+/* The slots of such a block's entries, w x w (w = nvert dim <= 12; -1: not held, or below the
+ * diagonal), and the addition with them: sw_pattern_add_block in two parts, for a block whose
+ * slots are kept. */
+void sw_pattern_block_slots(const sw_pattern *p, const sw_model *m, const int *v, int nvert,
+                            int *slot);
+void sw_pattern_add_slots(const int *slot, int w, const double *block, double coef,
+                          double *values);
 void sw_pattern_free(sw_pattern *p, int nterm);
 /* values = mass_coef * M + hess_coef * (sum of the terms' blocks in d->hess), on the pattern. */
 void sw_pattern_fill(const sw_pattern *p, const sw_model *m, const sw_data *d, double mass_coef,
@@ -156,10 +163,17 @@ typedef struct sw_newton {
   double *wdof;          /* (n) each free DOF's share of the free mass, m_i / sum m_i */
   int iter;              /* the current iteration of the solve */
   double *vfrac;         /* (nv) with obstacles: each vertex's allowed fraction of a step */
+  double mfrac;          /* mesh contact: the fraction of the last update its CCD allowed */
   /* self-contact: the vertex pairs its Hessian has coupled so far, on top of the stencils'
    * pattern (it only grows: a pair once in contact keeps its entries for the run) */
   int *xpair;            /* (2 nxpair) */
   long nxpair, capxpair;
+  /* self-contact: the pattern's slots of the pairs' blocks, kept for the pattern by the pairs'
+     vertices (an open-addressing hash table of entries into kv and kslot) */
+  int *ktab;             /* (captab, a power of 2) an entry, or -1 */
+  int *kv;               /* (capslot x 4) each entry's vertices */
+  int *kslot;            /* (capslot x 144) its block's slots (sw_pattern_block_slots) */
+  int captab, nslot, capslot;
 } sw_newton;
 
 typedef struct sw_newton_opts {

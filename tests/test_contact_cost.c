@@ -3,7 +3,9 @@
  *    distance and gradient of models/distance.c bit for bit and its exact Hessian to round-off,
  *    on random pairs of every closest-feature type; the block is positive semi-definite (LAPACK
  *    eigenvalues) and equals LAPACK's clamped eigen-decomposition of the exact 12 x 12 barrier
- *    Hessian to 1e-10 of its largest entry;
+ *    Hessian to 1e-10 of its largest entry; the block of an edge-edge pair the mollifier scales
+ *    (nearly parallel edges), clamped on the 9 dimensions a translation leaves out, equals the
+ *    12 x 12 clamp likewise;
  *  - the exact intersection tests on coplanar triangles (the flat cloth's case, decided by zero
  *    determinants): small-integer triangles in a plane, against an integer separating-axis test,
  *    in the axis planes and in tilted planes (an integer linear map of the plane: exact). */
@@ -120,6 +122,41 @@ static void block_is_clamp(void **st) {
   for (int r = 3; r <= 5; r++) assert_true(rank[r] > 50); /* every form's span */
 }
 
+
+/* The mollified edge-edge block (nearly parallel edges: the product of the mollifier and the
+ * barrier, as models/mesh_contact.c forms it) clamped on its 9 translation-free dimensions is
+ * the 12 x 12 clamp, to round-off. */
+static void clamp_free_is_clamp(void **st) {
+  (void)st;
+  unsigned long rs = 5;
+  int n = 0;
+  for (int rep = 0; rep < 4000 && n < 500; rep++) {
+    double x[12], r[12], g2[12], H2[144], mg[12], mH[144], bg[12], bH[144], g[12], H[144];
+    for (int i = 0; i < 6; i++) x[i] = 0.3 * th_rand(&rs);
+    double off[3] = {0.05 * th_rand(&rs), 0.05 * th_rand(&rs), 0.05 * th_rand(&rs)};
+    for (int i = 0; i < 6; i++) /* b: a moved, and turned by up to about 1e-2 rad */
+      x[6 + i] = x[i] + off[i % 3] + 0.004 * th_rand(&rs) * (i < 3 ? 1.0 : -1.0);
+    memcpy(r, x, sizeof r);
+    double d2 = sw_d2_edge_edge(x, x + 3, x + 6, x + 9, g2, H2), shat = 4.0 * d2, db, d2b;
+    double eps = sw_ee_mollifier_eps(r, r + 3, r + 6, r + 9) * 400.0;
+    double mo = sw_ee_mollifier(x, x + 3, x + 6, x + 9, eps, mg, mH);
+    if (!(mo < 1.0) || !(d2 > 0.0)) continue;
+    double b = sw_barrier(d2, shat, &db, &d2b);
+    sw_barrier_of(12, d2, g2, H2, shat, bg, bH);
+    sw_product_derivs(12, mo, mg, mH, b, bg, bH, g, H);
+    double E[144], lo, hi, err = 0.0;
+    memcpy(E, H, sizeof E);
+    assert_int_equal(sw_pair_clamp_free(H), 0);
+    assert_int_equal(sw_psd_project(E, 12, SW_FILTER_CLAMP), 0);
+    for (int i = 0; i < 144; i++) err = fmax(err, fabs(H[i] - E[i]));
+    assert_true(err <= 1e-10 * max_abs(E, 144));
+    eig_range(H, &lo, &hi);
+    assert_true(lo >= -1e-12 * hi);
+    n++;
+  }
+  assert_int_equal(n, 500);
+}
+
 /* ---------------------------------------------------------------- coplanar intersections */
 
 typedef long long ll;
@@ -185,6 +222,7 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(form_matches_distance),
       cmocka_unit_test(block_is_clamp),
+      cmocka_unit_test(clamp_free_is_clamp),
       cmocka_unit_test(coplanar_triangles),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

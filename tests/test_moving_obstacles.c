@@ -11,7 +11,8 @@
  *    (rotation keyframes): the same check with the arm's true pose;
  *  - a mesh box rising 1 m in 0.05 s through a cloth (dt 0.05 and 0.02): no vertex's straight
  *    path relative to the box crosses one of its triangles (exact predicate), no cloth triangle
- *    intersects it at any step; and a mesh box turning 90 degrees about z under a cloth lying
+ *    intersects it at any step; a Newton failure at the box (8 iterations, 2 halvings) names it,
+ *    a vertex over it and the time; and a mesh box turning 90 degrees about z under a cloth lying
  *    on it (no intersection at any step);
  *  - rotation keys: a rigid rotation's distance, normal and carry against the test's own
  *    construction, and scene errors with their place. */
@@ -236,12 +237,14 @@ static void mesh_check(const sw_model *m, const sw_data *d, const double *x0, do
   }
 }
 
-/* A mesh box (0.3 m) rising 1 m in 0.05 s through a 0.6 m cloth, linear keyframes. */
+/* A mesh box (0.3 m) rising 1 m in 0.05 s through a 0.6 m cloth, linear keyframes; the third
+ * run (8 Newton iterations, 2 halvings) fails in Newton, its message naming the box. */
 static void rising_mesh_box(void **st) {
   (void)st;
-  const double lo[3] = {0.15, 0.15, -0.4}, hi[3] = {0.45, 0.45, -0.1}, dts[] = {0.05, 0.02};
+  const double lo[3] = {0.15, 0.15, -0.4}, hi[3] = {0.45, 0.45, -0.1}, dts[] = {0.05, 0.02, 0.05};
+  const int halvings[] = {8, 8, 2}, iters[] = {50, 50, 8};
   write_box("box.obj", lo, hi);
-  for (int k = 0; k < 2; k++) {
+  for (int k = 0; k < 3; k++) {
     char text[1024], err[SW_ERRSZ];
     snprintf(text, sizeof text,
              "dimension: 3\nmesh: {grid: {size: [0.6, 0.6], vertices: [7, 7], plane: xy}}\n"
@@ -249,7 +252,9 @@ static void rising_mesh_box(void **st) {
              "k_shear: 50}}\ngravity: [0, 0, -9.81]\n"
              "obstacles: [{mesh: box.obj, motion: {keyframes: [[0, 0, 0, 0], [0.05, 0, 0, 1]], "
              "interpolation: linear}}]\n"
-             "integrator: {method: backward-euler, dt: %g}\nduration: 0.06\n", dts[k]);
+             "integrator: {method: backward-euler, dt: %g, max_halvings: %d, newton: {max_iterations: "
+             "%d}}\nduration: 0.06\n",
+             dts[k], halvings[k], iters[k]);
     sw_model *m = scene_in_dir(text);
     assert_non_null(m);
     double *x = malloc((size_t)m->nv * 3 * sizeof(double));
@@ -259,6 +264,17 @@ static void rising_mesh_box(void **st) {
                   "top %.3g)\n", dts[k], failed ? err : "ok", whole, zmid, top);
     if (failed) assert_non_null(strstr(err, "obstacles[0]") ? err : strstr(err, "Newton"));
     else assert_true(zmid > top);
+    if (k == 2) { /* Newton stopped by the box: the message names it, the vertex and the time */
+      const char *h = strstr(err, "obstacles[0] held vertex ");
+      int iv = -1;
+      double t = -1.0;
+      assert_true(failed && strstr(err, "Newton did not converge") && h);
+      assert_int_equal(sscanf(h, "obstacles[0] held vertex %d to %*g of its last update at t = %lg",
+                              &iv, &t), 2);
+      assert_true(iv >= 0 && iv < m->nv && t > 0.0 && t < 0.05);
+      for (int a = 0; a < 2; a++) /* a vertex over the box (the grid's spacing 0.1 m) */
+        assert_true(m->x0[3 * iv + a] > lo[a] - 0.1 && m->x0[3 * iv + a] < hi[a] + 0.1);
+    }
     free(x);
     sw_model_free(m);
   }
