@@ -200,10 +200,10 @@ int sw_mcontact_lag(const sw_model *m, sw_data *d, double h);
 /* The lagged pairs of a step: their vertices, closest points' coefficients, normals and
  * normal forces at the step's start (IPC, section 5). */
 typedef struct sw_mfriction sw_mfriction;
-sw_mfriction *sw_mfriction_new(int nvt);
+sw_mfriction *sw_mfriction_new(void);
 void sw_mfriction_free(sw_mfriction *f);
-/* Start a step of size h (s) from x (nvt x 3, cloth and obstacles): no pair lagged yet. */
-void sw_mfriction_begin(sw_mfriction *f, double h, const double *x);
+/* Start a step of size h (s): no pair lagged yet. */
+void sw_mfriction_begin(sw_mfriction *f, double h);
 /* Lag pair (kind, v) at p (its 4 vertices, 12 values) with thickness xi (m), shat (m^2),
  * weight w = kappa_s w_k (kg/(s^2 m^2)) and Coulomb coefficient mu; a pair beyond shat or
  * with mu = 0 is skipped.  -1: out of memory. */
@@ -212,7 +212,8 @@ int sw_mfriction_lag_pair(sw_mfriction *f, int kind, const int *v, const double 
 /* The number of lagged pairs (0 for f NULL or before the first step) and pair k's vertices. */
 int sw_mfriction_count(const sw_mfriction *f);
 const int *sw_mfriction_vertices(const sw_mfriction *f, int k);
-/* Pair k's friction mu lambda_k f0(|P_k u_k|) at x (nvt x 3; J), its gradient over the pair's
+/* Pair k's friction mu lambda_k f0(|P_k u_k|) with its 4 vertices at p (12; J; the slip u_k
+ * from their places when it was lagged), its gradient over the pair's
  * 4 vertices (12, when g is not NULL) and its positive semi-definite Hessian (144, when H is
  * not NULL); eps_v in m/s. */
 double sw_mfriction_pair(const sw_mfriction *f, double eps_v, int k, const double *x, double *g,

@@ -195,7 +195,7 @@ void sw_broadphase_free(sw_broadphase *bp);
 
 /* ---------------------------------------------------- bounding-volume hierarchy (bvh.c) */
 
-/* A tree of boxes over n primitives 0..n-1 (a mesh obstacle's vertices, edges or faces), built
+/* A tree of boxes over n primitives 0..n-1 (the mesh obstacles' triangles), built
  * once from their boxes and refitted when they move: a query visits the primitives whose box
  * overlaps a given box, at a cost of the tree's depth (log2 n) per primitive found. */
 typedef void (*sw_bvh_box_fn)(const void *ctx, int i, double b[6]); /* lo[3], hi[3], m */

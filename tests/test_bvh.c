@@ -150,7 +150,7 @@ static void bvh_equals_brute_force(void **state) {
     sw_bvh t;
     assert_int_equal(sw_bvh_build(&t, s.n, soup_box, &s), 0);
     assert_int_equal(t.n, s.n);
-    assert_true(t.nnode <= 2 * ((s.n + 3) / 4)); /* ceil(n / 4) leaves */
+    assert_true(t.nnode <= 2 * ((s.n + 7) / 8)); /* ceil(n / 8) leaves */
     check_boxes(&t, &s);
     check_queries(&t, &s, &rs);
     move_soup(&s, &rs);
