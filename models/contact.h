@@ -190,6 +190,9 @@ void sw_mcontact_state(const sw_model *m, sw_data *d);
 /* (nv) |self-contact force| + |mesh obstacles' force| on each vertex at the last
  * diagnostics, N, or NULL. */
 const double *sw_mcontact_vertex_force(const sw_mcontact *mc);
+/* How many times the moving mesh obstacles' tree was refitted in this workspace (static
+ * obstacles: never; moving ones: when a query's poses are not the last fit's two ends). */
+long sw_mcontact_refits(const sw_mcontact *mc);
 /* Lag the friction of the mesh pairs (contact.friction > 0) for a step of size h from
  * (d->x, d->t): every pair closer than its thickness + dhat there (models/mesh_friction.c).
  * SW_RECOVER when the broad phase fails, SW_FATAL when out of memory. */

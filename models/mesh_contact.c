@@ -98,6 +98,7 @@ struct sw_mcontact {
   float *tbox;          /* moving obstacles: the node boxes of p->tree over the motion between
                            poses 4 and 5 */
   int tree_fit;         /* 1: tbox is fitted */
+  long nrefit;          /* the refits of tbox so far */
   struct mc_dup *dup;   /* (capdup) one query's obstacle vertices or edges, to drop repeats */
   size_t capdup;
   double kscale;        /* the automatic stiffness's factor so far (sw_mcontact_adapt) */
@@ -374,6 +375,7 @@ static void fit_tree(const sw_model *m, sw_mcontact *mc, const mc_place *x0, con
   memcpy(fit, x0->pose, 12 * (size_t)p->nobst * sizeof(double));
   memcpy(fit + 12 * (size_t)p->nobst, x1->pose, 12 * (size_t)p->nobst * sizeof(double));
   mc->tree_fit = 1;
+  mc->nrefit++;
 }
 
 /* One query's obstacle primitives (vertices, or edges by their two vertices) with their codes,
@@ -1283,6 +1285,8 @@ void sw_mcontact_state(const sw_model *m, sw_data *d) {
 }
 
 const double *sw_mcontact_vertex_force(const sw_mcontact *mc) { return mc ? mc->vforce : NULL; }
+
+long sw_mcontact_refits(const sw_mcontact *mc) { return mc ? mc->nrefit : 0; }
 
 /* ------------------------------------------------------------------- friction */
 
