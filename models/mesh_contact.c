@@ -472,7 +472,6 @@ static int query_tree(sw_mcontact *mc, const sw_bp_input *in, const int *idx, in
                       hit_arg *h) {
   sw_bvh t = tree_view(mc);
   for (int i = 0; i < n; i++) {
-    if ((i & 0xfff) == 0xfff && sw_interrupted()) return -1;
     double b[6];
     int v = i, rc = cloth_box(mc, in, idx ? idx + per * (size_t)i : &v, per, 2.0 * in->inflate, b);
     if (rc < 0) return -1;
@@ -492,7 +491,7 @@ static int query_tree(sw_mcontact *mc, const sw_bp_input *in, const int *idx, in
  * (sw_broadphase_query, with self-contact only), its pairs with the obstacles from queries of
  * the cloth's swept boxes in the obstacles' tree (the vertices and edges of the faces found,
  * each once), so the cost grows with the cloth and the part of a body near it.  -1 when the
- * places are not finite, out of memory or a signal is pending (sw_interrupted). */
+ * places are not finite or out of memory. */
 static int broad_phase(const sw_model *m, sw_mcontact *mc, const mc_place *x0,
                        const mc_place *x1, double inflate, int want) {
   sw_broadphase *bp = &mc->bp;
@@ -607,7 +606,7 @@ static int add_candidate(const sw_model *m, sw_mcontact *mc, int kind, const int
 }
 
 /* The candidates over the motion x0 -> x1 (x1 == x0 for places at rest); -1 when the broad
- * phase fails (places not finite, out of memory, or a signal). */
+ * phase fails (places not finite, or out of memory). */
 static int find_candidates(const sw_model *m, sw_mcontact *mc, const mc_place *x0,
                            const mc_place *x1) {
   mc->cand_ok = 0;
@@ -1173,6 +1172,7 @@ long sw_mcontact_obstacle_intersections(const sw_model *m, sw_mcontact *mc, cons
   if (broad_phase(m, mc, &q, &q, 0.0, SW_BP_FF)) return -1;
   long count = 0;
   for (int k = 0; k < mc->bp.nff; k++) {
+    if ((k & 0xffff) == 0xffff && sw_interrupted()) return -2; /* a stop request */
     int v[6];
     double p[18];
     face_vertices(m, mc->p, mc->bp.ff[2 * k], v);
@@ -1192,8 +1192,9 @@ int sw_mcontact_check_start(const sw_model *m, const double *x, int obstacles, c
   long cross = obstacles ? 0 : sw_mesh_self_intersections_sewn(m->nv, x, m->nf, m->face,
                                                                m->sewn_ptr, m->sewn_idx);
   if (cross != 0) {
-    sw_errf(err, errsz, cross < 0 ? "out of memory checking the mesh for self-intersections"
-                                  : "the mesh intersects itself (%ld pairs of triangles)", cross);
+    sw_errf(err, errsz, cross == -2 ? "stopped while checking the mesh for self-intersections"
+                        : cross < 0 ? "out of memory checking the mesh for self-intersections"
+                                    : "the mesh intersects itself (%ld pairs of triangles)", cross);
     return -1;
   }
   sw_mcontact *mc = sw_mcontact_new(m);
@@ -1201,7 +1202,8 @@ int sw_mcontact_check_start(const sw_model *m, const double *x, int obstacles, c
   int ff[2] = {0, 0}, rc = 0;
   if (obstacles && (cross = sw_mcontact_obstacle_intersections(m, mc, x, 0.0, ff)) != 0) {
     int f = ff[0] < m->nf ? ff[0] : ff[1], g = ff[0] < m->nf ? ff[1] : ff[0];
-    if (cross < 0) sw_errf(err, errsz, "out of memory checking the cloth against the obstacles");
+    if (cross < 0) sw_errf(err, errsz, cross == -2 ? "stopped while checking the cloth against "
+                           "the obstacles" : "out of memory checking the cloth against the obstacles");
     else
       sw_errf(err, errsz, "face %d of the cloth (vertices %d %d %d) intersects obstacles[%d] "
               "(%ld pairs of triangles intersect)", f, m->face[3 * f], m->face[3 * f + 1],
