@@ -1290,6 +1290,17 @@ const double *sw_mcontact_vertex_force(const sw_mcontact *mc) { return mc ? mc->
 
 long sw_mcontact_refits(const sw_mcontact *mc) { return mc ? mc->nrefit : 0; }
 
+size_t sw_mesh_contact_bytes(const sw_model *m) {
+  const mc_param *p = NULL;
+  for (int k = 0; k < m->nterm; k++)
+    if (!strcmp(m->term[k].ops->kind, "mesh_contact")) p = m->term[k].param;
+  if (!p) return 0;
+  size_t nobst = (size_t)p->nobst, nnode = (size_t)p->tree.nnode;
+  return sizeof *p + 2 * (size_t)p->ne_cloth * sizeof(int) + 2 * (nobst + 1) * sizeof(int) +
+         2 * nobst * sizeof(double) + (size_t)p->tree.n * sizeof(int) +
+         nnode * (2 * sizeof(int) + (p->tree.box ? 6 * sizeof(float) : 0));
+}
+
 /* ------------------------------------------------------------------- friction */
 
 static int lag_pair(const sw_model *m, sw_mcontact *mc, int kind, const int *v, void *arg) {
