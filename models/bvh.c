@@ -1,5 +1,5 @@
 /* bvh.c — a bounding-volume hierarchy of axis-aligned boxes over a fixed set of primitives
- * (the vertices, edges or faces of a mesh obstacle), for the broad phase against large bodies:
+ * (the triangles of the mesh obstacles), for the broad phase against large bodies:
  * a query costs the depth of the tree times the primitives near the box, not the body's size.
  *
  * Built once, top down: each node's primitives are split at the median of their boxes'
@@ -19,7 +19,7 @@
 #include "sinew.h"
 #include "util.h"
 
-enum { SW_BVH_LEAF = 4, SW_BVH_DEPTH = 64 };
+enum { SW_BVH_LEAF = 8, SW_BVH_DEPTH = 64 };
 
 void sw_bvh_free(sw_bvh *t) {
   if (!t) return;
@@ -29,25 +29,28 @@ void sw_bvh_free(sw_bvh *t) {
   memset(t, 0, sizeof *t);
 }
 
-/* The centre of the box of prim[i] along axis a: c (n x 3 floats) is kept in prim's order,
- * so the passes over a node's primitives read memory in sequence. */
-static float centre(const float *c, int i, int a) { return c[3 * (size_t)i + a]; }
+/* The centre of the box of prim[i] along axis a, quantised to 16 bits over the centres'
+ * bounds (6 bytes a primitive while building: the split only orders them, the boxes are fitted
+ * to the primitives themselves): c (n x 3) is kept in prim's order, so the passes over a node's
+ * primitives read memory in sequence. */
+typedef unsigned short sw_q16;
+static int centre(const sw_q16 *c, int i, int a) { return c[3 * (size_t)i + a]; }
 
-static void swap_prims(int *prim, float *c, int i, int j) {
+static void swap_prims(int *prim, sw_q16 *c, int i, int j) {
   int s = prim[i];
   prim[i] = prim[j], prim[j] = s;
   for (int a = 0; a < 3; a++) {
-    float f = c[3 * (size_t)i + a];
+    sw_q16 f = c[3 * (size_t)i + a];
     c[3 * (size_t)i + a] = c[3 * (size_t)j + a], c[3 * (size_t)j + a] = f;
   }
 }
 
 /* Reorder prim[lo, hi) (and c) so that the element at k has its rank along axis a (Hoare's
  * quickselect with the middle element as pivot). */
-static void select_k(int *prim, float *c, int lo, int hi, int k, int a) {
+static void select_k(int *prim, sw_q16 *c, int lo, int hi, int k, int a) {
   hi--;
   while (lo < hi) {
-    float pv = centre(c, lo + (hi - lo) / 2, a);
+    int pv = centre(c, lo + (hi - lo) / 2, a);
     int i = lo, j = hi;
     while (i <= j) {
       while (centre(c, i, a) < pv) i++;
@@ -61,12 +64,12 @@ static void select_k(int *prim, float *c, int lo, int hi, int k, int a) {
 }
 
 /* The axis along which the centres of prim[lo, hi) spread most. */
-static int widest_axis(const float *c, int lo, int hi) {
-  float mn[3] = {INFINITY, INFINITY, INFINITY}, mx[3] = {-INFINITY, -INFINITY, -INFINITY};
+static int widest_axis(const sw_q16 *c, int lo, int hi) {
+  int mn[3] = {65535, 65535, 65535}, mx[3] = {0, 0, 0};
   for (int i = lo; i < hi; i++)
     for (int a = 0; a < 3; a++) {
-      float v = centre(c, i, a);
-      mn[a] = v < mn[a] ? v : mn[a], mx[a] = v > mx[a] ? v : mx[a]; /* not fminf: a call */
+      int v = centre(c, i, a);
+      mn[a] = v < mn[a] ? v : mn[a], mx[a] = v > mx[a] ? v : mx[a];
     }
   int best = 0;
   for (int a = 1; a < 3; a++)
@@ -78,19 +81,25 @@ int sw_bvh_build(sw_bvh *t, int n, sw_bvh_box_fn box, const void *ctx) {
   memset(t, 0, sizeof *t);
   if (n <= 0) return 0;
   int cap = 2 * ((n + SW_BVH_LEAF - 1) / SW_BVH_LEAF); /* nodes: see the top */
-  float *c = sw_calloc(3 * (size_t)n, sizeof(float));
+  sw_q16 *c = sw_calloc(3 * (size_t)n, sizeof(sw_q16));
   t->prim = sw_calloc((size_t)n, sizeof(int));
   t->node = sw_calloc(2 * (size_t)cap, sizeof(int));
   t->box = sw_calloc(6 * (size_t)cap, sizeof(float));
   if (!c || !t->prim || !t->node || !t->box) return sw_free(c), sw_bvh_free(t), -1;
   t->n = n;
-  for (int i = 0; i < n; i++) {
-    if ((i & 0xffff) == 0 && sw_interrupted()) return sw_free(c), sw_bvh_free(t), -2;
-    double b[6];
-    box(ctx, i, b);
-    for (int a = 0; a < 3; a++) c[3 * (size_t)i + a] = (float)(0.5 * (b[a] + b[3 + a]));
-    t->prim[i] = i;
-  }
+  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  for (int pass = 0; pass < 2; pass++) /* the centres' bounds, then the centres */
+    for (int i = 0; i < n; i++) {
+      if ((i & 0xffff) == 0 && sw_interrupted()) return sw_free(c), sw_bvh_free(t), -2;
+      double b[6];
+      box(ctx, i, b);
+      for (int a = 0; a < 3; a++) {
+        double m = 0.5 * (b[a] + b[3 + a]), w = hi[a] - lo[a];
+        if (pass == 0) lo[a] = m < lo[a] ? m : lo[a], hi[a] = m > hi[a] ? m : hi[a];
+        else c[3 * (size_t)i + a] = (sw_q16)(w > 0.0 && m > lo[a] ? fmin(65535.0, 65535.0 * (m - lo[a]) / w) : 0.0);
+      }
+      t->prim[i] = i;
+    }
   /* node k covers prim[lo, hi): (lo, hi) on a stack until it is split or made a leaf */
   int stack[2 * SW_BVH_DEPTH + 2][3], top = 0;
   t->nnode = 1;

@@ -185,7 +185,8 @@ int sw_mcontact_check_start(const sw_model *m, const double *x, int obstacles, c
                             size_t errsz);
 /* The pairs of a cloth triangle and a mesh obstacle's that intersect with the cloth at x and
  * the obstacles at time t (exact, models/intersect.c); the first pair's faces (numbering the
- * obstacles' after the cloth's) into first when not NULL; -1 when out of memory. */
+ * obstacles' after the cloth's) into first when not NULL; -1 when out of memory, -2 when
+ * stopped by a signal (sw_interrupted). */
 long sw_mcontact_obstacle_intersections(const sw_model *m, sw_mcontact *mc, const double *x,
                                         double t, int *first);
 /* The self-contact diagnostics of d at d->x (sinew.h: self_count, self_min, self_force), and
@@ -194,6 +195,12 @@ void sw_mcontact_state(const sw_model *m, sw_data *d);
 /* (nv) |self-contact force| + |mesh obstacles' force| on each vertex at the last
  * diagnostics, N, or NULL. */
 const double *sw_mcontact_vertex_force(const sw_mcontact *mc);
+/* How many times the moving mesh obstacles' tree was refitted in this workspace (static
+ * obstacles: never; moving ones: when a query's poses are not the last fit's two ends). */
+long sw_mcontact_refits(const sw_mcontact *mc);
+/* The heap bytes of the model's mesh_contact term (0 without): the cloth's edges, the mesh
+ * obstacles' numbering and their tree; nothing else grows with an obstacle. */
+size_t sw_mesh_contact_bytes(const sw_model *m);
 /* Lag the friction of the mesh pairs (contact.friction > 0) for a step of size h from
  * (d->x, d->t): every pair closer than its thickness + dhat there (models/mesh_friction.c).
  * SW_RECOVER when the broad phase fails, SW_FATAL when out of memory. */
@@ -204,10 +211,10 @@ int sw_mcontact_lag(const sw_model *m, sw_data *d, double h);
 /* The lagged pairs of a step: their vertices, closest points' coefficients, normals and
  * normal forces at the step's start (IPC, section 5). */
 typedef struct sw_mfriction sw_mfriction;
-sw_mfriction *sw_mfriction_new(int nvt);
+sw_mfriction *sw_mfriction_new(void);
 void sw_mfriction_free(sw_mfriction *f);
-/* Start a step of size h (s) from x (nvt x 3, cloth and obstacles): no pair lagged yet. */
-void sw_mfriction_begin(sw_mfriction *f, double h, const double *x);
+/* Start a step of size h (s): no pair lagged yet. */
+void sw_mfriction_begin(sw_mfriction *f, double h);
 /* Lag pair (kind, v) at p (its 4 vertices, 12 values) with thickness xi (m), shat (m^2),
  * weight w = kappa_s w_k (kg/(s^2 m^2)) and Coulomb coefficient mu; a pair beyond shat or
  * with mu = 0 is skipped.  -1: out of memory. */
@@ -216,7 +223,8 @@ int sw_mfriction_lag_pair(sw_mfriction *f, int kind, const int *v, const double 
 /* The number of lagged pairs (0 for f NULL or before the first step) and pair k's vertices. */
 int sw_mfriction_count(const sw_mfriction *f);
 const int *sw_mfriction_vertices(const sw_mfriction *f, int k);
-/* Pair k's friction mu lambda_k f0(|P_k u_k|) at x (nvt x 3; J), its gradient over the pair's
+/* Pair k's friction mu lambda_k f0(|P_k u_k|) with its 4 vertices at p (12; J; the slip u_k
+ * from their places when it was lagged), its gradient over the pair's
  * 4 vertices (12, when g is not NULL) and its positive semi-definite Hessian (144, when H is
  * not NULL); eps_v in m/s. */
 double sw_mfriction_pair(const sw_mfriction *f, double eps_v, int k, const double *x, double *g,

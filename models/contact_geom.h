@@ -200,7 +200,7 @@ void sw_broadphase_free(sw_broadphase *bp);
 
 /* ---------------------------------------------------- bounding-volume hierarchy (bvh.c) */
 
-/* A tree of boxes over n primitives 0..n-1 (a mesh obstacle's vertices, edges or faces), built
+/* A tree of boxes over n primitives 0..n-1 (the mesh obstacles' triangles), built
  * once from their boxes and refitted when they move: a query visits the primitives whose box
  * overlaps a given box, at a cost of the tree's depth (log2 n) per primitive found. */
 typedef void (*sw_bvh_box_fn)(const void *ctx, int i, double b[6]); /* lo[3], hi[3], m */
@@ -239,7 +239,8 @@ int sw_segment_triangle_intersect(const double a[3], const double b[3], const do
 int sw_triangles_intersect(const double p0[3], const double p1[3], const double p2[3],
                            const double q0[3], const double q1[3], const double q2[3]);
 /* The number of pairs of faces with no shared vertex that intersect (x: nv x 3, faces:
- * nf x 3), with the broad phase; -1 when out of memory. */
+ * nf x 3), with the broad phase; -1 when out of memory, -2 when stopped by a signal
+ * (sw_interrupted, polled every 65536 candidate pairs). */
 long sw_mesh_self_intersections(int nv, const double *x, int nf, const int *faces);
 /* The same where faces with vertices sewn together (sw_model.sewn_ptr, sewn_idx over the
  * first nv vertices; NULL: none) count as sharing one: a closed seam's two sides touch. */

@@ -10,6 +10,7 @@
 #include <math.h>
 
 #include "contact_geom.h"
+#include "sinew.h"
 
 /* ------------------------------------------------------------------- expansion arithmetic */
 
@@ -245,9 +246,45 @@ int sw_segment_triangle_intersect(const double a[3], const double b[3], const do
   return !(pos && neg);
 }
 
+/* Whether the corners of q lie strictly on one side of p's plane (exact: orient3d's signs);
+ * *flat = 1 when all three lie in it. */
+static int off_plane(const double *const *p, const double *const *q, int *flat) {
+  int s[3];
+  for (int j = 0; j < 3; j++) s[j] = sw_orient3d(p[0], p[1], p[2], q[j]);
+  *flat = !s[0] && !s[1] && !s[2];
+  return s[0] && s[0] == s[1] && s[1] == s[2];
+}
+
+/* Whether the line of an edge of p has all of q strictly on the side away from p in the
+ * projection along an axis that keeps p a triangle (a separating axis, exact: orient2's signs;
+ * sets whose projections are apart are apart). */
+static int edge_separates(const double *const *p, const double *const *q) {
+  int k = 0, o = 0;
+  while (k < 3 && (o = orient2(p[0], p[1], p[2], k)) == 0) k++;
+  if (o == 0) return 0; /* p is a segment or a point */
+  for (int e = 0; e < 3; e++) {
+    const double *a = p[e], *b = p[(e + 1) % 3];
+    int away = 1;
+    for (int j = 0; j < 3 && away; j++) away = orient2(a, b, q[j], k) == -o;
+    if (away) return 1;
+  }
+  return 0;
+}
+
+/* A quick exact rejection of most pairs of a broad phase's candidates: one triangle strictly
+ * on one side of the other's plane, or (coplanar: a flat cloth's neighbours, which the segment
+ * tests below decide slowly through zero determinants) an edge of one separating them in its
+ * plane. */
+static int clearly_apart(const double *const *p, const double *const *q) {
+  int flat, unused;
+  if (off_plane(p, q, &flat) || off_plane(q, p, &unused)) return 1;
+  return flat && (edge_separates(p, q) || edge_separates(q, p));
+}
+
 int sw_triangles_intersect(const double p0[3], const double p1[3], const double p2[3],
                            const double q0[3], const double q1[3], const double q2[3]) {
   const double *p[3] = {p0, p1, p2}, *q[3] = {q0, q1, q2};
+  if (clearly_apart(p, q)) return 0;
   for (int e = 0; e < 3; e++)
     if (sw_segment_triangle_intersect(p[e], p[(e + 1) % 3], q0, q1, q2) ||
         sw_segment_triangle_intersect(q[e], q[(e + 1) % 3], p0, p1, p2))
@@ -269,6 +306,10 @@ long sw_mesh_self_intersections_sewn(int nv, const double *x, int nf, const int 
   if (!sw_broadphase_query(&bp, &in, SW_BP_FF)) {
     count = 0;
     for (int k = 0; k < bp.nff; k++) {
+      if ((k & 0xffff) == 0xffff && sw_interrupted()) { /* a stop request */
+        count = -2;
+        break;
+      }
       const int *f = faces + 3 * bp.ff[2 * k], *g = faces + 3 * bp.ff[2 * k + 1];
       count += sw_triangles_intersect(x + 3 * f[0], x + 3 * f[1], x + 3 * f[2], x + 3 * g[0],
                                       x + 3 * g[1], x + 3 * g[2]);

@@ -41,27 +41,39 @@
 #define SW_MC_SLACK 1.0
 #endif
 
-/* The term's immutable data: the edges and faces of the cloth and of the mesh obstacles, over
- * one vertex numbering (the cloth's nv vertices, then each mesh obstacle's in turn). */
+/* The term's immutable data: the cloth's edges, and one numbering of the cloth's and the mesh
+ * obstacles' vertices (the cloth's nv, then each obstacle's in turn), faces (the cloth's nf,
+ * then each obstacle's) and edges (the cloth's ne_cloth, then edge e of obstacle face g as
+ * ne_cloth + 3 g + e, joining its vertices e and e + 1 mod 3, the lower first).  The obstacles' vertices and faces
+ * are read from the model (sw_obstacle.mesh_x, mesh_face): the term keeps no copy. */
 typedef struct mc_param {
   int nvt;           /* cloth and obstacle vertices */
-  int ne;
-  int *edge;         /* (ne x 2) */
-  int nf;
-  int *face;         /* (nf x 3): the cloth's, then the obstacles' */
-  int *owner;        /* (nvt - nv) the mesh obstacle of each obstacle vertex */
-  double *rest;      /* ((nvt - nv) x 3) obstacle vertices at their stated place, m */
-  int ne_cloth;      /* edges [0, ne_cloth) are the cloth's, the rest the obstacles' */
-  int moving;        /* 1: a mesh obstacle has keyframes (its trees are refitted per query) */
-  sw_bvh tree[3];    /* the obstacles' vertices, edges and faces (bvh.c), built at their stated
-                        place; a workspace holds the boxes of the places it queries */
+  int ne_cloth;      /* the cloth's edges */
+  int *edge;         /* (ne_cloth x 2) */
+  int nf;            /* cloth and obstacle faces */
+  int nobst;         /* mesh obstacles */
+  int *vbase, *fbase; /* (nobst + 1) first vertex and face of obstacle k, counted from nv, nf */
+  double *radius;    /* (nobst x 2) largest distance of obstacle k's vertices from its centre
+                        and from its rotation axis (0 without rotation), m */
+  int moving;        /* 1: a mesh obstacle has keyframes (its tree is refitted per step) */
+  sw_bvh tree;       /* the obstacles' faces (bvh.c), fitted to their stated place: the boxes
+                        of static obstacles; a workspace refits its own for moving ones */
 } mc_param;
+
+/* Where the vertices are: the cloth's x (nv x 3, m) and each mesh obstacle's pose (nobst x 12:
+ * the rotation R, row-major, and the place c of its centre, so that a vertex q of its stated
+ * place is at R (q - center) + c); pose NULL: every obstacle at its stated place. */
+typedef struct mc_place {
+  const double *x;
+  const double *pose;
+} mc_place;
 
 struct sw_mcontact {
   sw_broadphase bp;
   const mc_param *p;
-  unsigned char *fixed; /* (nvt) 1: pinned or an obstacle's (pairs of those only are skipped) */
-  double *xa, *xb;      /* (nvt x 3) positions of cloth and obstacles, m */
+  unsigned char *fixed; /* (nv) 1: pinned (pairs of those and obstacles' only are skipped) */
+  double *pose;         /* (6 x nobst x 12) obstacles' poses (mc_place): 0, 1 of the places
+                           queried, 2, 3 of the candidates' motion, 4, 5 the tree's fit */
   double *z;            /* (nv x 3) a step's carried start, m */
   int *carrier;         /* (nv) the last mesh obstacle that carried each vertex there, or -1 */
   double *f;            /* (2 x nv x 3) self and obstacle force on each vertex, N */
@@ -75,16 +87,20 @@ struct sw_mcontact {
      vertices each lie within `slack` of their swept box (`covered`) */
   sw_mc_pair *cand;     /* (ncand) kind, vertices and their distance at xref (m, in gap) */
   int ncand, capcand, cand_ok;
-  double *cbox;         /* (nmoving x 6) each vertex's box over x0 -> x1, m */
-  double *xref;         /* (nmoving x 3) x0 of the candidates' motion, m */
-  double *umove;        /* (nvt) how far each vertex is from xref (at most), m */
+  double *cbox;         /* (nv x 6) each cloth vertex's box over x0 -> x1, m */
+  double *xref;         /* (nv x 3) x0 of the candidates' motion, m */
+  double *umove;        /* (nv + nobst) how far each cloth vertex, and each obstacle's
+                           vertices at most, are from the candidates' x0, m */
   double slack;         /* m */
   sw_mfriction *fr;     /* the step's lagged friction (contact.friction > 0), or NULL */
   int nsewn;            /* the seams' sewn vertices (sw_model.sewn_ptr): pairs skipped */
   const int *sewn_ptr, *sewn_idx;
-  float *tbox[3];       /* the node boxes of p->tree[k] at the obstacles' places last queried */
-  int tree_fit;         /* 1: tbox holds the obstacles' places (static obstacles: fit once) */
-  int placed;           /* static obstacles: bit 0 (1) set once xa (xb) holds their places */
+  float *tbox;          /* moving obstacles: the node boxes of p->tree over the motion between
+                           poses 4 and 5 */
+  int tree_fit;         /* 1: tbox is fitted */
+  long nrefit;          /* the refits of tbox so far */
+  struct mc_dup *dup;   /* (capdup) one query's obstacle vertices or edges, to drop repeats */
+  size_t capdup;
   double kscale;        /* the automatic stiffness's factor so far (sw_mcontact_adapt) */
   double gap_min;       /* m: smallest gap of a pair at the last diagnostics (inf: none) */
 };
@@ -121,9 +137,62 @@ static double max_thickness(const sw_model *m) {
   return xi;
 }
 
-/* The mesh obstacle of vertex v (< 0: a cloth vertex). */
+/* The mesh obstacle of vertex v (< 0: a cloth vertex); a scan: scenes have few obstacles. */
 static int owner_of(const sw_model *m, const mc_param *p, int v) {
-  return v < m->nv ? -1 : p->owner[v - m->nv];
+  if (v < m->nv) return -1;
+  int k = 0;
+  while (v - m->nv >= p->vbase[k + 1]) k++;
+  return k;
+}
+
+/* The mesh obstacle of face f >= nf (obstacle face f - nf). */
+static int face_owner(const sw_model *m, const mc_param *p, int f) {
+  int k = 0;
+  while (f - m->nf >= p->fbase[k + 1]) k++;
+  return k;
+}
+
+/* The vertices of face f (the cloth's, or an obstacle's) in the term's numbering. */
+static void face_vertices(const sw_model *m, const mc_param *p, int f, int *v) {
+  if (f < m->nf) {
+    for (int c = 0; c < 3; c++) v[c] = m->face[3 * (size_t)f + c];
+    return;
+  }
+  int k = face_owner(m, p, f);
+  const int *q = m->mesh_obstacle[k].mesh_face + 3 * (size_t)(f - m->nf - p->fbase[k]);
+  for (int c = 0; c < 3; c++) v[c] = m->nv + p->vbase[k] + q[c];
+}
+
+/* The vertices of edge e (the cloth's, or ne_cloth + 3 g + j: edge j of obstacle face g). */
+static void edge_vertices(const sw_model *m, const mc_param *p, int e, int *v) {
+  if (e < p->ne_cloth) {
+    v[0] = p->edge[2 * (size_t)e], v[1] = p->edge[2 * (size_t)e + 1];
+    return;
+  }
+  int f[3], j = (e - p->ne_cloth) % 3;
+  face_vertices(m, p, m->nf + (e - p->ne_cloth) / 3, f);
+  int a = f[j], b = f[(j + 1) % 3];
+  v[0] = a < b ? a : b, v[1] = a < b ? b : a; /* the lower first, as the cloth's */
+}
+
+/* Vertex v's stated place (an obstacle's) or rest place (the cloth's x0), m. */
+static const double *rest_of(const sw_model *m, const mc_param *p, int v) {
+  if (v < m->nv) return m->x0 + 3 * (size_t)v;
+  int k = owner_of(m, p, v);
+  return m->mesh_obstacle[k].mesh_x + 3 * (size_t)(v - m->nv - p->vbase[k]);
+}
+
+/* Vertex v at the place x into q (3), m. */
+static void vertex_at(const sw_model *m, const mc_param *p, const mc_place *x, int v, double *q) {
+  if (v < m->nv || !x->pose) {
+    memcpy(q, v < m->nv ? x->x + 3 * (size_t)v : rest_of(m, p, v), 3 * sizeof(double));
+    return;
+  }
+  int k = owner_of(m, p, v);
+  const double *r = rest_of(m, p, v), *o = m->mesh_obstacle[k].center, *R = x->pose + 12 * k;
+  double d[3] = {r[0] - o[0], r[1] - o[1], r[2] - o[2]};
+  for (int a = 0; a < 3; a++) /* R (q - center) + c, m */
+    q[a] = R[3 * a] * d[0] + R[3 * a + 1] * d[1] + R[3 * a + 2] * d[2] + R[9 + a];
 }
 
 /* A pair's thickness: a mesh obstacle's offset when it involves one, else the cloth's, m. */
@@ -152,27 +221,24 @@ sw_mcontact *sw_mcontact_new(const sw_model *m) {
   if (!mc) return NULL;
   sw_broadphase_init(&mc->bp);
   mc->p = p;
-  size_t nv = (size_t)m->nv, nvt = (size_t)p->nvt;
-  mc->fixed = sw_calloc(nvt + 1, 1);
-  mc->xa = sw_calloc(3 * nvt + 1, sizeof(double));
-  mc->xb = sw_calloc(3 * nvt + 1, sizeof(double));
+  size_t nv = (size_t)m->nv, no = (size_t)p->nobst;
+  mc->fixed = sw_calloc(nv + 1, 1);
+  mc->pose = sw_calloc(6 * 12 * no + 1, sizeof(double));
   mc->z = sw_calloc(3 * nv + 1, sizeof(double));
   mc->carrier = sw_calloc(nv + 1, sizeof(int));
   mc->f = sw_calloc(6 * nv + 1, sizeof(double));
   mc->vforce = sw_calloc(nv + 1, sizeof(double));
-  size_t nmov = p->moving ? nvt : nv; /* static obstacles' boxes are never needed */
-  mc->cbox = sw_calloc(6 * nmov + 1, sizeof(double));
-  mc->xref = sw_calloc(3 * nmov + 1, sizeof(double));
-  mc->umove = sw_calloc(nvt + 1, sizeof(double));
+  mc->cbox = sw_calloc(6 * nv + 1, sizeof(double));
+  mc->xref = sw_calloc(3 * nv + 1, sizeof(double));
+  mc->umove = sw_calloc(nv + no + 1, sizeof(double));
   mc->slack = SW_MC_SLACK * m->contact.dhat;
-  for (int k = 0; k < 3; k++)
-    if (!(mc->tbox[k] = sw_calloc(6 * (size_t)p->tree[k].nnode + 1, sizeof(float))))
-      return sw_mcontact_free(mc), NULL;
-  if (!mc->fixed || !mc->xa || !mc->xb || !mc->z || !mc->carrier || !mc->f || !mc->vforce ||
+  if (p->moving && !(mc->tbox = sw_calloc(6 * (size_t)p->tree.nnode + 1, sizeof(float))))
+    return sw_mcontact_free(mc), NULL;
+  if (!mc->fixed || !mc->pose || !mc->z || !mc->carrier || !mc->f || !mc->vforce ||
       !mc->cbox || !mc->xref || !mc->umove)
     return sw_mcontact_free(mc), NULL;
-  for (int i = 0; i < p->nvt; i++) mc->fixed[i] = (unsigned char)(i >= m->nv || m->pinned[i]);
-  if (sw_contact_friction_on(m) && !(mc->fr = sw_mfriction_new(p->nvt)))
+  for (int i = 0; i < m->nv; i++) mc->fixed[i] = (unsigned char)m->pinned[i];
+  if (sw_contact_friction_on(m) && !(mc->fr = sw_mfriction_new()))
     return sw_mcontact_free(mc), NULL;
   mc->nsewn = m->nv, mc->sewn_ptr = m->sewn_ptr, mc->sewn_idx = m->sewn_idx;
   mc->kscale = 1.0;
@@ -184,8 +250,7 @@ void sw_mcontact_free(sw_mcontact *mc) {
   if (!mc) return;
   sw_broadphase_free(&mc->bp);
   sw_free(mc->fixed);
-  sw_free(mc->xa);
-  sw_free(mc->xb);
+  sw_free(mc->pose);
   sw_free(mc->z);
   sw_free(mc->carrier);
   sw_free(mc->f);
@@ -197,7 +262,8 @@ void sw_mcontact_free(sw_mcontact *mc) {
   sw_free(mc->xref);
   sw_free(mc->umove);
   sw_mfriction_free(mc->fr);
-  for (int k = 0; k < 3; k++) sw_free(mc->tbox[k]);
+  sw_free(mc->tbox);
+  sw_free(mc->dup);
   sw_free(mc);
 }
 
@@ -229,104 +295,158 @@ static int obstacles_move(const sw_model *m, double t0, double t1) {
   return 0;
 }
 
-/* The positions of the cloth (x, nv x 3) and of the mesh obstacles at time t: x itself without
- * obstacles, else [x, obstacles] copied into buf (nvt x 3). */
-static const double *positions(const sw_model *m, sw_mcontact *mc, const double *x,
-                               double t, double *buf) {
-  const mc_param *p = mc->p;
-  if (p->nvt == m->nv) return x;
-  memcpy(buf, x, (size_t)m->nv * 3 * sizeof(double));
-  int bit = buf == mc->xa ? 1 : 2; /* static obstacles stay where they were placed once */
-  if (!p->moving && (mc->placed & bit)) return buf;
-  if (!p->moving) mc->placed |= bit;
-  double R[9], c[3];
-  for (int j = 0, k = -1; j < p->nvt - m->nv; j++) {
-    const sw_obstacle *o = &m->mesh_obstacle[p->owner[j]];
-    if (p->owner[j] != k) sw_obstacle_pose(o, t, R, c), k = p->owner[j];
-    const double *q = p->rest + 3 * (size_t)j;
-    double r[3] = {q[0] - o->center[0], q[1] - o->center[1], q[2] - o->center[2]};
-    for (int a = 0; a < 3; a++) /* R (q - center) + c, m */
-      buf[3 * ((size_t)m->nv + j) + a] = R[3 * a] * r[0] + R[3 * a + 1] * r[1] + R[3 * a + 2] * r[2] + c[a];
-  }
-  return buf;
+/* The place of the cloth x (nv x 3) and of the mesh obstacles at time t, the poses kept in
+ * workspace slot `slot` (static obstacles: at their stated place, no pose). */
+static mc_place positions(const sw_model *m, sw_mcontact *mc, const double *x, double t,
+                          int slot) {
+  mc_place pl = {x, NULL};
+  if (!mc->p->moving) return pl;
+  double *pose = mc->pose + 12 * (size_t)slot * mc->p->nobst;
+  for (int k = 0; k < mc->p->nobst; k++)
+    sw_obstacle_pose(&m->mesh_obstacle[k], t, pose + 12 * k, pose + 12 * k + 9);
+  pl.pose = pose;
+  return pl;
 }
 
-/* Positions (nvt x 3) into the broad phase's input with the given inflation. */
-static sw_bp_input bp_input(const sw_mcontact *mc, const double *x0, const double *x1,
-                            double inflate) {
-  const mc_param *p = mc->p;
-  sw_bp_input in = {.nv = p->nvt, .x0 = x0, .x1 = x1, .ne = p->ne, .edge = p->edge,
-                    .nf = p->nf, .face = p->face, .fixed = mc->fixed, .inflate = inflate,
-                    .nsewn = mc->nsewn, .sewn_ptr = mc->sewn_ptr, .sewn_idx = mc->sewn_idx};
+/* The cloth's places into the broad phase's input (its own pairs) with the given inflation. */
+static sw_bp_input bp_input(const sw_model *m, const sw_mcontact *mc, const mc_place *x0,
+                            const mc_place *x1, double inflate) {
+  sw_bp_input in = {.nv = m->nv, .x0 = x0->x, .x1 = x1->x, .ne = mc->p->ne_cloth,
+                    .edge = mc->p->edge, .nf = m->nf, .face = m->face, .fixed = mc->fixed,
+                    .inflate = inflate, .nsewn = mc->nsewn, .sewn_ptr = mc->sewn_ptr,
+                    .sewn_idx = mc->sewn_idx};
   return in;
 }
 
 /* ------------------------------------------------------------------ broad phase */
 
-/* The obstacles' primitives for their trees: primitive i of kind k (0 vertex, 1 edge, 2 face)
- * is vertex nv + i, edge ne_cloth + i or face nf + i, its box that of its vertices at x0 and
- * x1 (vertex v at x0 + 3 (v - off)). */
+/* The box over x0 -> x1 of vertices v (n) into b (lo[3], hi[3]), m. */
 typedef struct tree_ctx {
+  const sw_model *m;
   const mc_param *p;
-  int nv, nf, kind, off;
-  const double *x0, *x1;
+  const mc_place *x0, *x1;
 } tree_ctx;
 
-static void tree_box(const void *arg, int i, double *b) {
-  const tree_ctx *c = arg;
-  int v[3], n = c->kind + 1;
-  if (c->kind == 0) v[0] = c->nv + i;
-  for (int j = 0; c->kind == 1 && j < 2; j++) v[j] = c->p->edge[2 * ((size_t)c->p->ne_cloth + i) + j];
-  for (int j = 0; c->kind == 2 && j < 3; j++) v[j] = c->p->face[3 * ((size_t)c->nf + i) + j];
+static void vertices_box(const tree_ctx *c, const int *v, int n, double *b) {
   for (int a = 0; a < 3; a++) b[a] = INFINITY, b[3 + a] = -INFINITY;
-  for (int j = 0; j < n; j++)
+  for (int j = 0; j < n; j++) {
+    double p[3], q[3];
+    vertex_at(c->m, c->p, c->x0, v[j], p);
+    vertex_at(c->m, c->p, c->x1, v[j], q);
     for (int a = 0; a < 3; a++) { /* finite: comparisons, not fmin's calls */
-      double p = c->x0[3 * (size_t)(v[j] - c->off) + a], q = c->x1[3 * (size_t)(v[j] - c->off) + a];
-      double lo = p < q ? p : q, hi = p < q ? q : p;
+      double lo = p[a] < q[a] ? p[a] : q[a], hi = p[a] < q[a] ? q[a] : p[a];
       b[a] = lo < b[a] ? lo : b[a], b[3 + a] = hi > b[3 + a] ? hi : b[3 + a];
     }
+  }
 }
 
-/* Tree k of the obstacles with the workspace's node boxes. */
-static sw_bvh tree_view(const sw_mcontact *mc, int k) {
-  sw_bvh t = mc->p->tree[k];
-  t.box = mc->tbox[k];
+/* The tree's primitive i: obstacle face nf + i over x0 -> x1. */
+static void tree_box(const void *arg, int i, double *b) {
+  const tree_ctx *c = arg;
+  int v[3];
+  face_vertices(c->m, c->p, c->m->nf + i, v);
+  vertices_box(c, v, 3, b);
+}
+
+/* The tree with the workspace's node boxes (moving obstacles) or its own (static ones). */
+static sw_bvh tree_view(const sw_mcontact *mc) {
+  sw_bvh t = mc->p->tree;
+  if (mc->p->moving) t.box = mc->tbox;
   return t;
 }
 
-/* The workspace's node boxes for the obstacles at x0 -> x1 (nvt x 3 each): refitted at each
- * query for moving obstacles, once for static ones. */
-static void fit_trees(const sw_model *m, sw_mcontact *mc, const double *x0, const double *x1) {
-  if (mc->tree_fit && !mc->p->moving) return;
-  for (int k = 0; k < 3; k++) {
-    tree_ctx c = {mc->p, m->nv, m->nf, k, 0, x0, x1};
-    sw_bvh t = tree_view(mc, k);
-    sw_bvh_refit(&t, tree_box, &c);
-  }
-  mc->tree_fit = 1;
+/* Whether pose set a (nobst x 12) is one of b's two. */
+static int pose_in(const double *a, const double *b, int nobst) {
+  size_t n = 12 * (size_t)nobst * sizeof(double);
+  return !memcmp(a, b, n) || !memcmp(a, b + 12 * (size_t)nobst, n);
 }
 
-/* A query of one cloth primitive against a tree: pairs (cloth, obstacle) or, for a cloth face
- * against the obstacles' vertices, (vertex, face), appended to *pair (capacity *cap, n). */
+/* Moving obstacles: the workspace's node boxes over the obstacles' motion x0 -> x1, refitted
+ * (one bottom-up pass over the body) only when a pose is not one of the last fit's ends: the
+ * boxes of a fit over a step's motion hold every place queried at its start or end. */
+static void fit_tree(const sw_model *m, sw_mcontact *mc, const mc_place *x0, const mc_place *x1) {
+  const mc_param *p = mc->p;
+  if (!p->moving) return;
+  double *fit = mc->pose + 12 * 4 * (size_t)p->nobst;
+  if (mc->tree_fit && pose_in(x0->pose, fit, p->nobst) && pose_in(x1->pose, fit, p->nobst)) return;
+  tree_ctx c = {m, p, x0, x1};
+  sw_bvh t = tree_view(mc);
+  sw_bvh_refit(&t, tree_box, &c);
+  memcpy(fit, x0->pose, 12 * (size_t)p->nobst * sizeof(double));
+  memcpy(fit + 12 * (size_t)p->nobst, x1->pose, 12 * (size_t)p->nobst * sizeof(double));
+  mc->tree_fit = 1;
+  mc->nrefit++;
+}
+
+/* One query's obstacle primitives (vertices, or edges by their two vertices) with their codes,
+ * sorted to keep each once: a vertex or an edge is in several faces of the tree. */
+struct mc_dup {
+  unsigned long long key; /* vertex, or (lower vertex << 32) + higher vertex */
+  int code;               /* the vertex, or the edge's code (mc_param) */
+};
+
+/* A query of one cloth primitive against the tree: pairs (cloth, obstacle) or, for a cloth
+ * face against the obstacles' vertices, (vertex, face), appended to *pair (capacity *cap, n).
+ * what: 0 the obstacles' vertices, 1 their edges, 2 their faces. */
 typedef struct hit_arg {
+  sw_mcontact *mc;
+  const tree_ctx *c;
   int **pair, *n;
   size_t *cap;
-  int cloth, offset, vertex_first;
+  int what, cloth, vertex_first;
+  const double *b; /* the query's box */
+  size_t ndup;
 } hit_arg;
 
-static int hit_pair(void *arg, int i) {
-  hit_arg *h = arg;
+static int append_pair(hit_arg *h, int o) {
   if ((size_t)2 * (*h->n + 1) > *h->cap) {
     size_t cap = 2 * ((size_t)*h->n + 1) * 3 / 2 + 32;
     int *q = realloc(*h->pair, cap * sizeof(int)); /* sw_broadphase_free frees it */
     if (!q) return -1;
     *h->pair = q, *h->cap = cap;
   }
-  int o = h->offset + i;
   (*h->pair)[2 * *h->n] = h->vertex_first ? o : h->cloth;
   (*h->pair)[2 * *h->n + 1] = h->vertex_first ? h->cloth : o;
   (*h->n)++;
   return 0;
+}
+
+static int boxes_meet(const double *p, const double *q) {
+  for (int a = 0; a < 3; a++)
+    if (!(p[a] <= q[3 + a] && q[a] <= p[3 + a])) return 0;
+  return 1;
+}
+
+/* Obstacle face i whose box meets the query's: the face itself, or its vertices or edges whose
+ * boxes meet the query's into mc->dup. */
+static int hit_face(void *arg, int i) {
+  hit_arg *h = arg;
+  if (h->what == 2) return append_pair(h, h->c->m->nf + i);
+  sw_mcontact *mc = h->mc;
+  if (mc->capdup < h->ndup + 3) {
+    size_t cap = 2 * mc->capdup + 64;
+    struct mc_dup *q = sw_realloc(mc->dup, cap, sizeof *q);
+    if (!q) return -1;
+    mc->dup = q, mc->capdup = cap;
+  }
+  int f[3];
+  face_vertices(h->c->m, h->c->p, h->c->m->nf + i, f);
+  for (int j = 0; j < 3; j++) {
+    int v[2] = {f[j], f[(j + 1) % 3]}, n = h->what + 1;
+    double b[6];
+    vertices_box(h->c, v, n, b);
+    if (!boxes_meet(b, h->b)) continue;
+    unsigned long long lo = (unsigned)(v[0] < v[1] || n == 1 ? v[0] : v[1]), hi = (unsigned)(v[0] < v[1] ? v[1] : v[0]);
+    struct mc_dup *d = &mc->dup[h->ndup++];
+    d->key = n == 1 ? lo : lo << 32 | hi;
+    d->code = n == 1 ? v[0] : h->c->p->ne_cloth + 3 * i + j;
+  }
+  return 0;
+}
+
+static int dup_order(const void *a, const void *b) {
+  const struct mc_dup *p = a, *q = b;
+  return p->key != q->key ? (p->key < q->key ? -1 : 1) : (p->code > q->code) - (p->code < q->code);
 }
 
 /* The box over x0 -> x1 of the cloth vertices v (n) grown by r (m); 0 when one is pinned
@@ -346,73 +466,77 @@ static int cloth_box(const sw_mcontact *mc, const sw_bp_input *in, const int *v,
   return !fixed;
 }
 
-/* Query tree k with each of the cloth's n primitives of `per` vertices each (at idx + per i). */
-static int query_tree(const sw_model *m, sw_mcontact *mc, const sw_bp_input *in, int k,
-                      const int *idx, int per, int n, hit_arg *h) {
-  sw_bvh t = tree_view(mc, k);
-  tree_ctx c = {mc->p, m->nv, m->nf, k, 0, in->x0, in->x1};
-  h->offset = k == 0 ? m->nv : k == 1 ? mc->p->ne_cloth : m->nf;
+/* Query the tree with each of the cloth's n primitives of `per` vertices each (at idx + per
+ * i) for the obstacles' primitives h->what; -1 when out of memory or not finite. */
+static int query_tree(sw_mcontact *mc, const sw_bp_input *in, const int *idx, int per, int n,
+                      hit_arg *h) {
+  sw_bvh t = tree_view(mc);
   for (int i = 0; i < n; i++) {
     double b[6];
     int v = i, rc = cloth_box(mc, in, idx ? idx + per * (size_t)i : &v, per, 2.0 * in->inflate, b);
     if (rc < 0) return -1;
-    h->cloth = i;
-    if (rc && sw_bvh_query(&t, b, tree_box, &c, hit_pair, h)) return -1;
+    if (!rc) continue;
+    h->cloth = i, h->b = b, h->ndup = 0;
+    if (sw_bvh_query(&t, b, tree_box, h->c, hit_face, h)) return -1;
+    if (h->what == 2) continue;
+    qsort(mc->dup, h->ndup, sizeof *mc->dup, dup_order);
+    for (size_t k = 0; k < h->ndup; k++)
+      if ((k == 0 || mc->dup[k].key != mc->dup[k - 1].key) && append_pair(h, mc->dup[k].code))
+        return -1;
   }
   return 0;
 }
 
-/* The term's broad phase into mc->bp, as sw_broadphase_query over all of `in` (the cloth and
- * the obstacles) but with the obstacles' trees: the cloth's own pairs from the spatial hash
- * (with self-contact only), its pairs with the obstacles from queries of the cloth's swept
- * boxes in the trees, so the cost grows with the cloth and the part of a body near it. */
-static int broad_phase(const sw_model *m, sw_mcontact *mc, const sw_bp_input *in, int want) {
+/* The term's broad phase into mc->bp: the cloth's own pairs from the spatial hash
+ * (sw_broadphase_query, with self-contact only), its pairs with the obstacles from queries of
+ * the cloth's swept boxes in the obstacles' tree (the vertices and edges of the faces found,
+ * each once), so the cost grows with the cloth and the part of a body near it.  -1 when the
+ * places are not finite or out of memory. */
+static int broad_phase(const sw_model *m, sw_mcontact *mc, const mc_place *x0,
+                       const mc_place *x1, double inflate, int want) {
   sw_broadphase *bp = &mc->bp;
+  sw_bp_input in = bp_input(m, mc, x0, x1, inflate);
   bp->npt = bp->nee = bp->nff = 0;
-  if (m->contact.self && (want & (SW_BP_PT | SW_BP_EE))) {
-    sw_bp_input cloth = *in;
-    cloth.nv = m->nv, cloth.ne = mc->p->ne_cloth, cloth.nf = m->nf;
-    if (sw_broadphase_query(bp, &cloth, want & (SW_BP_PT | SW_BP_EE))) return -1;
-  }
+  if (m->contact.self && (want & (SW_BP_PT | SW_BP_EE)) &&
+      sw_broadphase_query(bp, &in, want & (SW_BP_PT | SW_BP_EE)))
+    return -1;
   if (mc->p->nvt == m->nv) return 0;
-  fit_trees(m, mc, in->x0, in->x1);
-  hit_arg pt = {&bp->pt, &bp->npt, &bp->cap_pt, 0, 0, 0};
-  hit_arg tp = {&bp->pt, &bp->npt, &bp->cap_pt, 0, 0, 1};
-  hit_arg ee = {&bp->ee, &bp->nee, &bp->cap_ee, 0, 0, 0};
-  hit_arg ff = {&bp->ff, &bp->nff, &bp->cap_ff, 0, 0, 0};
+  fit_tree(m, mc, x0, x1);
+  tree_ctx c = {m, mc->p, x0, x1};
+  hit_arg pt = {mc, &c, &bp->pt, &bp->npt, &bp->cap_pt, 2, 0, 0, NULL, 0};
+  hit_arg tp = {mc, &c, &bp->pt, &bp->npt, &bp->cap_pt, 0, 0, 1, NULL, 0};
+  hit_arg ee = {mc, &c, &bp->ee, &bp->nee, &bp->cap_ee, 1, 0, 0, NULL, 0};
+  hit_arg ff = {mc, &c, &bp->ff, &bp->nff, &bp->cap_ff, 2, 0, 0, NULL, 0};
   int rc = 0;
   if (want & SW_BP_PT)
-    rc = query_tree(m, mc, in, 2, NULL, 1, m->nv, &pt) ||
-         query_tree(m, mc, in, 0, mc->p->face, 3, m->nf, &tp);
-  if (!rc && (want & SW_BP_EE)) rc = query_tree(m, mc, in, 1, mc->p->edge, 2, mc->p->ne_cloth, &ee);
-  if (!rc && (want & SW_BP_FF)) rc = query_tree(m, mc, in, 2, mc->p->face, 3, m->nf, &ff);
+    rc = query_tree(mc, &in, NULL, 1, m->nv, &pt) || query_tree(mc, &in, m->face, 3, m->nf, &tp);
+  if (!rc && (want & SW_BP_EE)) rc = query_tree(mc, &in, mc->p->edge, 2, mc->p->ne_cloth, &ee);
+  if (!rc && (want & SW_BP_FF)) rc = query_tree(mc, &in, m->face, 3, m->nf, &ff);
   if (rc) bp->npt = bp->nee = bp->nff = 0;
   return rc ? -1 : 0;
 }
 
 /* The vertices of broad-phase pair q of kind k (SW_MC_PT: vertex, face; SW_MC_EE: edge,
  * edge) into v[4]. */
-static void pair_vertices(const sw_mcontact *mc, int kind, const int *q, int *v) {
-  const mc_param *p = mc->p;
+static void pair_vertices(const sw_model *m, const sw_mcontact *mc, int kind, const int *q, int *v) {
   if (kind == SW_MC_PT) {
     v[0] = q[0];
-    for (int c = 0; c < 3; c++) v[1 + c] = p->face[3 * q[1] + c];
+    face_vertices(m, mc->p, q[1], v + 1);
   } else {
-    v[0] = p->edge[2 * q[0]], v[1] = p->edge[2 * q[0] + 1];
-    v[2] = p->edge[2 * q[1]], v[3] = p->edge[2 * q[1] + 1];
+    edge_vertices(m, mc->p, q[0], v);
+    edge_vertices(m, mc->p, q[1], v + 2);
   }
 }
 
-static void gather(const double *x, const int *v, double *p) {
-  for (int k = 0; k < 4; k++) memcpy(p + 3 * k, x + 3 * (size_t)v[k], 3 * sizeof(double));
+/* The places of a pair's vertices v (4) at x into p (12), m. */
+static void gather(const sw_model *m, const sw_mcontact *mc, const mc_place *x, const int *v,
+                   double *p) {
+  for (int k = 0; k < 4; k++) vertex_at(m, mc->p, x, v[k], p + 3 * k);
 }
 
 /* The rest positions of a pair's vertices (the cloth's x0, the obstacles' stated place). */
 static void gather_rest(const sw_model *m, const mc_param *p, const int *v, double *r) {
-  for (int k = 0; k < 4; k++) {
-    const double *q = v[k] < m->nv ? m->x0 + 3 * (size_t)v[k] : p->rest + 3 * (size_t)(v[k] - m->nv);
-    memcpy(r + 3 * k, q, 3 * sizeof(double));
-  }
+  for (int k = 0; k < 4; k++) memcpy(r + 3 * k, rest_of(m, p, v[k]), 3 * sizeof(double));
 }
 
 /* Call visit(m, mc, kind, v, arg) on every wanted pair of the last broad-phase query; stops at
@@ -424,7 +548,7 @@ static int each_pair(const sw_model *m, sw_mcontact *mc, pair_visit visit, void 
     int n = kind == SW_MC_PT ? mc->bp.npt : mc->bp.nee;
     for (int k = 0; k < n; k++) {
       int v[4];
-      pair_vertices(mc, kind, q + 2 * k, v);
+      pair_vertices(m, mc, kind, q + 2 * k, v);
       if (!pair_wanted(m, v)) continue;
       int rc = visit(m, mc, kind, v, arg);
       if (rc) return rc;
@@ -435,28 +559,36 @@ static int each_pair(const sw_model *m, sw_mcontact *mc, pair_visit visit, void 
 
 /* ------------------------------------------------------------------- candidates */
 
-/* The vertices whose places may change: the cloth's, and the obstacles' when one moves. */
-static int nmoving(const sw_model *m, const sw_mcontact *mc) {
-  return mc->p->moving ? mc->p->nvt : m->nv;
+/* How far any vertex of obstacle k may be between its poses a and b (12 each): R (q - center)
+ * + c differs by (Ra - Rb)(q - center) + ca - cb, at most |ca - cb| + |Ra - Rb|_F radius, m. */
+static double pose_gap(const mc_param *p, int k, const double *a, const double *b) {
+  double r = 0.0, c = 0.0;
+  a += 12 * k, b += 12 * k;
+  for (int i = 0; i < 9; i++) r += (a[i] - b[i]) * (a[i] - b[i]);
+  for (int i = 9; i < 12; i++) c += (a[i] - b[i]) * (a[i] - b[i]);
+  return sqrt(c) + sqrt(r) * p->radius[2 * k];
 }
 
-/* Whether every vertex of x (nvt x 3) lies within mc->slack of its box in mc->cbox: then the
- * candidates hold every pair within reach at x. */
-static int covered(const sw_model *m, const sw_mcontact *mc, const double *x) {
+/* Whether every vertex at x lies within mc->slack of its box over the candidates' motion (the
+ * cloth's in mc->cbox; an obstacle's vertices when its pose is within slack of the motion's
+ * start or end pose): then the candidates hold every pair within reach at x. */
+static int covered(const sw_model *m, const sw_mcontact *mc, const mc_place *x) {
   if (!mc->cand_ok) return 0;
   const double h = mc->slack;
-  for (int i = 0, n = nmoving(m, mc); i < n; i++) {
-    const double *b = mc->cbox + 6 * (size_t)i, *p = x + 3 * (size_t)i;
+  for (int i = 0; i < m->nv; i++) {
+    const double *b = mc->cbox + 6 * (size_t)i, *p = x->x + 3 * (size_t)i;
     for (int a = 0; a < 3; a++)
       if (!(p[a] >= b[a] - h && p[a] <= b[3 + a] + h)) return 0;
   }
+  const double *a = mc->pose + 24 * (size_t)mc->p->nobst, *b = a + 12 * (size_t)mc->p->nobst;
+  for (int k = 0; x->pose && k < mc->p->nobst; k++)
+    if (!(fmin(pose_gap(mc->p, k, x->pose, a), pose_gap(mc->p, k, x->pose, b)) <= h)) return 0;
   return 1;
 }
 
-/* Append the pair to the candidates with its distance at arg (nvt x 3); -1 when out of
+/* Append the pair to the candidates with its distance at arg (an mc_place); -1 when out of
  * memory. */
 static int add_candidate(const sw_model *m, sw_mcontact *mc, int kind, const int *v, void *arg) {
-  (void)m;
   if (mc->ncand == mc->capcand) {
     int cap = mc->capcand + mc->capcand / 2 + 256;
     sw_mc_pair *c = sw_realloc(mc->cand, (size_t)cap, sizeof *c);
@@ -467,51 +599,59 @@ static int add_candidate(const sw_model *m, sw_mcontact *mc, int kind, const int
   double p[12];
   c->kind = kind;
   memcpy(c->v, v, sizeof c->v);
-  gather(arg, v, p);
+  gather(m, mc, arg, v, p);
   c->gap = sqrt(kind == SW_MC_PT ? sw_d2_point_triangle(p, p + 3, p + 6, p + 9, NULL, NULL)
                                  : sw_d2_edge_edge(p, p + 3, p + 6, p + 9, NULL, NULL));
   return 0;
 }
 
-/* The candidates over the motion x0 -> x1 (nvt x 3 each; x1 == x0 for positions at rest);
- * -1 when the broad phase fails (positions not finite, or out of memory). */
-static int find_candidates(const sw_model *m, sw_mcontact *mc, const double *x0,
-                           const double *x1) {
+/* The candidates over the motion x0 -> x1 (x1 == x0 for places at rest); -1 when the broad
+ * phase fails (places not finite, or out of memory). */
+static int find_candidates(const sw_model *m, sw_mcontact *mc, const mc_place *x0,
+                           const mc_place *x1) {
   mc->cand_ok = 0;
   mc->ncand = 0;
   double reach = 0.5 * (max_thickness(m) + m->contact.dhat) + mc->slack;
-  sw_bp_input in = bp_input(mc, x0, x1, reach);
-  if (broad_phase(m, mc, &in, SW_BP_PT | SW_BP_EE) ||
+  if (broad_phase(m, mc, x0, x1, reach, SW_BP_PT | SW_BP_EE) ||
       each_pair(m, mc, add_candidate, (void *)x0))
     return -1;
-  for (size_t i = 0; i < 3 * (size_t)nmoving(m, mc); i++) {
-    double *bi = mc->cbox + 6 * (i / 3) + i % 3;
-    bi[0] = x0[i] < x1[i] ? x0[i] : x1[i], bi[3] = x0[i] < x1[i] ? x1[i] : x0[i];
+  for (size_t i = 0; i < 3 * (size_t)m->nv; i++) {
+    double *bi = mc->cbox + 6 * (i / 3) + i % 3, p = x0->x[i], q = x1->x[i];
+    bi[0] = p < q ? p : q, bi[3] = p < q ? q : p;
   }
-  memcpy(mc->xref, x0, 3 * (size_t)nmoving(m, mc) * sizeof(double));
+  memcpy(mc->xref, x0->x, 3 * (size_t)m->nv * sizeof(double));
+  size_t np = 12 * (size_t)mc->p->nobst;
+  if (x0->pose) memcpy(mc->pose + 2 * np, x0->pose, np * sizeof(double));
+  if (x1->pose) memcpy(mc->pose + 3 * np, x1->pose, np * sizeof(double));
   mc->cand_ok = 1;
   return 0;
 }
 
-/* mc->umove: how far each vertex of x0 and x1 (nvt x 3 each) is from xref, at most (so on the
- * whole motion x0 -> x1 too), m. */
-static void moves(const sw_model *m, sw_mcontact *mc, const double *x0, const double *x1) {
-  for (int i = 0, n = nmoving(m, mc); i < n; i++) { /* the others' stay 0 */
-    const double *r = mc->xref + 3 * (size_t)i, *p = x0 + 3 * (size_t)i, *q = x1 + 3 * (size_t)i;
+/* mc->umove: how far each cloth vertex at x0 and x1 is from xref, and each obstacle's vertices
+ * from the candidates' start pose, at most (so on the whole motion x0 -> x1 too), m. */
+static void moves(const sw_model *m, sw_mcontact *mc, const mc_place *x0, const mc_place *x1) {
+  for (int i = 0; i < m->nv; i++) {
+    const double *r = mc->xref + 3 * (size_t)i, *p = x0->x + 3 * (size_t)i, *q = x1->x + 3 * (size_t)i;
     double s = 0.0, t = 0.0;
     for (int a = 0; a < 3; a++) s += (p[a] - r[a]) * (p[a] - r[a]), t += (q[a] - r[a]) * (q[a] - r[a]);
     mc->umove[i] = sqrt(s > t ? s : t);
   }
+  const double *a = mc->pose + 24 * (size_t)mc->p->nobst;
+  for (int k = 0; k < mc->p->nobst; k++) /* static obstacles' stay 0 */
+    mc->umove[m->nv + k] = !x0->pose ? 0.0 : fmax(pose_gap(mc->p, k, x0->pose, a),
+                                                  pose_gap(mc->p, k, x1->pose, a));
 }
 
 /* Whether candidate c stays farther apart than `reach` (m) on the motion mc->umove was made
  * for: a point of a primitive moves at most as far as its farthest vertex, so the distance
  * falls by at most the two primitives' largest moves. */
-static int stays_beyond(const sw_mcontact *mc, const sw_mc_pair *c, double reach) {
+static int stays_beyond(const sw_model *m, const sw_mcontact *mc, const sw_mc_pair *c,
+                        double reach) {
   int na = c->kind == SW_MC_PT ? 1 : 2;
   double ua = 0.0, ub = 0.0;
   for (int j = 0; j < 4; j++) {
-    double u = mc->umove[c->v[j]];
+    int v = c->v[j];
+    double u = mc->umove[v < m->nv ? v : m->nv + owner_of(m, mc->p, v)];
     if (j < na) ua = u > ua ? u : ua;
     else ub = u > ub ? u : ub;
   }
@@ -520,19 +660,20 @@ static int stays_beyond(const sw_mcontact *mc, const sw_mc_pair *c, double reach
 
 /* The candidates for the motion x0 -> x1: the kept ones when they cover both ends (so every
  * position between: the boxes are convex), else new ones; -1 as find_candidates. */
-static int candidates(const sw_model *m, sw_mcontact *mc, const double *x0, const double *x1) {
+static int candidates(const sw_model *m, sw_mcontact *mc, const mc_place *x0,
+                      const mc_place *x1) {
   if (covered(m, mc, x0) && (x1 == x0 || covered(m, mc, x1))) return 0;
   return find_candidates(m, mc, x0, x1);
 }
 
 /* Call visit on every candidate that may come within its thickness plus `dhat` (m) on the
- * motion x0 -> x1 (nvt x 3 each), as each_pair does. */
-static int each_candidate(const sw_model *m, sw_mcontact *mc, const double *x0,
-                          const double *x1, double dhat, pair_visit visit, void *arg) {
+ * motion x0 -> x1, as each_pair does. */
+static int each_candidate(const sw_model *m, sw_mcontact *mc, const mc_place *x0,
+                          const mc_place *x1, double dhat, pair_visit visit, void *arg) {
   moves(m, mc, x0, x1);
   for (int k = 0; k < mc->ncand; k++) {
     const sw_mc_pair *c = &mc->cand[k];
-    if (stays_beyond(mc, c, pair_xi(m, mc->p, c->v) + dhat)) continue;
+    if (stays_beyond(m, mc, c, pair_xi(m, mc->p, c->v) + dhat)) continue;
     int rc = visit(m, mc, c->kind, c->v, arg);
     if (rc) return rc;
   }
@@ -550,19 +691,19 @@ static double pair_weight(const sw_model *m, const sw_mcontact *mc, const int *v
   return w * m->contact.kappa_mesh * mc->kscale / nc;
 }
 
-/* The energy of one pair with vertices v at x (nvt x 3; J), its gradient g (12; NULL: the
+/* The energy of one pair with vertices v at x (J), its gradient g (12; NULL: the
  * energy alone) and, when H is not NULL (g then too), its Hessian block clamped to positive
  * semi-definite (144); *gap = d - xi (m).  INFINITY when the pair is within xi.  The clamp is
  * found on the block's span (models/barrier_block.c), except for an edge-edge pair the
  * mollifier scales (nearly parallel edges): its exact 12 x 12 Hessian, eigen-decomposed on
  * the 9 dimensions a translation leaves out (sw_pair_clamp_free). */
 static double pair_energy(const sw_model *m, const sw_mcontact *mc, int kind, const int *v,
-                          const double *x, double *g, double *H, double *gap) {
+                          const mc_place *x, double *g, double *H, double *gap) {
   const sw_contact *c = &m->contact;
   const mc_param *pm = mc->p;
   double p[12], g2[12];
   sw_pair_form pf;
-  gather(x, v, p);
+  gather(m, mc, x, v, p);
   double *gd = g ? g2 : NULL; /* the energy alone (a line search's) needs no gradient */
   double d2 = H ? sw_pair_d2_form(kind == SW_MC_EE, p, &pf)
           : kind == SW_MC_PT ? sw_d2_point_triangle(p, p + 3, p + 6, p + 9, gd, NULL)
@@ -598,7 +739,7 @@ static double pair_energy(const sw_model *m, const sw_mcontact *mc, int kind, co
 /* What an evaluation needs of each pair. */
 typedef struct eval_arg {
   const sw_eval *ev;
-  const double *x;   /* (nvt x 3) */
+  const mc_place *x;
   double e;          /* J */
 } eval_arg;
 
@@ -630,18 +771,19 @@ static int eval_pair(const sw_model *m, sw_mcontact *mc, int kind, const int *v,
   return SW_OK;
 }
 
-/* The lagged friction of the step (models/mesh_friction.c) at x (nvt x 3): energy into *e,
+/* The lagged friction of the step (models/mesh_friction.c) at x: energy into *e,
  * gradient into ev->grad, and each pair's block appended to the active list as a pair with
  * an infinite gap (so that Newton's settle test ignores it). */
-static int eval_friction(const sw_model *m, sw_mcontact *mc, const sw_eval *ev, const double *x,
-                         double *e) {
+static int eval_friction(const sw_model *m, sw_mcontact *mc, const sw_eval *ev,
+                         const mc_place *x, double *e) {
   int nf = sw_mfriction_count(mc->fr);
   for (int k = 0; k < nf; k++) {
     const int *v = sw_mfriction_vertices(mc->fr, k);
-    double g[12], *H = NULL;
+    double g[12], p[12], *H = NULL;
     if (ev->hess && reserve_pair(mc)) return SW_FATAL;
     if (ev->hess) H = mc->block + (size_t)mc->npair * 144;
-    *e += sw_mfriction_pair(mc->fr, m->contact.eps_v, k, x, g, H);
+    gather(m, mc, x, v, p);
+    *e += sw_mfriction_pair(mc->fr, m->contact.eps_v, k, p, g, H);
     for (int j = 0; ev->grad && j < 12; j++)
       if (v[j / 3] < m->nv) ev->grad[3 * v[j / 3] + j % 3] += g[j];
     if (!ev->hess) continue;
@@ -663,7 +805,8 @@ static int mc_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, doubl
   }
   mc->npair = 0;
   mc->have_blocks = ev->hess != NULL;
-  eval_arg a = {.ev = ev, .x = positions(m, mc, ev->x, ev->t, mc->xa)};
+  mc_place x = positions(m, mc, ev->x, ev->t, 0);
+  eval_arg a = {.ev = ev, .x = &x};
   if (candidates(m, mc, a.x, a.x)) {
     sw_eval_why(ev, "the broad phase failed (positions not finite, or out of memory)");
     return SW_RECOVER;
@@ -678,56 +821,56 @@ static void mc_free(void *param) {
   mc_param *p = param;
   if (!p) return;
   sw_free(p->edge);
-  sw_free(p->face);
-  sw_free(p->owner);
-  sw_free(p->rest);
-  for (int k = 0; k < 3; k++) sw_bvh_free(&p->tree[k]);
+  sw_free(p->vbase);
+  sw_free(p->fbase);
+  sw_free(p->radius);
+  sw_bvh_free(&p->tree);
   sw_free(p);
 }
 
 static const sw_term_ops mc_ops = {.kind = "mesh_contact", .eval = mc_eval,
                                    .free_param = mc_free};
 
-/* The faces of the cloth and of every mesh obstacle over one numbering, the obstacles' owners
- * and stated vertices into p; -1 when out of memory. */
-static int join_meshes(mc_param *p, const sw_model *m) {
-  int nvo = 0, nfo = 0;
-  for (int k = 0; k < m->nmesh_obstacle; k++)
-    nvo += m->mesh_obstacle[k].mesh_nv, nfo += m->mesh_obstacle[k].mesh_nf;
-  p->nvt = m->nv + nvo;
-  p->nf = m->nf + nfo;
-  p->face = sw_calloc(3 * (size_t)p->nf + 1, sizeof(int));
-  p->owner = sw_calloc((size_t)nvo + 1, sizeof(int));
-  p->rest = sw_calloc(3 * (size_t)nvo + 1, sizeof(double));
-  if (!p->face || !p->owner || !p->rest) return -1;
-  memcpy(p->face, m->face, 3 * (size_t)m->nf * sizeof(int));
-  for (int k = 0, v = 0, f = m->nf; k < m->nmesh_obstacle; k++) {
+/* The numbering of the mesh obstacles' vertices and faces after the cloth's, and their radii
+ * about their centres and rotation axes; -1 when out of memory. */
+static int number_obstacles(mc_param *p, const sw_model *m) {
+  p->nobst = m->nmesh_obstacle;
+  p->vbase = sw_calloc((size_t)p->nobst + 1, sizeof(int));
+  p->fbase = sw_calloc((size_t)p->nobst + 1, sizeof(int));
+  p->radius = sw_calloc(2 * (size_t)p->nobst + 1, sizeof(double));
+  if (!p->vbase || !p->fbase || !p->radius) return -1;
+  for (int k = 0; k < p->nobst; k++) {
     const sw_obstacle *o = &m->mesh_obstacle[k];
-    for (int j = 0; j < 3 * o->mesh_nf; j++) p->face[3 * (size_t)f + j] = m->nv + v + o->mesh_face[j];
-    memcpy(p->rest + 3 * (size_t)v, o->mesh_x, 3 * (size_t)o->mesh_nv * sizeof(double));
-    for (int j = 0; j < o->mesh_nv; j++) p->owner[v + j] = k;
-    v += o->mesh_nv, f += o->mesh_nf;
+    p->vbase[k + 1] = p->vbase[k] + o->mesh_nv;
+    p->fbase[k + 1] = p->fbase[k] + o->mesh_nf;
+    p->moving |= o->nkey > 0 || o->nrot > 0;
+    double r2 = 0.0, a2 = 0.0;
+    for (int j = 0; j < o->mesh_nv; j++) {
+      double r[3], along = 0.0, rr = 0.0, aa = 0.0;
+      for (int a = 0; a < 3; a++) r[a] = o->mesh_x[3 * (size_t)j + a] - o->center[a], along += r[a] * o->axis[a];
+      for (int a = 0; a < 3; a++) rr += r[a] * r[a], aa += (r[a] - along * o->axis[a]) * (r[a] - along * o->axis[a]);
+      r2 = fmax(r2, rr), a2 = fmax(a2, aa);
+    }
+    p->radius[2 * k] = sqrt(r2), p->radius[2 * k + 1] = o->nrot ? sqrt(a2) : 0.0;
   }
+  p->nvt = m->nv + p->vbase[p->nobst];
+  p->nf = m->nf + p->fbase[p->nobst];
   return 0;
 }
 
-/* The obstacles' trees over their primitives at their stated place (the edges sort by their
- * lower vertex, so the cloth's come first); -1 when out of memory or stopped by a signal
- * (sw_interrupt) while building. */
-static int build_trees(mc_param *p, const sw_model *m, char *err, size_t errsz) {
-  for (p->ne_cloth = 0; p->ne_cloth < p->ne && p->edge[2 * p->ne_cloth] < m->nv;) p->ne_cloth++;
-  int n[3] = {p->nvt - m->nv, p->ne - p->ne_cloth, p->nf - m->nf};
-  for (int k = 0; k < m->nmesh_obstacle; k++)
-    p->moving |= m->mesh_obstacle[k].nkey > 0 || m->mesh_obstacle[k].nrot > 0;
-  for (int k = 0; k < 3; k++) {
-    tree_ctx c = {p, m->nv, m->nf, k, m->nv, p->rest, p->rest};
-    int rc = sw_bvh_build(&p->tree[k], n[k], tree_box, &c);
-    if (rc == -2)
-      return sw_errf(err, errsz, "stopped by signal %d while building the mesh obstacles' "
-                     "trees", sw_interrupted()), -1;
-    if (rc) return sw_errf(err, errsz, "out of memory for the mesh obstacles' trees"), -1;
-    sw_free(p->tree[k].box); /* each workspace fits its own (fit_trees) */
-    p->tree[k].box = NULL;
+/* The obstacles' tree over their faces at their stated place; -1 when out of memory or
+ * stopped by a signal (sw_interrupt) while building. */
+static int build_tree(mc_param *p, const sw_model *m, char *err, size_t errsz) {
+  mc_place at = {NULL, NULL};
+  tree_ctx c = {m, p, &at, &at};
+  int rc = sw_bvh_build(&p->tree, p->nf - m->nf, tree_box, &c);
+  if (rc == -2)
+    return sw_errf(err, errsz, "stopped by signal %d while building the mesh obstacles' "
+                   "tree", sw_interrupted()), -1;
+  if (rc) return sw_errf(err, errsz, "out of memory for the mesh obstacles' tree"), -1;
+  if (p->moving) { /* each workspace fits its own (fit_tree) */
+    sw_free(p->tree.box);
+    p->tree.box = NULL;
   }
   return 0;
 }
@@ -737,33 +880,33 @@ int sw_mesh_contact_build(sw_term *t, const sw_model *m, char *err, size_t errsz
   snprintf(t->name, sizeof t->name, "%s", "mesh_contact");
   mc_param *p = sw_calloc(1, sizeof *p);
   t->param = p;
-  if (!p || sw_term_alloc_stencils(t, 0, 1, m->dim) || join_meshes(p, m)) {
+  if (!p || sw_term_alloc_stencils(t, 0, 1, m->dim) || number_obstacles(p, m)) {
     sw_errf(err, errsz, "out of memory for the mesh contact term");
     return -1;
   }
-  sw_model joined = {.nv = p->nvt, .nf = p->nf, .face = p->face}; /* for its edges only */
+  sw_model cloth = {.nv = m->nv, .nf = m->nf, .face = m->face}; /* for its edges only */
   sw_topology tp;
-  if (sw_topology_build(&tp, &joined, err, errsz)) return -1;
-  p->ne = tp.ne;
+  if (sw_topology_build(&tp, &cloth, err, errsz)) return -1;
+  p->ne_cloth = tp.ne;
   p->edge = tp.ev;
   tp.ev = NULL;
   sw_topology_free(&tp);
-  return build_trees(p, m, err, errsz);
+  return build_tree(p, m, err, errsz);
 }
 
 /* ------------------------------------------------------------ the solvers' side */
 
 /* What CCD needs of each pair. */
 typedef struct toi_arg {
-  const double *x0, *x1; /* (nvt x 3) */
+  const mc_place *x0, *x1;
   double toi;
 } toi_arg;
 
 static int toi_pair(const sw_model *m, sw_mcontact *mc, int kind, const int *v, void *arg) {
   toi_arg *a = arg;
   double p0[12], p1[12], xi = pair_xi(m, mc->p, v);
-  gather(a->x0, v, p0);
-  gather(a->x1, v, p1);
+  gather(m, mc, a->x0, v, p0);
+  gather(m, mc, a->x1, v, p1);
   double s = kind == SW_MC_PT ? sw_ccd_point_triangle(p0, p1, xi, a->toi)
                               : sw_ccd_edge_edge(p0, p1, xi, a->toi);
   if (s < a->toi) memcpy(mc->limit, v, sizeof mc->limit);
@@ -775,8 +918,8 @@ double sw_mcontact_toi(const sw_model *m, sw_mcontact *mc, const double *x0, dou
                        const double *x1, double t1, double *time_bp) {
   if (!mc) return 1.0;
   double start = sw_now();
-  toi_arg a = {.x0 = positions(m, mc, x0, t0, mc->xa), .x1 = positions(m, mc, x1, t1, mc->xb),
-               .toi = 1.0};
+  mc_place p0 = positions(m, mc, x0, t0, 0), p1 = positions(m, mc, x1, t1, 1);
+  toi_arg a = {.x0 = &p0, .x1 = &p1, .toi = 1.0};
   int rc = candidates(m, mc, a.x0, a.x1);
   *time_bp += sw_now() - start;
   mc->limit[0] = -1;
@@ -819,16 +962,8 @@ int sw_mcontact_settled(const sw_model *m, const sw_mcontact *mc, const double *
  * translation's departure from its chord plus the arc's from its chord, rho (dev + dangle^2 /
  * 8) for an angle that departs dev from its own chord). */
 static double mesh_radius(const sw_model *m, const mc_param *p, int k) {
-  const sw_obstacle *o = &m->mesh_obstacle[k];
-  double rho2 = 0.0;
-  for (int j = 0; o->nrot && j < p->nvt - m->nv; j++) {
-    if (p->owner[j] != k) continue;
-    double r[3], along = 0.0, rr = 0.0;
-    for (int a = 0; a < 3; a++) r[a] = p->rest[3 * (size_t)j + a] - o->center[a], along += r[a] * o->axis[a];
-    for (int a = 0; a < 3; a++) rr += (r[a] - along * o->axis[a]) * (r[a] - along * o->axis[a]);
-    rho2 = fmax(rho2, rr);
-  }
-  return sqrt(rho2);
+  (void)m;
+  return p->radius[2 * k + 1]; /* found once, at the term's build */
 }
 
 static double mesh_motion(const sw_model *m, const mc_param *p, int k, double t0, double t1) {
@@ -846,7 +981,7 @@ static double mesh_stray(const sw_model *m, const mc_param *p, int k, double t0,
 /* What the swept check needs of each pair: the step's start and end (nvt x 3), and how far the
  * obstacles' vertices may stray from straight lines, m. */
 typedef struct swept_arg {
-  const double *x0, *x1;
+  const mc_place *x0, *x1;
   double stray;
 } swept_arg;
 
@@ -858,8 +993,8 @@ static int swept_pair(const sw_model *m, sw_mcontact *mc, int kind, const int *v
   double p0[12], p1[12], q[12], xi = pair_xi(m, mc->p, v), t = 0.0;
   int obst = 0;
   for (int j = 0; j < 4; j++) obst |= v[j] >= m->nv;
-  gather(a->x0, v, p0);
-  gather(a->x1, v, p1);
+  gather(m, mc, a->x0, v, p0);
+  gather(m, mc, a->x1, v, p1);
   for (int r = 0; r < 12; r++) {
     for (int i = 0; i < 12; i++) q[i] = p0[i] + t * (p1[i] - p0[i]);
     double dmin = xi + (obst ? a->stray : 0.0);
@@ -877,10 +1012,10 @@ int sw_mcontact_swept(const sw_model *m, sw_data *d, const double *y, double t1)
   sw_mcontact *mc = d->mc;
   if (!mc || !obstacles_move(m, d->t, t1)) return SW_OK;
   double start = sw_now();
-  swept_arg a = {.x0 = positions(m, mc, d->x, d->t, mc->xa), .x1 = positions(m, mc, y, t1, mc->xb)};
+  mc_place p0 = positions(m, mc, d->x, d->t, 0), p1 = positions(m, mc, y, t1, 1);
+  swept_arg a = {.x0 = &p0, .x1 = &p1};
   for (int k = 0; k < m->nmesh_obstacle; k++) a.stray = fmax(a.stray, mesh_stray(m, mc->p, k, d->t, t1));
-  sw_bp_input in = bp_input(mc, a.x0, a.x1, 0.5 * (max_thickness(m) + a.stray));
-  int rc = broad_phase(m, mc, &in, SW_BP_PT | SW_BP_EE);
+  int rc = broad_phase(m, mc, &p0, &p1, 0.5 * (max_thickness(m) + a.stray), SW_BP_PT | SW_BP_EE);
   d->time_broadphase += sw_now() - start;
   if (rc) {
     sw_errf(d->err, sizeof d->err, "the broad phase failed at t = %g s", d->t);
@@ -906,7 +1041,7 @@ int sw_mcontact_swept(const sw_model *m, sw_data *d, const double *y, double t1)
 /* The carry of a step's start: the free cloth vertices near mesh obstacle k (a pair within its
  * offset + dhat + its motion) move with it. */
 typedef struct carry_arg {
-  const double *x;      /* (nvt x 3) at the step's start */
+  const mc_place *x;    /* at the step's start */
   int k;                /* the obstacle */
   double reach;         /* m */
   double t0, t1;        /* the step, s */
@@ -919,7 +1054,7 @@ static int carry_pair(const sw_model *m, sw_mcontact *mc, int kind, const int *v
   for (int j = 0; j < 4; j++) mine |= owner_of(m, mc->p, v[j]) == a->k;
   if (!mine) return 0;
   double p[12];
-  gather(a->x, v, p);
+  gather(m, mc, a->x, v, p);
   double d2 = kind == SW_MC_PT ? sw_d2_point_triangle(p, p + 3, p + 6, p + 9, NULL, NULL)
                                : sw_d2_edge_edge(p, p + 3, p + 6, p + 9, NULL, NULL);
   if (d2 >= a->reach * a->reach) return 0;
@@ -929,8 +1064,9 @@ static int carry_pair(const sw_model *m, sw_mcontact *mc, int kind, const int *v
     a->done[i] = 1;
     mc->carrier[i] = a->k;
     double q[3]; /* the obstacle's rigid motion applied to the vertex */
-    sw_obstacle_carry(&m->mesh_obstacle[a->k], a->t0, a->t1, a->x + 3 * (size_t)i, q);
-    for (int c = 0; c < 3; c++) mc->z[3 * (size_t)i + c] += q[c] - a->x[3 * (size_t)i + c];
+    const double *xi = a->x->x + 3 * (size_t)i;
+    sw_obstacle_carry(&m->mesh_obstacle[a->k], a->t0, a->t1, xi, q);
+    for (int c = 0; c < 3; c++) mc->z[3 * (size_t)i + c] += q[c] - xi[c];
   }
   return 0;
 }
@@ -942,15 +1078,14 @@ static int carry(const sw_model *m, sw_data *d, double t1) {
   sw_mcontact *mc = d->mc;
   memcpy(mc->z, d->x, (size_t)m->nv * 3 * sizeof(double));
   for (int i = 0; i < m->nv; i++) mc->carrier[i] = -1;
-  const double *x = positions(m, mc, d->x, d->t, mc->xa);
+  mc_place x = positions(m, mc, d->x, d->t, 0);
   for (int k = 0; k < m->nmesh_obstacle; k++) {
     const sw_obstacle *o = &m->mesh_obstacle[k];
-    carry_arg a = {.x = x, .k = k, .done = (unsigned char *)mc->f, .t0 = d->t, .t1 = t1};
+    carry_arg a = {.x = &x, .k = k, .done = (unsigned char *)mc->f, .t0 = d->t, .t1 = t1};
     if (!sw_obstacle_moves(o, d->t, t1)) continue;
     a.reach = o->offset + m->contact.dhat + mesh_motion(m, mc->p, k, d->t, t1); /* m */
     memset(a.done, 0, (size_t)m->nv);
-    sw_bp_input in = bp_input(mc, x, x, 0.5 * a.reach);
-    if (broad_phase(m, mc, &in, SW_BP_PT | SW_BP_EE)) return -1;
+    if (broad_phase(m, mc, &x, &x, 0.5 * a.reach, SW_BP_PT | SW_BP_EE)) return -1;
     each_pair(m, mc, carry_pair, &a);
   }
   return 0;
@@ -1026,7 +1161,7 @@ static void describe_pair(const sw_model *m, const mc_param *p, int kind, const 
 
 /* What the start check needs of each pair. */
 typedef struct start_arg {
-  const double *x;
+  const mc_place *x;
   int obstacles;  /* 1: pairs with an obstacle; 0: the cloth's own */
   char *err;
   size_t errsz;
@@ -1045,16 +1180,18 @@ static int start_pair(const sw_model *m, sw_mcontact *mc, int kind, const int *v
 
 long sw_mcontact_obstacle_intersections(const sw_model *m, sw_mcontact *mc, const double *x,
                                         double t, int *first) {
-  const double *q = positions(m, mc, x, t, mc->xa);
-  sw_bp_input in = bp_input(mc, q, q, 0.0);
-  if (broad_phase(m, mc, &in, SW_BP_FF)) return -1;
+  mc_place q = positions(m, mc, x, t, 0);
+  if (broad_phase(m, mc, &q, &q, 0.0, SW_BP_FF)) return -1;
   long count = 0;
   for (int k = 0; k < mc->bp.nff; k++) {
-    const int *f = mc->p->face + 3 * mc->bp.ff[2 * k], *g = mc->p->face + 3 * mc->bp.ff[2 * k + 1];
-    if ((f[0] >= m->nv) == (g[0] >= m->nv)) continue; /* the cloth's own, or two obstacles' */
-    if (!sw_triangles_intersect(q + 3 * f[0], q + 3 * f[1], q + 3 * f[2], q + 3 * g[0],
-                                q + 3 * g[1], q + 3 * g[2]))
-      continue;
+    if ((k & 0xffff) == 0xffff && sw_interrupted()) return -2; /* a stop request */
+    int v[6];
+    double p[18];
+    face_vertices(m, mc->p, mc->bp.ff[2 * k], v);
+    face_vertices(m, mc->p, mc->bp.ff[2 * k + 1], v + 3);
+    if ((v[0] >= m->nv) == (v[3] >= m->nv)) continue; /* the cloth's own, or two obstacles' */
+    for (int j = 0; j < 6; j++) vertex_at(m, mc->p, &q, v[j], p + 3 * j);
+    if (!sw_triangles_intersect(p, p + 3, p + 6, p + 9, p + 12, p + 15)) continue;
     if (first && count == 0) first[0] = mc->bp.ff[2 * k], first[1] = mc->bp.ff[2 * k + 1];
     count++;
   }
@@ -1067,8 +1204,9 @@ int sw_mcontact_check_start(const sw_model *m, const double *x, int obstacles, c
   long cross = obstacles ? 0 : sw_mesh_self_intersections_sewn(m->nv, x, m->nf, m->face,
                                                                m->sewn_ptr, m->sewn_idx);
   if (cross != 0) {
-    sw_errf(err, errsz, cross < 0 ? "out of memory checking the mesh for self-intersections"
-                                  : "the mesh intersects itself (%ld pairs of triangles)", cross);
+    sw_errf(err, errsz, cross == -2 ? "stopped while checking the mesh for self-intersections"
+                        : cross < 0 ? "out of memory checking the mesh for self-intersections"
+                                    : "the mesh intersects itself (%ld pairs of triangles)", cross);
     return -1;
   }
   sw_mcontact *mc = sw_mcontact_new(m);
@@ -1076,18 +1214,18 @@ int sw_mcontact_check_start(const sw_model *m, const double *x, int obstacles, c
   int ff[2] = {0, 0}, rc = 0;
   if (obstacles && (cross = sw_mcontact_obstacle_intersections(m, mc, x, 0.0, ff)) != 0) {
     int f = ff[0] < m->nf ? ff[0] : ff[1], g = ff[0] < m->nf ? ff[1] : ff[0];
-    if (cross < 0) sw_errf(err, errsz, "out of memory checking the cloth against the obstacles");
+    if (cross < 0) sw_errf(err, errsz, cross == -2 ? "stopped while checking the cloth against "
+                           "the obstacles" : "out of memory checking the cloth against the obstacles");
     else
       sw_errf(err, errsz, "face %d of the cloth (vertices %d %d %d) intersects obstacles[%d] "
               "(%ld pairs of triangles intersect)", f, m->face[3 * f], m->face[3 * f + 1],
-              m->face[3 * f + 2], m->mesh_obstacle[owner_of(m, mc->p, mc->p->face[3 * g])].item,
+              m->face[3 * f + 2], m->mesh_obstacle[face_owner(m, mc->p, g)].item,
               cross);
     rc = 1;
   }
-  start_arg a = {.x = positions(m, mc, x, 0.0, mc->xa), .obstacles = obstacles, .err = err,
-                 .errsz = errsz};
-  sw_bp_input in = bp_input(mc, a.x, a.x, 0.5 * max_thickness(m));
-  if (!rc && broad_phase(m, mc, &in, SW_BP_PT | SW_BP_EE)) {
+  mc_place at = positions(m, mc, x, 0.0, 0);
+  start_arg a = {.x = &at, .obstacles = obstacles, .err = err, .errsz = errsz};
+  if (!rc && broad_phase(m, mc, &at, &at, 0.5 * max_thickness(m), SW_BP_PT | SW_BP_EE)) {
     sw_errf(err, errsz, "the positions are not finite, or out of memory");
     rc = 1;
   }
@@ -1098,10 +1236,15 @@ int sw_mcontact_check_start(const sw_model *m, const double *x, int obstacles, c
 
 /* The diagnostics of one pair within dhat: its force on each cloth vertex into mc->f (the
  * self-contact or the obstacles' half), counts and smallest gaps into d. */
+typedef struct state_arg {
+  sw_data *d;
+  const mc_place *x;
+} state_arg;
+
 static int state_pair(const sw_model *m, sw_mcontact *mc, int kind, const int *v, void *arg) {
-  sw_data *d = arg;
+  sw_data *d = ((state_arg *)arg)->d;
   double g[12], gap;
-  double e = pair_energy(m, mc, kind, v, mc->xa, g, NULL, &gap);
+  double e = pair_energy(m, mc, kind, v, ((state_arg *)arg)->x, g, NULL, &gap);
   if (!isfinite(e) || gap >= m->contact.dhat) return 0;
   mc->gap_min = fmin(mc->gap_min, gap);
   int obst = 0;
@@ -1119,7 +1262,7 @@ static int state_pair(const sw_model *m, sw_mcontact *mc, int kind, const int *v
   return 0;
 }
 
-static void state_friction(const sw_model *m, sw_data *d, const double *x);
+static void state_friction(const sw_model *m, sw_data *d, const mc_place *x);
 
 void sw_mcontact_state(const sw_model *m, sw_data *d) {
   sw_mcontact *mc = d->mc;
@@ -1136,12 +1279,12 @@ void sw_mcontact_state(const sw_model *m, sw_data *d) {
     d->friction_power = 0.0;
   }
   memset(mc->vforce, 0, (size_t)m->nv * sizeof(double));
-  const double *x = positions(m, mc, d->x, d->t, mc->xa);
-  if (x != mc->xa) memcpy(mc->xa, x, (size_t)m->nv * 3 * sizeof(double));
-  if (mc->fr) state_friction(m, d, mc->xa);
-  if (candidates(m, mc, mc->xa, mc->xa)) return;
+  mc_place x = positions(m, mc, d->x, d->t, 0);
+  if (mc->fr) state_friction(m, d, &x);
+  if (candidates(m, mc, &x, &x)) return;
   memset(mc->f, 0, (size_t)m->nv * 6 * sizeof(double));
-  each_candidate(m, mc, mc->xa, mc->xa, m->contact.dhat, state_pair, d);
+  state_arg a = {d, &x};
+  each_candidate(m, mc, &x, &x, m->contact.dhat, state_pair, &a);
   const double *fs = mc->f, *fo = mc->f + 3 * (size_t)m->nv; /* N */
   for (int i = 0; i < m->nv; i++) {
     double s = 0.0, o = 0.0;
@@ -1157,13 +1300,26 @@ void sw_mcontact_state(const sw_model *m, sw_data *d) {
 
 const double *sw_mcontact_vertex_force(const sw_mcontact *mc) { return mc ? mc->vforce : NULL; }
 
+long sw_mcontact_refits(const sw_mcontact *mc) { return mc ? mc->nrefit : 0; }
+
+size_t sw_mesh_contact_bytes(const sw_model *m) {
+  const mc_param *p = NULL;
+  for (int k = 0; k < m->nterm; k++)
+    if (!strcmp(m->term[k].ops->kind, "mesh_contact")) p = m->term[k].param;
+  if (!p) return 0;
+  size_t nobst = (size_t)p->nobst, nnode = (size_t)p->tree.nnode;
+  return sizeof *p + 2 * (size_t)p->ne_cloth * sizeof(int) + 2 * (nobst + 1) * sizeof(int) +
+         2 * nobst * sizeof(double) + (size_t)p->tree.n * sizeof(int) +
+         nnode * (2 * sizeof(int) + (p->tree.box ? 6 * sizeof(float) : 0));
+}
+
 /* ------------------------------------------------------------------- friction */
 
 static int lag_pair(const sw_model *m, sw_mcontact *mc, int kind, const int *v, void *arg) {
   double p[12], r[12], xi = pair_xi(m, mc->p, v), mo = 1.0;
   int self = 1;
   for (int j = 0; j < 4; j++) self &= v[j] < m->nv;
-  gather(arg, v, p);
+  gather(m, mc, arg, v, p);
   if (kind == SW_MC_EE) { /* the normal force of the pair's barrier, mollified as it is */
     gather_rest(m, mc->p, v, r);
     double eps = sw_ee_mollifier_eps(r, r + 3, r + 6, r + 9);
@@ -1177,13 +1333,13 @@ static int lag_pair(const sw_model *m, sw_mcontact *mc, int kind, const int *v, 
 int sw_mcontact_lag(const sw_model *m, sw_data *d, double h) {
   sw_mcontact *mc = d->mc;
   if (!mc || !mc->fr) return SW_OK;
-  const double *x = positions(m, mc, d->x, d->t, mc->xa);
-  sw_mfriction_begin(mc->fr, h, x);
-  if (candidates(m, mc, x, x)) {
+  mc_place x = positions(m, mc, d->x, d->t, 0);
+  sw_mfriction_begin(mc->fr, h);
+  if (candidates(m, mc, &x, &x)) {
     sw_errf(d->err, sizeof d->err, "the broad phase failed at t = %g s", d->t);
     return SW_RECOVER;
   }
-  if (each_candidate(m, mc, x, x, m->contact.dhat, lag_pair, (void *)x)) {
+  if (each_candidate(m, mc, &x, &x, m->contact.dhat, lag_pair, &x)) {
     sw_errf(d->err, sizeof d->err, "out of memory lagging the friction of mesh contact");
     return SW_FATAL;
   }
@@ -1192,13 +1348,14 @@ int sw_mcontact_lag(const sw_model *m, sw_data *d, double h) {
 
 /* The friction of the mesh pairs at d->x (the last step's lag) added to d->friction_force and
  * d->friction_power (W dissipated: -f.v). */
-static void state_friction(const sw_model *m, sw_data *d, const double *x) {
+static void state_friction(const sw_model *m, sw_data *d, const mc_place *x) {
   sw_mcontact *mc = d->mc;
   int nf = sw_mfriction_count(mc->fr);
   for (int k = 0; k < nf; k++) {
     const int *v = sw_mfriction_vertices(mc->fr, k);
-    double g[12];
-    sw_mfriction_pair(mc->fr, m->contact.eps_v, k, x, g, NULL);
+    double g[12], p[12];
+    gather(m, mc, x, v, p);
+    sw_mfriction_pair(mc->fr, m->contact.eps_v, k, p, g, NULL);
     for (int j = 0; j < 12; j++) {
       if (v[j / 3] >= m->nv) continue;
       d->friction_force[j % 3] -= g[j];

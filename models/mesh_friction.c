@@ -32,36 +32,26 @@ typedef struct mf_pair {
   double c[4];    /* the closest points' coefficients at the step's start */
   double n[3];    /* the unit normal there */
   double mul;     /* mu times the normal force there, N */
+  double p0[12];  /* its vertices there, m */
 } mf_pair;
 
 struct sw_mfriction {
-  int nvt;
   double h;       /* the step, s (0: no step lagged yet: no friction) */
-  double *x0;     /* (nvt x 3) cloth and obstacles at the step's start, m */
   mf_pair *pair;
   int npair, cap;
 };
 
-sw_mfriction *sw_mfriction_new(int nvt) {
-  sw_mfriction *f = sw_calloc(1, sizeof *f);
-  if (!f) return NULL;
-  f->nvt = nvt;
-  f->x0 = sw_calloc(3 * (size_t)nvt + 1, sizeof(double));
-  if (!f->x0) return sw_free(f), NULL;
-  return f;
-}
+sw_mfriction *sw_mfriction_new(void) { return sw_calloc(1, sizeof(sw_mfriction)); }
 
 void sw_mfriction_free(sw_mfriction *f) {
   if (!f) return;
-  sw_free(f->x0);
   sw_free(f->pair);
   sw_free(f);
 }
 
-void sw_mfriction_begin(sw_mfriction *f, double h, const double *x) {
+void sw_mfriction_begin(sw_mfriction *f, double h) {
   f->h = h;
   f->npair = 0;
-  memcpy(f->x0, x, 3 * (size_t)f->nvt * sizeof(double));
 }
 
 int sw_mfriction_lag_pair(sw_mfriction *f, int kind, const int *v, const double *p, double xi,
@@ -85,6 +75,7 @@ int sw_mfriction_lag_pair(sw_mfriction *f, int kind, const int *v, const double 
   mf_pair *q = &f->pair[f->npair++];
   memcpy(q->v, v, sizeof q->v);
   memcpy(q->c, pf.c, sizeof q->c);
+  memcpy(q->p0, p, sizeof q->p0);
   for (int a = 0; a < 3; a++) q->n[a] = r[a] / len;
   q->mul = mu * w * fabs(db) * 2.0 * d; /* N: mu kappa_s w |b'(s)| |ds/dd| */
   return 0;
@@ -103,15 +94,12 @@ static double f0_of(double y, double eps, double *q, double *c) {
   return -y * y * y / (3.0 * eps * eps) + y * y / eps + eps / 3.0;
 }
 
-double sw_mfriction_pair(const sw_mfriction *f, double eps_v, int k, const double *x, double *g,
+double sw_mfriction_pair(const sw_mfriction *f, double eps_v, int k, const double *p, double *g,
                          double *H) {
   const mf_pair *q = &f->pair[k];
   double u[3] = {0.0, 0.0, 0.0}, un = 0.0, y = 0.0;
   for (int j = 0; j < 4; j++)
-    for (int a = 0; a < 3; a++) {
-      size_t i = 3 * (size_t)q->v[j] + a;
-      u[a] += q->c[j] * (x[i] - f->x0[i]); /* m */
-    }
+    for (int a = 0; a < 3; a++) u[a] += q->c[j] * (p[3 * j + a] - q->p0[3 * j + a]); /* m */
   for (int a = 0; a < 3; a++) un += u[a] * q->n[a];
   for (int a = 0; a < 3; a++) u[a] -= un * q->n[a], y += u[a] * u[a];
   y = sqrt(y);

@@ -28,7 +28,13 @@ contact:
 YAML
 "$sinew" run "$work/scene.yaml" --out "$work/run" --duration 0.01 >"$work/out" 2>"$work/err" &
 pid=$!
-sleep 0.3
+# once the OBJ is open (the handlers are installed before the scene loads; a sanitizer's
+# start-up alone can take longer than a fixed wait), then 0.1 s into reading it
+for _ in $(seq 200); do
+  ls -l "/proc/$pid/fd" 2>/dev/null | grep -q 'big\.obj' && break
+  sleep 0.05
+done
+sleep 0.1
 kill -TERM $pid
 rc=0
 wait $pid || rc=$?

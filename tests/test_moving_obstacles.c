@@ -282,8 +282,10 @@ static void rising_mesh_box(void **st) {
 
 static void turn_check(const sw_model *m, const sw_data *d, const double *x0, double t0,
                        const double *x1, double t1, void *arg) {
-  (void)x0, (void)t0, (void)x1, (void)t1, (void)arg;
+  (void)x0, (void)t0, (void)x1, (void)t1;
   assert_int_equal(sw_mcontact_obstacle_intersections(m, d->mc, d->x, d->t, NULL), 0);
+  long *a = arg; /* steps, tries (halvings too), refits of the obstacle's tree */
+  a[0] = d->nstep, a[1] = d->nstep + d->nretry, a[2] = sw_mcontact_refits(d->mc);
 }
 
 /* A cloth lying on a mesh box that turns 90 degrees about z in 0.2 s (smooth): no cloth
@@ -302,9 +304,12 @@ static void turning_mesh_box(void **st) {
       "integrator: {method: backward-euler, dt: 0.01}\nduration: 0.25\n");
   assert_non_null(m);
   double x[147];
-  int whole, rc = run_checked(m, 0.25, turn_check, NULL, err, x, NULL, &whole);
+  long count[3] = {0, 0, 0};
+  int whole, rc = run_checked(m, 0.25, turn_check, count, err, x, NULL, &whole);
   if (rc) print_error("%s\n", err);
   assert_int_equal(rc, 0);
+  print_message("turning mesh box: %ld steps, %ld refits of its tree\n", count[0], count[2]);
+  assert_true(count[2] > 0 && count[2] <= count[1]); /* once a step, not per evaluation */
   double zmin = INFINITY;
   for (int i = 0; i < m->nv; i++) zmin = fmin(zmin, x[3 * i + 2]);
   print_message("turning mesh box: ok, lowest vertex z = %.3g m (top at -0.0015)\n", zmin);

@@ -456,22 +456,35 @@ static int read_line(obj_state *st, const char *buf, size_t len, size_t pos, siz
   return read_statement(st);
 }
 
-/* Every line of buf (len bytes), then the check that there was a face. */
-static int read_lines(obj_state *st, const char *buf, size_t len) {
-  size_t pos = 0;
-  if (len >= 3 && memcmp(buf, "\xef\xbb\xbf", 3) == 0) pos = 3; /* UTF-8 byte order mark */
+/* Every line of buf[pos, len) (the last one may lack its '\n'). */
+static int read_some_lines(obj_state *st, const char *buf, size_t len, size_t pos) {
   while (pos < len) {
     if ((st->line & 0xffff) == 0 && sw_interrupted()) /* a stop request, every 65536 lines */
       return sw_errf(st->err, st->errsz, "%s: stopped by signal %d at line %zu", st->name,
                      sw_interrupted(), st->line + 1), -1;
     if (read_line(st, buf, len, pos, &pos)) return -1;
   }
+  return 0;
+}
+
+/* The length of a UTF-8 byte order mark at the start of buf (len bytes): 3 or 0. */
+static size_t bom(const char *buf, size_t len) {
+  return len >= 3 && memcmp(buf, "\xef\xbb\xbf", 3) == 0 ? 3 : 0;
+}
+
+/* 0 when the mesh has a face, else -1 with the message. */
+static int check_faces(obj_state *st) {
   if (st->nf == 0) {
     sw_errf(st->err, st->errsz, "%s: found no faces, expected at least one f statement",
             st->name);
     return -1;
   }
   return 0;
+}
+
+/* Every line of buf (len bytes), then the check that there was a face. */
+static int read_lines(obj_state *st, const char *buf, size_t len) {
+  return read_some_lines(st, buf, len, bom(buf, len)) || check_faces(st) ? -1 : 0;
 }
 
 static void state_free(obj_state *st) {
@@ -511,25 +524,29 @@ static void state_to_mesh(obj_state *st, sw_mesh *mesh) {
   memset(st, 0, sizeof *st);
 }
 
+/* A parse's state before its first line; -1 when out of memory (st then freed). */
+static int state_init(obj_state *st, const char *name, char *err, size_t errsz) {
+  memset(st, 0, sizeof *st);
+  st->name = name ? name : "(obj)";
+  st->err = err;
+  st->errsz = errsz;
+  st->has_uv = -1;
+  st->ls = st->le = st->p = ""; /* no line yet */
+  if (find_group(st, "default", 7) == 0) return 0;
+  sw_errf(err, errsz, "%s: out of memory", st->name);
+  state_free(st);
+  return -1;
+}
+
 int sw_obj_parse(const char *name, const char *buf, size_t len, sw_mesh *mesh, char *err,
                  size_t errsz) {
   obj_state st;
-  memset(&st, 0, sizeof st);
-  st.name = name ? name : "(obj)";
-  st.err = err;
-  st.errsz = errsz;
-  st.has_uv = -1;
   if (!mesh) {
-    sw_errf(err, errsz, "%s: mesh is NULL", st.name);
+    sw_errf(err, errsz, "%s: mesh is NULL", name ? name : "(obj)");
     return SW_FATAL;
   }
   memset(mesh, 0, sizeof *mesh);
-  st.ls = st.le = st.p = ""; /* no line yet */
-  if (find_group(&st, "default", 7) != 0) {
-    sw_errf(err, errsz, "%s: out of memory", st.name);
-    state_free(&st);
-    return SW_FATAL;
-  }
+  if (state_init(&st, name, err, errsz)) return SW_FATAL;
   if (read_lines(&st, buf, buf ? len : 0)) {
     state_free(&st);
     return SW_FATAL;
@@ -544,55 +561,60 @@ static int too_large(const char *path, char *err, size_t errsz) {
   return -1;
 }
 
-/* The whole file into a new buffer (*len bytes); nonzero with a message on error.  A regular
- * file above SW_OBJ_MAX_BYTES is refused before it is read, anything else (a pipe, a device)
- * once it passes the limit.  Reading stops at the first chunk holding a NUL byte: the parser
- * refuses the NUL with its line and column, and /dev/zero is not read for seconds first. */
-static int read_all(const char *path, FILE *fp, char **out, size_t *len, char *err,
-                    size_t errsz) {
+/* Parse the open file fp chunk by chunk (OBJ_CHUNK bytes at a time, more for a longer line):
+ * a large file is never held whole in memory, only the arrays parsed from it.  A regular file
+ * above SW_OBJ_MAX_BYTES is refused before it is read, anything else (a pipe, a device) once
+ * it passes the limit.  Reading stops at the first chunk holding a NUL byte: the parser
+ * refuses the NUL with its line and column, and /dev/zero is not read for seconds first.
+ * The stop request (sw_interrupted) is polled at every chunk and every 65536 lines. */
+#define OBJ_CHUNK ((size_t)1 << 20)
+static int read_file(obj_state *st, const char *path, FILE *fp) {
   struct stat sb;
   if (fstat(fileno(fp), &sb) == 0 && S_ISREG(sb.st_mode) && sb.st_size > SW_OBJ_MAX_BYTES)
-    return too_large(path, err, errsz);
+    return too_large(path, st->err, st->errsz);
+  size_t cap = 0, n = 0, total = 0; /* buf holds n bytes: the lines not read yet */
   char *buf = NULL;
-  size_t n = 0, cap = 0;
-  for (;;) {
-    if (sw_interrupted()) { /* a stop request, polled every read */
-      sw_free(buf);
-      sw_errf(err, errsz, "%s: stopped by signal %d after reading %zu bytes", path,
-              sw_interrupted(), n);
-      return -1;
+  int rc = 0;
+  for (int end = 0; !rc && !end;) {
+    if (sw_interrupted()) {
+      sw_errf(st->err, st->errsz, "%s: stopped by signal %d after reading %zu bytes", path,
+              sw_interrupted(), total);
+      rc = -1;
+      break;
     }
-    char *b = reserve(buf, &cap, n + 65536, 1);
+    char *b = reserve(buf, &cap, n + OBJ_CHUNK, 1);
     if (!b) {
-      sw_free(buf);
-      sw_errf(err, errsz, "%s: out of memory after %zu bytes, expected to fit the file", path, n);
-      return -1;
+      sw_errf(st->err, st->errsz, "%s: out of memory after %zu bytes, expected to fit a line",
+              path, total);
+      rc = -1;
+      break;
     }
     buf = b;
-    size_t want = SW_MIN(cap - n, (size_t)SW_OBJ_MAX_BYTES + 1 - n);
+    size_t want = SW_MIN(cap - n, (size_t)SW_OBJ_MAX_BYTES + 1 - total);
     size_t got = fread(buf + n, 1, want, fp);
-    int nul = memchr(buf + n, '\0', got) != NULL;
-    n += got;
-    if (n > (size_t)SW_OBJ_MAX_BYTES) {
-      sw_free(buf);
-      return too_large(path, err, errsz);
+    end = got < want || memchr(buf + n, '\0', got) != NULL; /* end, error or refused text */
+    size_t pos = total == 0 ? bom(buf, got) : 0;
+    n += got, total += got;
+    if (total > (size_t)SW_OBJ_MAX_BYTES) {
+      rc = too_large(path, st->err, st->errsz);
+      break;
     }
-    if (got < want || nul) break; /* end of file, error, or text the parser refuses */
+    size_t upto = n; /* the complete lines (all at the end) */
+    while (!end && upto > 0 && buf[upto - 1] != '\n') upto--;
+    rc = read_some_lines(st, buf, upto, pos);
+    memmove(buf, buf + upto, n - upto);
+    n -= upto;
   }
-  if (ferror(fp)) {
-    int e = errno;
-    sw_free(buf);
-    sw_errf(err, errsz, "%s: cannot read: %s, expected a readable OBJ file", path, strerror(e));
-    return -1;
+  sw_free(buf);
+  if (!rc && ferror(fp)) {
+    sw_errf(st->err, st->errsz, "%s: cannot read: %s, expected a readable OBJ file", path,
+            strerror(errno));
+    rc = -1;
   }
-  *out = buf;
-  *len = n;
-  return 0;
+  return rc ? rc : check_faces(st);
 }
 
 int sw_obj_read(const char *path, sw_mesh *mesh, char *err, size_t errsz) {
-  char *buf = NULL;
-  size_t len = 0;
   if (mesh) memset(mesh, 0, sizeof *mesh);
   if (!path || !mesh) {
     sw_errf(err, errsz, "obj: %s is NULL", path ? "mesh" : "path");
@@ -605,10 +627,17 @@ int sw_obj_read(const char *path, sw_mesh *mesh, char *err, size_t errsz) {
             strerror(errno));
     return SW_FATAL;
   }
-  int rc = read_all(path, fp, &buf, &len, err, errsz);
+  obj_state st;
+  if (state_init(&st, path, err, errsz)) {
+    fclose(fp);
+    return SW_FATAL;
+  }
+  int rc = read_file(&st, path, fp);
   fclose(fp);
-  if (rc) return SW_FATAL;
-  rc = sw_obj_parse(path, buf, len, mesh, err, errsz);
-  sw_free(buf);
-  return rc;
+  if (rc) {
+    state_free(&st);
+    return SW_FATAL;
+  }
+  state_to_mesh(&st, mesh);
+  return SW_OK;
 }

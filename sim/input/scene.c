@@ -95,6 +95,22 @@ static int obj_path(const ctx *c, const ynode *y, const char *what, const char *
 
 static char *read_file(const char *path, size_t *len, char *err, size_t errsz);
 
+/* The size and hash of file `path` into in, read 64 KiB at a time (a large OBJ is not held
+ * whole beside its mesh); -1 with err. */
+static int hash_file(const char *path, sw_input *in, char *err, size_t errsz) {
+  FILE *f = fopen(path, "rb");
+  if (!f) return sw_errf(err, errsz, "%s: cannot open: %s", path, strerror(errno)), -1;
+  unsigned char b[65536];
+  size_t n;
+  in->bytes = 0, in->hash = SW_HASH0;
+  while ((n = fread(b, 1, sizeof b, f)) > 0) /* FNV-1a: hashed piece by piece as whole */
+    in->hash = sw_hash64(in->hash, b, n), in->bytes += (long long)n;
+  int bad = ferror(f);
+  if (bad) sw_errf(err, errsz, "%s: cannot read: %s", path, strerror(errno));
+  fclose(f);
+  return bad ? -1 : 0;
+}
+
 int sc_note_input(const ctx *c, const ynode *y, const char *path, const char *buf, size_t len) {
   sw_model *m = c->m;
   sw_input *in = sw_realloc(m->input, (size_t)m->ninput + 1, sizeof *in);
@@ -103,15 +119,13 @@ int sc_note_input(const ctx *c, const ynode *y, const char *path, const char *bu
   in += m->ninput;
   memset(in, 0, sizeof *in);
   if (!realpath(path, in->path)) snprintf(in->path, sizeof in->path, "%s", path); /* absolute */
-  char *file = NULL;
-  if (!buf) { /* an OBJ, read again as bytes (sw_obj_read keeps no copy) */
+  if (!buf) { /* an OBJ, read again as bytes (sw_obj_read keeps no copy), by pieces */
     char e[SW_ERRSZ];
-    if (!(file = read_file(path, &len, e, sizeof e))) return sy_fail(c, y, "%s", e);
-    buf = file;
+    if (hash_file(path, in, e, sizeof e)) return sy_fail(c, y, "%s", e);
+  } else {
+    in->bytes = (long long)len;
+    in->hash = sw_hash64(SW_HASH0, buf, len);
   }
-  in->bytes = (long long)len;
-  in->hash = sw_hash64(SW_HASH0, buf, len);
-  sw_free(file);
   m->ninput++;
   return 0;
 }

@@ -203,8 +203,9 @@ static int load_offset_motion(const ctx *c, const ynode **v, const char *w, sw_o
   return v[O_MOTION] ? load_motion(c, v[O_MOTION], w, o) : 0;
 }
 
-/* The OBJ's triangles, scaled then translated, into o (a mesh obstacle). */
-static int mesh_from_obj(const ctx *c, const ynode **v, const char *w, const sw_mesh *me,
+/* The OBJ's triangles, scaled then translated, into o (a mesh obstacle): its arrays move from
+ * me to o, so a large body is never held twice while loading. */
+static int mesh_from_obj(const ctx *c, const ynode **v, const char *w, sw_mesh *me,
                          sw_obstacle *o) {
   char lab[96];
   double scale = 1.0, shift[3] = {0.0, 0.0, 0.0};
@@ -214,11 +215,9 @@ static int mesh_from_obj(const ctx *c, const ynode **v, const char *w, const sw_
   if (v[O_TRANSLATE] && sy_vec(c, v[O_TRANSLATE], lab, 3, -HUGE_VAL, 0, "m", shift)) return -1;
   if (me->nf < 1)
     return sy_fail(c, v[O_MESH], "%s mesh has no faces; expected a triangle mesh ('f' lines)", w);
-  o->mesh_x = sw_calloc(3 * (size_t)me->nv, sizeof(double));
-  o->mesh_face = sw_calloc(3 * (size_t)me->nf, sizeof(int));
-  if (!o->mesh_x || !o->mesh_face) return sy_oom(c, v[O_MESH]);
-  for (int i = 0; i < 3 * me->nv; i++) o->mesh_x[i] = scale * me->x[i] + shift[i % 3]; /* m */
-  memcpy(o->mesh_face, me->f, 3 * (size_t)me->nf * sizeof(int));
+  o->mesh_x = me->x, o->mesh_face = me->f;
+  me->x = NULL, me->f = NULL;
+  for (int i = 0; i < 3 * me->nv; i++) o->mesh_x[i] = scale * o->mesh_x[i] + shift[i % 3]; /* m */
   o->mesh_nv = me->nv;
   o->mesh_nf = me->nf;
   return 0;
