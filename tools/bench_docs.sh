@@ -12,8 +12,8 @@
 #   OUT=DIR where the run folders go (default out/bench_docs; they are not copied)
 #   SINEW=PATH the sinew executable (default build/sinew)
 #
-# Takes about half an hour on a 2-core machine, most of it in the references (CVODE at rtol
-# 1e-10); each bench is kept to a few minutes of CPU (shortened runs say so below).
+# Takes about an hour on a 2-core machine, most of it in the references (CVODE at rtol 1e-10)
+# and in the 512 x 512 grid of the scaling sweep.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tools/setup.sh >/dev/null
@@ -37,9 +37,8 @@ bench() {
 
 run_one() {
   case $1 in
-    hanging_cloth) # the default scene, its first 0.25 s (the fall into the first swing; 0.5 s
-      # took about 20 min of CPU), scene dt 10 ms and halvings
-      bench hanging_cloth "$jobs" scenes/hanging_cloth.yaml --duration 0.25 --repeat 2 \
+    hanging_cloth) # the default scene, first second (a swing), scene dt 10 ms and halvings
+      bench hanging_cloth "$jobs" scenes/hanging_cloth.yaml --duration 0.5 --repeat 2 \
         --timeout 1800 ;;
     drawstring) # a cloth gathered by a hem cable (tendon + gathered, compressed cloth), to
       # 0.12 s: before its buckling amplifies every error to the same size (docs/benchmarks.md)
@@ -68,9 +67,8 @@ run_one() {
         bench membrane_2d_$v "$jobs" "$out/membrane_2d_$v.yaml" --methods backward-euler,bdf2 \
           --max-halvings 8 --timeout 1800
       done ;;
-    membrane_crush_2d) # the membrane as it first shipped: 80 % contractions that crush faces;
-      # its first 1.5 s (the whole 3.5 s took about 20 min of CPU)
-      bench membrane_crush_2d "$jobs" scenes/bench/membrane_crush_2d.yaml --duration 1.5 --repeat 2 \
+    membrane_crush_2d) # the membrane as it first shipped: 80 % contractions that crush faces
+      bench membrane_crush_2d "$jobs" scenes/bench/membrane_crush_2d.yaml --repeat 2 \
         --max-halvings 8 --timeout 1800 ;;
     stiff) # 50 kN/m fabric: symplectic Euler fails at every implicit-sized step
       bench stiff "$jobs" scenes/bench/stiff_cloth.yaml --repeat 2 --timeout 1800 ;;
@@ -83,14 +81,12 @@ run_one() {
       bench drape_sphere 1 scenes/drape_sphere.yaml --duration 0.12 \
         --methods backward-euler,bdf2,baraff-witkin --dts 0.01,0.005,0.0025 \
         --reference bdf2 --confirm bdf2 --confirm-tol 1e-3 --timeout 1800 ;;
-    drape_sphere_fold) # the same to 0.2 s, into the folding: the reference is not confirmed
-      # (0.3 s took about 15 min of CPU)
-      bench drape_sphere_fold 1 scenes/drape_sphere.yaml --duration 0.2 \
+    drape_sphere_fold) # the same to 0.3 s, through the folding: the reference is not confirmed
+      bench drape_sphere_fold 1 scenes/drape_sphere.yaml --duration 0.3 \
         --methods backward-euler,bdf2,baraff-witkin --dts 0.01,0.005,0.0025 \
         --reference bdf2 --confirm bdf2 --confirm-tol 1e-3 --timeout 1800 ;;
-    scaling) # per-step time and memory up to 256 x 256 = 65k vertices, one run at a time
-      # (512 x 512 took most of the sweep's time)
-      bench scaling 1 scenes/bench/scaling_cloth.yaml --scaling --sizes 32,64,128,256 \
+    scaling) # per-step time and memory up to 512 x 512 = 262k vertices, one run at a time
+      bench scaling 1 scenes/bench/scaling_cloth.yaml --scaling --sizes 32,64,128,256,512 \
         --steps 3 --methods backward-euler,bdf2,implicit-midpoint ;;
     *) echo "bench_docs: unknown name '$1'" >&2; exit 2 ;;
   esac
