@@ -27,8 +27,9 @@ extern "C" {
 #define SW_PATHSZ 4096
 
 /* SW_NOSTART: a run that could not start (its output folder could not be taken: locked, not
- * writable, files of another origin); nothing was written and an earlier run's files are as
- * they were. */
+ * writable, files of another origin, a first file it could not make); err ends with what became
+ * of the folder: an earlier run's files are wholly kept (as they were), and whatever the run
+ * wrote is removed (sim/output/aside.c). */
 /* SW_INTERRUPTED: a run stopped by sw_interrupt (SIGINT, SIGTERM) after a step. */
 enum { SW_OK = 0, SW_RECOVER = 1, SW_FATAL = -1, SW_NOSTART = -2, SW_INTERRUPTED = -3 };
 

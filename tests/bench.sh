@@ -92,6 +92,13 @@ done
 [ -z "$(col "$tmp/os2/orders.csv" order '^bdf2,')" ] || fail "an order where errors do not fall"
 grep -q 'warning: bdf2: the error does not fall with dt between dt 0.00125 and 0.0025' "$tmp/os2.out" ||
   fail "no warning when errors do not fall: $(grep -i warn "$tmp/os2.out")"
+# ... with the hint to tighten Newton (the runs used the scene's tolerance); none when they did not
+grep -q "(its runs stop Newton at the scene's tolerance, whose error can exceed a fine step's: --newton-tol 1e-06" "$tmp/os2.out" ||
+  fail "no Newton tolerance hint under the warning: $(grep -A1 warning "$tmp/os2.out")"
+sed -i 's/^newton_tol = .*/newton_tol = 1e-06/' "$tmp/os2/bench_work_precision.cfg"
+"$sinew" bench --merge "$tmp/os2" --no-charts >"$tmp/os2m.out" 2>&1
+grep -q 'warning: bdf2: the error does not fall' "$tmp/os2m.out" && grep -q "its runs stop Newton" "$tmp/os2m.out" &&
+  fail "the Newton tolerance hint for runs at --newton-tol 1e-6"
 # A run is failed when its tension error exceeds --tension-diverged (here, tiny: every run).
 td=$tmp/td
 cp -r "$wp" "$td"
@@ -248,6 +255,12 @@ done
 [ "$(grep -c -- "--max-halvings' '4' '--newton-tol' '1e-05'" "$tmp/cj.txt")" = 2 ] ||
   fail "reference and confirm lines lack --newton-tol 1e-05 / --max-halvings 4: $(head -2 "$tmp/cj.txt")"
 [ "$(grep -c -- "--newton-tol" "$tmp/cj.txt")" = 2 ] || fail "a sweep run got the reference's --newton-tol"
+# --newton-tol: the sweep's fixed-step runs at it, the reference and confirm at theirs
+"$sinew" bench tests/data/bench_contact.yaml --out "$tmp/cn" --methods bdf2 --dts 0.02,0.01 \
+  --reference bdf2 --confirm bdf2 --repeat 1 --newton-tol 1e-7 --emit-jobs "$tmp/cn.txt" >/dev/null 2>&1 || fail "--newton-tol --emit-jobs"
+[ "$(grep -c -- "'--newton-tol' '1e-07'" "$tmp/cn.txt")" = 2 ] && [ "$(grep -c -- "'--newton-tol' '1e-05'" "$tmp/cn.txt")" = 2 ] ||
+  fail "--newton-tol 1e-7: $(cat "$tmp/cn.txt")"
+grep -qx 'newton_tol = 1e-07' "$tmp/cn/bench_work_precision.cfg" || fail "newton_tol not in the settings file"
 # A reference whose step is halved (backward Euler at 20 ms: Newton does not converge at the
 # contact, the step is halved): its halved steps are counted, the samples still land on its
 # grid, every error of the run is measured.

@@ -14,6 +14,11 @@
 #      SIGKILL, from its last frame.
 #   3. A run that cannot start (a link as frames/, a frame file sinew did not write) leaves the
 #      earlier run's files as they were and does not say "results in".
+#   3b. A rerun moves the earlier run aside and removes it only once it has started: whether the
+#      move fails part-way (a frame in a folder it cannot write), a file of the earlier run is
+#      now a folder, the new run cannot create its first file, the folder or its filesystem is
+#      read-only, the earlier run is wholly kept (every file byte for byte, nothing left aside)
+#      and the message says so; a new folder on a read-only filesystem says "nothing written in".
 set -u
 sinew=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
 tmp=$(mktemp -d)
@@ -35,6 +40,7 @@ run --out "$d" 2>"$tmp/err" || fail "second run: $(cat "$tmp/err")"
 echo 'user data' >"$d/positions.bin"
 run --out "$d" 2>"$tmp/err" || fail "third run: $(cat "$tmp/err")"
 [ "$(cat "$d/positions.bin" 2>/dev/null)" = 'user data' ] || fail "a positions.bin sinew did not write was removed"
+[ -e "$d/.sinew-earlier" ] && fail "the earlier run's files left aside after a rerun that started"
 
 # 2. symbolic links: never followed
 echo precious >"$tmp/target"
@@ -62,6 +68,73 @@ run --out "$e" 2>"$tmp/err" && fail "a frame file sinew did not write accepted"
 grep -q 'frames/frame_000009.vtu: a frame file that no earlier sinew run here wrote' "$tmp/err" ||
   fail "foreign frame message: $(cat "$tmp/err")"
 cmp -s "$e/summary.json" "$tmp/summary.before" || fail "summary changed by a refused run"
+
+# 3b. reruns: the earlier run wholly kept or wholly replaced
+# snap DIR: a checksum of every file in DIR (and frames/), names included
+snap() { (cd "$1" && find . -type f ! -name sinew.lock | sort | xargs md5sum); }
+# kept WHAT DIR: DIR holds exactly the files of $tmp/snap, nothing aside, the message says so
+kept() {
+  [ "$(snap "$2")" = "$(cat "$tmp/snap")" ] || fail "$1: the earlier run's files changed"
+  [ -e "$2/.sinew-earlier" ] && fail "$1: files left in .sinew-earlier/"
+  grep -q "run not started: .*; the files of the earlier run in .*/ are as they were" "$tmp/err" ||
+    fail "$1: message '$(cat "$tmp/err")'"
+}
+k=$tmp/kept
+run --out "$k" 2>/dev/null || fail "run into $k"
+rm "$k/energy.csv" && mkdir "$k/energy.csv" && touch "$k/energy.csv/mine"
+snap "$k" >"$tmp/snap"
+run --out "$k" 2>"$tmp/err" && fail "energy.csv a folder: the rerun went on"
+grep -q "energy.csv: a folder where the earlier run wrote a file" "$tmp/err" || fail "folder message: $(cat "$tmp/err")"
+kept "energy.csv a folder" "$k"
+rm -r "$k/energy.csv"
+run --out "$k" 2>/dev/null || fail "rerun into $k"
+mkdir "$k/positions.bin.part" # the new run's first file cannot be made, after the move aside
+snap "$k" >"$tmp/snap"
+run --out "$k" --positions-every 0.01 2>"$tmp/err" && fail "positions.bin.part a folder: the run went on"
+grep -q "positions.bin.part: cannot replace: Is a directory; this run's first files removed" "$tmp/err" ||
+  fail "first file message: $(cat "$tmp/err")"
+kept "the new run's first file refused" "$k"
+# stopped between the move aside and the start: the next run puts the files back, then replaces them
+rmdir "$k/positions.bin.part" && mkdir -p "$k/.sinew-earlier/frames" && mv "$k/tension.csv" "$k/.sinew-earlier/"
+run --out "$k" 2>"$tmp/err" || fail "rerun after a stopped move: $(cat "$tmp/err")"
+[ -e "$k/.sinew-earlier" ] && fail "a stopped move's files left aside"
+[ "$(grep -c . "$k/tension.csv")" = 4 ] || fail "a stopped move: tension.csv not the new run's"
+# permissions (root ignores them: run as nobody)
+as() { "$@"; }
+[ "$(id -u)" = 0 ] && as() { setpriv --reuid=65534 --regid=65534 --clear-groups "$@"; }
+if as test -x "$sinew" -a -r scenes/hanging_cloth.yaml 2>/dev/null; then
+  chmod 755 "$tmp" && mkdir -m 777 "$tmp/perm"
+  p=$tmp/perm/p
+  as "$sinew" run scenes/hanging_cloth.yaml --duration 0.02 --frames-every 0.01 --quiet --out "$p" || fail "run into $p"
+  as chmod 555 "$p/frames" # the frames cannot be moved: found after tension.csv, energy.csv moved
+  snap "$p" >"$tmp/snap"
+  as "$sinew" run scenes/hanging_cloth.yaml --duration 0.02 --no-frames --quiet --out "$p" 2>"$tmp/err" &&
+    fail "frames/ read-only: the rerun went on"
+  grep -q "frame_000000.vtu: cannot move the earlier run's file aside" "$tmp/err" || fail "move message: $(cat "$tmp/err")"
+  kept "frames/ read-only" "$p"
+  as chmod 755 "$p/frames" && as chmod 555 "$p"
+  as "$sinew" run scenes/hanging_cloth.yaml --duration 0.02 --quiet --out "$p" 2>"$tmp/err" &&
+    fail "folder read-only: the rerun went on"
+  kept "folder read-only" "$p"
+  as chmod 755 "$p"
+else
+  echo "note: no unprivileged user who can run sinew here; the read-only folder cases are not checked"
+fi
+# a read-only filesystem (a read-only bind mount in a user namespace)
+ro=$tmp/ro
+run --out "$ro/old" 2>/dev/null || fail "run into $ro/old"
+snap "$ro/old" >"$tmp/snap"
+if unshare -rm true 2>/dev/null; then
+  unshare -rm bash -c 'mount --bind "$1" "$1" && mount -o remount,bind,ro "$1" &&
+    "$2" run scenes/hanging_cloth.yaml --duration 0.02 --quiet --out "$1/new" 2>"$3/err.new";
+    "$2" run scenes/hanging_cloth.yaml --duration 0.02 --quiet --out "$1/old" 2>"$3/err"' _ "$ro" "$sinew" "$tmp"
+  grep -q "mkdir .*/ro/new: Read-only file system; nothing written in .*/ro/new/\$" "$tmp/err.new" ||
+    fail "read-only filesystem, new folder: '$(cat "$tmp/err.new")'"
+  grep -q "as they were" "$tmp/err.new" && fail "read-only filesystem, new folder: 'as they were'"
+  kept "read-only filesystem" "$ro/old"
+else
+  echo "note: no user namespaces here; the read-only filesystem case is not checked"
+fi
 
 # 4. signals
 # wait_lines FILE N: until FILE has N lines (at most 60 s)
@@ -236,9 +309,9 @@ touch "$tmp/probe" && if chattr +i "$tmp/probe" 2>/dev/null; then
   "$sinew" run scenes/hanging_cloth.yaml --duration 0.04 --out "$tmp/imm" --quiet 2>"$tmp/err" &&
     fail "immutable summary.json: the rerun went on"
   chattr -i "$tmp/imm/summary.json"
-  grep -q "imm/summary.json: a file of an earlier run that cannot be removed (immutable, chattr +i); expected files sinew may replace: nothing of the earlier run was removed" "$tmp/err" ||
+  grep -q "imm/summary.json: a file of an earlier run that cannot be removed (immutable, chattr +i); expected files sinew may replace; nothing written" "$tmp/err" ||
     fail "immutable summary.json: message '$(cat "$tmp/err")'"
-  grep -q "the files of an earlier run in .*imm/ are as they were" "$tmp/err" || fail "immutable: no 'as they were'"
+  grep -q "the files of the earlier run in .*imm/ are as they were" "$tmp/err" || fail "immutable: no 'as they were'"
   [ -f "$tmp/imm/tension.csv" ] && [ -f "$tmp/imm/energy.csv" ] && [ -f "$tmp/imm/restart.bin" ] ||
     fail "immutable summary.json: the earlier run's logs were removed"
 else

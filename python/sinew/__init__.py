@@ -282,9 +282,10 @@ class Simulation:
         self._rest = np.zeros(nt)
         self._rest_ptr = self._rest.ctypes.data_as(_DP)
         self._counter_buf = (ctypes.c_long * len(_COUNTERS))()
-        self._counter_ptr = ctypes.cast(self._counter_buf, ctypes.POINTER(ctypes.c_long))
-        self._counters_fn, self._rests_fn = lib.sw_sim_counters, lib.sw_sim_rests
-        self._counter_np = np.frombuffer(self._counter_buf, dtype=np.int_)
+        self._rests_fn = lib.sw_sim_rests
+        self._counters_fn = lib.sw_sim_counters
+        # the counters change only in a change made under _using: read once after each
+        self._counters_cache = None
         self._rest_out = self._rest.view()
         self._rest_out.flags.writeable = False
         self._term_names = ["E_" + lib.sw_sim_name(ptr, b"term", i).decode()
@@ -302,7 +303,8 @@ class Simulation:
             raise SinewError("%s: the simulation is being used by another thread; give each "
                              "thread its own simulation (sinew.load) or hold a lock around it"
                              % what)
-        return _Held(self._lock)
+        self._counters_cache = None
+        return _Held(self)
 
     def close(self):
         """Finish the run folder (summary.json; nothing without one).  From then on, steps and
@@ -518,8 +520,11 @@ class Simulation:
     @property
     def counters(self):
         """The solver's counters since the start: steps, Newton iterations, factorisations..."""
-        self._counters_fn(self._ptr, self._counter_ptr, len(_COUNTERS))
-        return dict(zip(_COUNTERS, self._counter_np.tolist()))
+        c = self._counters_cache
+        if c is None:  # changed since the last read (_using, _Held)
+            self._counters_fn(self._ptr, self._counter_buf, len(_COUNTERS))
+            c = self._counters_cache = dict(zip(_COUNTERS, self._counter_buf[:]))
+        return c.copy()
 
     # ---------------------------------------------------------------- changing
     def state(self):
@@ -582,16 +587,18 @@ class Simulation:
 
 
 class _Held:
-    """A held lock, released at the end of a with block."""
+    """A simulation's held lock, released at the end of a with block (the counters read again
+    at the next read: the change may have moved them)."""
 
-    def __init__(self, lock):
-        self._lock = lock
+    def __init__(self, sim):
+        self._sim = sim
 
     def __enter__(self):
         return self
 
     def __exit__(self, *exc):
-        self._lock.release()
+        self._sim._counters_cache = None
+        self._sim._lock.release()
 
 
 def load(scene, method=None, dt=None, out=None, grid=None, stiffness_scale=None, **options):

@@ -170,6 +170,31 @@ def test_ctrl_c_stops_run_within_a_step():
     assert sim.counters["nstep"] == n + 1
 
 
+# ------------------------------------------------------------------ counters
+
+def test_counters_follow_every_change():
+    """counters is read from libsinew again after every change (it keeps the last read between
+    changes): after each it equals libsinew's counters one by one, and a read is a copy."""
+    sim = sinew.load(DRAWSTRING, grid=(8, 8))
+    lib = sinew._library()
+
+    def from_lib():
+        return {k: lib.sw_sim_counter(sim._ptr, k.encode()) for k in sinew._COUNTERS}
+
+    assert sim.counters == from_lib()
+    sim.counters["nstep"] = 99  # a copy: the simulation's counters are not changed
+    assert sim.counters["nstep"] == 0
+    sim.step()
+    copy = sim.state()
+    changes = [sim.step, lambda: setattr(sim.tendons["drawstring"], "rest_length", 0.9),
+               lambda: sim.run(0.05), lambda: sim.set_state(copy), sim.reset]
+    for change in changes:
+        before = sim.counters
+        change()
+        assert sim.counters == from_lib()
+    assert before["nstep"] == 1 and sim.counters["nstep"] == 0  # set_state, then reset
+
+
 # ------------------------------------------------------------------ reset, dt, state copies
 
 def test_reset_is_a_fresh_load():

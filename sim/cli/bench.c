@@ -42,7 +42,7 @@ static void bench_usage(FILE *fp) {
       "                   [--max-orders Q,...] [--repeat N] [--duration T] [--sample-every S]\n"
       "                   [--reference M] [--reference-rtol R] [--reference-dt DT]\n"
       "                   [--confirm M] [--confirm-dt DT] [--confirm-tol E]\n"
-      "                   [--reference-newton-tol V]\n"
+      "                   [--reference-newton-tol V] [--newton-tol V]\n"
       "                   [--stability [--scales S,...] [--overdamped F]]\n"
       "                   [--scaling [--sizes N,...] [--steps N]]\n"
       "                   [--jobs N | --emit-jobs FILE] [--timeout S] [--diverged F]\n"
@@ -67,7 +67,8 @@ static void bench_usage(FILE *fp) {
       "  tension, final time; costs: wall time (median of --repeat N, default 3), counts.\n"
       "  Observed order per method: the least-squares slope of log(position error) over\n"
       "  log(dt or rtol) on its converged range (orders.csv), with a warning where the\n"
-      "  error does not fall with dt.\n"
+      "  error does not fall with dt.  The sweep's fixed-step runs stop Newton at the\n"
+      "  scene's tolerance, or at --newton-tol V (m/s; for order studies, 1e-6).\n"
       "  An adaptive method may carry its largest BDF order, NAME:qN (N = 1..5, e.g.\n"
       "  cvode:q2; --methods, --reference, --confirm); --max-orders 2,5 runs each adaptive\n"
       "  method of --methods given without one at each order, as separate lines\n"
@@ -187,6 +188,7 @@ static int parse_valued(const char *a, const char *v, bench_cli *c, bench_cfg *g
   if (!strcmp(a, "--confirm-dt")) return cli_number(a, v, 0, &g->confirm_dt) ? -1 : 1;
   if (!strcmp(a, "--reference-newton-tol"))
     return cli_number(a, v, 1, &g->ref_newton_tol) ? -1 : 1;
+  if (!strcmp(a, "--newton-tol")) return cli_number(a, v, 1, &g->newton_tol) ? -1 : 1;
   if (!strcmp(a, "--reference") || !strcmp(a, "--confirm")) {
     char *dst = a[2] == 'r' ? g->ref_method : g->confirm_method;
     if (check_spec(v) < 0 || !strcmp(v, "static") || strlen(v) >= SW_NAMESZ)
@@ -536,7 +538,7 @@ static int write_cfg(const bench_cfg *g) {
   num(f, "duration", g->duration), num(f, "sample", g->sample), num(f, "size", g->size);
   num(f, "reference_rtol", g->ref_rtol), num(f, "confirm_tol", g->confirm_tol);
   num(f, "reference_dt", g->ref_dt), num(f, "confirm_dt", g->confirm_dt);
-  num(f, "reference_newton_tol", g->ref_newton_tol);
+  num(f, "reference_newton_tol", g->ref_newton_tol), num(f, "newton_tol", g->newton_tol);
   num(f, "overdamped", g->overdamped), num(f, "diverged", g->diverged);
   num(f, "tension_diverged", g->tension_diverged);
   num(f, "timeout", g->timeout);
@@ -602,7 +604,8 @@ static int cfg_line(bench_cfg *g, const char *key, const char *val, char *why, s
       {"duration", &g->duration, 0, 0}, {"sample", &g->sample, 0, 1}, {"size", &g->size, 0, 1},
       {"reference_rtol", &g->ref_rtol, 0, 0}, {"confirm_tol", &g->confirm_tol, 0, 0},
       {"reference_dt", &g->ref_dt, 0, 0}, {"confirm_dt", &g->confirm_dt, 0, 0},
-      {"reference_newton_tol", &g->ref_newton_tol, 0, 0}, {"overdamped", &g->overdamped, 0, 0},
+      {"reference_newton_tol", &g->ref_newton_tol, 0, 0}, {"newton_tol", &g->newton_tol, 0, 0},
+      {"overdamped", &g->overdamped, 0, 0},
       {"diverged", &g->diverged, 0, 1}, {"tension_diverged", &g->tension_diverged, 0, 1},
       {"timeout", &g->timeout, 0, 0}};
   for (size_t k = 0; k < sizeof nums / sizeof *nums; k++)
@@ -795,6 +798,7 @@ int sw_bench_main(int argc, char **argv) {
                           .diverged = 1.0, .tension_diverged = BENCH_TENSION_DIVERGED,
                           .repeat = BENCH_REPEAT, .jobs = 1, .steps = 3, .charts = 1,
                           .max_halvings = -1, .ref_newton_tol = BENCH_REF_NEWTON_TOL,
+                          .newton_tol = BENCH_NEWTON_TOL,
                           .ref_method = "cvode:q5", .confirm_method = "ida:q5"}};
   int rc = parse_bench_args(argc, argv, &c, &p.cfg);
   if (rc) return rc < 0 ? 2 : 0;

@@ -30,6 +30,8 @@ enum { BR_REFERENCE = 0, BR_CONFIRM, BR_RUN };
 /* m/s: the default Newton tolerance of a fixed-step reference or confirm run; with the scene's
  * 1e-2 Newton's error is a quarter of a fine step's own on a draped cloth (docs/benchmarks.md) */
 #define BENCH_REF_NEWTON_TOL 1e-5
+#define BENCH_ORDER_NEWTON_TOL 1e-6 /* m/s: the --newton-tol the order warning suggests */
+#define BENCH_NEWTON_TOL 0.0 /* m/s: the scene's (docs/benchmarks.md, "Newton's tolerance") */
 /* Observed order (bench_order.c): errors below FLOOR x the reference's agreement are not
  * resolved; a converged range has local slopes above MIN_SLOPE that differ by at most SPREAD. */
 #define BENCH_ORDER_FLOOR 3.0
@@ -67,6 +69,8 @@ typedef struct bench_cfg {
   double ref_rtol;             /* reference tolerance (adaptive reference and confirm) */
   double ref_dt, confirm_dt;   /* s: the steps of a fixed-step reference and confirm */
   double ref_newton_tol;       /* m/s: their Newton tolerance (--newton-tol); 0: the scene's */
+  double newton_tol;           /* m/s: the Newton tolerance of the fixed-step runs (not the
+                                  reference's); 0: the scene's */
   char ref_method[SW_NAMESZ], confirm_method[SW_NAMESZ];
   double confirm_tol;          /* the reference is confirmed when the two agree to this */
   double overdamped;           /* stability: energy lost beyond the reference's, fraction */

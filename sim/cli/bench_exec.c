@@ -70,6 +70,7 @@ int bench_job_argv(const bench_cfg *c, const bench_job *j, char **argv, int maxa
   if (c->max_halvings >= 0) N("--max-halvings", halvings(c, j));
   if (j->role != BR_RUN && !j->adaptive && c->ref_newton_tol > 0)
     N("--newton-tol", c->ref_newton_tol);
+  if (j->role == BR_RUN && !j->adaptive && c->newton_tol > 0) N("--newton-tol", c->newton_tol);
   N("--dt", j->dt);
   N("--duration", c->mode == BM_SCALING ? c->steps * j->dt : c->duration);
   if (j->adaptive) N("--rtol", j->rtol), N("--atol", j->atol);

@@ -8,7 +8,8 @@
  * neighbouring points whose local slopes are all above BENCH_ORDER_MIN_SLOPE and differ by at
  * most BENCH_ORDER_SPREAD (ties: the finer range); the observed order is the least-squares
  * slope of log e over log h on it (as DifferentialEquations.jl's test_convergence fits it).
- * A warning names every pair of neighbours whose error does not fall with h. */
+ * A warning names every pair of neighbours whose error does not fall with h (for a fixed-step
+ * method run at the scene's Newton tolerance, with the hint to tighten it). */
 #include "bench.h"
 
 #include <math.h>
@@ -112,6 +113,9 @@ int bench_orders(const bench_cfg *c, const bench_point *pt, int npt, double floo
              "range (the %s are too coarse to be asymptotic, or the errors are the reference's)"
              "\n", pt[k].method, what, pt[k].adaptive ? "tolerances" : "steps");
     warn_rises(pt[k].method, what, p, n);
+    if (o.nrise && !pt[k].adaptive && !(c->newton_tol > 0))
+      printf("  (its runs stop Newton at the scene's tolerance, whose error can exceed a fine "
+             "step's: --newton-tol %g measures the method alone)\n", BENCH_ORDER_NEWTON_TOL);
   }
   free(p);
   return bench_commit(f, tmp);

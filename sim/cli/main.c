@@ -290,7 +290,7 @@ static void catch_stop_signals(void) {
   sigaction(SIGTERM, &sa, NULL);
 }
 
-static int finish_run(sw_model *m, int rc, const char *err, int quiet);
+static int finish_run(sw_model *m, int rc, const char *err, int quiet, int resumed);
 
 /* A scene that could not be loaded: its message; 130 (143) when SIGINT (SIGTERM) stopped the
  * loading (nothing is written before the load), else 1. */
@@ -341,7 +341,7 @@ static int cmd_resume(int argc, char **argv) {
   if (!quiet)
     fprintf(stderr, "sinew: resuming %s in %s/ from t = %.9g s: %s, to t = %s%g s\n", m->name,
             dir, t_from, m->opt.method, until_fit(m), m->opt.duration);
-  return finish_run(m, sw_resume_ex(m, !quiet, force, err, sizeof err), err, quiet);
+  return finish_run(m, sw_resume_ex(m, !quiet, force, err, sizeof err), err, quiet, 1);
 }
 
 static int cmd_run(int argc, char **argv) {
@@ -376,23 +376,18 @@ static int cmd_run(int argc, char **argv) {
   if (!c.quiet)
     fprintf(stderr, "sinew: %s: %d vertices, %d free DOFs, %s, dt = %g s, to t = %s%g s\n",
             m->name, m->nv, m->ndof, m->opt.method, m->opt.dt, until_fit(m), m->opt.duration);
-  return finish_run(m, sw_run(m, !c.quiet, err, sizeof err), err, c.quiet);
+  return finish_run(m, sw_run(m, !c.quiet, err, sizeof err), err, c.quiet, 0);
 }
 
 /* What a run (or a resumed run) left: its message, where the results are (not after a quiet
  * success); the exit code. */
-static int finish_run(sw_model *m, int rc, const char *err, int quiet) {
+static int finish_run(sw_model *m, int rc, const char *err, int quiet, int resumed) {
   if (rc == SW_INTERRUPTED) fprintf(stderr, "sinew: %s\n", err);
-  else if (rc == SW_NOSTART) {
-    char manifest[SW_PATHSZ + 32];
-    snprintf(manifest, sizeof manifest, "%s/sinew.manifest", m->opt.out_dir);
-    if (access(manifest, F_OK)) /* no earlier run there */
-      fprintf(stderr, "sinew: run not started: %s\nsinew: nothing written in %s/\n", err,
-              m->opt.out_dir);
-    else
-      fprintf(stderr, "sinew: run not started: %s\nsinew: nothing written; the files of an "
-              "earlier run in %s/ are as they were\n", err, m->opt.out_dir);
-  }
+  else if (rc == SW_NOSTART && !resumed) /* err ends with what became of the folder */
+    fprintf(stderr, "sinew: run not started: %s\n", err);
+  else if (rc == SW_NOSTART) /* a resume refused: the folder untouched */
+    fprintf(stderr, "sinew: run not started: %s\nsinew: nothing written; the files of an "
+            "earlier run in %s/ are as they were\n", err, m->opt.out_dir);
   else if (rc) fprintf(stderr, "sinew: run failed: %s\n", err);
   struct stat st;
   if (rc != SW_NOSTART && !(quiet && rc == SW_OK) && stat(m->opt.out_dir, &st) == 0 &&

@@ -147,7 +147,7 @@ int out_make_dirs(const char *dir, char *scratch, char *err, size_t errsz) {
 
 int out_remove_path(const char *path, char *err, size_t errsz) {
   if (unlink(path) == 0 || errno == ENOENT) return 0;
-  sw_errf(err, errsz, "%s: cannot remove the file of an earlier run: %s", path, strerror(errno));
+  sw_errf(err, errsz, "%s: cannot remove: %s", path, strerror(errno));
   return -1;
 }
 

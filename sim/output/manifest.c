@@ -6,8 +6,9 @@
  * before the file is created, so a killed run's manifest names every file it left; a name
  * stands for the file, its temporary forms NAME.tmp and NAME.part too.  The next run reads it
  * at its start (out_manifest_read), and only once everything it needs has been checked (the
- * lock taken, the folders writable, no file of another origin in its way) removes those files
- * and starts its own manifest (out_manifest_commit).  A name that is not one sinew writes
+ * lock taken, the folders writable, no file of another origin in its way) moves those files
+ * aside (aside.c; removed once the new run has started) and starts its own manifest
+ * (out_manifest_commit).  A name that is not one sinew writes
  * (a path outside the folder, "..", a hidden file) is ignored, so a hand-edited manifest cannot
  * make sinew remove anything else. */
 #include <errno.h>
@@ -106,20 +107,25 @@ typedef struct removal {
   size_t errsz;
 } removal;
 
-/* Remove NAME, NAME.tmp and NAME.part of the earlier run (absent is fine). */
-static int remove_old(void *ctx, const char *name) {
+/* NAME, NAME.tmp and NAME.part of a run that could not start (absent is fine; a folder of that
+ * name, in the way of the file, is not sinew's: it stays). */
+static int remove_new(void *ctx, const char *name) {
   removal *r = ctx;
   static const char *const forms[] = {"", ".tmp", ".part"};
   for (int k = 0; k < 3; k++) {
     char file[SW_OUT_PATHMAX];
+    struct stat st;
     snprintf(file, sizeof file, "%s%s", name, forms[k]);
-    if (out_remove(r->o, file, r->err, r->errsz)) return -1;
+    if (out_join(r->o->path, r->o->dir, file, r->err, r->errsz)) return -1;
+    if (lstat(r->o->path, &st) || S_ISDIR(st.st_mode)) continue;
+    if (out_remove_path(r->o->path, r->err, r->errsz)) return -1;
   }
   return 0;
 }
 
-/* NAME, NAME.tmp and NAME.part of the earlier run can be removed: none is immutable or
- * append-only (chattr +i, +a: unlink(2) then fails, whatever the folder's permissions). */
+/* NAME, NAME.tmp and NAME.part of the earlier run can be moved and removed: none is a folder
+ * (sinew writes files only) or immutable or append-only (chattr +i, +a: rename(2) and unlink(2)
+ * then fail, whatever the folder's permissions). */
 static int check_old(void *ctx, const char *name) {
   removal *r = ctx;
   static const char *const forms[] = {"", ".tmp", ".part"};
@@ -127,17 +133,22 @@ static int check_old(void *ctx, const char *name) {
     char file[SW_OUT_PATHMAX];
     snprintf(file, sizeof file, "%s%s", name, forms[k]);
     if (out_join(r->o->path, r->o->dir, file, r->err, r->errsz)) return -1;
+    struct stat st;
+    if (lstat(r->o->path, &st) == 0 && S_ISDIR(st.st_mode))
+      return sw_errf(r->err, r->errsz, "%s: a folder where the earlier run wrote a file; expected "
+                     "that file or nothing: move the folder or choose another output folder",
+                     r->o->path),
+             -1;
     int fd = open(r->o->path, O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_NOCTTY | O_CLOEXEC);
-    if (fd < 0) continue; /* absent, or a link (removing a link needs only the folder) */
+    if (fd < 0) continue; /* absent, or a link (moving a link needs only the folder) */
     int flags = 0;
     int fixed = !ioctl(fd, FS_IOC_GETFLAGS, &flags) &&
                 (flags & (FS_IMMUTABLE_FL | FS_APPEND_FL));
     close(fd);
     if (fixed)
       return sw_errf(r->err, r->errsz, "%s: a file of an earlier run that cannot be removed "
-                     "(%s); expected files sinew may replace: nothing of the earlier run was "
-                     "removed", r->o->path, flags & FS_IMMUTABLE_FL ? "immutable, chattr +i"
-                                                                     : "append-only, chattr +a"),
+                     "(%s); expected files sinew may replace", r->o->path,
+                     flags & FS_IMMUTABLE_FL ? "immutable, chattr +i" : "append-only, chattr +a"),
              -1;
   }
   return 0;
@@ -146,7 +157,7 @@ static int check_old(void *ctx, const char *name) {
 int out_manifest_commit(sw_output *o, char *err, size_t errsz) {
   removal r = {o, err, errsz};
   if (each_old(o, check_old, &r)) return -1;
-  if (each_old(o, remove_old, &r)) return -1;
+  if (o->old && out_aside_move(o, each_old, err, errsz)) return -1;
   sw_free(o->old);
   o->old = NULL;
   o->nold = 0;
@@ -154,6 +165,21 @@ int out_manifest_commit(sw_output *o, char *err, size_t errsz) {
   o->mfd = out_create(o->path, O_APPEND, err, errsz);
   if (o->mfd < 0) return -1;
   return out_own(o, NULL, err, errsz);
+}
+
+int out_manifest_undo(sw_output *o, char *err, size_t errsz) {
+  if (o->mfd < 0) return 0; /* this run's manifest was not made */
+  close(o->mfd);
+  o->mfd = -1;
+  sw_free(o->old);
+  o->old = NULL;
+  if (out_manifest_read(o, err, errsz)) return -1; /* this run's names, as the earlier's */
+  removal r = {o, err, errsz};
+  int rc = each_old(o, remove_new, &r);
+  sw_free(o->old);
+  o->old = NULL;
+  o->nold = 0;
+  return rc || out_remove(o, "sinew.manifest", err, errsz) ? -1 : 0;
 }
 
 int out_manifest_reopen(sw_output *o, char *err, size_t errsz) {

@@ -23,6 +23,8 @@
 
 #include <stdio.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "util.h"
 #include "writer.h"
@@ -39,7 +41,9 @@ static const sw_out_ops *const formats[] = {&sw_out_lock,      &sw_out_tension, 
 
 /* ------------------------------------------------------------ the folder */
 
-/* The folder made, locked and checked (every format's prepare); nothing removed. */
+/* The folder made, locked (formats[0], the lock's prepare), a folder of earlier files left by
+ * a stopped run dealt with (aside.c), the earlier manifest read, and every other format's
+ * prepare passed; nothing of an earlier run touched. */
 static int take_folder(sw_output *o, const sw_model *m, char *err, size_t errsz) {
   size_t n = strnlen(m->opt.out_dir, SW_PATHSZ);
   if (n == 0 || n == SW_PATHSZ) {
@@ -49,19 +53,60 @@ static int take_folder(sw_output *o, const sw_model *m, char *err, size_t errsz)
   memcpy(o->dir, m->opt.out_dir, n);
   while (n > 1 && o->dir[n - 1] == '/') n--;
   o->dir[n] = '\0';
+  struct stat st;
+  o->made_dir = lstat(o->dir, &st) != 0;
   if (out_make_dirs(o->dir, o->tmp, err, errsz)) return -1;
-  if (out_manifest_read(o, err, errsz)) return -1;
   for (int k = 0; k < o->nw; k++) {
     const sw_out_ops *f = o->w[k].ops;
     if (f->prepare && f->prepare(o->w[k].self, o, m, err, errsz)) return -1;
+    if (k == 0 && (out_aside_recover(o, err, errsz) || out_manifest_read(o, err, errsz)))
+      return -1;
+    if (k == 0) o->earlier = o->old != NULL;
   }
   return 0;
 }
 
-/* The folder taken; then, the run can start: the files of an earlier run in the folder go, so
- * results never mix. */
+/* The folder taken; then, the run can start: the files of an earlier run in the folder are
+ * moved aside (removed once this run has started), so results never mix. */
 static int prepare_folder(sw_output *o, const sw_model *m, char *err, size_t errsz) {
   return take_folder(o, m, err, errsz) || out_manifest_commit(o, err, errsz) ? -1 : 0;
+}
+
+/* A run that could not start (err says why): its files removed, the earlier run's moved back;
+ * err then ends with what became of the folder. */
+static void not_started(sw_output *o, char *err, size_t errsz) {
+  char why[SW_ERRSZ], undo[SW_ERRSZ] = "", back[SW_ERRSZ] = "", tail[2 * SW_ERRSZ + SW_PATHSZ + 256];
+  snprintf(why, sizeof why, "%s", err);
+  int wrote = o->mfd >= 0, moved = o->aside;
+  struct stat st;
+  int earlier = o->earlier || (!wrote && o->dir[0] && !out_join(o->path, o->dir, "sinew.manifest",
+                                                               undo, sizeof undo) &&
+                               lstat(o->path, &st) == 0);
+  int kept = !out_manifest_undo(o, undo, sizeof undo);
+  int restored = kept && !out_aside_back(o, back, sizeof back);
+  if (!kept)
+    snprintf(tail, sizeof tail, "this run's first files could not all be removed (%s)%s%s/%s",
+             undo, moved ? "; the earlier run's files are in " : "", moved ? o->dir : "",
+             moved ? ".sinew-earlier/" : "");
+  else if (!restored)
+    snprintf(tail, sizeof tail, "this run's first files removed; the earlier run's files could "
+             "not all be moved back (%s): the rest are in %s/.sinew-earlier/", back, o->dir);
+  else if (!earlier)
+    snprintf(tail, sizeof tail, "nothing written%s%s%s", o->dir[0] ? " in " : "", o->dir,
+             o->dir[0] ? "/" : "");
+  else
+    snprintf(tail, sizeof tail, "%s; the files of the earlier run in %s/ are as they were",
+             wrote ? "this run's first files removed" : "nothing written", o->dir);
+  size_t room = errsz > strlen(tail) + 3 ? errsz - strlen(tail) - 3 : 0;
+  sw_errf(err, errsz, "%.*s; %s", (int)room, why, tail);
+}
+
+/* Folders this run made and left empty (a run that did not start), removed. */
+static void unmake(const char *dir, int made_dir, int made_frames) {
+  char path[SW_OUT_PATHMAX];
+  snprintf(path, sizeof path, "%s/frames", dir);
+  if (made_frames || made_dir) rmdir(path);
+  if (made_dir) rmdir(dir);
 }
 
 /* ------------------------------------------------------------ the formats */
@@ -175,9 +220,15 @@ sw_output *sw_output_open(const sw_model *m, char *err, size_t errsz) {
   }
   if (prepare_folder(o, m, err, errsz) || open_formats(o, m, err, errsz) ||
       sw_output_summary(o, m, NULL, "running", "", 0.0, err, errsz)) {
-    output_free(o);
+    not_started(o, err, errsz);
+    char dir[SW_PATHSZ];
+    snprintf(dir, sizeof dir, "%s", o->dir);
+    int made_dir = o->made_dir, made_frames = o->made_frames;
+    output_free(o); /* the lock released and its file removed */
+    unmake(dir, made_dir, made_frames);
     return NULL;
   }
+  out_aside_drop(o); /* started: the earlier run's files go */
   return o;
 }
 

@@ -90,7 +90,9 @@ static int check_frames(sw_output *o, char *err, size_t errsz) {
 /* frames/ in the run folder (once). */
 static int make_frames_dir(vtu *v, sw_output *o, char *err, size_t errsz) {
   if (v->frames_dir) return 0;
+  struct stat st;
   if (out_join(o->path, o->dir, "frames", err, errsz)) return -1;
+  if (lstat(o->path, &st)) o->made_frames = 1;
   if (out_make_dir(o->path, o->dir, err, errsz)) return -1;
   v->frames_dir = 1;
   return 0;

@@ -78,6 +78,10 @@ struct sw_output {
   int mfd;                                        /* sinew.manifest, open to append; -1 */
   char *old;                                      /* the earlier run's manifest, NUL-separated */
   size_t nold;                                    /* its bytes */
+  int earlier;      /* the folder held an earlier run (its manifest) when this run began */
+  int aside;        /* some earlier run's files are in DIR/.sinew-earlier/ (aside.c) */
+  int made_dir;     /* this run made the run folder */
+  int made_frames;  /* this run made DIR/frames/ */
   int nw;
   sw_writer w[SW_OUT_MAXW]; /* in output.c's order: that of the summary's file list */
 };
@@ -102,8 +106,25 @@ int out_manifest_reopen(sw_output *o, char *err, size_t errsz);
 int out_manifest_read(sw_output *o, char *err, size_t errsz);
 /* 1 if the earlier run's manifest names name (or name without its .tmp / .part). */
 int out_owned(const sw_output *o, const char *name);
-/* Remove the files the earlier manifest names, then start this run's manifest. */
+/* Move the files the earlier manifest names aside (out_aside_move), then start this run's
+ * manifest. */
 int out_manifest_commit(sw_output *o, char *err, size_t errsz);
+/* A run that could not start: remove the files its manifest names, then the manifest. */
+int out_manifest_undo(sw_output *o, char *err, size_t errsz);
+
+/* ---------------------- aside.c: the earlier run's files moved aside until the new run starts */
+
+/* A DIR/.sinew-earlier/ left by a stopped run: moved back or removed (after the lock, before
+ * the manifest is read). */
+int out_aside_recover(sw_output *o, char *err, size_t errsz);
+/* Rename each file each() yields (the earlier manifest's names) and then sinew.manifest into
+ * DIR/.sinew-earlier/; on failure some may have moved (o->aside: out_aside_back). */
+int out_aside_move(sw_output *o, int (*each)(const sw_output *, int (*)(void *, const char *), void *),
+                   char *err, size_t errsz);
+/* Every moved file back in its place (replacing a file of the new run of the same name). */
+int out_aside_back(sw_output *o, char *err, size_t errsz);
+/* The new run has started: remove the moved files (a failure is a warning on stderr). */
+void out_aside_drop(sw_output *o);
 /* Append name (relative to the folder) to the manifest, before the file is created; name NULL:
  * the header. */
 int out_own(sw_output *o, const char *name, char *err, size_t errsz);
@@ -142,7 +163,7 @@ int out_tmp_commit(out_file *w, const char *tmp, const char *path, char *err, si
 int out_make_dir(const char *path, const char *dir, char *err, size_t errsz);
 /* mkdir -p dir, then check that it can be written; scratch: SW_OUT_PATHMAX bytes. */
 int out_make_dirs(const char *dir, char *scratch, char *err, size_t errsz);
-/* Remove path, or o->dir/name: a file of an earlier run (absent is fine). */
+/* Remove path, or o->dir/name (absent is fine). */
 int out_remove_path(const char *path, char *err, size_t errsz);
 int out_remove(sw_output *o, const char *name, char *err, size_t errsz);
 
