@@ -10,7 +10,9 @@
  *
  * With an argument, `test_cantilever study` prints the convergence table of docs/models.md
  * (square and rectangular cells, both diagonal patterns and alternating, along x, y, 45
- * degrees, and a jittered irregular mesh) instead of running the tests. */
+ * degrees, and a jittered irregular mesh) instead of running the tests; `test_cantilever clamp`
+ * the clamp's table there (the jittered lattice at 45 degrees clamped by two or three pinned
+ * columns). */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -338,13 +340,14 @@ static void morley_irregular_weight(void **st) { (void)st, morley_irregular(0); 
  * projected columns s = 0 and a/2 (clamp line a/4): morley within 0.3 % at 20 cells along,
  * within 0.1 % at 40, falling; quadratic outside those bounds.  (Pinning a third column, as
  * lattice45 does, is not a clamp at a definite line for morley's fitted slopes once the mesh
- * beside it is irregular: docs/models.md, "The clamp".) */
-static void jitter45(strip *g, double a, unsigned long rs) {
+ * beside it is irregular: docs/models.md, "The clamp".)  jitter45 moves the vertices with
+ * from < s < the tip. */
+static void jitter45(strip *g, double a, double from, unsigned long rs) {
   double smax = 0.0, tmax = 0.0, side = a * sqrt(0.5);
   for (int i = 0; i < g->nv; i++) smax = fmax(smax, g->p[2 * i]), tmax = fmax(tmax, g->p[2 * i + 1]);
   for (int i = 0; i < g->nv; i++) {
     double *q = g->p + 2 * i;
-    if (q[0] <= 0.75 * a || q[0] >= smax - 1e-12) continue;
+    if (q[0] <= from || q[0] >= smax - 1e-12) continue;
     q[0] += 0.25 * side * th_rand(&rs);
     if (q[1] > 1e-12 && q[1] < tmax - 1e-12) q[1] += 0.25 * side * th_rand(&rs);
   }
@@ -357,7 +360,7 @@ static void irregular45_worst(int bending, double worst[2]) {
       double a = LEN / n;
       strip g = lattice45(n, n / 5, a);
       g.clamp = 0.25 * a, g.pin = 0.5 * a * (1 + 1e-9);
-      jitter45(&g, a, 77 * seed);
+      jitter45(&g, a, 0.75 * a, 77 * seed);
       cantilever c = {bending, 1, 0.25 * PI, 0, 0.0};
       double e = tip_error(&g, &c);
       print_message("%s tip load, jittered lattice at 45 degrees %lu, %d cells along: tip "
@@ -423,9 +426,31 @@ static int study(void) {
   return 0;
 }
 
+/* The clamp's table: the jittered lattice at 45 degrees (jitter45, from 0.75 a with two pinned
+ * columns, from 1.4 a with three), morley, tip load, three meshes: mean and largest error. */
+static int clamp_study(void) {
+  printf("| pinned columns | cells along | morley, mean / largest |\n| --- | --- | --- |\n");
+  for (int deep = 1; deep >= 0; deep--)
+    for (int n = 20; n <= 80; n *= 2) {
+      double a = LEN / n, sum = 0.0, worst = 0.0;
+      for (unsigned long seed = 1; seed <= 3; seed++) {
+        strip g = lattice45(n, n / 5, a);
+        if (!deep) g.clamp = 0.25 * a, g.pin = 0.5 * a * (1 + 1e-9);
+        jitter45(&g, a, deep ? 1.4 * a : 0.75 * a, 77 * seed);
+        cantilever c = {SW_BENDING_MORLEY, 1, 0.25 * PI, 0, 0.0};
+        double e = tip_error(&g, &c);
+        sum += e / 3.0, worst = fmax(worst, fabs(e));
+        strip_free(&g);
+      }
+      printf("| %s | %d | %+.3f %% / %.3f %% |\n", deep ? "three (s <= a)" : "two (s <= a/2)", n,
+             100 * sum, 100 * worst);
+      fflush(stdout);
+    }
+  return 0;
+}
+
 int main(int argc, char **argv) {
-  (void)argv;
-  if (argc > 1) return study();
+  if (argc > 1) return strcmp(argv[1], "clamp") ? study() : clamp_study();
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(dihedral_tip_x),    cmocka_unit_test(dihedral_weight_x),
       cmocka_unit_test(dihedral_tip_y),    cmocka_unit_test(dihedral_weight_y),
