@@ -3,15 +3,19 @@
 triangulations, solved statically through the Python package, against the analytic answers.
 
     PYTHONPATH=python SINEW_LIB=build/libsinew.so /usr/bin/python3 tools/bending_study.py [--quick]
+    PYTHONPATH=python SINEW_LIB=build/libsinew.so /usr/bin/python3 tools/bending_study.py --clamp
     /usr/bin/python3 tools/bending_study.py --square OUT.obj N
 
-(--square writes gmsh's Frontal-Delaunay mesh of the unit square at mesh size 1/(N-1), for
-bench/bench_step --obj: the cost of the bending models on an unstructured mesh.)
+(--clamp prints the clamp's table of docs/models.md: the strip at 45 degrees with and without
+triangles across the pinned column.  --square writes gmsh's Frontal-Delaunay mesh of the unit
+square at mesh size 1/(N-1), for bench/bench_step --obj: the cost of the bending models on an
+unstructured mesh.)
 
 Meshes (a strip 0.2 m from the clamp, L/5 wide; two straight pinned columns at s = 0 and s = h
 clamp it at s = h/2; n cells along, h = 0.2/n):
   delaunay   jittered points (every vertex off the clamp, tip and long edges moved by up to
-             +-0.25 h each way, the long edges' only along them), scipy's Delaunay triangulation;
+             +-0.25 h each way, the long edges' only along them), scipy's Delaunay triangulation
+             of the free part s >= h beside the pinned band [0, h] as a column of cells;
   delaunay45 a square lattice of spacing h turned by 45 degrees against the strip, jittered the
              same, plus the boundary points every h, Delaunay: the strip at 45 degrees to the
              mesh's dominant directions;
@@ -49,7 +53,7 @@ def boundary_points(n, nt, h, W, rng, tip):
     return pts
 
 
-def delaunay_strip(n, seed, turned):
+def delaunay_strip(n, seed, turned, raw_band=False):
     rng = np.random.default_rng(seed)
     h = LEN / n
     nt, W, tip = n // 5, LEN / 5, (n + 1) * h
@@ -67,8 +71,27 @@ def delaunay_strip(n, seed, turned):
                 pts.append((i * h + 0.25 * h * rng.uniform(-1, 1),
                             j * h + 0.25 * h * rng.uniform(-1, 1)))
     p = np.array(pts)
-    tri = Delaunay(p).simplices
-    return p, keep_good(p, tri), h
+    return p, keep_good(p, Delaunay(p).simplices if raw_band else banded(p, h)), h
+
+
+def banded(p, h):
+    """The pinned band s <= h as a column of cells (two triangles between each two consecutive
+    vertices of the columns s = 0 and s = h) and the rest, s >= h, by Delaunay on its own: the
+    clamp as gmsh's meshes have it.  A Delaunay triangulation of all the points at once joins
+    the column s = 0 to a free vertex that falls inside a band cell's circumcircle (closer than
+    about 0.2 h to s = h, as the 45-degree lattice's can), across the column s = h."""
+    free = np.where(p[:, 0] > h * (1 - 1e-9))[0]
+    c0, ch = (np.where(np.abs(p[:, 0] - s) < 1e-9 * h)[0] for s in (0.0, h))
+    c0, ch = c0[np.argsort(p[c0, 1])], ch[np.argsort(p[ch, 1])]
+    band = [(c0[j], ch[j], ch[j + 1]) for j in range(len(c0) - 1)]
+    band += [(c0[j], ch[j + 1], c0[j + 1]) for j in range(len(c0) - 1)]
+    return np.vstack([free[Delaunay(p[free]).simplices], np.array(band)])
+
+
+def straddling(p, tri, h):
+    """Triangles with a vertex on s = 0 and one beyond s = h: across the pinned column."""
+    s = p[tri, 0]
+    return int(np.sum((s.min(axis=1) < 1e-9 * h) & (s.max(axis=1) > h * (1 + 1e-9))))
 
 
 def keep_good(p, tri):
@@ -237,10 +260,33 @@ def gmsh_square(path, n):
     print("%s: %d vertices, %d triangles" % (path, len(p), len(tri)))
 
 
+def clamp_study():
+    """The strip at 45 degrees to the lattice, morley, tip load, six meshes per resolution: the
+    error with the whole point set triangulated by Delaunay at once (triangles across the pinned
+    column) and with the pinned band kept as a column of cells, the same points."""
+    seeds = range(1, 7)
+    print("| cells along | triangles across the pinned column, per mesh | Delaunay at once | "
+          "band as cells |\n| --- | --- | --- | --- |")
+    with tempfile.TemporaryDirectory() as folder:
+        for n in (20, 40, 80, 160):
+            count, errs = [], {False: [], True: []}
+            for seed in seeds:
+                for raw in (True, False):
+                    p, tri, h = delaunay_strip(n, 100 * n + seed, True, raw_band=raw)
+                    if raw:
+                        count.append(straddling(p, tri, h))
+                    errs[raw].append(100 * cantilever(folder, p, tri, h, "morley", 1))
+            cells = ["%+.4f %% / %.4f %%" % (np.mean(errs[r]), np.max(np.abs(errs[r])))
+                     for r in (True, False)]
+            print("| %d | %s | %s |" % (n, " ".join(map(str, count)), " | ".join(cells)), flush=True)
+
+
 def main():
     if "--square" in sys.argv:
         k = sys.argv.index("--square")
         return gmsh_square(sys.argv[k + 1], int(sys.argv[k + 2]))
+    if "--clamp" in sys.argv:
+        return clamp_study()
     quick = "--quick" in sys.argv
     sizes = (10, 20, 40) if quick else (10, 20, 40, 80)
     seeds = (1, 2) if quick else (1, 2, 3)
