@@ -479,7 +479,7 @@ static int query_tree(sw_mcontact *mc, const sw_bp_input *in, const int *idx, in
     h->cloth = i, h->b = b, h->ndup = 0;
     if (sw_bvh_query(&t, b, tree_box, h->c, hit_face, h)) return -1;
     if (h->what == 2) continue;
-    qsort(mc->dup, h->ndup, sizeof *mc->dup, dup_order);
+    if (h->ndup > 1) qsort(mc->dup, h->ndup, sizeof *mc->dup, dup_order); /* dup NULL when none */
     for (size_t k = 0; k < h->ndup; k++)
       if ((k == 0 || mc->dup[k].key != mc->dup[k - 1].key) && append_pair(h, mc->dup[k].code))
         return -1;
