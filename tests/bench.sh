@@ -4,12 +4,7 @@
 # run is recorded as failed, a crashed one as crashed, --emit-jobs + --merge give the same
 # errors as local runs, the stability and scaling modes, the charts are valid PNG files, and a
 # fixed-step reference (BDF2) on a contact scene, where CVODE and IDA fail.
-set -u
-sinew=$1
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-fails=0
-fail() { echo "FAIL: $*"; fails=$((fails + 1)); }
+. "$(dirname "$0")/lib.sh"
 scene=tests/data/bench_tiny.yaml
 py=/usr/bin/python3
 

@@ -2,12 +2,7 @@
 # tests/cli.sh SINEW — the command line end to end: help and version, check, a short run of the
 # default scene with every output in place and complete, and bad input refused with
 # file:line:column, a non-zero exit and nothing written.
-set -u
-sinew=$1
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-fails=0
-fail() { echo "FAIL: $*"; fails=$((fails + 1)); }
+. "$(dirname "$0")/lib.sh"
 
 "$sinew" --version | grep -q '^sinew [0-9]' || fail "--version"
 "$sinew" --help | grep -q 'backward-euler' || fail "--help lists the methods"

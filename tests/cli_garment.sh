@@ -9,12 +9,7 @@
 # A tube run stopped by SIGTERM during its fit (exit 143, summary "interrupted", fit_end_s 0)
 # or killed with SIGKILL there, then `sinew run --resume`, writes the logs of a straight run
 # bit for bit (but the step_wall_s column) and its fit_steps.
-set -u
-sinew=$1
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-fails=0
-fail() { echo "FAIL: $*"; fails=$((fails + 1)); }
+. "$(dirname "$0")/lib.sh"
 cp tests/data/tube_pieces.obj tests/data/cylinder.obj "$tmp/"
 good=tests/data/tube_seams.yaml
 

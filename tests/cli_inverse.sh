@@ -3,12 +3,7 @@
 # on scenes/tendon_inverse_2d.yaml (exit 0, the table, the rewritten scene beside the targets,
 # loadable, the forward check passed), an unreachable one (exit 1, the least-squares answer
 # still printed), and bad input (exit 2, file:line:column, nothing written).
-set -u
-sinew=$1
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-fails=0
-fail() { echo "FAIL: $*"; fails=$((fails + 1)); }
+. "$(dirname "$0")/lib.sh"
 
 scene=scenes/tendon_inverse_2d.yaml
 cp scenes/tendon_inverse_2d_targets.csv "$tmp/targets.csv"

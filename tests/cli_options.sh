@@ -5,12 +5,7 @@
 #   the defaults the help pages name are the code's (a run without the option, a bench plan);
 #   a resumed run's summary.json has the resumed part's wall time and the total;
 #   the progress line (on a terminal) shows the share of the duration and the time left.
-set -u
-sinew=$1
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-fails=0
-fail() { echo "FAIL: $*"; fails=$((fails + 1)); }
+. "$(dirname "$0")/lib.sh"
 scene=tests/data/bench_tiny.yaml
 py=/usr/bin/python3
 json() { $py -c "import json,sys; print(json.load(open('$1'))['$2'])"; }

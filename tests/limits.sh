@@ -4,13 +4,10 @@
 # input files, counts beyond the memory budget, `inverse --out` naming an input, damaged run
 # folders in `bench --merge`, and the messages of values out of range.  Each case is bounded by
 # `timeout` so that a regression fails instead of hanging the suite.
-set -u
+. "$(dirname "$0")/lib.sh"
 sinew=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
-tmp=$(mktemp -d)
 pid=
 trap '[ -n "$pid" ] && kill -9 "$pid" 2>/dev/null; rm -rf "$tmp"' EXIT
-fails=0
-fail() { echo "FAIL: $*"; fails=$((fails + 1)); }
 GRID='mesh: {grid: {size: [1, 1], vertices: [3, 3]}}'
 MAT='material: {density: 0.1}'
 

@@ -3,12 +3,7 @@
 # shipped scene's (about 3 s): a fresh run to t = 2 s gives the numbers the picture was drawn
 # with (docs/images/cloth_drawstring_tension.txt, written by tools/readme_pictures.sh, to 0.5 %),
 # and the README quotes them.  When the scene or the physics changes, run tools/readme_pictures.sh.
-set -u
-sinew=$1
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-fails=0
-fail() { echo "FAIL: $*"; fails=$((fails + 1)); }
+. "$(dirname "$0")/lib.sh"
 nums=docs/images/cloth_drawstring_tension.txt
 get() { sed -n "s/^$1 = //p" "$nums"; }
 t=$(get time_s)

@@ -7,13 +7,10 @@
 #   2. Two runs of the same scene with the same settings: tension.csv, energy.csv (all but the
 #      wall-time column step_wall_s), frames.pvd and every frame are bit for bit the same, and
 #      summary.json too apart from its timers and the peak memory (max_rss_mb).
-set -u
+. "$(dirname "$0")/lib.sh"
 sinew=$(cd "$(dirname "$1")" && pwd)/$(basename "$1") # absolute: one test runs elsewhere
-tmp=$(mktemp -d)
 pid=
 trap '[ -n "$pid" ] && kill -9 "$pid" 2>/dev/null; rm -rf "$tmp"' EXIT
-fails=0
-fail() { echo "FAIL: $*"; fails=$((fails + 1)); }
 
 # A CSV log of whole lines: ends in a newline, every line has the header's number of fields.
 # whole_lines FILE [optional]: with "optional", a missing or empty file passes (a run killed

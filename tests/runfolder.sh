@@ -19,12 +19,8 @@
 #      now a folder, the new run cannot create its first file, the folder or its filesystem is
 #      read-only, the earlier run is wholly kept (every file byte for byte, nothing left aside)
 #      and the message says so; a new folder on a read-only filesystem says "nothing written in".
-set -u
+. "$(dirname "$0")/lib.sh"
 sinew=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-fails=0
-fail() { echo "FAIL: $*"; fails=$((fails + 1)); }
 run() { "$sinew" run scenes/hanging_cloth.yaml --duration 0.02 --frames-every 0.01 --quiet "$@"; }
 
 # 1. manifest: what sinew wrote goes, the rest stays
