@@ -338,6 +338,45 @@ static void junction(void **st) {
   sw_model_free(m);
 }
 
+/* Seams whose ends name their panels' corners and notches sew the same curves as seams by
+ * vertex index; the landmarks change neither the panels' materials nor anything else. */
+static void landmarks(void **st) {
+  (void)st;
+  sw_model *by_index = tube("");
+  sw_model *by_mark = th_scene("tests/data/tube.yaml", TUBE_HEAD TUBE_ARRANGE
+      "panels:\n"
+      "  front: {corners: [0, 6, 34, 28], notches: [20]}\n"
+      "  back: {corners: [35, 41, 69, 63], notches: [42]}\n"
+      "seams:\n"
+      "  - name: left\n"
+      "    a: {panel: front, from: {corner: 1}, to: {corner: 2}}\n"
+      "    b: {panel: back, from: {corner: 0}, to: {corner: 3}}\n"
+      "  - name: right\n"
+      "    a: {panel: back, from: {corner: 1}, to: {corner: 2}}\n"
+      "    b: {panel: front, from: {corner: 0}, to: {corner: 3}}\n");
+  assert_int_equal(by_mark->nseam, 2);
+  for (int j = 0; j < 2; j++)
+    for (int s = 0; s < 2; s++) {
+      assert_int_equal(by_mark->seam[j].n[s], by_index->seam[j].n[s]);
+      assert_memory_equal(by_mark->seam[j].curve[s], by_index->seam[j].curve[s],
+                          sizeof(int) * (size_t)by_index->seam[j].n[s]);
+    }
+  for (int f = 0; f < by_mark->nf; f++)
+    assert_true(by_mark->mat[by_mark->face_mat[f]].k_u == by_index->mat[0].k_u);
+  sw_model_free(by_index);
+  sw_model_free(by_mark);
+  /* a notch as a seam end: the front's right side from its notch (vertex 20) up to corner 1 */
+  sw_model *m = th_scene("tests/data/tube.yaml", TUBE_HEAD
+      "panels: {front: {corners: [0, 6, 34, 28], notches: [20]}}\n"
+      "seams:\n"
+      "  - {a: {panel: front, from: {notch: 0}, to: {corner: 1}},"
+      " b: {panel: front, from: 0, to: 14}}\n");
+  assert_int_equal(m->seam[0].n[0], 3);
+  assert_int_equal(m->seam[0].curve[0][0], 20);
+  assert_int_equal(m->seam[0].curve[0][2], 6);
+  sw_model_free(m);
+}
+
 /* A bad scene's message: at the line and column given, naming `name`. */
 static void bad(const char *text, const char *where, const char *name) {
   char err[SW_ERRSZ];
@@ -403,6 +442,27 @@ static void bad_input(void **st) {
   /* an unknown piece */
   bad(TUBE_HEAD "arrange: {sleeve: {rigid: {translate: [0, 0, 0]}}}\n",
       "tube.yaml:4:11: ", "arrange names 'sleeve'");
+  /* an `up` that is no axis of the pattern */
+  bad(TUBE_HEAD "arrange: {front: {cylinder: {top: 0.1, radius: 0.11, up: w}}}\n",
+      "tube.yaml:4:", "arrange front cylinder up");
+  /* landmarks: a vertex of another panel; a corner past the list; a panel listing no
+   * notches; both keys; a landmark inside the panel, not on its boundary */
+  bad(TUBE_HEAD "panels: {front: {corners: [0, 6, 40]}}\n",
+      "tube.yaml:4:", "panel front corners[2] is vertex 40, which no face of the panel holds");
+#define LM_PANELS "panels: {front: {corners: [0, 6, 34, 28, 11]}, back: {}}\nseams:\n"
+  bad(TUBE_HEAD LM_PANELS "  - {a: {panel: front, from: {corner: 4}, to: {corner: 5}},"
+      " b: {panel: back, from: 35, to: 63}}\n",
+      "tube.yaml:6:56: ", "a to corner is 5");
+  bad(TUBE_HEAD LM_PANELS "  - {a: {panel: back, from: {notch: 0}, to: 63},"
+      " b: {panel: front, from: 6, to: 34}}\n",
+      "tube.yaml:6:", "names a notch of panel back, which lists no notches");
+  bad(TUBE_HEAD LM_PANELS "  - {a: {panel: front, from: {corner: 0, notch: 0}, to: 28},"
+      " b: {panel: back, from: 35, to: 63}}\n",
+      "tube.yaml:6:", "has both corner and notch");
+  bad(TUBE_HEAD LM_PANELS "  - {a: {panel: front, from: {corner: 4}, to: 34},"
+      " b: {panel: back, from: 35, to: 63}}\n",
+      "tube.yaml:6:", "a from is vertex 11, which is not on the boundary");
+#undef LM_PANELS
 }
 
 int main(void) {
@@ -415,6 +475,7 @@ int main(void) {
       cmocka_unit_test(arrangement_up),
       cmocka_unit_test(clearance_surfaces),
       cmocka_unit_test(junction),
+      cmocka_unit_test(landmarks),
       cmocka_unit_test(tube_fit),
       cmocka_unit_test(tube_static),
       cmocka_unit_test(bad_input),

@@ -345,3 +345,8 @@ def test_shipped_dxf_garment_is_its_commands(tmp_path):
         assert area == pytest.approx(drawn, rel=5e-3), name
     assert len(re.findall(r"^seam ", chk.stdout, re.M)) == 4
     assert "crossings   0 face pairs intersect at the start" in chk.stdout
+    # the scene's landmarks (which its seams name: {corner: K}) are the skeleton's
+    marks = r'^ *"?(\w+)"?: (\{corners: \[[^\]]*\], notches: \[[^\]]*\]\})$'
+    shipped = re.findall(marks, open(os.path.join(scenes, "garment_skirt_dxf.yaml")).read(), re.M)
+    assert len(shipped) == 4
+    assert shipped == re.findall(marks, (tmp_path / "skel.yaml").read_text(), re.M)

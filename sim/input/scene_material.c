@@ -211,9 +211,11 @@ static int check_uv(const ctx *c, const ynode *at, const sw_mesh *me, const char
                  obj);
 }
 
+/* A panel's map has the material's keys, a uv_scale and its landmarks (corners, notches). */
 static const char *const mat_keys[] = {"density", "membrane", "bending", "bias", "fabric",
-                                       "uv_scale"};
-enum { MK_DENSITY, MK_MEMB, MK_BEND, MK_BIAS, MK_FABRIC, MK_UVSCALE, MK_N };
+                                       "uv_scale", "corners", "notches"};
+enum { MK_DENSITY, MK_MEMB, MK_BEND, MK_BIAS, MK_FABRIC, MK_UVSCALE, MK_CORNERS, MK_NOTCHES,
+       MK_N };
 
 /* Beside a fabric with a bending rigidity, `bending: {model: M}` picks the model that rigidity
  * goes to (quadratic when not given); any other bending key is an error. */
@@ -262,7 +264,7 @@ static int load_keys(const ctx *c, const ynode *y, const char *w, int panel, con
                      const char *obj, sw_material *mat, double *uv_scale) {
   const ynode *v[MK_N] = {0};
   char lab[160];
-  if (sy_map(c, y, w, mat_keys, panel ? MK_N : MK_UVSCALE, v)) return -1;
+  if (sy_map(c, y, w, mat_keys, panel ? MK_N : MK_UVSCALE, v)) return -1; /* see load_panel */
   if (!panel && !v[MK_FABRIC] &&
       sy_need(c, y, v[MK_DENSITY], w, "density", "density: a number > 0 in kg/m^2 (or "
               "fabric: {mass: g/m^2, ...})"))
@@ -304,6 +306,26 @@ typedef struct panels_in {
   double *scale; /* (np + 1) */
 } panels_in;
 
+/* A panel's landmarks, `corners` or `notches` (which `seams` may name instead of vertex
+ * indices, docs/garments.md): a sequence of vertex indices, each a vertex of the panel's
+ * faces.  Whether each is on the boundary is checked where a seam uses it. */
+static int load_landmarks(const ctx *c, const ynode *y, const char *w, const char *key,
+                          const unsigned char *in_panel) {
+  char lab[SW_NAMESZ + 48];
+  snprintf(lab, sizeof lab, "%s %s", w, key);
+  if (sy_seq(c, y, lab, "a sequence of vertex indices (0-based) of the panel")) return -1;
+  for (int i = 0; i < y->n; i++) {
+    char li[SW_NAMESZ + 64];
+    int v = 0;
+    snprintf(li, sizeof li, "%s[%d]", lab, i);
+    if (sy_int(c, y->kid[i], li, 0, c->m->nv - 1, &v)) return -1;
+    if (!in_panel[v])
+      return sy_fail(c, y->kid[i], "%s is vertex %d, which no face of the panel holds; "
+                     "expected a vertex of the panel", li, v);
+  }
+  return 0;
+}
+
 /* One panel: mat[k] = mat[0] + the panel's keys; its group's faces will get material k
  * (pi->panel) and, with a uv_scale, their (u,v) rescaled from the mesh's uv_scale to the
  * panel's (pi->scale[k]). */
@@ -330,7 +352,18 @@ static int load_panel(const ctx *c, const ynode *key, const ynode *val, const sw
   double scale = mesh_scale;
   if (load_keys(c, val, w, 1, me, obj, &m->mat[k], &scale)) return -1;
   pi->scale[k] = scale;
-  return 0;
+  const ynode *v[MK_N];
+  sy_map(c, val, w, mat_keys, MK_N, v); /* load_keys has checked the map */
+  if (!v[MK_CORNERS] && !v[MK_NOTCHES]) return 0;
+  unsigned char *in_panel = sw_calloc((size_t)m->nv, 1);
+  if (!in_panel) return sy_oom(c, val);
+  for (int f = 0; f < m->nf; f++)
+    for (int i = 0; me->fgroup[f] == g && i < 3; i++) in_panel[m->face[3 * f + i]] = 1;
+  int rc = 0;
+  for (int q = MK_CORNERS; !rc && q <= MK_NOTCHES; q++)
+    if (v[q]) rc = load_landmarks(c, v[q], w, mat_keys[q], in_panel);
+  sw_free(in_panel);
+  return rc;
 }
 
 /* Each face of a panel's group: its material and (u,v) scale, in one pass over the faces. */

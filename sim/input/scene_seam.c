@@ -4,6 +4,8 @@
  *     - name: left side                       # optional; "seams[k]" otherwise
  *       a: {panel: front, from: 0, to: 24}    # a run of a panel's boundary, vertex to vertex
  *       b: {panel: back, from: 60, to: 84}    # (0-based OBJ vertex indices, either direction)
+ *       # or an end by its panel's landmark: {panel: back, from: {corner: 0}, to: {notch: 1}},
+ *       # the K-th (0-based) of panels: {back: {corners: [...], notches: [...]}}
  *   sewing: {stiffness: auto, ramp: 0.3, ease_max: 0.1}
  *   fit: {enabled: true, dt: 0.01, damping: 10, gap: 5e-4, speed: 1e-3, max_time: 10}
  *
@@ -116,6 +118,38 @@ int sc_find_group(const ctx *c, const ynode *at, const char *w, const char *says
 }
 
 static const char *const side_keys[] = {"panel", "from", "to"};
+static const char *const mark_keys[] = {"corner", "notch"};
+static const char *const mark_lists[] = {"corners", "notches"};
+
+/* The value of key in mapping y, or NULL. */
+static const ynode *map_get(const ynode *y, const char *key) {
+  for (int p = 0; y && y->kind == Y_MAP && p < y->n / 2; p++)
+    if (y->kid[2 * p]->kind == Y_SCALAR && !strcmp(y->kid[2 * p]->text, key))
+      return y->kid[2 * p + 1];
+  return NULL;
+}
+
+/* A seam end: a vertex index, or {corner: K} / {notch: K}, the K-th (0-based) of the panel's
+ * `corners` / `notches` in `panels` (scene_material.c has checked those lists). */
+static int seam_end(const ctx *c, const ynode *y, const char *lab, const char *panel, int *v) {
+  if (y->kind != Y_MAP) return sy_int(c, y, lab, 0, c->m->nv - 1, v);
+  const ynode *k[2];
+  char l2[SW_NAMESZ + 112];
+  if (sy_map(c, y, lab, mark_keys, 2, k)) return -1;
+  if (!k[0] == !k[1])
+    return sy_fail(c, y, "%s has %s; expected a vertex index, {corner: K} or {notch: K}", lab,
+                   k[0] ? "both corner and notch" : "neither corner nor notch");
+  int q = k[0] ? 0 : 1, i = 0;
+  const ynode *list = map_get(map_get(map_get(c->root, "panels"), panel), mark_lists[q]);
+  int n = list ? list->n : 0;
+  snprintf(l2, sizeof l2, "%s %s", lab, mark_keys[q]);
+  if (!n)
+    return sy_fail(c, y, "%s names a %s of panel %s, which lists no %s; expected a vertex "
+                   "index, or panels: {%s: {%s: [vertex, ...]}}", lab, mark_keys[q], panel,
+                   mark_lists[q], panel, mark_lists[q]);
+  if (sy_int(c, k[q], l2, 0, n - 1, &i)) return -1;
+  return sy_int(c, list->kid[i], l2, 0, c->m->nv - 1, v);
+}
 
 /* One side of a seam: its curve into sm->curve[k], sm->n[k], its rest edge lengths into *el. */
 static int load_side(const ctx *c, const ynode *y, const char *w, sw_seam *sm, int k,
@@ -127,8 +161,10 @@ static int load_side(const ctx *c, const ynode *y, const char *w, sw_seam *sm, i
   snprintf(lab, sizeof lab, "%s %s", w, k ? "b" : "a");
   if (sy_map(c, y, lab, side_keys, 3, v) ||
       sy_need(c, y, v[0], lab, "panel", "panel: an OBJ group name") ||
-      sy_need(c, y, v[1], lab, "from", "from: a vertex index on the panel's boundary") ||
-      sy_need(c, y, v[2], lab, "to", "to: a vertex index on the panel's boundary"))
+      sy_need(c, y, v[1], lab, "from", "from: a vertex index on the panel's boundary, or "
+              "{corner: K} or {notch: K}") ||
+      sy_need(c, y, v[2], lab, "to", "to: a vertex index on the panel's boundary, or "
+              "{corner: K} or {notch: K}"))
     return -1;
   int g = 0;
   if (sy_str(c, v[0], lab, SW_NAMESZ, &name) || sc_find_group(c, v[0], w, "panel is", name, &g))
@@ -137,7 +173,7 @@ static int load_side(const ctx *c, const ynode *y, const char *w, sw_seam *sm, i
   for (int e = 0; e < 2; e++) {
     char l2[SW_NAMESZ + 80];
     snprintf(l2, sizeof l2, "%s %s", lab, side_keys[1 + e]);
-    if (sy_int(c, v[1 + e], l2, 0, m->nv - 1, ends + e)) return -1;
+    if (seam_end(c, v[1 + e], l2, name, ends + e)) return -1;
   }
   snprintf(sm->group[k], sizeof sm->group[k], "%s", name);
   for (int f = 0; f < m->nf; f++) /* the material of the panel's faces */

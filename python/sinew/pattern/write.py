@@ -46,7 +46,9 @@ def scene_text(meshed, obj_rel, header, name):
     out += ["#",
             "# Vertex indices below are 0-based, as scene selections count them",
             "# ({select: {vertices: [...]}}); each boundary runs counter-clockwise in (u,v),",
-            "# starting at a corner; corners and notches are in boundary order.",
+            "# starting at a corner; corners and notches are in boundary order.  `panels` below",
+            "# lists each piece's corners and notches again, so that seams can name their ends",
+            "# by them: a: {panel: NAME, from: {corner: 0}, to: {corner: 1}} (docs/garments.md).",
             "#", "# pieces:"]
     base = 0
     for m in meshed:
@@ -72,7 +74,12 @@ def scene_text(meshed, obj_rel, header, name):
         base += n
     out += ["", "name: %s" % json.dumps(name), "dimension: 3",
             "mesh: {obj: %s}" % json.dumps(obj_rel), MATERIAL.rstrip(), "panels:"]
-    out += ["  %s: {}" % json.dumps(m.group) for m in meshed]
+    first = 0
+    for m in meshed:
+        marks = ["%s: [%s]" % (key, ", ".join(str(v + first) for v in vals))
+                 for key, vals in (("corners", m.corners), ("notches", m.notches)) if vals]
+        out.append("  %s: {%s}" % (json.dumps(m.group), ", ".join(marks)))
+        first += len(m.xy)
     return "\n".join(out) + "\n"
 
 
