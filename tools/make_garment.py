@@ -4,6 +4,7 @@
     /usr/bin/python3 tools/make_garment.py skirt [--waist 0.70] [--hip 1.00] [--hem 1.10]
         [--ease -0.07] [--waist-ease -0.03] [--hip-depth 0.17] [--length 0.55]
         [--columns 8] [--rows 20] [-o scenes/meshes/garment_skirt.obj]
+        [--dxf scenes/patterns/garment_skirt.dxf]
     /usr/bin/python3 tools/make_garment.py tank [--bust 0.88] [--ease -0.07] [--length 0.275]
         [--strap-length 0.185] [--strap-width 0.05] [--strap-at 0.11] [--columns 16]
         [--rows 10] [--strap-columns 5] [--strap-rows 8] [-o scenes/meshes/garment_tank.obj]
@@ -11,6 +12,7 @@
         [--strap-length 0.20] [--strap-width 0.10] [--strap-at 0.115] [--columns 16] [--rows 10]
         [--strap-columns 5] [--strap-rows 8] [--sleeve-width 0.36] [--sleeve-length 0.12]
         [--sleeve-columns 12] [--sleeve-rows 8] [-o scenes/meshes/garment_tshirt.obj]
+        [--dxf scenes/patterns/garment_tshirt.dxf]
     /usr/bin/python3 tools/make_garment.py tube [--width 0.3] [--height 0.2] [--columns 6]
         [--rows 4] [-o tests/data/tube_pieces.obj]
     /usr/bin/python3 tools/make_garment.py body [--waist 0.70] [--hip 1.00] [--bust 0.90]
@@ -23,7 +25,10 @@ z = 0, laid side by side), its own per-corner (u,v) in metres (`vt`, u across, v
 own group (`usemtl NAME`); the scene sews them with `seams` and places them with `arrange`
 (docs/garments.md).  Each piece is a grid of quads (the tank's with the neckline cut out); its
 corners are printed as a comment at the head of the file (0-based vertex indices, as the
-scene's `seams` take them) and on stdout as the scene's `seams:` list.
+scene's `seams` take them) and on stdout as the scene's `seams:` list.  With --dxf, skirt
+and tshirt write the pattern instead as a DXF file as a pattern CAD system exports it (ASTM
+D6673; the same bytes for the same command), for `sinew pattern import` (docs/garments.md, "A
+skirt from its DXF pattern", "A T-shirt from its DXF pattern").
 
 skirt: four quarter panels (back_left, back_right, front_right, front_left, in that order
 anticlockwise seen from above), sewn at the centre back, the right side, the centre front and
@@ -160,6 +165,24 @@ def skirt(a):
     pieces_obj(a.output, title, pieces, seams)
 
 
+def dxf_document():
+    """A new DXF document as a pattern CAD system exports one (R2000, millimetres), its
+    metadata fixed so that the same command writes the same bytes."""
+    import ezdxf  # Debian's python3-ezdxf; only the DXF outputs need it
+
+    ezdxf.options.write_fixed_meta_data_for_testing = True
+    doc = ezdxf.new("R2000")
+    doc.header["$INSUNITS"] = 4
+    return doc
+
+
+def dxf_save(doc, path, what):
+    for var in ("$TDCREATE", "$TDUPDATE"):  # a fixed date: 2026-01-01 (Julian day)
+        doc.header[var] = 2461041.5
+    doc.saveas(path)
+    print("wrote %s: %s, mm" % (path, what))
+
+
 def skirt_dxf(a, width):
     """The skirt's pattern as a pattern CAD system exports it (ASTM D6673, as CLO writes it: DXF
     R2000, millimetres in $INSUNITS, LWPOLYLINE boundaries): a FRONT and a BACK block, the
@@ -167,17 +190,13 @@ def skirt_dxf(a, width):
     mirrored; the grain line (layer 7) from the hem up to the waist, so that u runs up the
     body; a notch (layer 4) at the hip line on both sides.  The boundary's sides follow
     width(y) at 2 mm steps of depth."""
-    import ezdxf  # Debian's python3-ezdxf; only this output needs it
-
-    ezdxf.options.write_fixed_meta_data_for_testing = True  # the same file for the same command
     mm = 1000.0
     steps = max(2, int(round(a.length * mm / 2)))
     ys = [a.length * k / steps for k in range(steps + 1)]  # depth below the waist, m
     hip = a.length - a.hip_depth  # the hip line's height above the hem, m
     right = [(width(y) / 2 * mm, (a.length - y) * mm) for y in reversed(ys)]  # hem to waist
     left = [(-x, yy) for x, yy in reversed(right)]                             # waist to hem
-    doc = ezdxf.new("R2000")
-    doc.header["$INSUNITS"] = 4
+    doc = dxf_document()
     msp = doc.modelspace()
     for name in ("FRONT", "BACK"):
         b = doc.blocks.new(name)
@@ -192,10 +211,7 @@ def skirt_dxf(a, width):
         msp.add_blockref(name, (2 * k * gap, 0))
         msp.add_blockref(name, ((2 * k + 1) * gap, 0), dxfattribs={"xscale": -1})
     msp.add_text("Style Name: four-panel skirt (tools/make_garment.py skirt --dxf)")
-    for var in ("$TDCREATE", "$TDUPDATE"):  # a fixed date: 2026-01-01 (Julian day)
-        doc.header[var] = 2461041.5
-    doc.saveas(a.dxf)
-    print("wrote %s: FRONT and BACK, each placed twice (once mirrored), mm" % a.dxf)
+    dxf_save(doc, a.dxf, "FRONT and BACK, each placed twice (once mirrored)")
 
 
 def tube(a):
@@ -328,9 +344,70 @@ def cap_height_for(a, want):
     return 0.5 * (lo + hi)
 
 
+def dxf_piece(doc, block, outline, grain, turns, notches, quantity):
+    """A piece's block: its closed outline (layer 1), grain line (layer 7, first point to
+    last), turn points (layer 2: corners however slight the turn) and notches (layer 4), all
+    in m, written in mm."""
+    mm = 1000.0
+    b = doc.blocks.new(block)
+    b.add_lwpolyline([(x * mm, y * mm) for x, y in outline], close=True,
+                     dxfattribs={"layer": "1"})
+    b.add_line(*[(x * mm, y * mm) for x, y in grain], dxfattribs={"layer": "7"})
+    for layer, pts in (("2", turns), ("4", notches)):
+        for x, y in pts:
+            b.add_point((x * mm, y * mm), dxfattribs={"layer": layer})
+    b.add_text("Piece Name: %s" % block.title(), dxfattribs={"layer": "1"})
+    b.add_text("Quantity: %d" % quantity, dxfattribs={"layer": "1"})
+
+
+def top_outline(a, steps):
+    """A top's body piece (tank_piece's shape) as a counter-clockwise outline with the hem at
+    y = 0 and the piece's centre line at x = 0, m: the armholes at `steps` points each; and
+    its ten corners (hem, armpits, shoulder points, neck points, the neckline's foot)."""
+    half = a.bust * (1 + a.ease) / 4
+    inner0 = half - a.strap_columns * 2 * half / a.columns
+    inner1, outer1 = a.strap_at - a.strap_width / 2, a.strap_at + a.strap_width / 2
+    top, arm = a.length + a.strap_length, a.length
+    hole = [(outer1 + (half - outer1) * (1 - k / steps) ** 2, arm + a.strap_length * k / steps)
+            for k in range(steps + 1)]             # armpit up to the shoulder point, x > 0
+    right = [(half, 0.0)] + hole + [(inner1, top), (inner0, arm)]
+    left = [(-x, y) for x, y in reversed(right)]
+    corners = [(half, 0.0), (half, arm), (outer1, top), (inner1, top), (inner0, arm)]
+    return [(-half, 0.0)] + right + left[:-1], corners + [(-x, y) for x, y in corners]
+
+
+def tshirt_dxf(a, h):
+    """The T-shirt's pattern as a pattern CAD system exports it (ASTM D6673 as CLO writes it,
+    like skirt_dxf): FRONT and BACK, the same body piece, and a SLEEVE placed twice, the
+    second time mirrored; grain lines from the hem up (u up the body and up the arm); the
+    corners as turn points; a notch at the top of the sleeve's cap, where its front half
+    meets its back half."""
+    doc = dxf_document()
+    body, body_corners = top_outline(a, 100)
+    w, L = a.sleeve_width, a.sleeve_length
+    cap = [(w * (k / 200 - 0.5), L + h * math.cos(math.pi * (k / 200 - 0.5)) ** 2)
+           for k in range(201)]                    # the cap, left to right
+    sleeve = [(-w / 2, 0.0), (w / 2, 0.0)] + cap[::-1]
+    for name in ("FRONT", "BACK"):
+        dxf_piece(doc, name, body, [(0, 0.1 * a.length), (0, 0.9 * a.length)], body_corners,
+                  [], 1)
+    dxf_piece(doc, "SLEEVE", sleeve, [(0, 0.1 * L), (0, 0.9 * L)],
+              [(-w / 2, 0.0), (w / 2, 0.0), (-w / 2, L), (w / 2, L)], [(0.0, L + h)], 2)
+    msp = doc.modelspace()
+    gap = 1000.0 * (a.bust * (1 + a.ease) / 2 + 0.05)
+    msp.add_blockref("FRONT", (0, 0))
+    msp.add_blockref("BACK", (gap, 0))
+    msp.add_blockref("SLEEVE", (2 * gap, 0))
+    msp.add_blockref("SLEEVE", (2 * gap + 1000.0 * (w + 0.05), 0), dxfattribs={"xscale": -1})
+    msp.add_text("Style Name: T-shirt (tools/make_garment.py tshirt --dxf)")
+    dxf_save(doc, a.dxf, "FRONT, BACK and SLEEVE (placed twice, once mirrored)")
+
+
 def tshirt(a):
     want = armhole_length(a)
     h = cap_height_for(a, want)
+    if a.dxf:
+        return tshirt_dxf(a, h)
     pieces = [tank_piece(n, a) for n in ("front", "back")]
     pieces += [sleeve_piece(n, a, h) for n in ("left_sleeve", "right_sleeve")]
     # the armholes: the left sleeve (on the body's left, +x) has its u < 0 half towards the
@@ -478,6 +555,7 @@ def main():
     k.add_argument("--sleeve-length", type=float, default=0.12, help="cap's foot to hem, m")
     k.add_argument("--sleeve-columns", type=int, default=12, help="round the sleeve (even)")
     k.add_argument("--sleeve-rows", type=int, default=8, help="cap to hem")
+    k.add_argument("--dxf", help="write the pattern as a DXF file (ASTM D6673) instead of an OBJ")
     b = sub.add_parser("body", help="a closed body of revolution")
     b.add_argument("--height", type=float, default=1.70, help="m")
     b.add_argument("--bust", type=float, default=0.90, help="girth, m")

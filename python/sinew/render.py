@@ -32,7 +32,7 @@ import matplotlib.ticker
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-from matplotlib import animation, cm, colors  # noqa: E402
+from matplotlib import animation, cm, colors, patheffects  # noqa: E402
 from matplotlib.collections import LineCollection, PolyCollection  # noqa: E402
 from mpl_toolkits.mplot3d.art3d import Line3DCollection, Poly3DCollection  # noqa: E402
 
@@ -647,8 +647,11 @@ def draw_flat(ax, cloth, tend, txy_norm, t_norm, scene=None):
     for p in sorted(set(piece.tolist())):
         name = names[p] if p < len(names) else None
         a, b = grain_line(uv[piece == p], scene.piece_bias(name) + (90.0 if p in turned else 0.0))
-        ax.annotate("", b, a, arrowprops={"arrowstyle": "<|-|>", "color": "white", "lw": 1.2,
-                                          "shrinkA": 0, "shrinkB": 0, "mutation_scale": 9})
+        # white with a dark rim: seen on the fabric's colours and where it crosses a cutout
+        ax.annotate("", b, a, arrowprops={
+            "arrowstyle": "<|-|>", "color": "white", "lw": 1.2, "shrinkA": 0, "shrinkB": 0,
+            "mutation_scale": 9,
+            "path_effects": [patheffects.withStroke(linewidth=2.4, foreground="0.25")]})
         if name:
             ax.annotate(name, (a + b) / 2, xytext=(0, -14), textcoords="offset points",
                         ha="center", va="center", fontsize=10, color="black",

@@ -300,34 +300,45 @@ def test_out_of_spec_integers_are_repaired_and_listed(fx, tmp_path, capsys):
     assert "recovered invalid integer" not in err  # listed by --list, not printed
 
 
-def test_shipped_dxf_garment_is_its_commands(tmp_path):
-    """scenes/patterns/garment_skirt.dxf is what `make_garment.py skirt --dxf` writes (the same
-    bytes: no dates or GUIDs of the moment), scenes/meshes/garment_skirt_dxf.obj is what `sinew
-    pattern import` makes of it (gmsh is deterministic here), each piece's rest area is the
-    drawn polygon's within 0.5 %, and the scene that sews them loads: four seams, nothing
-    crossing at the start."""
+SHIPPED_DXF = {  # garment: (make_garment.py's arguments, each piece's block, seams)
+    "skirt": (["skirt", "--hip", "0.96", "--hip-depth", "0.204"],
+              {"Front": "FRONT", "Front_2": "FRONT", "Back": "BACK", "Back_2": "BACK"}, 4),
+    "tshirt": (["tshirt"], {"Front": "FRONT", "Back": "BACK", "Sleeve": "SLEEVE",
+                            "Sleeve_2": "SLEEVE"}, 10)}
+
+
+@pytest.mark.parametrize("garment", sorted(SHIPPED_DXF))
+def test_shipped_dxf_garment_is_its_commands(tmp_path, garment):
+    """scenes/patterns/garment_G.dxf is what `make_garment.py G --dxf` writes (the same bytes:
+    no dates or GUIDs of the moment), scenes/meshes/garment_G_dxf.obj is what `sinew pattern
+    import` makes of it (gmsh is deterministic here), each piece's rest area is its drawn
+    polygon's within 0.5 %, the scene that sews them loads (its seams, nothing crossing at the
+    start) and its pieces' corners and notches are those the importer lists."""
     import ezdxf
+    args, blocks, nseam = SHIPPED_DXF[garment]
     scenes = os.path.join(ROOT, "scenes")
-    dxf = os.path.join(scenes, "patterns", "garment_skirt.dxf")
-    obj = os.path.join(scenes, "meshes", "garment_skirt_dxf.obj")
-    subprocess.run(["/usr/bin/python3", os.path.join(ROOT, "tools", "make_garment.py"), "skirt",
-                    "--hip", "0.96", "--hip-depth", "0.204", "--dxf", str(tmp_path / "p.dxf")],
-                   check=True, capture_output=True)
+    dxf = os.path.join(scenes, "patterns", "garment_%s.dxf" % garment)
+    obj = os.path.join(scenes, "meshes", "garment_%s_dxf.obj" % garment)
+    scene = os.path.join(scenes, "garment_%s_dxf.yaml" % garment)
+    subprocess.run(["/usr/bin/python3", os.path.join(ROOT, "tools", "make_garment.py")] + args +
+                   ["--dxf", str(tmp_path / "p.dxf")], check=True, capture_output=True)
     assert (tmp_path / "p.dxf").read_bytes() == open(dxf, "rb").read()
     (tmp_path / "patterns").mkdir()
     (tmp_path / "meshes").mkdir()
-    (tmp_path / "patterns" / "garment_skirt.dxf").write_bytes(open(dxf, "rb").read())
-    r = subprocess.run([os.path.abspath(SINEW), "pattern", "import", "patterns/garment_skirt.dxf", "--obj",
-                        "meshes/garment_skirt_dxf.obj", "--scene", "skel.yaml", "--quiet"],
+    (tmp_path / "patterns" / os.path.basename(dxf)).write_bytes(open(dxf, "rb").read())
+    r = subprocess.run([os.path.abspath(SINEW), "pattern", "import",
+                        "patterns/" + os.path.basename(dxf), "--obj",
+                        "meshes/" + os.path.basename(obj), "--scene", "skel.yaml", "--quiet"],
                        cwd=tmp_path, capture_output=True, text=True)
     assert r.returncode == 0, r.stderr
-    assert (tmp_path / "meshes" / "garment_skirt_dxf.obj").read_text() == open(obj).read()
-    # the drawn polygon's area, m² (the boundary is an LWPOLYLINE of 2 mm steps, in mm)
-    poly = [e for e in ezdxf.readfile(dxf).blocks.get("FRONT") if e.dxftype() == "LWPOLYLINE"]
-    p = np.array([pt[:2] for pt in poly[0].get_points()]) / 1000.0
-    drawn = 0.5 * abs(np.dot(p[:, 0], np.roll(p[:, 1], 1)) - np.dot(p[:, 1], np.roll(p[:, 0], 1)))
-    chk = subprocess.run([SINEW, "check", os.path.join(scenes, "garment_skirt_dxf.yaml")],
-                         capture_output=True, text=True)
+    assert (tmp_path / "meshes" / os.path.basename(obj)).read_text() == open(obj).read()
+    drawn = {}  # each block's drawn polygon's area, m² (an LWPOLYLINE in mm)
+    for block in set(blocks.values()):
+        poly = [e for e in ezdxf.readfile(dxf).blocks.get(block) if e.dxftype() == "LWPOLYLINE"]
+        p = np.array([pt[:2] for pt in poly[0].get_points()]) / 1000.0
+        drawn[block] = 0.5 * abs(np.dot(p[:, 0], np.roll(p[:, 1], 1)) -
+                                 np.dot(p[:, 1], np.roll(p[:, 0], 1)))
+    chk = subprocess.run([SINEW, "check", scene], capture_output=True, text=True)
     assert chk.returncode == 0, chk.stderr
     vt, areas, group = [], {}, None
     for line in open(obj):
@@ -340,13 +351,13 @@ def test_shipped_dxf_garment_is_its_commands(tmp_path):
             a, b, c = (np.array(vt[int(k.split("/")[1]) - 1]) for k in t[1:4])
             e, f = b - a, c - a
             areas[group] = areas.get(group, 0.0) + 0.5 * (e[0] * f[1] - e[1] * f[0])
-    assert sorted(areas) == ["Back", "Back_2", "Front", "Front_2"]
+    assert sorted(areas) == sorted(blocks)
     for name, area in areas.items():  # (u,v) counter-clockwise: positive
-        assert area == pytest.approx(drawn, rel=5e-3), name
-    assert len(re.findall(r"^seam ", chk.stdout, re.M)) == 4
+        assert area == pytest.approx(drawn[blocks[name]], rel=5e-3), name
+    assert len(re.findall(r"^seam ", chk.stdout, re.M)) == nseam
     assert "crossings   0 face pairs intersect at the start" in chk.stdout
     # the scene's landmarks (which its seams name: {corner: K}) are the skeleton's
-    marks = r'^ *"?(\w+)"?: (\{corners: \[[^\]]*\], notches: \[[^\]]*\]\})$'
-    shipped = re.findall(marks, open(os.path.join(scenes, "garment_skirt_dxf.yaml")).read(), re.M)
-    assert len(shipped) == 4
+    marks = r'^ *"?(\w+)"?: (\{corners: \[[^\]]*\](?:, notches: \[[^\]]*\])?\})$'
+    shipped = re.findall(marks, open(scene).read(), re.M)
+    assert len(shipped) == len(blocks)
     assert shipped == re.findall(marks, (tmp_path / "skel.yaml").read_text(), re.M)
