@@ -652,9 +652,13 @@ def draw_flat(ax, cloth, tend, txy_norm, t_norm, scene=None):
             "arrowstyle": "<|-|>", "color": "white", "lw": 1.2, "shrinkA": 0, "shrinkB": 0,
             "mutation_scale": 9,
             "path_effects": [patheffects.withStroke(linewidth=2.4, foreground="0.25")]})
-        if name:
-            ax.annotate(name, (a + b) / 2, xytext=(0, -14), textcoords="offset points",
-                        ha="center", va="center", fontsize=10, color="black",
+        if name:  # beside the arrow's middle, below it or to its right, off both heads
+            d = (b - a) / max(float(np.hypot(*(b - a))), 1e-300)
+            n = np.array([d[1], -d[0]]) if abs(d[0]) >= abs(d[1]) else np.array([-d[1], d[0]])
+            n = n if n[0] > 0.5 or n[1] < -0.5 else -n
+            ax.annotate(name, (a + b) / 2, xytext=tuple(8 * n), textcoords="offset points",
+                        ha="left" if n[0] > 0.5 else "center",
+                        va="top" if n[1] < -0.5 else "center", fontsize=10, color="black",
                         bbox={"boxstyle": "round,pad=0.2", "fc": "white", "alpha": 0.8,
                               "lw": 0})
     lookup = corner_lookup(cloth, uv, piece)
