@@ -20,7 +20,7 @@ reps=${REPS:-2}
 reuse=${REUSE:-on}
 bw_reuse=${BW_REUSE:-}
 steps=${STEPS:-10}
-bw_sizes=${BW_SIZES:-40 80 120 160 512}
+bw_sizes=${BW_SIZES-40 80 120 160 512}
 out=${OUT:-docs/bench/newton}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
