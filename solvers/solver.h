@@ -216,8 +216,9 @@ typedef struct sw_newton_opts {
 #define SW_CG_ETA 1e-2
 #define SW_CG_ABS 0.1
 /* reuse step: CG's SW_CG_ABS (no final correction follows it there); 0.1 left Newmark's 24 x 24
- * cloth 1.04 tol from the fresh-factorisation run at t = 0.1 s, 0.05 0.8 tol, 0.03 0.13 tol
- * but one CG solve in ten steps hit SW_CG_MAX (tests/test_newton.c, reuse_matches) */
+ * cloth 1.04 tol from the fresh-factorisation run at t = 0.1 s, 0.05 0.8 tol; 0.03 left
+ * backward Euler's 0.13 tol, but one of its ten confirming solves fell back to a
+ * factorisation (tests/test_newton.c, reuse_matches) */
 #define SW_CG_STEP_ABS 0.05
 #define SW_CG_KEEP 4
 #define SW_CG_MAX 12
