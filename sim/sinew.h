@@ -350,8 +350,10 @@ SW_API const char *const *sw_factor_names(void);
 /* Newton's linear solves (docs/integrators.md, "Newton-Krylov"): off, a factorisation per
  * iteration; on, conjugate gradients preconditioned by the last factorisation; auto, on when
  * the factorisation is simplicial (small systems, where a solve costs little against a
- * factorisation), off when supernodal.  Scene names false/true/auto, CLI off/on/auto. */
-enum { SW_REUSE_OFF = 0, SW_REUSE_ON = 1, SW_REUSE_AUTO = 2 };
+ * factorisation), off when supernodal; step, a fresh factorisation at each solve's first
+ * iteration and conjugate gradients preconditioned by it at the solve's later ones.  Scene
+ * names false/true/auto/step, CLI off/on/auto/step. */
+enum { SW_REUSE_OFF = 0, SW_REUSE_ON = 1, SW_REUSE_AUTO = 2, SW_REUSE_STEP = 3 };
 
 /* The encoding of the frames (sim/output/vtu.c, docs/scenes.md "Frames"): VTK XML with its
  * arrays appended raw and zlib-compressed (as ParaView writes), every real exact (Float64) or

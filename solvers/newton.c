@@ -3,7 +3,8 @@
  * over the free DOFs (backward Euler is its minimiser with a = 1/h^2).  An iteration solves
  * S dx = -grad Phi with S = a M + H (+ cd D), H the terms' Hessian filtered per element as the
  * `hessian` mode asks: by a fresh factorisation, or (reuse) by conjugate gradients on this S
- * preconditioned with the last factorisation, renewed only when CG slows down (Newton-Krylov
+ * preconditioned with the last factorisation (reuse step: the factorisation of the solve's
+ * first S), renewed only when CG slows down (Newton-Krylov
  * with a lagged preconditioner: Knoll and Keyes, "Jacobian-free Newton-Krylov methods: a
  * survey of approaches and applications", J. Comput. Phys. 2004; the direction stays Newton's
  * to CG's tolerance, so the iterates do not change beyond it).
@@ -630,7 +631,7 @@ static void apply_s(const sw_newton *nw, const double *x, double *y) {
  * model, so dx is a descent direction whenever it returns > 0. */
 static int pcg(sw_newton *nw, sw_data *d, const sw_newton_opts *o, double rel) {
   const int n = nw->n, kmax = SW_CG_MAX;
-  const double eta = SW_CG_ETA, cabs = SW_CG_ABS;
+  const double eta = SW_CG_ETA, cabs = o->reuse == SW_REUSE_STEP ? SW_CG_STEP_ABS : SW_CG_ABS;
   double *x = nw->dx, *r = nw->cr, *z = nw->cz, *p = nw->cp, *q = nw->cq;
   double t0 = sw_now();
   memset(x, 0, (size_t)n * sizeof(double));
@@ -676,7 +677,8 @@ int sw_newton_pcg(sw_newton *nw, sw_data *d, const sw_newton_opts *o) { return p
 /* Newton's direction dx = S^-1 b, b = -grad Phi in nw->g: with reuse and a kept
  * factorisation, by conjugate gradients (the factorisation marked stale when they needed more
  * than SW_CG_KEEP iterations); otherwise, or when they do not converge, by a fresh
- * factorisation.  *fresh says which. */
+ * factorisation.  reuse step marks the factorisation stale at each solve's start, so its first
+ * iteration factorises and the later ones use that factorisation.  *fresh says which. */
 static int direction(sw_newton *nw, const sw_model *m, sw_data *d, const double *x,
                      const sw_newton_opts *o, int *fresh) {
   *fresh = 0;
@@ -779,6 +781,7 @@ int sw_newton_solve(sw_newton *nw, const sw_model *m, sw_data *d, double *x, con
     nw->skip--;
     nw->fac_stale = 1;
   }
+  if (o->reuse == SW_REUSE_STEP) nw->fac_stale = 1; /* each solve factorises its first S */
   const double xfloor = round_off_floor(m, x);
   nw->mfrac = 1.0;
   double prev = 0.0, phi = 0.0; /* max |dx| of the last iteration; Phi at x */
@@ -813,7 +816,9 @@ int sw_newton_solve(sw_newton *nw, const sw_model *m, sw_data *d, double *x, con
     if ((left <= o->tol_dx || dxmax <= xfloor || stalled) &&
         contact_check(nw, m, d, x, o->t, STEP_SETTLED) == 1.0) {
       add_step(m, x, nw->dx, 1.0, x);
-      return fresh ? SW_OK : polish(nw, m, d, x, xhat, o);
+      /* step: CG's preconditioner is this solve's own factorisation, no correction
+       * (docs/integrators.md, "Newton-Krylov") */
+      return fresh || o->reuse == SW_REUSE_STEP ? SW_OK : polish(nw, m, d, x, xhat, o);
     }
     if (o->line_search) {
       rc = sw_newton_line_search(nw, m, d, x, xhat, o, phi, slope);

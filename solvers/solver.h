@@ -188,8 +188,9 @@ typedef struct sw_newton_opts {
   int hessian;           /* SW_HESSIAN_* */
   int reuse;             /* SW_REUSE_*: Newton-Krylov, each direction by conjugate
                             gradients on the current S preconditioned by the last
-                            factorisation (kept across iterations, line searches and solves);
-                            off: factorise every S */
+                            factorisation (kept across iterations, line searches and solves;
+                            step: a fresh one at each solve's first iteration, no final
+                            correction); off: factorise every S */
   double cd;             /* damping: v = cd (x - xd) at the stage, 1/s (0: no damping term) */
   const double *xd;      /* (nv x dim) */
   double h;              /* s: the time step (contact friction's lag; 0 in a static solve) */
@@ -214,6 +215,11 @@ typedef struct sw_newton_opts {
  * "Newton-Krylov"). */
 #define SW_CG_ETA 1e-2
 #define SW_CG_ABS 0.1
+/* reuse step: CG's SW_CG_ABS (no final correction follows it there); 0.1 left Newmark's 24 x 24
+ * cloth 1.04 tol from the fresh-factorisation run at t = 0.1 s, 0.05 0.8 tol; 0.03 left
+ * backward Euler's 0.13 tol, but one of its ten confirming solves fell back to a
+ * factorisation (tests/test_newton.c, reuse_matches) */
+#define SW_CG_STEP_ABS 0.05
 #define SW_CG_KEEP 4
 #define SW_CG_MAX 12
 #define SW_CG_BACKOFF 15

@@ -110,43 +110,50 @@ static void lagged_direction(void **state) {
   sw_model_free(m);
 }
 
-/* The 24 x 24 hanging cloth to t = 0.1 s by every fixed-step Newton method, with reuse (CG on
- * the lagged factorisation) and without (a factorisation per iteration): the positions agree
- * to Newton's tolerance, tol * dt in the RMS over vertices, while reuse factorises less. */
+/* The 24 x 24 hanging cloth to t = 0.1 s by every fixed-step Newton method, with reuse on (CG
+ * on the lagged factorisation), reuse step (a factorisation at each step's first iteration, CG
+ * on it at the later ones) and without (a factorisation per iteration): the positions agree
+ * to Newton's tolerance, tol * dt in the RMS over vertices, while reuse factorises less; with
+ * step, exactly one factorisation per step wherever CG converged (none here needs more than
+ * SW_CG_MAX iterations), and each later iteration solved by CG. */
 static void reuse_matches(void **state) {
   (void)state;
   static const char *const methods[] = {"backward-euler", "bdf2", "implicit-midpoint",
                                         "newmark"};
+  static const int modes[3] = {SW_REUSE_OFF, SW_REUSE_ON, SW_REUSE_STEP};
   sw_model *m = cloth(24);
   const int nd = m->nv * m->dim;
   double *x0 = calloc((size_t)nd, sizeof *x0);
   for (int j = 0; j < 4; j++) {
     const sw_integrator_ops *ops = sw_integrator_find(methods[j]);
-    long nfac[2], ncg[2];
-    double rms = 0.0;
-    for (int reuse = 0; reuse < 2; reuse++) {
-      m->opt.newton_reuse = reuse ? SW_REUSE_ON : SW_REUSE_OFF;
+    long nfac[3], ncg[3], nnewton[3], nstep[3];
+    double rms[3] = {0.0, 0.0, 0.0};
+    for (int r = 0; r < 3; r++) {
+      m->opt.newton_reuse = modes[r];
       void *st;
       sw_data *d = th_start(ops, m, &st);
       assert_non_null(d);
       take(ops, st, m, d, 10);
-      nfac[reuse] = d->nfactor, ncg[reuse] = d->ncg;
-      if (!reuse) memcpy(x0, d->x, (size_t)nd * sizeof *x0);
-      else {
-        for (int i = 0; i < nd; i++) rms += (d->x[i] - x0[i]) * (d->x[i] - x0[i]);
-        rms = sqrt(rms / m->nv);
-      }
+      nfac[r] = d->nfactor, ncg[r] = d->ncg, nnewton[r] = d->nnewton, nstep[r] = d->nstep;
+      if (!r) memcpy(x0, d->x, (size_t)nd * sizeof *x0);
+      for (int i = 0; i < nd; i++) rms[r] += (d->x[i] - x0[i]) * (d->x[i] - x0[i]);
+      rms[r] = sqrt(rms[r] / m->nv);
       ops->free(st);
       sw_data_free(d);
     }
     double tol = m->opt.newton_tol * m->opt.dt; /* m */
-    print_message("%-17s factorisations %ld -> %ld, CG iterations %ld; RMS difference at "
-                  "t = 0.1 s %.3g m (tolerance %.3g m)\n", methods[j], nfac[0], nfac[1], ncg[1],
-                  rms, tol);
+    print_message("%-17s factorisations %ld -> on %ld, step %ld (%ld steps, %ld Newton "
+                  "iterations); CG iterations %ld, %ld; RMS difference at t = 0.1 s %.3g, "
+                  "%.3g m (tolerance %.3g m)\n", methods[j], nfac[0], nfac[1], nfac[2],
+                  nstep[2], nnewton[2], ncg[1], ncg[2], rms[1], rms[2], tol);
     assert_int_equal(ncg[0], 0);
-    assert_true(ncg[1] > 0);
+    assert_true(ncg[1] > 0 && ncg[2] > 0);
     assert_true(nfac[1] < nfac[0]);
-    assert_true(rms <= tol);
+    assert_int_equal(nfac[0], nnewton[0]);
+    assert_int_equal(nfac[2], nstep[2]); /* one per step */
+    assert_true(nnewton[2] > nstep[2]);  /* ... which took more than one iteration */
+    assert_true(ncg[2] >= nnewton[2] - nstep[2]);
+    assert_true(rms[1] <= tol && rms[2] <= tol);
   }
   free(x0);
   sw_model_free(m);

@@ -72,7 +72,8 @@ static const char good_scene[] =
     "  - {velocity: [0, 0, 1.0]}\n"
     "  - {velocity: [1, 0, 0], select: {vertices: [44]}}\n"
     "integrator: {method: backward-euler, dt: 0.005, max_halvings: 4, hessian: projected,\n"
-    "             newton: {max_iterations: 20, tol: 1e-8, force_tol: 1e-7, norm: max}, setup_every: 50}\n"
+    "             newton: {max_iterations: 20, tol: 1e-8, force_tol: 1e-7, norm: max, reuse: step},\n"
+    "             setup_every: 50}\n"
     "duration: 3\n"
     "output: {dir: out/here, frames_every: 0.1, positions_every: 0.25, frames_format: ascii}\n"
     "tension_xy: {clip: 1e4, reference: uv, k_v: 300}\n";
@@ -115,6 +116,7 @@ static void test_good_scene(void **state) {
   assert_float_equal(m->opt.newton_tol, 1e-8, 0.0);
   assert_float_equal(m->opt.newton_force_tol, 1e-7, 0.0);
   assert_int_equal(m->opt.newton_norm, SW_NORM_MAX);
+  assert_int_equal(m->opt.newton_reuse, SW_REUSE_STEP);
   assert_int_equal(m->opt.setup_every, 50);
   assert_float_equal(m->opt.duration, 3.0, 0.0);
   assert_string_equal(m->opt.out_dir, "out/here");

@@ -2,13 +2,14 @@
 # tools/bench_newton_sizes.sh BASE_SINEW [NEW_SINEW] — the linear algebra of Newton's method by
 # size: scenes/hanging_cloth.yaml on N x N grids (--grid), each fixed-step Newton method, the
 # build of an earlier commit against this one interleaved (base, new, new with
-# --newton-reuse on, base, ...), over the first STEPS steps of 10 ms.  The cost is the CPU time
+# --newton-reuse REUSE (default on), base, ...), over the first STEPS steps of 10 ms.  The cost is the CPU time
 # (user + system, /usr/bin/time) of the whole run, so that a machine shared with other work
 # slows both builds alike.  Writes docs/bench/newton/sizes.csv: one line per run with its
 # steps, Newton iterations, factorisations, CG iterations, CPU s per step, and the RMS
 # distance of its positions at t = STEPS x 10 ms from the base build's of the same method
 # (m; Newton's tolerance is 1e-2 m/s x 10 ms = 1e-4 m).  Then Baraff-Witkin against backward
-# Euler (this build) at each N and at BW_SIZES (512: one step), docs/bench/newton/bw.csv.
+# Euler (this build, with --newton-reuse BW_REUSE when set) at each N and at BW_SIZES
+# (512: one step), docs/bench/newton/bw.csv.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 base=${1:?usage: tools/bench_newton_sizes.sh BASE_SINEW [NEW_SINEW]}
@@ -16,8 +17,10 @@ new=${2:-build/sinew}
 sizes=${SIZES:-40 80 120 160}
 methods=${METHODS:-backward-euler bdf2 implicit-midpoint newmark}
 reps=${REPS:-2}
+reuse=${REUSE:-on}
+bw_reuse=${BW_REUSE:-}
 steps=${STEPS:-10}
-bw_sizes=${BW_SIZES:-40 80 120 160 512}
+bw_sizes=${BW_SIZES-40 80 120 160 512}
 out=${OUT:-docs/bench/newton}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
@@ -44,12 +47,12 @@ for n in $sizes; do
     for r in $(seq "$reps"); do
       cb=$(run "$base" "$work/b" "$n" "$meth" "$dur")
       cn=$(run "$new" "$work/n" "$n" "$meth" "$dur")
-      co=$(run "$new" "$work/o" "$n" "$meth" "$dur" --newton-reuse on)
+      co=$(run "$new" "$work/o" "$n" "$meth" "$dur" --newton-reuse "$reuse")
       dn=$(/usr/bin/python3 tools/positions_diff.py "$work/b" "$work/n" "$dur" | awk '{ print $2 }')
       do_=$(/usr/bin/python3 tools/positions_diff.py "$work/b" "$work/o" "$dur" | awk '{ print $2 }')
       { row base "$n" "$meth" "$r" "$work/b" "$cb" 0
         row new "$n" "$meth" "$r" "$work/n" "$cn" "$dn"
-        row new_reuse_on "$n" "$meth" "$r" "$work/o" "$co" "$do_"; } | sed 's/,,/,0,/' >>"$out/sizes.csv"
+        row "new_reuse_$reuse" "$n" "$meth" "$r" "$work/o" "$co" "$do_"; } | sed 's/,,/,0,/' >>"$out/sizes.csv"
       tail -3 "$out/sizes.csv"
     done
   done
@@ -60,7 +63,9 @@ for n in $bw_sizes; do
   du=$(awk -v s="$st" 'BEGIN { printf "%.6g", s * 0.01 }')
   for r in $(seq "$reps"); do
     for meth in baraff-witkin backward-euler; do
-      c=$(run "$new" "$work/w" "$n" "$meth" "$du")
+      extra=()
+      [ "$meth" = backward-euler ] && [ -n "$bw_reuse" ] && extra=(--newton-reuse "$bw_reuse")
+      c=$(run "$new" "$work/w" "$n" "$meth" "$du" "${extra[@]}")
       s=$(field "$work/w" steps)
       echo "$n,$meth,$r,$s,$(field "$work/w" newton_iterations),$(field "$work/w" factorizations),$(awk -v c="$c" -v s="$s" 'BEGIN { printf "%.5f", c / s }')" | tee -a "$out/bw.csv"
     done

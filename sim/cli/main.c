@@ -87,7 +87,7 @@ static void usage_run(FILE *fp) {
           "                 [--positions-every S] [--grid NXxNY] [--stiffness-scale S]\n"
           "                 [--newton-tol V] [--newton-norm rms|max] [--hessian MODE]\n"
           "                 [--factorization auto|simplicial|supernodal]\n"
-          "                 [--newton-reuse on|off|auto]\n"
+          "                 [--newton-reuse on|off|auto|step]\n"
           "       sinew run --resume DIR [--duration T] [--threads N] [--force] [--quiet]\n"
           "\n"
           "Simulate SCENE (YAML) headless and write its logs and frames to the output folder\n"
@@ -122,11 +122,12 @@ static void usage_run(FILE *fp) {
           "                  max: every coordinate (overrides integrator.newton.norm; default %s)\n"
           "  --hessian MODE  Newton's matrix: projected, exact, auto, abs or progressive\n"
           "                  (overrides integrator.hessian)\n"
-          "  --newton-reuse on|off|auto\n"
+          "  --newton-reuse on|off|auto|step\n"
           "                  on: each Newton direction by conjugate gradients preconditioned\n"
           "                  with the last factorisation; off: a factorisation per iteration;\n"
-          "                  auto: on with a simplicial factorisation (overrides\n"
-          "                  integrator.newton.reuse)\n"
+          "                  auto: on with a simplicial factorisation; step: a\n"
+          "                  factorisation at each step's first iteration, CG on it at the\n"
+          "                  later ones (overrides integrator.newton.reuse)\n"
           "  --factorization auto|simplicial|supernodal\n"
           "                  CHOLMOD's factorisation; auto: chosen from the matrix (overrides\n"
           "                  integrator.factorization)\n"
@@ -254,7 +255,7 @@ static int parse_run_args(int argc, char **argv, cli *c) {
     } else if (!strcmp(a, "--hessian") && has_val) {
       if (cli_choice(a, argv[++i], sw_hessian_names(), &c->hessian)) return -1;
     } else if (!strcmp(a, "--newton-reuse") && has_val) {
-      static const char *const reuse[] = {"off", "on", "auto", NULL};
+      static const char *const reuse[] = {"off", "on", "auto", "step", NULL};
       if (cli_choice(a, argv[++i], reuse, &c->reuse)) return -1;
     } else if (!strcmp(a, "--factorization") && has_val) {
       if (cli_choice(a, argv[++i], sw_factor_names(), &c->factor)) return -1;

@@ -471,7 +471,7 @@ static const char *const int_keys[] = {"method", "dt", "max_halvings", "newton",
                                        "rtol", "atol", "max_order", "max_step", "energy_bound",
                                        "tendon_dense_max", "setup_every", "factorization"};
 static const char *const newton_keys[] = {"max_iterations", "tol", "reuse", "force_tol", "norm"};
-static const char *const reuse_names[] = {"false", "true", "auto"};
+static const char *const reuse_names[] = {"false", "true", "auto", "step"};
 
 static int load_method(const ctx *c, const ynode *y) {
   const char *const *names = sw_method_names();
@@ -518,7 +518,7 @@ static int load_integrator(const ctx *c, const ynode *y) {
   if (sy_map(c, v[3], "integrator newton", newton_keys, 5, nv)) return -1;
   if (nv[4] && sy_choice(c, nv[4], "integrator newton norm", sw_norm_names(), SW_NORM_N,
                          &o->newton_norm)) return -1;
-  if (nv[2] && sy_choice(c, nv[2], "integrator newton reuse", reuse_names, 3,
+  if (nv[2] && sy_choice(c, nv[2], "integrator newton reuse", reuse_names, 4,
                          &o->newton_reuse))
     return -1;
   if (nv[0] &&
