@@ -41,6 +41,13 @@
 #define SW_MC_SLACK 1.0
 #endif
 
+/* Mesh obstacles of at most this many triangles in all keep each triangle's box (48 bytes a
+ * triangle) beside their tree, so a query reads it instead of placing the triangle's corners
+ * (docs/contact.md, "What it costs a garment"). */
+#ifndef SW_MC_KEEP_BOXES
+#define SW_MC_KEEP_BOXES 65536
+#endif
+
 /* The term's immutable data: the cloth's edges, and one numbering of the cloth's and the mesh
  * obstacles' vertices (the cloth's nv, then each obstacle's in turn), faces (the cloth's nf,
  * then each obstacle's) and edges (the cloth's ne_cloth, then edge e of obstacle face g as
@@ -97,6 +104,8 @@ struct sw_mcontact {
   const int *sewn_ptr, *sewn_idx;
   float *tbox;          /* moving obstacles: the node boxes of p->tree over the motion between
                            poses 4 and 5 */
+  double *pbox;         /* moving obstacles of at most SW_MC_KEEP_BOXES triangles: the
+                           triangles' boxes over that motion (sw_bvh.pbox), else NULL */
   int tree_fit;         /* 1: tbox is fitted */
   long nrefit;          /* the refits of tbox so far */
   struct mc_dup *dup;   /* (capdup) one query's obstacle vertices or edges, to drop repeats */
@@ -234,6 +243,9 @@ sw_mcontact *sw_mcontact_new(const sw_model *m) {
   mc->slack = SW_MC_SLACK * m->contact.dhat;
   if (p->moving && !(mc->tbox = sw_calloc(6 * (size_t)p->tree.nnode + 1, sizeof(float))))
     return sw_mcontact_free(mc), NULL;
+  if (p->moving && p->tree.n <= SW_MC_KEEP_BOXES &&
+      !(mc->pbox = sw_calloc(6 * (size_t)p->tree.n + 1, sizeof(double))))
+    return sw_mcontact_free(mc), NULL;
   if (!mc->fixed || !mc->pose || !mc->z || !mc->carrier || !mc->f || !mc->vforce ||
       !mc->cbox || !mc->xref || !mc->umove)
     return sw_mcontact_free(mc), NULL;
@@ -263,6 +275,7 @@ void sw_mcontact_free(sw_mcontact *mc) {
   sw_free(mc->umove);
   sw_mfriction_free(mc->fr);
   sw_free(mc->tbox);
+  sw_free(mc->pbox);
   sw_free(mc->dup);
   sw_free(mc);
 }
@@ -329,10 +342,13 @@ typedef struct tree_ctx {
 
 static void vertices_box(const tree_ctx *c, const int *v, int n, double *b) {
   for (int a = 0; a < 3; a++) b[a] = INFINITY, b[3 + a] = -INFINITY;
+  /* an obstacle's vertex at both ends when no pose moves it: placed once */
+  const int once = c->x1 == c->x0 || (!c->x0->pose && !c->x1->pose);
   for (int j = 0; j < n; j++) {
     double p[3], q[3];
     vertex_at(c->m, c->p, c->x0, v[j], p);
-    vertex_at(c->m, c->p, c->x1, v[j], q);
+    if (once && v[j] >= c->m->nv) memcpy(q, p, sizeof q);
+    else vertex_at(c->m, c->p, c->x1, v[j], q);
     for (int a = 0; a < 3; a++) { /* finite: comparisons, not fmin's calls */
       double lo = p[a] < q[a] ? p[a] : q[a], hi = p[a] < q[a] ? q[a] : p[a];
       b[a] = lo < b[a] ? lo : b[a], b[3 + a] = hi > b[3 + a] ? hi : b[3 + a];
@@ -351,7 +367,7 @@ static void tree_box(const void *arg, int i, double *b) {
 /* The tree with the workspace's node boxes (moving obstacles) or its own (static ones). */
 static sw_bvh tree_view(const sw_mcontact *mc) {
   sw_bvh t = mc->p->tree;
-  if (mc->p->moving) t.box = mc->tbox;
+  if (mc->p->moving) t.box = mc->tbox, t.pbox = mc->pbox;
   return t;
 }
 
@@ -449,6 +465,21 @@ static int dup_order(const void *a, const void *b) {
   return p->key != q->key ? (p->key < q->key ? -1 : 1) : (p->code > q->code) - (p->code < q->code);
 }
 
+/* Sort a query's n obstacle primitives by dup_order: by insertion when they are few (a
+ * cloth primitive meets a handful of faces), else qsort (d NULL when n is 0). */
+static void sort_dup(struct mc_dup *d, size_t n) {
+  if (n > 32) {
+    qsort(d, n, sizeof *d, dup_order);
+    return;
+  }
+  for (size_t i = 1; i < n; i++) {
+    struct mc_dup e = d[i];
+    size_t j = i;
+    for (; j > 0 && dup_order(&d[j - 1], &e) > 0; j--) d[j] = d[j - 1];
+    d[j] = e;
+  }
+}
+
 /* The box over x0 -> x1 of the cloth vertices v (n) grown by r (m); 0 when one is pinned
  * and all are (nothing to pair), or not finite (-1). */
 static int cloth_box(const sw_mcontact *mc, const sw_bp_input *in, const int *v, int n,
@@ -479,7 +510,7 @@ static int query_tree(sw_mcontact *mc, const sw_bp_input *in, const int *idx, in
     h->cloth = i, h->b = b, h->ndup = 0;
     if (sw_bvh_query(&t, b, tree_box, h->c, hit_face, h)) return -1;
     if (h->what == 2) continue;
-    if (h->ndup > 1) qsort(mc->dup, h->ndup, sizeof *mc->dup, dup_order); /* dup NULL when none */
+    sort_dup(mc->dup, h->ndup);
     for (size_t k = 0; k < h->ndup; k++)
       if ((k == 0 || mc->dup[k].key != mc->dup[k - 1].key) && append_pair(h, mc->dup[k].code))
         return -1;
@@ -871,6 +902,8 @@ static int build_tree(mc_param *p, const sw_model *m, char *err, size_t errsz) {
   if (p->moving) { /* each workspace fits its own (fit_tree) */
     sw_free(p->tree.box);
     p->tree.box = NULL;
+  } else if (p->tree.n <= SW_MC_KEEP_BOXES && sw_bvh_keep_boxes(&p->tree, tree_box, &c)) {
+    return sw_errf(err, errsz, "out of memory for the mesh obstacles' tree"), -1;
   }
   return 0;
 }
@@ -1310,7 +1343,8 @@ size_t sw_mesh_contact_bytes(const sw_model *m) {
   size_t nobst = (size_t)p->nobst, nnode = (size_t)p->tree.nnode;
   return sizeof *p + 2 * (size_t)p->ne_cloth * sizeof(int) + 2 * (nobst + 1) * sizeof(int) +
          2 * nobst * sizeof(double) + (size_t)p->tree.n * sizeof(int) +
-         nnode * (2 * sizeof(int) + (p->tree.box ? 6 * sizeof(float) : 0));
+         nnode * (2 * sizeof(int) + (p->tree.box ? 6 * sizeof(float) : 0)) +
+         (p->tree.pbox ? 6 * (size_t)p->tree.n * sizeof(double) : 0);
 }
 
 /* ------------------------------------------------------------------- friction */
