@@ -225,7 +225,8 @@ void sw_bvh_refit(sw_bvh *t, sw_bvh_box_fn box, const void *ctx);
 int sw_bvh_keep_boxes(sw_bvh *t, sw_bvh_box_fn box, const void *ctx);
 /* Call hit on every primitive whose box overlaps b (closed boxes): the primitives of every
  * leaf whose box does, each tested against b when box is not NULL (with ctx: the boxes the
- * tree was fitted to; the kept ones, t->pbox, when it has them).  0, or hit's first nonzero return. */
+ * tree was fitted to; the kept ones, t->pbox, when it has them).  0, or hit's first nonzero
+ * return. */
 int sw_bvh_query(const sw_bvh *t, const double b[6], sw_bvh_box_fn box, const void *ctx,
                  sw_bvh_hit_fn hit, void *arg);
 void sw_bvh_free(sw_bvh *t);

@@ -1428,8 +1428,8 @@ size_t sw_mesh_contact_bytes(const sw_model *m) {
     if (!strcmp(m->term[k].ops->kind, "mesh_contact")) p = m->term[k].param;
   if (!p) return 0;
   size_t nobst = (size_t)p->nobst, nnode = (size_t)p->tree.nnode;
-  return sizeof *p + 3 * (size_t)p->ne_cloth * sizeof(int) + (size_t)m->nv * sizeof(int) + 2 * (nobst + 1) * sizeof(int) +
-         2 * nobst * sizeof(double) + (size_t)p->tree.n * sizeof(int) +
+  return sizeof *p + 3 * (size_t)p->ne_cloth * sizeof(int) + (size_t)m->nv * sizeof(int) +
+         2 * (nobst + 1) * sizeof(int) + 2 * nobst * sizeof(double) + (size_t)p->tree.n * sizeof(int) +
          nnode * (2 * sizeof(int) + (p->tree.box ? 6 * sizeof(float) : 0)) +
          (p->tree.pbox ? 6 * (size_t)p->tree.n * sizeof(double) : 0);
 }
