@@ -26,6 +26,7 @@ void sw_bvh_free(sw_bvh *t) {
   sw_free(t->box);
   sw_free(t->node);
   sw_free(t->prim);
+  sw_free(t->pbox);
   memset(t, 0, sizeof *t);
 }
 
@@ -144,8 +145,9 @@ void sw_bvh_refit(sw_bvh *t, sw_bvh_box_fn box, const void *ctx) {
         f[a] = l[a] < r[a] ? l[a] : r[a], f[3 + a] = l[3 + a] > r[3 + a] ? l[3 + a] : r[3 + a];
       continue;
     }
-    double u[6] = {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY}, b[6];
+    double u[6] = {INFINITY, INFINITY, INFINITY, -INFINITY, -INFINITY, -INFINITY}, s[6];
     for (int i = first; i < first + count; i++) {
+      double *b = t->pbox ? t->pbox + 6 * (size_t)t->prim[i] : s;
       box(ctx, t->prim[i], b);
       for (int a = 0; a < 3; a++)
         u[a] = b[a] < u[a] ? b[a] : u[a], u[3 + a] = b[3 + a] > u[3 + a] ? b[3 + a] : u[3 + a];
@@ -154,10 +156,18 @@ void sw_bvh_refit(sw_bvh *t, sw_bvh_box_fn box, const void *ctx) {
   }
 }
 
-static int overlaps(const float *f, const double *b) {
-  for (int a = 0; a < 3; a++)
-    if (!((double)f[a] <= b[3 + a] && b[a] <= (double)f[3 + a])) return 0;
-  return 1;
+int sw_bvh_keep_boxes(sw_bvh *t, sw_bvh_box_fn box, const void *ctx) {
+  if (!t->pbox && t->n > 0 && !(t->pbox = sw_calloc(6 * (size_t)t->n, sizeof(double)))) return -1;
+  sw_bvh_refit(t, box, ctx);
+  return 0;
+}
+
+/* Whether node box f meets q, the query's box rounded outwards to floats: a node the query's
+ * own box misses by less than a float's rounding is visited too, and its primitives are tested
+ * against the query's own box. */
+static int overlaps(const float *f, const float *q) {
+  return f[0] <= q[3] && q[0] <= f[3] && f[1] <= q[4] && q[1] <= f[4] && f[2] <= q[5] &&
+         q[2] <= f[5];
 }
 
 static int boxes_meet(const double *p, const double *q) {
@@ -170,18 +180,21 @@ int sw_bvh_query(const sw_bvh *t, const double b[6], sw_bvh_box_fn box, const vo
                  sw_bvh_hit_fn hit, void *arg) {
   if (t->nnode == 0) return 0;
   int stack[SW_BVH_DEPTH + 2], top = 0;
+  float q[6];
+  round_out(b, q);
   stack[top++] = 0;
   while (top > 0) {
     int k = stack[--top];
-    if (!overlaps(t->box + 6 * (size_t)k, b)) continue;
+    if (!overlaps(t->box + 6 * (size_t)k, q)) continue;
     const int first = t->node[2 * k], count = t->node[2 * k + 1];
     if (count == 0) {
       stack[top++] = first, stack[top++] = first + 1;
       continue;
     }
     for (int i = first; i < first + count; i++) {
-      double pb[6];
-      if (box && (box(ctx, t->prim[i], pb), !boxes_meet(pb, b))) continue;
+      double s[6];
+      const double *pb = t->pbox ? t->pbox + 6 * (size_t)t->prim[i] : s;
+      if (box && (t->pbox || (box(ctx, t->prim[i], s), 1)) && !boxes_meet(pb, b)) continue;
       int rc = hit(arg, t->prim[i]);
       if (rc) return rc;
     }

@@ -198,8 +198,9 @@ const double *sw_mcontact_vertex_force(const sw_mcontact *mc);
 /* How many times the moving mesh obstacles' tree was refitted in this workspace (static
  * obstacles: never; moving ones: when a query's poses are not the last fit's two ends). */
 long sw_mcontact_refits(const sw_mcontact *mc);
-/* The heap bytes of the model's mesh_contact term (0 without): the cloth's edges, the mesh
- * obstacles' numbering and their tree; nothing else grows with an obstacle. */
+/* The heap bytes of the model's mesh_contact term (0 without): the cloth's edges and a face of
+ * each cloth vertex and edge, the mesh obstacles' numbering and their tree (with its triangles'
+ * boxes under SW_MC_KEEP_BOXES triangles); nothing else grows with an obstacle. */
 size_t sw_mesh_contact_bytes(const sw_model *m);
 /* Lag the friction of the mesh pairs (contact.friction > 0) for a step of size h from
  * (d->x, d->t): every pair closer than its thickness + dhat there (models/mesh_friction.c).

@@ -211,15 +211,22 @@ typedef struct sw_bvh {
   int *node;     /* (nnode x 2) leaf: first of prim, count > 0; internal: left child, 0 (the
                     right child follows the left one) */
   int *prim;     /* (n) the primitives in leaf order */
+  double *pbox;  /* (n x 6) NULL, or the primitives' own boxes (pbox + 6 i is primitive i's),
+                    kept by sw_bvh_keep_boxes: a query reads them instead of asking its box
+                    function */
 } sw_bvh;
 
 /* 0, -1 when out of memory, -2 when stopped by a signal (sw_interrupt) while building (t
  * then empty in both). */
 int sw_bvh_build(sw_bvh *t, int n, sw_bvh_box_fn box, const void *ctx);
 void sw_bvh_refit(sw_bvh *t, sw_bvh_box_fn box, const void *ctx);
+/* Keep the primitives' boxes in the tree (48 bytes a primitive) and refit it: 0, -1 when out
+ * of memory (t unchanged).  Later refits refresh them. */
+int sw_bvh_keep_boxes(sw_bvh *t, sw_bvh_box_fn box, const void *ctx);
 /* Call hit on every primitive whose box overlaps b (closed boxes): the primitives of every
  * leaf whose box does, each tested against b when box is not NULL (with ctx: the boxes the
- * tree was fitted to).  0, or hit's first nonzero return. */
+ * tree was fitted to; the kept ones, t->pbox, when it has them).  0, or hit's first nonzero
+ * return. */
 int sw_bvh_query(const sw_bvh *t, const double b[6], sw_bvh_box_fn box, const void *ctx,
                  sw_bvh_hit_fn hit, void *arg);
 void sw_bvh_free(sw_bvh *t);

@@ -41,6 +41,13 @@
 #define SW_MC_SLACK 1.0
 #endif
 
+/* Mesh obstacles of at most this many triangles in all keep each triangle's box (48 bytes a
+ * triangle) beside their tree, so a query reads it instead of placing the triangle's corners
+ * (docs/contact.md, "What it costs a garment"). */
+#ifndef SW_MC_KEEP_BOXES
+#define SW_MC_KEEP_BOXES 65536
+#endif
+
 /* The term's immutable data: the cloth's edges, and one numbering of the cloth's and the mesh
  * obstacles' vertices (the cloth's nv, then each obstacle's in turn), faces (the cloth's nf,
  * then each obstacle's) and edges (the cloth's ne_cloth, then edge e of obstacle face g as
@@ -50,6 +57,7 @@ typedef struct mc_param {
   int nvt;           /* cloth and obstacle vertices */
   int ne_cloth;      /* the cloth's edges */
   int *edge;         /* (ne_cloth x 2) */
+  int *vface, *eface; /* (nv), (ne_cloth) a cloth face of each cloth vertex and edge (-1: none) */
   int nf;            /* cloth and obstacle faces */
   int nobst;         /* mesh obstacles */
   int *vbase, *fbase; /* (nobst + 1) first vertex and face of obstacle k, counted from nv, nf */
@@ -97,6 +105,12 @@ struct sw_mcontact {
   const int *sewn_ptr, *sewn_idx;
   float *tbox;          /* moving obstacles: the node boxes of p->tree over the motion between
                            poses 4 and 5 */
+  double *pbox;         /* moving obstacles of at most SW_MC_KEEP_BOXES triangles: the
+                           triangles' boxes over that motion (sw_bvh.pbox), else NULL */
+  int pbox_exact;       /* 1: pbox is fitted to the last broad phase's own poses */
+  int *near_ptr, *near; /* (nf + 1), (capnear) the obstacle faces whose boxes meet each cloth
+                           face's query box in the last broad phase, in the tree's order */
+  size_t capnear;
   int tree_fit;         /* 1: tbox is fitted */
   long nrefit;          /* the refits of tbox so far */
   struct mc_dup *dup;   /* (capdup) one query's obstacle vertices or edges, to drop repeats */
@@ -232,7 +246,12 @@ sw_mcontact *sw_mcontact_new(const sw_model *m) {
   mc->xref = sw_calloc(3 * nv + 1, sizeof(double));
   mc->umove = sw_calloc(nv + no + 1, sizeof(double));
   mc->slack = SW_MC_SLACK * m->contact.dhat;
+  if (p->nvt > m->nv && !(mc->near_ptr = sw_calloc((size_t)m->nf + 1, sizeof(int))))
+    return sw_mcontact_free(mc), NULL;
   if (p->moving && !(mc->tbox = sw_calloc(6 * (size_t)p->tree.nnode + 1, sizeof(float))))
+    return sw_mcontact_free(mc), NULL;
+  if (p->moving && p->tree.n <= SW_MC_KEEP_BOXES &&
+      !(mc->pbox = sw_calloc(6 * (size_t)p->tree.n + 1, sizeof(double))))
     return sw_mcontact_free(mc), NULL;
   if (!mc->fixed || !mc->pose || !mc->z || !mc->carrier || !mc->f || !mc->vforce ||
       !mc->cbox || !mc->xref || !mc->umove)
@@ -263,6 +282,9 @@ void sw_mcontact_free(sw_mcontact *mc) {
   sw_free(mc->umove);
   sw_mfriction_free(mc->fr);
   sw_free(mc->tbox);
+  sw_free(mc->pbox);
+  sw_free(mc->near_ptr);
+  sw_free(mc->near);
   sw_free(mc->dup);
   sw_free(mc);
 }
@@ -329,10 +351,13 @@ typedef struct tree_ctx {
 
 static void vertices_box(const tree_ctx *c, const int *v, int n, double *b) {
   for (int a = 0; a < 3; a++) b[a] = INFINITY, b[3 + a] = -INFINITY;
+  /* an obstacle's vertex at both ends when no pose moves it: placed once */
+  const int once = c->x1 == c->x0 || (!c->x0->pose && !c->x1->pose);
   for (int j = 0; j < n; j++) {
     double p[3], q[3];
     vertex_at(c->m, c->p, c->x0, v[j], p);
-    vertex_at(c->m, c->p, c->x1, v[j], q);
+    if (once && v[j] >= c->m->nv) memcpy(q, p, sizeof q);
+    else vertex_at(c->m, c->p, c->x1, v[j], q);
     for (int a = 0; a < 3; a++) { /* finite: comparisons, not fmin's calls */
       double lo = p[a] < q[a] ? p[a] : q[a], hi = p[a] < q[a] ? q[a] : p[a];
       b[a] = lo < b[a] ? lo : b[a], b[3 + a] = hi > b[3 + a] ? hi : b[3 + a];
@@ -351,7 +376,7 @@ static void tree_box(const void *arg, int i, double *b) {
 /* The tree with the workspace's node boxes (moving obstacles) or its own (static ones). */
 static sw_bvh tree_view(const sw_mcontact *mc) {
   sw_bvh t = mc->p->tree;
-  if (mc->p->moving) t.box = mc->tbox;
+  if (mc->p->moving) t.box = mc->tbox, t.pbox = mc->pbox_exact ? mc->pbox : NULL;
   return t;
 }
 
@@ -368,8 +393,14 @@ static void fit_tree(const sw_model *m, sw_mcontact *mc, const mc_place *x0, con
   const mc_param *p = mc->p;
   if (!p->moving) return;
   double *fit = mc->pose + 12 * 4 * (size_t)p->nobst;
-  if (mc->tree_fit && pose_in(x0->pose, fit, p->nobst) && pose_in(x1->pose, fit, p->nobst)) return;
+  size_t np = 12 * (size_t)p->nobst * sizeof(double);
+  if (mc->tree_fit && pose_in(x0->pose, fit, p->nobst) && pose_in(x1->pose, fit, p->nobst)) {
+    /* the kept triangle boxes are the query's own only at the fit's own two ends */
+    mc->pbox_exact = !memcmp(x0->pose, fit, np) && !memcmp(x1->pose, fit + 12 * p->nobst, np);
+    return;
+  }
   tree_ctx c = {m, p, x0, x1};
+  mc->pbox_exact = 1;
   sw_bvh t = tree_view(mc);
   sw_bvh_refit(&t, tree_box, &c);
   memcpy(fit, x0->pose, 12 * (size_t)p->nobst * sizeof(double));
@@ -430,11 +461,16 @@ static int hit_face(void *arg, int i) {
     mc->dup = q, mc->capdup = cap;
   }
   int f[3];
+  double cb[3][6]; /* each corner's box over x0 -> x1: a vertex's, or two joined an edge's */
   face_vertices(h->c->m, h->c->p, h->c->m->nf + i, f);
+  for (int j = 0; j < 3; j++) vertices_box(h->c, f + j, 1, cb[j]);
   for (int j = 0; j < 3; j++) {
     int v[2] = {f[j], f[(j + 1) % 3]}, n = h->what + 1;
     double b[6];
-    vertices_box(h->c, v, n, b);
+    for (int a = 0; a < 6; a++) {
+      double p = cb[j][a], q = cb[(j + 1) % 3][a];
+      b[a] = n == 1 ? p : a < 3 ? (p < q ? p : q) : (p > q ? p : q);
+    }
     if (!boxes_meet(b, h->b)) continue;
     unsigned long long lo = (unsigned)(v[0] < v[1] || n == 1 ? v[0] : v[1]), hi = (unsigned)(v[0] < v[1] ? v[1] : v[0]);
     struct mc_dup *d = &mc->dup[h->ndup++];
@@ -447,6 +483,21 @@ static int hit_face(void *arg, int i) {
 static int dup_order(const void *a, const void *b) {
   const struct mc_dup *p = a, *q = b;
   return p->key != q->key ? (p->key < q->key ? -1 : 1) : (p->code > q->code) - (p->code < q->code);
+}
+
+/* Sort a query's n obstacle primitives by dup_order: by insertion when they are few (a
+ * cloth primitive meets a handful of faces), else qsort (d NULL when n is 0). */
+static void sort_dup(struct mc_dup *d, size_t n) {
+  if (n > 32) {
+    qsort(d, n, sizeof *d, dup_order);
+    return;
+  }
+  for (size_t i = 1; i < n; i++) {
+    struct mc_dup e = d[i];
+    size_t j = i;
+    for (; j > 0 && dup_order(&d[j - 1], &e) > 0; j--) d[j] = d[j - 1];
+    d[j] = e;
+  }
 }
 
 /* The box over x0 -> x1 of the cloth vertices v (n) grown by r (m); 0 when one is pinned
@@ -466,20 +517,73 @@ static int cloth_box(const sw_mcontact *mc, const sw_bp_input *in, const int *v,
   return !fixed;
 }
 
-/* Query the tree with each of the cloth's n primitives of `per` vertices each (at idx + per
- * i) for the obstacles' primitives h->what; -1 when out of memory or not finite. */
-static int query_tree(sw_mcontact *mc, const sw_bp_input *in, const int *idx, int per, int n,
-                      hit_arg *h) {
+/* Obstacle face i whose box meets the query's into a near list (int *). */
+typedef struct near_arg {
+  sw_mcontact *mc;
+  int n;
+} near_arg;
+
+static int add_near(void *arg, int i) {
+  near_arg *a = arg;
+  sw_mcontact *mc = a->mc;
+  if ((size_t)a->n == mc->capnear) {
+    size_t cap = 2 * mc->capnear + 256;
+    int *q = sw_realloc(mc->near, cap, sizeof(int));
+    if (!q) return -1;
+    mc->near = q, mc->capnear = cap;
+  }
+  mc->near[a->n++] = i;
+  return 0;
+}
+
+/* The near lists: the tree queried once with each cloth face's swept box grown by r (m); a
+ * face whose vertices are all pinned gets none.  -1 when out of memory or not finite. */
+static int near_faces(sw_mcontact *mc, const sw_bp_input *in, const tree_ctx *c, double r) {
   sw_bvh t = tree_view(mc);
+  near_arg a = {mc, 0};
+  for (int f = 0; f < in->nf; f++) {
+    double b[6];
+    int rc = cloth_box(mc, in, in->face + 3 * (size_t)f, 3, r, b);
+    mc->near_ptr[f] = a.n;
+    if (rc < 0) return -1;
+    if (rc && sw_bvh_query(&t, b, tree_box, c, add_near, &a)) return -1;
+  }
+  mc->near_ptr[in->nf] = a.n;
+  return 0;
+}
+
+/* hit_face on every obstacle face whose box meets the query's box h->b: the faces of cloth
+ * face f's near list (its query box holds h->b, so none is missed and, the list being in the
+ * tree's order, they come in the order a query of the tree gives), all of them when h->b is
+ * f's own box (`own`); the tree's when f < 0 (a cloth vertex or edge in no face). */
+static int visit_faces(sw_mcontact *mc, hit_arg *h, int f, int own) {
+  sw_bvh t = tree_view(mc);
+  if (f < 0) return sw_bvh_query(&t, h->b, tree_box, h->c, hit_face, h);
+  for (int k = mc->near_ptr[f]; k < mc->near_ptr[f + 1]; k++) {
+    int i = mc->near[k];
+    double s[6];
+    const double *b = t.pbox ? t.pbox + 6 * (size_t)i : s;
+    if (!own && (t.pbox || (tree_box(h->c, i, s), 1)) && !boxes_meet(b, h->b)) continue;
+    int rc = hit_face(h, i);
+    if (rc) return rc;
+  }
+  return 0;
+}
+
+/* Each of the cloth's n primitives of `per` vertices (at idx + per i) against the obstacles'
+ * primitives h->what, through the near list of its face face[i] (face NULL: the primitive is
+ * that face); -1 when out of memory or not finite. */
+static int query_tree(sw_mcontact *mc, const sw_bp_input *in, const int *idx, int per, int n,
+                      const int *face, hit_arg *h) {
   for (int i = 0; i < n; i++) {
     double b[6];
     int v = i, rc = cloth_box(mc, in, idx ? idx + per * (size_t)i : &v, per, 2.0 * in->inflate, b);
     if (rc < 0) return -1;
     if (!rc) continue;
     h->cloth = i, h->b = b, h->ndup = 0;
-    if (sw_bvh_query(&t, b, tree_box, h->c, hit_face, h)) return -1;
+    if (visit_faces(mc, h, face ? face[i] : i, !face)) return -1;
     if (h->what == 2) continue;
-    if (h->ndup > 1) qsort(mc->dup, h->ndup, sizeof *mc->dup, dup_order); /* dup NULL when none */
+    sort_dup(mc->dup, h->ndup);
     for (size_t k = 0; k < h->ndup; k++)
       if ((k == 0 || mc->dup[k].key != mc->dup[k - 1].key) && append_pair(h, mc->dup[k].code))
         return -1;
@@ -507,11 +611,13 @@ static int broad_phase(const sw_model *m, sw_mcontact *mc, const mc_place *x0,
   hit_arg tp = {mc, &c, &bp->pt, &bp->npt, &bp->cap_pt, 0, 0, 1, NULL, 0};
   hit_arg ee = {mc, &c, &bp->ee, &bp->nee, &bp->cap_ee, 1, 0, 0, NULL, 0};
   hit_arg ff = {mc, &c, &bp->ff, &bp->nff, &bp->cap_ff, 2, 0, 0, NULL, 0};
-  int rc = 0;
-  if (want & SW_BP_PT)
-    rc = query_tree(mc, &in, NULL, 1, m->nv, &pt) || query_tree(mc, &in, m->face, 3, m->nf, &tp);
-  if (!rc && (want & SW_BP_EE)) rc = query_tree(mc, &in, mc->p->edge, 2, mc->p->ne_cloth, &ee);
-  if (!rc && (want & SW_BP_FF)) rc = query_tree(mc, &in, m->face, 3, m->nf, &ff);
+  const mc_param *p = mc->p;
+  int rc = near_faces(mc, &in, &c, 2.0 * inflate);
+  if (!rc && (want & SW_BP_PT))
+    rc = query_tree(mc, &in, NULL, 1, m->nv, p->vface, &pt) ||
+         query_tree(mc, &in, m->face, 3, m->nf, NULL, &tp);
+  if (!rc && (want & SW_BP_EE)) rc = query_tree(mc, &in, p->edge, 2, p->ne_cloth, p->eface, &ee);
+  if (!rc && (want & SW_BP_FF)) rc = query_tree(mc, &in, m->face, 3, m->nf, NULL, &ff);
   if (rc) bp->npt = bp->nee = bp->nff = 0;
   return rc ? -1 : 0;
 }
@@ -821,6 +927,8 @@ static void mc_free(void *param) {
   mc_param *p = param;
   if (!p) return;
   sw_free(p->edge);
+  sw_free(p->vface);
+  sw_free(p->eface);
   sw_free(p->vbase);
   sw_free(p->fbase);
   sw_free(p->radius);
@@ -871,6 +979,8 @@ static int build_tree(mc_param *p, const sw_model *m, char *err, size_t errsz) {
   if (p->moving) { /* each workspace fits its own (fit_tree) */
     sw_free(p->tree.box);
     p->tree.box = NULL;
+  } else if (p->tree.n <= SW_MC_KEEP_BOXES && sw_bvh_keep_boxes(&p->tree, tree_box, &c)) {
+    return sw_errf(err, errsz, "out of memory for the mesh obstacles' tree"), -1;
   }
   return 0;
 }
@@ -890,6 +1000,16 @@ int sw_mesh_contact_build(sw_term *t, const sw_model *m, char *err, size_t errsz
   p->ne_cloth = tp.ne;
   p->edge = tp.ev;
   tp.ev = NULL;
+  p->vface = sw_calloc((size_t)m->nv + 1, sizeof(int));
+  p->eface = sw_calloc((size_t)tp.ne + 1, sizeof(int));
+  if (!p->vface || !p->eface) {
+    sw_topology_free(&tp);
+    return sw_errf(err, errsz, "out of memory for the mesh contact term"), -1;
+  }
+  for (int e = 0; e < tp.ne; e++) p->eface[e] = tp.ef[2 * (size_t)e];
+  for (int i = 0; i < m->nv; i++) p->vface[i] = -1;
+  for (int f = m->nf - 1; f >= 0; f--)
+    for (int c = 0; c < 3; c++) p->vface[m->face[3 * (size_t)f + c]] = f;
   sw_topology_free(&tp);
   return build_tree(p, m, err, errsz);
 }
@@ -1308,9 +1428,10 @@ size_t sw_mesh_contact_bytes(const sw_model *m) {
     if (!strcmp(m->term[k].ops->kind, "mesh_contact")) p = m->term[k].param;
   if (!p) return 0;
   size_t nobst = (size_t)p->nobst, nnode = (size_t)p->tree.nnode;
-  return sizeof *p + 2 * (size_t)p->ne_cloth * sizeof(int) + 2 * (nobst + 1) * sizeof(int) +
-         2 * nobst * sizeof(double) + (size_t)p->tree.n * sizeof(int) +
-         nnode * (2 * sizeof(int) + (p->tree.box ? 6 * sizeof(float) : 0));
+  return sizeof *p + 3 * (size_t)p->ne_cloth * sizeof(int) + (size_t)m->nv * sizeof(int) +
+         2 * (nobst + 1) * sizeof(int) + 2 * nobst * sizeof(double) + (size_t)p->tree.n * sizeof(int) +
+         nnode * (2 * sizeof(int) + (p->tree.box ? 6 * sizeof(float) : 0)) +
+         (p->tree.pbox ? 6 * (size_t)p->tree.n * sizeof(double) : 0);
 }
 
 /* ------------------------------------------------------------------- friction */

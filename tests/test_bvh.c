@@ -3,16 +3,19 @@
  * some coincident) and random query boxes (points, slabs, boxes of every size, boxes far
  * outside), a query reports exactly the triangles whose box overlaps the query's (closed
  * boxes, touching counts), each once; after the triangles move (a random rigid motion plus a
- * jitter) and the tree is refitted, again exactly; without the per-primitive test, a superset
+ * jitter) and the tree is refitted, again exactly (the primitives' boxes kept in the tree,
+ * sw_bvh_keep_boxes, and refreshed by the refit); without the per-primitive test, a superset
  * with every leaf's box containing its primitives'; and a nonzero return of the visitor stops
  * the query and is returned.
  * And in the term mesh_contact (models/mesh_contact.c): a 5 x 5 cloth held 1.5 to 2.5 mm above
- * the mean plane of a wavy mesh obstacle of 100352 triangles, so that it is near some of them: the
+ * the mean plane of a wavy mesh obstacle of 100352 triangles (and of 8192, whose triangles'
+ * boxes the term keeps beside the tree), so that it is near some of them: the
  * active pairs of an evaluation are exactly those within d-hat found by brute force over every
  * cloth point against every obstacle triangle, every obstacle point against every cloth
  * triangle and every cloth edge against every obstacle edge (each pair once: the obstacle's
- * vertices and edges come from the tree's triangles); the term's memory (its tree, 12 bytes a
- * triangle, and the cloth's edges: no copy of the obstacle); then three steps of a run, with no
+ * vertices and edges come from the tree's triangles, through each cloth face's list of the
+ * obstacle triangles near it); the term's memory (its tree, 12 bytes a triangle, 48 more for the
+ * kept boxes, and the cloth's edges: no copy of the obstacle); then three steps of a run, with no
  * cloth triangle crossing the obstacle's at the end (exact count). */
 #include <math.h>
 #include <setjmp.h>
@@ -155,7 +158,10 @@ static void bvh_equals_brute_force(void **state) {
     assert_true(t.nnode <= 2 * ((s.n + 7) / 8)); /* ceil(n / 8) leaves */
     check_boxes(&t, &s);
     check_queries(&t, &s, &rs);
-    move_soup(&s, &rs);
+    assert_int_equal(sw_bvh_keep_boxes(&t, soup_box, &s), 0); /* queries read them now */
+    assert_true(s.n == 0 || t.pbox);
+    check_queries(&t, &s, &rs);
+    move_soup(&s, &rs); /* the kept boxes are refreshed by the refit */
     sw_bvh_refit(&t, soup_box, &s);
     check_boxes(&t, &s);
     check_queries(&t, &s, &rs);
@@ -187,7 +193,8 @@ static void bvh_stops(void **state) {
 
 /* ------------------------------------------------------- a large obstacle in mesh_contact */
 
-enum { GRID = 224 }; /* squares per side: 2 GRID^2 = 100352 triangles */
+static int GRID = 224; /* squares per side: 2 GRID^2 = 100352 triangles; 64: 8192, whose boxes
+                          the term keeps beside its tree (SW_MC_KEEP_BOXES) */
 #define PI 3.14159265358979323846
 #define WAVE 1e-3    /* m: the obstacle's height is WAVE sin(2 pi x / 0.1 m) sin(2 pi y / 0.1 m) */
 
@@ -232,8 +239,8 @@ static int brute_pair(const double *x, int kind, const int *v, double dhat, cons
   return 1;
 }
 
-static void large_obstacle(void **state) {
-  (void)state;
+static void obstacle_pairs(int grid) {
+  GRID = grid;
   char dir[] = "/tmp/sinew_bvh_XXXXXX", path[64], err[SW_ERRSZ];
   assert_non_null(mkdtemp(dir));
   snprintf(path, sizeof path, "%s/big.obj", dir);
@@ -253,7 +260,8 @@ static void large_obstacle(void **state) {
   /* the term keeps no copy of the obstacle: its tree, 12 bytes a triangle, and the cloth's */
   size_t bytes = sw_mesh_contact_bytes(m), mesh = 24 * (size_t)no + 12 * 2 * GRID * GRID;
   print_message("mesh_contact term: %zu bytes for an obstacle of %zu bytes\n", bytes, mesh);
-  assert_true(bytes <= 12 * (size_t)(2 * GRID * GRID) + 64 * (size_t)(nv + m->nf) + 1024);
+  size_t kept = 2 * GRID * GRID <= 65536 ? 48 * (size_t)(2 * GRID * GRID) : 0; /* the boxes */
+  assert_true(bytes <= 12 * (size_t)(2 * GRID * GRID) + kept + 64 * (size_t)(nv + m->nf) + 1024);
   sw_data *d = sw_data_new(m);
   assert_non_null(d);
   /* the cloth's vertices at random heights over the obstacle (at its places, 2.5 mm lower) */
@@ -316,11 +324,22 @@ static void large_obstacle(void **state) {
   th_remove_tree(dir);
 }
 
+static void large_obstacle(void **state) {
+  (void)state;
+  obstacle_pairs(224);
+}
+
+static void small_obstacle(void **state) {
+  (void)state;
+  obstacle_pairs(64);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(bvh_equals_brute_force),
       cmocka_unit_test(bvh_stops),
       cmocka_unit_test(large_obstacle),
+      cmocka_unit_test(small_obstacle),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

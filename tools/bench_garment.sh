@@ -2,7 +2,8 @@
 # tools/bench_garment.sh [SINEW] — the shipped garments (scenes/garment_skirt.yaml: four flat
 # panels, 756 cloth vertices; scenes/garment_tank.yaml: front and back, 566 vertices; each on
 # the 962-vertex mannequin; scenes/garment_tshirt.yaml: front, back and sleeves, 800 vertices,
-# on the 1254-vertex mannequin with arms; self-contact on) from their
+# on the 1254-vertex mannequin with arms; scenes/garment_skirt_dxf.yaml: the skirt's panels read
+# from a DXF pattern (sinew pattern import), 1670 vertices, Morley bending; self-contact on) from their
 # arrangement to rest and on through their dynamics, REPS times (default 1): wall and CPU time of
 # the whole run, wall time of the fit stage, steps and Newton iterations of each, the cost per step and per
 # Newton iteration, and the share of the step time of each term's evaluations, of self-contact's
@@ -21,8 +22,9 @@ trap 'rm -rf "$work"' EXIT
 mkdir -p "$out"
 status=0
 # the height of each garment's tight line on the mannequin: the hips, the bust
-declare -A line_z=([skirt]=0.85 [tank]=1.224 [tshirt]=1.224) top_z=([skirt]=0 [tank]=1.40 [tshirt]=1.40)
-for g in ${GARMENTS:-skirt tank tshirt}; do
+declare -A line_z=([skirt]=0.85 [skirt_dxf]=0.85 [tank]=1.224 [tshirt]=1.224) \
+  top_z=([skirt]=0 [skirt_dxf]=0 [tank]=1.40 [tshirt]=1.40)
+for g in ${GARMENTS:-skirt tank tshirt skirt_dxf}; do
   csv=$out/$g.csv
   for r in $(seq "$reps"); do
     d=$work/$g$r
