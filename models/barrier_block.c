@@ -377,10 +377,12 @@ static double secular_root(const rank1 *R, const int *a, int na, int j, double r
   return tau;
 }
 
-/* H += s x x^T on the upper triangle (12). */
+/* H += s x x^T (12 x 12; whole rows, which vectorise). */
 static void add_outer(double *H, double s, const double *x) {
-  for (int p = 0; p < 12; p++)
-    for (int q = p; q < 12; q++) H[p * 12 + q] += s * x[p] * x[q];
+  for (int p = 0; p < 12; p++) {
+    double sp = s * x[p];
+    for (int q = 0; q < 12; q++) H[p * 12 + q] += sp * x[q];
+  }
 }
 
 int sw_pair_clamp_closed(const sw_pair_form *pf, double db, double d2b, double w, double *H) {
@@ -428,7 +430,7 @@ int sw_pair_clamp_closed(const sw_pair_form *pf, double db, double d2b, double w
   }
   add_outer(H, rho, P);
   for (int j = 0; j < nneg; j++) add_outer(H, -lam[j], U[j]);
-  for (int p = 0; p < 12; p++)
+  for (int p = 0; p < 12; p++) /* symmetric to the last bit */
     for (int q = 0; q < p; q++) H[p * 12 + q] = H[q * 12 + p];
   for (int p = 0; p < 144; p++)
     if (!isfinite(H[p])) return 0;
