@@ -263,7 +263,7 @@ static void eig2(double a, double b, double c, double *l, double W[2][2]) {
 
 /* The basis of the block's span and its rank-one form (see above); 0 when it does not apply. */
 static int rank1_form(const sw_pair_form *pf, double db, double d2b, double w, rank1 *R,
-                      double *P, double *rho) {
+                      double *rho) {
   int k = pf->k;
   double cc = 0.0, r[3] = {0.0, 0.0, 0.0}, nu[2][4], t[2][12], gg = 0.0;
   for (int i = 0; i < 4; i++) cc += pf->c[i] * pf->c[i];
@@ -276,8 +276,6 @@ static int rank1_form(const sw_pair_form *pf, double db, double d2b, double w, r
   if (!(lr > 0.0)) return 0;
   for (int a = 0; a < 3; a++) nrm[a] = r[a] / lr;
   for (int i = 0; i < 4; i++) chat[i] = pf->c[i] / lc;
-  for (int i = 0; i < 4; i++)
-    for (int a = 0; a < 3; a++) P[3 * i + a] = chat[i] * nrm[a];
   for (int m = 0; m < k; m++)
     for (int i = 0; i < 4; i++) {
       nu[m][i] = dot3(pf->v[m] + 3 * i, nrm);
@@ -377,26 +375,18 @@ static double secular_root(const rank1 *R, const int *a, int na, int j, double r
   return tau;
 }
 
-/* H += s x x^T (12 x 12; whole rows, which vectorise). */
-static void add_outer(double *H, double s, const double *x) {
-  for (int p = 0; p < 12; p++) {
-    double sp = s * x[p];
-    for (int q = 0; q < 12; q++) H[p * 12 + q] += sp * x[q];
-  }
-}
-
 int sw_pair_clamp_closed(const sw_pair_form *pf, double db, double d2b, double w, double *H) {
   rank1 R;
-  double P[12], rho, zz = 0.0, scale = 0.0, U[2][12], lam[2];
-  if (!rank1_form(pf, db, d2b, w, &R, P, &rho)) return 0;
+  double rho, zz = 0.0, scale = 0.0, U[2][5] = {{0.0}}, lam[2], S[5][5], T[5][12];
+  if (!rank1_form(pf, db, d2b, w, &R, &rho)) return 0;
   for (int i = 0; i < R.n; i++) zz += R.z[i] * R.z[i], scale = fmax(scale, fabs(R.d[i]));
   scale += rho * zz;
-  int a[5], na = 0, nneg = 0;
+  int a[5], na = 0, nneg = 0, moved[5] = {0};
   for (int i = 0; i < R.n; i++) /* the poles the rank-one term moves, in increasing order */
     if (rho * fabs(R.z[i]) * sqrt(zz) > 1e-14 * scale) {
       int j = na++;
       for (; j > 0 && R.d[a[j - 1]] > R.d[i]; j--) a[j] = a[j - 1];
-      a[j] = i;
+      a[j] = i, moved[i] = 1;
     }
   for (int j = 0; j + 1 < na; j++)
     if (!(R.d[a[j + 1]] - R.d[a[j]] > 1e-9 * scale)) return 0;
@@ -407,43 +397,49 @@ int sw_pair_clamp_closed(const sw_pair_form *pf, double db, double d2b, double w
     double tau = secular_root(&R, a, na, j, rho, zz, &origin), nu = 0.0;
     lam[nneg] = origin + tau;
     if (!(lam[nneg] < 0.0)) break;
-    memset(U[nneg], 0, sizeof U[0]);
-    for (int l = 0; l < na; l++) {
-      double q = R.z[a[l]] / ((R.d[a[l]] - origin) - tau);
-      nu += q * q;
-      for (int p = 0; p < 12; p++) U[nneg][p] += q * R.e[a[l]][p];
+    for (int l = 0; l < na; l++) { /* the eigenvector (D - lambda)^-1 z, in the basis e */
+      U[nneg][a[l]] = R.z[a[l]] / ((R.d[a[l]] - origin) - tau);
+      nu += U[nneg][a[l]] * U[nneg][a[l]];
     }
-    for (int p = 0; p < 12; p++) U[nneg][p] /= sqrt(nu);
+    for (int i = 0; i < R.n; i++) U[nneg][i] /= sqrt(nu);
     nneg++;
   }
   if (nneg == 2) {
     double o = 0.0;
-    for (int p = 0; p < 12; p++) o += U[0][p] * U[1][p];
+    for (int i = 0; i < R.n; i++) o += U[0][i] * U[1][i];
     if (!(fabs(o) <= 1e-10)) return 0;
   }
-  memset(H, 0, 144 * sizeof(double));
-  for (int i = 0; i < R.n; i++) { /* D without the eigenpairs the rank-one term leaves alone
-                                     and that are negative */
-    int moved = 0;
-    for (int j = 0; j < na; j++) moved |= a[j] == i;
-    if (moved || R.d[i] > 0.0) add_outer(H, R.d[i], R.e[i]);
-  }
-  add_outer(H, rho, P);
-  for (int j = 0; j < nneg; j++) add_outer(H, -lam[j], U[j]);
-  for (int p = 0; p < 12; p++) /* symmetric to the last bit */
-    for (int q = 0; q < p; q++) H[p * 12 + q] = H[q * 12 + p];
-  for (int p = 0; p < 144; p++)
-    if (!isfinite(H[p])) return 0;
+  /* S: the clamped block in the basis e (P = sum_i z_i e_i): D without the negative eigenpairs
+   * the rank-one term leaves alone, plus rho z z^T, minus the negative eigenpairs */
+  for (int i = 0; i < R.n; i++)
+    for (int j = 0; j < R.n; j++) {
+      double v = rho * R.z[i] * R.z[j] + (i == j && (moved[i] || R.d[i] > 0.0) ? R.d[i] : 0.0);
+      for (int l = 0; l < nneg; l++) v -= lam[l] * U[l][i] * U[l][j];
+      S[i][j] = v;
+    }
+  for (int i = 0; i < R.n; i++) /* H = E^T S E, E's rows the e_i */
+    for (int p = 0; p < 12; p++) {
+      double v = 0.0;
+      for (int j = 0; j < R.n; j++) v += S[i][j] * R.e[j][p];
+      T[i][p] = v;
+    }
+  for (int p = 0; p < 12; p++)
+    for (int q = p; q < 12; q++) {
+      double v = 0.0;
+      for (int i = 0; i < R.n; i++) v += R.e[i][p] * T[i][q];
+      if (!isfinite(v)) return 0;
+      H[p * 12 + q] = H[q * 12 + p] = v;
+    }
   return 1;
 }
 
 int sw_pair_barrier_block(const sw_pair_form *pf, double db, double d2b, double w, double *H) {
   double Q[5][12], M[25], gq[5], vq[2][5];
+  if (sw_pair_clamp_closed(pf, db, d2b, w, H)) return 0;
   memset(H, 0, 144 * sizeof(double));
   double cc = 0.0;
   for (int i = 0; i < 4; i++) cc += pf->c[i] * pf->c[i];
   if (!(cc > 0.0)) return 0; /* touching: the barrier is infinite there */
-  if (sw_pair_clamp_closed(pf, db, d2b, w, H)) return 0;
   if (pf->k == 0 && db <= 0.0) { /* two points: Q^T H Q = w (b'' g g^T + 2 b' |c|^2 I_3), whose
                                     only eigenvalue that may be positive is along g */
     double gg = 0.0;
