@@ -27,7 +27,11 @@
  * needed more Newton iterations (docs/contact.md, "Cost"), so the block is the exact clamp.
  * A point and a line (k = 1) need only 3 of the 4 dimensions: c (x) (n x t), n the normal and
  * t the line's direction, is an eigenvector of eigenvalue 2 w b' |c|^2 <= 0 (the gradient and
- * v_0 are orthogonal to it), which the clamp takes to 0, so it is left out of Q. */
+ * v_0 are orthogonal to it), which the clamp takes to 0, so it is left out of Q.  Where the
+ * closest points slide (k >= 1) the span's eigensystem is known in closed form up to a
+ * rank-one change, and sw_pair_clamp_closed (below) gives the block without an
+ * eigen-decomposition; the decomposition on the span is what is left for the cases it cannot
+ * give to round-off. */
 #include <math.h>
 #include <string.h>
 
