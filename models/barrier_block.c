@@ -494,7 +494,7 @@ int sw_pair_barrier_block(const sw_pair_form *pf, double db, double d2b, double 
  * (column k: that of w[k]).  -1 when the iteration does not converge (not finite).  The same
  * algorithm as LAPACK's dsyev (dsytrd, dorgtr, dsteqr), written for one small size, where
  * dsyev's calls of its blocked kernels cost more than their arithmetic: sw_pair_clamp_free
- * takes 2.0 us with it against 5.3 us with dsyev (one thread, random edge-edge blocks). */
+ * takes 2.9 us with it against 6.1 us with dsyev (bench/bench_blocks, one thread). */
 static int small_eigen(double *A, int n, double *w) {
   double e[9];
 #define A_(i, j) A[(i) * n + (j)]
