@@ -27,7 +27,11 @@
  * needed more Newton iterations (docs/contact.md, "Cost"), so the block is the exact clamp.
  * A point and a line (k = 1) need only 3 of the 4 dimensions: c (x) (n x t), n the normal and
  * t the line's direction, is an eigenvector of eigenvalue 2 w b' |c|^2 <= 0 (the gradient and
- * v_0 are orthogonal to it), which the clamp takes to 0, so it is left out of Q. */
+ * v_0 are orthogonal to it), which the clamp takes to 0, so it is left out of Q.  Where the
+ * closest points slide (k >= 1) the span's eigensystem is known in closed form up to a
+ * rank-one change, and sw_pair_clamp_closed (below) gives the block without an
+ * eigen-decomposition; the decomposition on the span is what is left for the cases it cannot
+ * give to round-off. */
 #include <math.h>
 #include <string.h>
 
@@ -213,8 +217,229 @@ static int span_basis(const sw_pair_form *pf, int drop_side, double Q[5][12], in
   return r;
 }
 
+/* ------------------------------------------------------------ the clamp in closed form */
+
+/* At an interior minimiser of the distance form (k >= 1) r is orthogonal to every R_j, so with
+ * n = r / |r| and the unit tangents tau_m = sum_j L_jm R_j (orthonormal, as L L^T = G^-1) each
+ * sliding direction splits as v_m = c (x) tau_m + nu_m (x) n, nu_m = |r| sum_j L_jm dc_j (a
+ * weight per vertex).  In the coordinates y_m along chat (x) tau_m (chat = c / |c|) and z (a
+ * weight per vertex) along z (x) n the block's quadratic form is then
+ *
+ *   w [rho0 (chat . z)^2 + gamma0 sum_m (2 |c| y_m (nu_m . z) + (nu_m . z)^2)],
+ *   rho0 = b'' |grad d2|^2 + 2 b' |c|^2,   gamma0 = -2 b' >= 0:
+ *
+ * the tangential block is exactly zero (the curvature 2 b' |c|^2 of sliding cancels against
+ * the closest points' own sliding).  With the singular vectors of N = [nu_0 nu_1] (N w_i =
+ * sigma_i u_i: a 2 x 2 eigenproblem) the part without rho0 falls apart into 2 x 2 blocks
+ * gamma0 [0, |c| sigma_i; |c| sigma_i, sigma_i^2] on (w_i . y, u_i . z), whose eigenpairs are
+ * written down, plus a zero eigenvalue on the part of chat outside the u_i.  The block is thus
+ * D + rho P P^T (P = chat (x) n, rho = w rho0): a diagonal matrix in a known orthonormal basis
+ * plus a rank-one term, whose eigenvalues are the roots of the secular equation
+ * 1 + rho sum_i z_i^2 / (d_i - lambda) = 0, one between each two poles (Golub, "Some modified
+ * matrix eigenvalue problems", SIAM Review 1973; the merge step of Cuppen's divide and conquer,
+ * as in LAPACK's dlaed4), and whose eigenvectors are (D - lambda)^-1 z.  With rho >= 0 only
+ * the (at most k) roots left of the first k poles can be negative: the clamp subtracts those
+ * eigenpairs from D + rho P P^T.  Each root is found from its nearer pole (so that the
+ * differences d_i - lambda that make its eigenvector keep their digits) by Newton's method
+ * kept inside the root's bracket.  The cases this leaves inaccurate -- rho < 0, a vanishing
+ * singular value, two poles within 1e-9 of the block's size, two computed eigenvectors not
+ * orthogonal to 1e-10 -- return 0 and take the eigen-decomposition on the span instead. */
+
+/* The block in the closed-form basis: sum_i d[i] e[i] e[i]^T + rho P P^T, z[i] = e[i] . P. */
+typedef struct rank1 {
+  int n;
+  double d[5], z[5], e[5][12];
+} rank1;
+
+/* The 2 x 2 eigenproblem of the symmetric [a, c; c, b]: eigenvalues l[0], l[1] and unit
+ * eigenvectors W[.][i] (columns), by one Jacobi rotation. */
+static void eig2(double a, double b, double c, double *l, double W[2][2]) {
+  double cs = 1.0, sn = 0.0;
+  if (c != 0.0) {
+    double th = (b - a) / (2.0 * c), at = fabs(th);
+    double t = (th >= 0.0 ? 1.0 : -1.0) / (at + (at < 1e150 ? sqrt(th * th + 1.0) : at));
+    cs = 1.0 / sqrt(t * t + 1.0), sn = t * cs;
+  }
+  l[0] = cs * cs * a - 2.0 * cs * sn * c + sn * sn * b;
+  l[1] = sn * sn * a + 2.0 * cs * sn * c + cs * cs * b;
+  W[0][0] = cs, W[1][0] = -sn, W[0][1] = sn, W[1][1] = cs;
+}
+
+/* The basis of the block's span and its rank-one form (see above); 0 when it does not apply. */
+static int rank1_form(const sw_pair_form *pf, double db, double d2b, double w, rank1 *R,
+                      double *rho) {
+  int k = pf->k;
+  double cc = 0.0, r[3] = {0.0, 0.0, 0.0}, nu[2][4], t[2][12], gg = 0.0;
+  for (int i = 0; i < 4; i++) cc += pf->c[i] * pf->c[i];
+  for (int p = 0; p < 12; p++) gg += pf->g[p] * pf->g[p];
+  if (k < 1 || !(cc > 0.0) || !(gg > 0.0)) return 0;
+  double lc = sqrt(cc), chat[4], nrm[3];
+  for (int i = 0; i < 4; i++) /* grad d2 = 2 c (x) r */
+    for (int a = 0; a < 3; a++) r[a] += pf->c[i] * pf->g[3 * i + a] / (2.0 * cc);
+  double lr = sqrt(dot3(r, r));
+  if (!(lr > 0.0)) return 0;
+  for (int a = 0; a < 3; a++) nrm[a] = r[a] / lr;
+  for (int i = 0; i < 4; i++) chat[i] = pf->c[i] / lc;
+  for (int m = 0; m < k; m++)
+    for (int i = 0; i < 4; i++) {
+      nu[m][i] = dot3(pf->v[m] + 3 * i, nrm);
+      for (int a = 0; a < 3; a++) t[m][3 * i + a] = (pf->v[m][3 * i + a] - nu[m][i] * nrm[a]) / lc;
+    }
+  double sig2[2] = {0.0, 0.0}, W[2][2] = {{1.0, 0.0}, {0.0, 1.0}};
+  if (k == 1)
+    sig2[0] = nu[0][0] * nu[0][0] + nu[0][1] * nu[0][1] + nu[0][2] * nu[0][2] + nu[0][3] * nu[0][3];
+  else {
+    double G[3] = {0.0, 0.0, 0.0};
+    for (int i = 0; i < 4; i++)
+      G[0] += nu[0][i] * nu[0][i], G[1] += nu[1][i] * nu[1][i], G[2] += nu[0][i] * nu[1][i];
+    eig2(G[0], G[1], G[2], sig2, W);
+  }
+  double gam = -2.0 * w * db, perp[4];
+  memcpy(perp, chat, sizeof perp);
+  R->n = 0;
+  for (int s = 0; s < k; s++) {
+    double sig = sqrt(fmax(sig2[s], 0.0)), u[4], Y[12], beta = 0.0;
+    if (!(sig > 1e-8 * lc)) return 0;
+    for (int i = 0; i < 4; i++) {
+      u[i] = 0.0;
+      for (int m = 0; m < k; m++) u[i] += W[m][s] * nu[m][i] / sig;
+      beta += u[i] * chat[i];
+    }
+    for (int i = 0; i < 4; i++) perp[i] -= beta * u[i];
+    for (int p = 0; p < 12; p++) {
+      Y[p] = 0.0;
+      for (int m = 0; m < k; m++) Y[p] += W[m][s] * t[m][p];
+    }
+    /* [0, a; a, b]: mu- = -2 a^2 / (b + h) with eigenvector (a, mu-), mu+ = (b + h) / 2 with
+     * (-mu-, a), h = sqrt(b^2 + 4 a^2) */
+    double a = lc * sig, b = sig * sig, h = sqrt(b * b + 4.0 * a * a);
+    double mum = -2.0 * a * a / (b + h), mup = 0.5 * (b + h), nv = sqrt(a * a + mum * mum);
+    double cy[2] = {a / nv, -mum / nv}, cz[2] = {mum / nv, a / nv}, mu[2] = {mum, mup};
+    for (int j = 0; j < 2; j++, R->n++) {
+      for (int i = 0; i < 4; i++)
+        for (int x = 0; x < 3; x++)
+          R->e[R->n][3 * i + x] = cy[j] * Y[3 * i + x] + cz[j] * u[i] * nrm[x];
+      R->d[R->n] = gam * mu[j];
+      R->z[R->n] = cz[j] * beta;
+    }
+  }
+  double lp = sqrt(perp[0] * perp[0] + perp[1] * perp[1] + perp[2] * perp[2] + perp[3] * perp[3]);
+  if (lp > 1e-14) { /* chat outside the u_i: an eigenvector of eigenvalue 0 without rho */
+    for (int i = 0; i < 4; i++)
+      for (int x = 0; x < 3; x++) R->e[R->n][3 * i + x] = perp[i] / lp * nrm[x];
+    R->d[R->n] = 0.0;
+    R->z[R->n++] = lp;
+  }
+  *rho = w * (d2b * gg + 2.0 * db * cc);
+  return isfinite(*rho) && isfinite(gam) && *rho >= 0.0;
+}
+
+/* The secular function f = 1 + rho sum_i z_i^2 / (delta_i - tau) over the indices a[0..na),
+ * the poles delta = d - origin, and its derivative (> 0) into *df. */
+static double secular(const rank1 *R, const int *a, int na, double rho, double origin,
+                      double tau, double *df) {
+  double f = 1.0, s = 0.0;
+  for (int j = 0; j < na; j++) {
+    double q = R->z[a[j]] / ((R->d[a[j]] - origin) - tau); /* a component of the vector */
+    f += rho * R->z[a[j]] * q;
+    s += rho * q * q;
+  }
+  *df = s;
+  return f;
+}
+
+/* The root of the secular equation between the poles d[a[j]] and d[a[j + 1]] (or, for the
+ * last, below d[a[j]] + rho |z|^2), measured from the nearer pole: *origin, and the root's
+ * offset tau from it (returned).  Newton's method on -tau f(tau), which has no pole at the
+ * origin (the root's bracket holds no other pole within half the gap), a bisection whenever
+ * it leaves the bracket. */
+static double secular_root(const rank1 *R, const int *a, int na, int j, double rho, double zz,
+                           double *origin) {
+  double lo = R->d[a[j]], hi = j + 1 < na ? R->d[a[j + 1]] : lo + rho * zz, df;
+  *origin = lo;
+  if (j + 1 < na && secular(R, a, na, rho, lo, 0.5 * (hi - lo), &df) < 0.0) *origin = hi;
+  double tlo = lo - *origin, thi = hi - *origin, tau = 0.5 * (tlo + thi);
+  if (*origin == lo) thi = tau; else tlo = tau; /* the half with the root (f rises) */
+  double F0 = 0.0, dF0 = -1.0; /* the start: Newton's step on -tau f from tau = 0 */
+  for (int l = 0; l < na; l++) {
+    double dl = R->d[a[l]] - *origin;
+    if (dl == 0.0) F0 += rho * R->z[a[l]] * R->z[a[l]];
+    else dF0 -= rho * R->z[a[l]] * R->z[a[l]] / dl;
+  }
+  tau = -F0 / dF0;
+  if (!(tau > tlo && tau < thi)) tau = 0.5 * (tlo + thi);
+  for (int it = 0; it < 100; it++) {
+    double f = secular(R, a, na, rho, *origin, tau, &df);
+    if (f == 0.0) break;
+    if (f < 0.0) tlo = tau; else thi = tau;
+    double F = -tau * f, dF = -f - tau * df, step = tau - F / dF;
+    if (fabs(step - tau) <= 4e-16 * fabs(tau)) break; /* converged to round-off */
+    tau = step > tlo && step < thi ? step : 0.5 * (tlo + thi);
+  }
+  return tau;
+}
+
+int sw_pair_clamp_closed(const sw_pair_form *pf, double db, double d2b, double w, double *H) {
+  rank1 R;
+  double rho, zz = 0.0, scale = 0.0, U[2][5] = {{0.0}}, lam[2], S[5][5], T[5][12];
+  if (!rank1_form(pf, db, d2b, w, &R, &rho)) return 0;
+  for (int i = 0; i < R.n; i++) zz += R.z[i] * R.z[i], scale = fmax(scale, fabs(R.d[i]));
+  scale += rho * zz;
+  int a[5], na = 0, nneg = 0, moved[5] = {0};
+  for (int i = 0; i < R.n; i++) /* the poles the rank-one term moves, in increasing order */
+    if (rho * fabs(R.z[i]) * sqrt(zz) > 1e-14 * scale) {
+      int j = na++;
+      for (; j > 0 && R.d[a[j - 1]] > R.d[i]; j--) a[j] = a[j - 1];
+      a[j] = i, moved[i] = 1;
+    }
+  for (int j = 0; j + 1 < na; j++)
+    if (!(R.d[a[j + 1]] - R.d[a[j]] > 1e-9 * scale)) return 0;
+  for (int j = 0; j < na && R.d[a[j]] < 0.0; j++) {
+    double df, origin;
+    if ((j + 1 == na || R.d[a[j + 1]] > 0.0) && secular(&R, a, na, rho, 0.0, 0.0, &df) <= 0.0)
+      break; /* f(0) <= 0: this root and those above it are >= 0 */
+    double tau = secular_root(&R, a, na, j, rho, zz, &origin), nu = 0.0;
+    lam[nneg] = origin + tau;
+    if (!(lam[nneg] < 0.0)) break;
+    for (int l = 0; l < na; l++) { /* the eigenvector (D - lambda)^-1 z, in the basis e */
+      U[nneg][a[l]] = R.z[a[l]] / ((R.d[a[l]] - origin) - tau);
+      nu += U[nneg][a[l]] * U[nneg][a[l]];
+    }
+    for (int i = 0; i < R.n; i++) U[nneg][i] /= sqrt(nu);
+    nneg++;
+  }
+  if (nneg == 2) {
+    double o = 0.0;
+    for (int i = 0; i < R.n; i++) o += U[0][i] * U[1][i];
+    if (!(fabs(o) <= 1e-10)) return 0;
+  }
+  /* S: the clamped block in the basis e (P = sum_i z_i e_i): D without the negative eigenpairs
+   * the rank-one term leaves alone, plus rho z z^T, minus the negative eigenpairs */
+  for (int i = 0; i < R.n; i++)
+    for (int j = 0; j < R.n; j++) {
+      double v = rho * R.z[i] * R.z[j] + (i == j && (moved[i] || R.d[i] > 0.0) ? R.d[i] : 0.0);
+      for (int l = 0; l < nneg; l++) v -= lam[l] * U[l][i] * U[l][j];
+      S[i][j] = v;
+    }
+  for (int i = 0; i < R.n; i++) /* H = E^T S E, E's rows the e_i */
+    for (int p = 0; p < 12; p++) {
+      double v = 0.0;
+      for (int j = 0; j < R.n; j++) v += S[i][j] * R.e[j][p];
+      T[i][p] = v;
+    }
+  for (int p = 0; p < 12; p++)
+    for (int q = p; q < 12; q++) {
+      double v = 0.0;
+      for (int i = 0; i < R.n; i++) v += R.e[i][p] * T[i][q];
+      if (!isfinite(v)) return 0;
+      H[p * 12 + q] = H[q * 12 + p] = v;
+    }
+  return 1;
+}
+
 int sw_pair_barrier_block(const sw_pair_form *pf, double db, double d2b, double w, double *H) {
   double Q[5][12], M[25], gq[5], vq[2][5];
+  if (sw_pair_clamp_closed(pf, db, d2b, w, H)) return 0;
   memset(H, 0, 144 * sizeof(double));
   double cc = 0.0;
   for (int i = 0; i < 4; i++) cc += pf->c[i] * pf->c[i];
@@ -262,6 +487,127 @@ int sw_pair_barrier_block(const sw_pair_form *pf, double db, double d2b, double 
   return 0;
 }
 
+/* The eigensystem of the symmetric n x n A (n <= 9, row-major): Householder's reduction to a
+ * tridiagonal matrix, then the QL iteration with implicit Wilkinson shifts (Wilkinson and
+ * Reinsch, "Handbook for Automatic Computation II: Linear Algebra", 1971, procedures tred2 and
+ * tql2, as in Press et al., "Numerical Recipes", sec. 11.2-11.3).  A becomes the eigenvectors
+ * (column k: that of w[k]).  -1 when the iteration does not converge (not finite).  The same
+ * algorithm as LAPACK's dsyev (dsytrd, dorgtr, dsteqr), written for one small size, where
+ * dsyev's calls of its blocked kernels cost more than their arithmetic: sw_pair_clamp_free
+ * takes 2.9 us with it against 6.1 us with dsyev (bench/bench_blocks, one thread). */
+static int small_eigen(double *A, int n, double *w) {
+  double e[9];
+#define A_(i, j) A[(i) * n + (j)]
+  for (int i = n - 1; i > 0; i--) { /* tred2: A's row i reflected onto its subdiagonal */
+    int l = i - 1;
+    double h = 0.0, scale = 0.0;
+    if (l > 0) {
+      for (int k = 0; k <= l; k++) scale += fabs(A_(i, k));
+      if (scale == 0.0) {
+        e[i] = A_(i, l);
+      } else {
+        for (int k = 0; k <= l; k++) {
+          A_(i, k) /= scale;
+          h += A_(i, k) * A_(i, k);
+        }
+        double f = A_(i, l), g = f >= 0.0 ? -sqrt(h) : sqrt(h);
+        e[i] = scale * g;
+        h -= f * g;
+        A_(i, l) = f - g;
+        f = 0.0;
+        for (int j = 0; j <= l; j++) {
+          A_(j, i) = A_(i, j) / h;
+          g = 0.0;
+          for (int k = 0; k <= j; k++) g += A_(j, k) * A_(i, k);
+          for (int k = j + 1; k <= l; k++) g += A_(k, j) * A_(i, k);
+          e[j] = g / h;
+          f += e[j] * A_(i, j);
+        }
+        double hh = f / (h + h);
+        for (int j = 0; j <= l; j++) {
+          f = A_(i, j);
+          e[j] = g = e[j] - hh * f;
+          for (int k = 0; k <= j; k++) A_(j, k) -= f * e[k] + g * A_(i, k);
+        }
+      }
+    } else {
+      e[i] = A_(i, l);
+    }
+    w[i] = h;
+  }
+  w[0] = 0.0, e[0] = 0.0;
+  for (int i = 0; i < n; i++) { /* the reflections' product into A */
+    if (w[i] != 0.0)
+      for (int j = 0; j < i; j++) {
+        double g = 0.0;
+        for (int k = 0; k < i; k++) g += A_(i, k) * A_(k, j);
+        for (int k = 0; k < i; k++) A_(k, j) -= g * A_(k, i);
+      }
+    w[i] = A_(i, i);
+    A_(i, i) = 1.0;
+    for (int j = 0; j < i; j++) A_(j, i) = A_(i, j) = 0.0;
+  }
+  for (int i = 1; i < n; i++) e[i - 1] = e[i]; /* tql2 on diagonal w, subdiagonal e */
+  e[n - 1] = 0.0;
+  for (int l = 0; l < n; l++) {
+    int m, iter = 0;
+    do {
+      for (m = l; m < n - 1; m++) {
+        double dd = fabs(w[m]) + fabs(w[m + 1]);
+        if (fabs(e[m]) <= 2.2e-16 * dd) break;
+      }
+      if (m == l) break;
+      if (iter++ == 60) return -1;
+      double g = (w[l + 1] - w[l]) / (2.0 * e[l]), r = sqrt(g * g + 1.0);
+      g = w[m] - w[l] + e[l] / (g + (g >= 0.0 ? r : -r));
+      double s = 1.0, c = 1.0, p = 0.0;
+      int i;
+      for (i = m - 1; i >= l; i--) {
+        double f = s * e[i], b = c * e[i];
+        e[i + 1] = r = sqrt(f * f + g * g);
+        if (r == 0.0) {
+          w[i + 1] -= p;
+          e[m] = 0.0;
+          break;
+        }
+        s = f / r, c = g / r;
+        g = w[i + 1] - p;
+        r = (w[i] - g) * s + 2.0 * c * b;
+        w[i + 1] = g + (p = s * r);
+        g = c * r - b;
+        for (int k = 0; k < n; k++) {
+          f = A_(k, i + 1);
+          A_(k, i + 1) = s * A_(k, i) + c * f;
+          A_(k, i) = c * A_(k, i) - s * f;
+        }
+      }
+      if (r == 0.0 && i >= l) continue;
+      w[l] -= p, e[l] = g, e[m] = 0.0;
+    } while (m != l);
+  }
+#undef A_
+  for (int k = 0; k < n; k++)
+    if (!isfinite(w[k])) return -1;
+  return 0;
+}
+
+/* The symmetric n x n M (n <= 9) with its negative eigenvalues clamped at 0 (small_eigen). */
+static int clamp_small(double *M, int n) {
+  double V[81], w[9], wmin = 0.0;
+  memcpy(V, M, sizeof(double) * (size_t)(n * n));
+  if (small_eigen(V, n, w)) return -1;
+  for (int k = 0; k < n; k++) wmin = fmin(wmin, w[k]);
+  if (wmin >= 0.0) return 0;
+  for (int i = 0; i < n; i++)
+    for (int j = i; j < n; j++) {
+      double s = 0.0;
+      for (int k = 0; k < n; k++)
+        if (w[k] > 0.0) s += w[k] * V[i * n + k] * V[j * n + k];
+      M[i * n + j] = M[j * n + i] = s;
+    }
+  return 0;
+}
+
 /* An orthonormal basis of the vectors of R^4 whose entries sum to 0 (Helmert's contrasts):
  * the differences of the 4 vertices' motions, which is all a translation-free energy sees. */
 static const double HELMERT[3][4] = {
@@ -289,7 +635,7 @@ int sw_pair_clamp_free(double *H) {
       }
   for (int r = 0; r < 9; r++) /* symmetric to round-off: make it exactly so */
     for (int c = r + 1; c < 9; c++) M[r * 9 + c] = M[c * 9 + r] = 0.5 * (M[r * 9 + c] + M[c * 9 + r]);
-  if (sw_psd_project(M, 9, SW_FILTER_CLAMP)) return -1;
+  if (clamp_small(M, 9)) return -1;
   for (int r = 0; r < 9; r++) /* T = M Q^T (9 x 12) */
     for (int j = 0; j < 4; j++)
       for (int b = 0; b < 3; b++) {

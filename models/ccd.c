@@ -68,6 +68,8 @@ static double accd(int n, int nfirst, const double *x0, const double *x1, d2_fn 
   if (!(d2 > dmin * dmin)) return 0.0; /* already within dmin (or not finite) */
   if (!(lp > 0.0)) return tmax;
   double gap = gap_of(d2, dmin), target = s * gap, t = 0.0;
+  if ((1.0 - s) * gap / lp >= tmax) return tmax; /* the loop's first advance reaches tmax,
+                                                     without a use for the distance there */
   for (int it = 0; it < ACCD_MAX_ITER; it++) {
     double tl = (1.0 - s) * gap / lp;
     for (int i = 0; i < 3 * n; i++) x[i] = x0[i] + (t + tl) * dx[i]; /* mean motion removed */

@@ -127,6 +127,10 @@ void sw_pair_hess_d2(const sw_pair_form *pf, double *H);
  * found on the span of its columns (at most 5: models/barrier_block.c).  0, or -1 when not
  * finite. */
 int sw_pair_barrier_block(const sw_pair_form *pf, double db, double d2b, double w, double *H);
+/* The same block in closed form (k >= 1: the closest features are not two points), without an
+ * eigen-decomposition (models/barrier_block.c): 1, or 0 (H undefined) when the closed form
+ * cannot give it to round-off (then sw_pair_barrier_block decomposes the span instead). */
+int sw_pair_clamp_closed(const sw_pair_form *pf, double db, double d2b, double w, double *H);
 /* H (144, symmetric, over 4 vertices) with its negative eigenvalues clamped at 0, for a block
  * of an energy that a common translation of the 4 vertices does not change (H (1 (x) e) = 0):
  * found on the 9 dimensions orthogonal to the translations, the same block as a 12 x 12

@@ -360,11 +360,12 @@ static double cross2_derivs(const double *ea, const double *eb, double *gy, doub
 double sw_ee_mollifier(const double a0[3], const double a1[3], const double b0[3],
                        const double b1[3], double eps_x, double *g, double *H) {
   double ea[3] = {a1[0] - a0[0], a1[1] - a0[1], a1[2] - a0[2]};
-  double eb[3] = {b1[0] - b0[0], b1[1] - b0[1], b1[2] - b0[2]}, gy[6], Hy[36];
-  double c = cross2_derivs(ea, eb, gy, Hy);
+  double eb[3] = {b1[0] - b0[0], b1[1] - b0[1], b1[2] - b0[2]}, gy[6], Hy[36], w[3];
+  cross3(ea, eb, w);
   if (g) memset(g, 0, 12 * sizeof(double));
   if (H) memset(H, 0, 144 * sizeof(double));
-  if (!(c < eps_x)) return 1.0;
+  if (!(dot3(w, w) < eps_x)) return 1.0; /* as cross2_derivs's c, without its derivatives */
+  double c = cross2_derivs(ea, eb, gy, Hy);
   double q = c / eps_x, m1 = 2.0 * (1.0 - q) / eps_x, m2 = -2.0 / (eps_x * eps_x);
   /* vertex v moves edge v/2 with sign -1 (first end) or +1 (second end) */
   for (int v = 0; v < 4; v++)

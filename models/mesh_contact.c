@@ -824,7 +824,8 @@ static double pair_energy(const sw_model *m, const sw_mcontact *mc, int kind, co
   if (kind == SW_MC_EE) { /* the mollifier vanishes as the edges become parallel (IPC sec. 4.3) */
     gather_rest(m, pm, v, r);
     double eps = sw_ee_mollifier_eps(r, r + 3, r + 6, r + 9);
-    mo = sw_ee_mollifier(p, p + 3, p + 6, p + 9, eps, mg, H ? mH : NULL);
+    mo = sw_ee_mollifier(p, p + 3, p + 6, p + 9, eps, NULL, NULL); /* 1: no derivatives */
+    if (mo < 1.0) mo = sw_ee_mollifier(p, p + 3, p + 6, p + 9, eps, mg, H ? mH : NULL);
   }
   if (mo == 1.0) { /* no mollifier: b and its clamped block */
     for (int i = 0; g && i < 12; i++) g[i] = w * db * g2[i];
