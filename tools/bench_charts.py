@@ -176,13 +176,24 @@ def compact(v):
     return sci if len(sci) < len(plain) else plain
 
 
+def ms(v):
+    """A time step in milliseconds, one format for all: 0.01 -> '10 ms', 0.00125 -> '1.25 ms'."""
+    return f"{round(v * 1e3, 9):g} ms" if math.isfinite(v) else "?"
+
+
+def setting_text(setting, v):
+    """A dt in ms ('2.5 ms'), a tolerance compact ('1e-3')."""
+    return ms(v) if setting == "dt" else compact(v)
+
+
 def run_label(row):
-    """'dt=0.01' or 'rtol=1e-3'."""
-    return f"{row.get('setting') or 'value'}={compact(num(row, 'value'))}"
+    """'dt=10 ms' or 'rtol=1e-3'."""
+    setting = row.get("setting") or "value"
+    return f"{setting}={setting_text(setting, num(row, 'value'))}"
 
 
 def point_label(row):
-    v = compact(num(row, "value"))
+    v = setting_text(row.get("setting"), num(row, "value"))
     return f"h={v}" if row.get("setting") == "dt" else v
 
 
@@ -318,14 +329,16 @@ def chart_work_precision(d, title, asked_time=None):
 
 
 def read_orders(d):
-    """{method: legend text} from orders.csv: 'order 1.86 (dt 0.0025-0.01)'."""
+    """{method: legend text} from orders.csv: 'order 1.86 (dt 2.5-10 ms)'."""
     path = os.path.join(d, "orders.csv")
     out = {}
     if os.path.exists(path):
         for r in read_csv(path, ["method", "setting", "order", "range_lo", "range_hi"]):
             o = num(r, "order")
-            out[r["method"]] = (f"order {o:.2f} ({r['setting']} {compact(num(r, 'range_lo'))}"
-                                f"\u2013{compact(num(r, 'range_hi'))})" if math.isfinite(o)
+            lo, hi = num(r, "range_lo"), num(r, "range_hi")
+            rng = (f"{round(lo * 1e3, 9):g}\u2013{ms(hi)}" if r["setting"] == "dt"
+                   else f"{compact(lo)}\u2013{compact(hi)}")
+            out[r["method"]] = (f"order {o:.2f} ({r['setting']} {rng})" if math.isfinite(o)
                                 else "order: no converged range")
     return out
 
@@ -486,14 +499,14 @@ def stability_panel(ax, rows, scale, dts, methods, limits):
     ax.imshow(grid, cmap=cmap, vmin=-0.5, vmax=len(STATUS) - 0.5, aspect="auto",
               interpolation="nearest")
     ax.grid(False)
-    ax.set_xticks(range(len(dts)), [compact(v) for v in dts], rotation=45, ha="right",
+    ax.set_xticks(range(len(dts)), [f"{v * 1e3:g}" for v in dts], rotation=45, ha="right",
                   rotation_mode="anchor")
     ax.set_yticks(range(len(methods)), methods)
     ax.set_xticks(np.arange(len(dts) + 1) - 0.5, minor=True)
     ax.set_yticks(np.arange(len(methods) + 1) - 0.5, minor=True)
     ax.grid(which="minor", color="white", lw=1.5, alpha=1)
     ax.tick_params(which="minor", length=0)
-    ax.set_xlabel("dt (s)")
+    ax.set_xlabel("dt (ms)")
     ax.set_title(f"stiffness \u00d7 {compact(scale)}")
     for i, m in enumerate(methods):
         j = nearest_index(dts, limits.get(m, math.nan))
@@ -664,7 +677,7 @@ def ref_run_label(ref):
     """The reference's method and rtol (adaptive) or dt (fixed-step, older folders: neither)."""
     rtol, dt = num(ref, "rtol"), num(ref, "dt")
     setting = f" rtol={compact(rtol)}" if math.isfinite(rtol) else \
-        f" dt={compact(dt)}" if math.isfinite(dt) else ""
+        f" dt={ms(dt)}" if math.isfinite(dt) else ""
     return f"reference ({ref['method']}{setting})"
 
 
