@@ -178,7 +178,7 @@ def compact(v):
 
 def ms(v):
     """A time step in milliseconds, one format for all: 0.01 -> '10 ms', 0.00125 -> '1.25 ms'."""
-    return f"{round(v * 1e3, 9):g} ms" if math.isfinite(v) else "?"
+    return f"{round(v * 1e3, 9):g}\u00a0ms" if math.isfinite(v) else "?"  # no break before ms
 
 
 def setting_text(setting, v):
@@ -435,7 +435,7 @@ def failure_note(bad, width_in):
     items = []
     for r in bad:
         why = r.get("how") or r.get("message") or ""
-        why = f" ({why[:40]})" if why else ""
+        why = f": {why[:40]}" if why else ""
         items.append(f"{r['method']} {run_label(r)}{why}")
     text = "failed/crashed: " + "; ".join(items)
     lines = textwrap.wrap(text, width=int(width_in * 72 / 4.3))
