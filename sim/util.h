@@ -18,6 +18,7 @@ void sw_errf(char *err, size_t errsz, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
 
 double sw_now(void); /* monotonic wall clock, s */
+double sw_cpu_now(void); /* CPU time (user + system) of the process, every thread, s */
 
 #define SW_MIN(a, b) ((a) < (b) ? (a) : (b))
 #define SW_MAX(a, b) ((a) > (b) ? (a) : (b))

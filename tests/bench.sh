@@ -120,6 +120,33 @@ for png in work_precision tension_series; do
     fail "$png.png does not read back"
 done
 
+# CPU time beside wall time: in every row (a failed run's: to its failure), above 0 and at most
+# the wall time x the cores (runs and their repeats, the reference; summary.json of each run).
+cpu_ok() { # CSV [COLUMN SUFFIX ...]: every row's cpu_s > 0 and <= wall_s x cores
+  $py - "$@" "$(nproc)" <<'PY' || fail "CPU time in $1: see above"
+import csv, sys
+path, cores = sys.argv[1], int(sys.argv[-1])
+rows = list(csv.DictReader(open(path)))
+bad = [r for r in rows for s in ("", "_min", "_max") if f"wall{s}_s" in r and r[f"wall{s}_s"] and
+       not (r.get(f"cpu{s}_s") and 0 < float(r[f"cpu{s}_s"]) <= float(r[f"wall{s}_s"]) * cores)]
+print("\n".join(f"{path}: cpu {r.get('cpu_s')} wall {r['wall_s']}" for r in bad))
+sys.exit(not rows or bool(bad) or any(not r.get("cpu_s") for r in rows))
+PY
+}
+cpu_ok "$csv"
+cpu_ok "$wp/reference.csv"
+for f in "$wp"/runs/*/summary.json; do
+  $py -c "import json, sys; s = json.load(open('$f')); sys.exit(not (0 < s['cpu_time_s'] <= s['wall_time_s'] * $(nproc)))" ||
+    fail "$f: cpu_time_s $(grep -o '"cpu_time_s": [^,]*' "$f"), wall $(grep -o '"wall_time_s": [^,]*' "$f")"
+done
+# --time: the table's first time column and the setting kept for --merge and the charts
+grep -qx 'time = cpu' "$wp/bench_work_precision.cfg" || fail "the default --time is not cpu"
+grep -q '^  method .* CPU  *wall$' "$tmp/wp.out" || fail "the table does not lead with CPU time: $(grep '^  method' "$tmp/wp.out")"
+"$sinew" bench --merge "$wp" --time wall --no-charts >"$tmp/wall.out" 2>&1
+grep -q '^  method .* wall  *CPU$' "$tmp/wall.out" || fail "--merge --time wall: $(grep '^  method' "$tmp/wall.out")"
+"$sinew" bench --merge "$wp" --time gpu >/dev/null 2>&1 && fail "--time gpu accepted"
+$py tools/bench_charts.py "$wp" --time wall >/dev/null || fail "bench_charts.py --time wall"
+
 # ---------------------------------------------------------- a crash is recorded
 # A run that died by a signal leaves no final summary: --merge records it as crashed.
 id=wp_backward-euler_dt0.01_r1
@@ -161,6 +188,7 @@ bash "$tmp/jobs.txt" || fail "the job list does not run"
 a=$(col "$em/work_precision.csv" pos_err_max '^backward-euler,fixed,dt,0.02,')
 b=$(col "$csv" pos_err_max '^backward-euler,fixed,dt,0.02,')
 [ -n "$a" ] && [ "$a" = "$b" ] || fail "merged job list error $a != local run error $b"
+cpu_ok "$em/work_precision.csv"
 
 # --------------------------------------------------------------- stability
 st=$tmp/st
@@ -192,6 +220,7 @@ for n in 6 12 24; do
     fail "scaling row $row: step time, factor share or memory out of range"
 done
 head -c 8 "$sc/scaling.png" | od -An -tx1 | tr -d ' \n' | grep -q 89504e470d0a1a0a || fail "scaling.png"
+cpu_ok "$sc/scaling.csv"
 
 # ------------------------------------------------------ adaptive max orders
 # --max-orders 2,5: each adaptive method once per order, its own line (cvode:q2, cvode:q5), the

@@ -60,6 +60,7 @@ try: sys.exit(not float(a) == float(b))
 except ValueError: sys.exit(a != b)" || fail "bench --help names $1 '$2'; the default is '$(val "$1")'"
 }
 same repeat "$(grep -o 'median of --repeat N, default [0-9]*' <<<"$help" | awk '{print $NF}')"
+same time "$(grep -o -- '--time cpu|wall the time of the printed table and the charts (default [a-z]*' <<<"$help" | awk '{print $NF}')"
 same reference "$(grep -o 'A reference (--reference [a-z0-9:]*' <<<"$help" | awk '{print $NF}')"
 same reference_rtol "$(grep -o 'at --reference-rtol [0-9e.-]*)' <<<"$help" | tr -d ')' | awk '{print $NF}')"
 same confirm "$(grep -o '(--confirm [a-z0-9:]*' <<<"$help" | awk '{print $NF}')"

@@ -167,7 +167,7 @@ merged_row() { # DT PATTERN WHAT: merge, then the row of dt DT matches PATTERN a
   local row
   row=$(grep "^backward-euler,fixed,dt,$1," "$c/work_precision.csv")
   grep -Eq -- ",damaged,damaged data,$2" <<<"$row" || fail "$3: $row"
-  [ -z "$(cut -d, -f9,12-23 <<<"$row" | tr -d ,)" ] || fail "$3: numbers of a damaged run: $row"
+  [ -z "$(cut -d, -f9,12,15-26 <<<"$row" | tr -d ,)" ] || fail "$3: numbers of a damaged run: $row"
 }
 fresh; rm -rf "$c/runs/${ids}_dt0.01_r1" && cp -r "$c/runs/${ids}_dt0.02_r1" "$c/runs/${ids}_dt0.01_r1"
 merged_row 0.01 "runs/${ids}_dt0.01_r1/summary.json:[0-9]+: dt is 0.02; the plan says 0.01 for this run" \
@@ -190,13 +190,16 @@ merged_row 0.01 "runs/${ids}_dt0.01_r1/energy.csv:23: t = 0.21 s is after the pl
 fresh; sed -i 's/"wall_time_s": .*/"wall_time_s": -1e308,/' "$c/runs/${ids}_dt0.02_r1/summary.json"
 merged_row 0.02 "runs/${ids}_dt0.02_r1/summary.json:[0-9]+: wall_time_s is -1e308; expected a number >= 0" \
   "wall_time_s: -1e308"
+fresh; sed -i 's/"cpu_time_s": .*/"cpu_time_s": nan,/' "$c/runs/${ids}_dt0.02_r1/summary.json"
+merged_row 0.02 "runs/${ids}_dt0.02_r1/summary.json:[0-9]+: cpu_time_s is nan; expected a number >= 0" \
+  "cpu_time_s: nan"
 fresh; head -3 "$tmp/bench0/runs/wp_reference/energy.csv" >"$c/runs/wp_reference/energy.csv"
 "$sinew" bench --merge "$c" --no-charts >"$tmp/merge.out" 2>"$tmp/merge.err" && fail "a cut reference: exit 0"
 grep -q 'the reference run wp_reference damaged (damaged data): no errors can be measured (logs/wp_reference.log; runs/wp_reference/energy.csv:3: the log ends at t = 0.01 s; expected the planned end 0.2 s)' "$tmp/merge.err" ||
   fail "a reference log cut to 3 lines: $(cat "$tmp/merge.err")"
 grep -q '^reference: cvode:q5 rtol 1e-10 damaged; ida:q5 rtol 1e-10 ok: NOT CONFIRMED, nothing measured$' "$tmp/merge.out" ||
   fail "a reference log cut to 3 lines: $(head -3 "$tmp/merge.out")"
-[ -z "$(cut -d, -f18-23 "$c/work_precision.csv" | tail -n +2 | tr -d ,)" ] || fail "errors against a cut reference"
+[ -z "$(cut -d, -f21-26 "$c/work_precision.csv" | tail -n +2 | tr -d ,)" ] || fail "errors against a cut reference"
 fresh; echo timeout >"$c/logs/wp_reference.exit"; sed -i 's/^timeout = .*/timeout = 5/' "$c/bench_work_precision.cfg"
 "$sinew" bench --merge "$c" --no-charts >"$tmp/merge.out" 2>&1 && fail "a timed-out reference: exit 0"
 grep -q '^reference: cvode:q5 rtol 1e-10 timed out (5 s); ida:q5 rtol 1e-10 ok: NOT CONFIRMED, nothing measured$' "$tmp/merge.out" ||

@@ -128,7 +128,7 @@ for r in 1 2; do
 done
 [ "$(wc -l <"$tmp/energy1")" -eq 12 ] || fail "energy.csv: header and 11 lines expected"
 cmp -s "$tmp/energy1" "$tmp/energy2" || fail "energy.csv differs between runs (beyond step_wall_s)"
-timers='"(time_[a-z_]*_s|wall_time_s|wall_time_total_s|max_rss_mb)"'
+timers='"(time_[a-z_]*_s|wall_time_s|wall_time_total_s|cpu_time_s|max_rss_mb)"'
 for r in 1 2; do grep -Ev "$timers" "$tmp/rep$r/summary.json" | sed "s|rep$r|rep|" >"$tmp/sum$r"; done
 cmp -s "$tmp/sum1" "$tmp/sum2" || fail "summary.json differs between runs (beyond its timers and max_rss_mb)"
 

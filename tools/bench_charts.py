@@ -2,6 +2,7 @@
 """tools/bench_charts.py — the charts of a `sinew bench` folder.
 
     /usr/bin/python3 tools/bench_charts.py DIR [--title TEXT] [--series METHOD=VALUE[,...]]
+                                               [--time cpu|wall]
 
 Makes every chart whose CSV exists in DIR, each PNG beside its CSV, and prints the paths it
 wrote. Exit 0; exit 2 on a missing DIR, a DIR without any bench CSV, a CSV missing a required
@@ -10,12 +11,17 @@ A CSV with no usable rows gives a chart that says "no data". Needs numpy and mat
 (Debian's, hence /usr/bin/python3); the output is deterministic (same CSVs, same PNG bytes).
 Each method has the same colour and marker in every chart.
 
+--time: the time axis of work_precision.png, the runs' CPU time (user + system, column cpu_s)
+or their wall time (wall_s); default: the folder's `time` setting (bench_*.cfg, `sinew bench
+--time`), else cpu. A folder whose CSV has no CPU time (an older sinew) is drawn by wall time,
+and its footnote says so.
+
 work_precision.png (work_precision.csv, optional reference.csv)
-    Relative error against median wall time, log-log, one line per method through its ok
+    Relative error against median CPU (or wall) time, log-log, one line per method through its ok
     runs sorted by setting value, each point labelled with its value ("h=0.01" for a time
     step, "1e-3" for a tolerance). Panels: (a) pos_err_max, (b) txy_max_l2, (c) tendon_err
     when any run has one. Zero or empty errors are left out (log axes). A failed or crashed
-    run is an x at the top edge of each panel at its wall time, and is listed under the
+    run is an x at the top edge of each panel at its time, and is listed under the
     panels with its `how`. With reference.csv, a dashed line at the reference's agreement
     level (pos_err, txy_err, tendon_err: the reference against its confirmation run):
     errors below it are not resolved.
@@ -24,7 +30,8 @@ stability.png (stability.csv, optional stability_limits.csv)
     step (sorted), coloured by status: stable, over-damped, failed, crashed, damaged, missing. With
     stability_limits.csv, the largest stable dt of each method and scale is outlined.
 scaling.png (scaling.csv; also writes scaling_fit.csv)
-    (a) time per step against DOFs, log-log, with the least-squares exponent p of
+    (a) wall time per step against DOFs (the median over the steps after the first; runs one at
+    a time), log-log, with the least-squares exponent p of
     step_s ~ dofs^p (ok rows, >= 2 distinct sizes) in the legend and a dashed slope-1 line;
     (b) the factorisation's share of the step, against DOFs; (c) peak RSS against DOFs,
     log-log, with its exponent. scaling_fit.csv: method,time_exponent,memory_exponent,points.
@@ -84,6 +91,16 @@ WP_PANELS = [("pos_err_max", "pos_err", "RMS position error / cloth size\n(max o
 
 class BenchError(Exception):
     pass
+
+
+class Timing:
+    """The time the work-precision charts use: column 'cpu_s' or 'wall_s'."""
+    col = "cpu_s"
+    fallback = False  # asked for CPU time, the CSV has none: wall time
+
+
+TIME = Timing()
+TIME_NAME = {"cpu_s": "CPU time", "wall_s": "wall time"}
 
 
 # ---------------------------------------------------------------- reading
@@ -159,13 +176,24 @@ def compact(v):
     return sci if len(sci) < len(plain) else plain
 
 
+def ms(v):
+    """A time step in milliseconds, one format for all: 0.01 -> '10 ms', 0.00125 -> '1.25 ms'."""
+    return f"{round(v * 1e3, 9):g}\u00a0ms" if math.isfinite(v) else "?"  # no break before ms
+
+
+def setting_text(setting, v):
+    """A dt in ms ('2.5 ms'), a tolerance compact ('1e-3')."""
+    return ms(v) if setting == "dt" else compact(v)
+
+
 def run_label(row):
-    """'dt=0.01' or 'rtol=1e-3'."""
-    return f"{row.get('setting') or 'value'}={compact(num(row, 'value'))}"
+    """'dt=10 ms' or 'rtol=1e-3'."""
+    setting = row.get("setting") or "value"
+    return f"{setting}={setting_text(setting, num(row, 'value'))}"
 
 
 def point_label(row):
-    v = compact(num(row, "value"))
+    v = setting_text(row.get("setting"), num(row, "value"))
     return f"h={v}" if row.get("setting") == "dt" else v
 
 
@@ -219,14 +247,15 @@ def read_cfg(d):
     return cfg
 
 
-def footnote(d, repeats=True):
-    """What was measured where: scene, sinew version, machine, repeats of the timings."""
+def footnote(d, timing=None):
+    """What was measured where: scene, sinew version, machine, what the times are and their
+    repeats (timing: the time's name, None: no times on the chart)."""
     cfg = read_cfg(d)
     parts = [f"scene {os.path.basename(cfg.get('scene', '?'))}",
              f"sinew {cfg.get('version', '(version not recorded)')}",
              cfg.get("cpu", "machine not recorded")]
-    if repeats:
-        parts.append(f"wall time: median of {cfg.get('repeat', '?')} repeats")
+    if timing:
+        parts.append(f"{timing}: median of {cfg.get('repeat', '?')} repeats")
     return " · ".join(parts)
 
 
@@ -236,8 +265,26 @@ def suptitle(fig, name, title, d=None):
     fig.suptitle(f"{title}: {name}" if title else name)
 
 
-def put_footnote(fig, d, repeats=True):
-    fig.text(0.99, 0.005, footnote(d, repeats), fontsize=7, ha="right", va="bottom", color="0.35")
+def put_footnote(fig, d, timing=None):
+    fig.text(0.99, 0.005, footnote(d, timing), fontsize=7, ha="right", va="bottom", color="0.35")
+
+
+def choose_time(d, rows, asked):
+    """Sets TIME from --time (asked), else the folder's setting, else CPU time; wall time when
+    the rows have no CPU time (a folder of an older sinew)."""
+    want = asked or read_cfg(d).get("time", "cpu")
+    TIME.col = "cpu_s" if want == "cpu" else "wall_s"
+    TIME.fallback = TIME.col == "cpu_s" and not any(positive(num(r, "cpu_s")) for r in rows)
+    if TIME.fallback:
+        TIME.col = "wall_s"
+        warn(f"{d}: no CPU time in work_precision.csv (an older sinew): drawn by wall time")
+
+
+def time_note():
+    """The footnote's timing part: 'CPU time (user + system)' or 'wall time'."""
+    if TIME.col == "cpu_s":
+        return "CPU time (user + system)"
+    return "wall time (no CPU time recorded)" if TIME.fallback else "wall time"
 
 
 def save(fig, path):
@@ -255,8 +302,9 @@ def margins(fig, left, right, bottom, top, wspace=None):
 
 # ---------------------------------------------------------------- work-precision
 
-def chart_work_precision(d, title):
+def chart_work_precision(d, title, asked_time=None):
     rows = read_csv(os.path.join(d, "work_precision.csv"), WP_REQ)
+    choose_time(d, rows, asked_time)
     ref = read_reference(d)
     panels = WP_PANELS[:2] + [p for p in WP_PANELS[2:]
                               if any(positive(num(r, p[0])) for r in rows)]
@@ -272,7 +320,7 @@ def chart_work_precision(d, title):
     if note:
         fig.text(0.01, 0.03, "\n".join(note), fontsize=7.5, va="bottom", color="0.2")
     suptitle(fig, "Work-precision", title, d)
-    put_footnote(fig, d)
+    put_footnote(fig, d, time_note())
     margins(fig, 0.75, 2.6, 0.8 + 0.16 * len(note), 0.75, wspace=0.3)
     for ax, cands in zip(axes[0], labels):
         readable_log(ax)
@@ -281,14 +329,16 @@ def chart_work_precision(d, title):
 
 
 def read_orders(d):
-    """{method: legend text} from orders.csv: 'order 1.86 (dt 0.0025-0.01)'."""
+    """{method: legend text} from orders.csv: 'order 1.86 (dt 2.5-10 ms)'."""
     path = os.path.join(d, "orders.csv")
     out = {}
     if os.path.exists(path):
         for r in read_csv(path, ["method", "setting", "order", "range_lo", "range_hi"]):
             o = num(r, "order")
-            out[r["method"]] = (f"order {o:.2f} ({r['setting']} {compact(num(r, 'range_lo'))}"
-                                f"\u2013{compact(num(r, 'range_hi'))})" if math.isfinite(o)
+            lo, hi = num(r, "range_lo"), num(r, "range_hi")
+            rng = (f"{round(lo * 1e3, 9):g}\u2013{ms(hi)}" if r["setting"] == "dt"
+                   else f"{compact(lo)}\u2013{compact(hi)}")
+            out[r["method"]] = (f"order {o:.2f} ({r['setting']} {rng})" if math.isfinite(o)
                                 else "order: no converged range")
     return out
 
@@ -300,17 +350,17 @@ def wp_handles(rows, ref, panels, bad, orders):
         handles.append(Line2D([], [], color="black", ls="--", lw=1.2, label=ref_label(ref)))
     if bad:
         handles.append(Line2D([], [], color="0.3", ls="none", marker="x", mew=2,
-                              label="failed / crashed run\n(at its wall time)"))
+                              label=f"failed / crashed run\n(at its {TIME_NAME[TIME.col]})"))
     return handles
 
 
 def wp_panel(ax, rows, panel, ref, letter):
-    """One error column against wall time; returns the point labels to place."""
+    """One error column against CPU or wall time; returns the point labels to place."""
     col, refcol, label = panel
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_title(f"({letter}) {label}")
-    ax.set_xlabel("wall time (s, median)")
+    ax.set_xlabel(f"{TIME_NAME[TIME.col]} (s, median)")
     cands = [c for m in method_order(r["method"] for r in rows)
              for c in wp_method(ax, rows, m, col)]
     if ref is not None and positive(num(ref, refcol)):
@@ -330,12 +380,12 @@ def wp_method(ax, rows, method, col):
     """Draws the ok runs of one method, sorted by value; returns their label candidates
     (priority, x, y, text, colour): the two ends of the line first."""
     pts = [r for r in rows if r["method"] == method and r["status"] == "ok"
-           and positive(num(r, "wall_s")) and positive(num(r, col))]
+           and positive(num(r, TIME.col)) and positive(num(r, col))]
     pts.sort(key=lambda r: (not math.isfinite(num(r, "value")), num(r, "value")))
     if not pts:
         return []
     st = style(method)
-    x, y = [num(r, "wall_s") for r in pts], [num(r, col) for r in pts]
+    x, y = [num(r, TIME.col) for r in pts], [num(r, col) for r in pts]
     ax.plot(x, y, lw=1.5, ms=6, **st)
     return [(0 if i in (0, len(pts) - 1) else 1, x[i], y[i], point_label(r), st["color"])
             for i, r in enumerate(pts)]
@@ -369,11 +419,11 @@ def free(box, taken, bbox):
 
 
 def failed_marks(ax, rows):
-    """An x at the top edge of the panel at the wall time of each failed or crashed run;
+    """An x at the top edge of the panel at the time of each failed or crashed run;
     returns how many were drawn."""
-    bad = [r for r in rows if r["status"] != "ok" and positive(num(r, "wall_s"))]
+    bad = [r for r in rows if r["status"] != "ok" and positive(num(r, TIME.col))]
     for r in bad:
-        ax.plot([num(r, "wall_s")], [0.965], transform=ax.get_xaxis_transform(), ls="none",
+        ax.plot([num(r, TIME.col)], [0.965], transform=ax.get_xaxis_transform(), ls="none",
                 marker="x", ms=7, mew=2, color=style(r["method"])["color"], clip_on=False)
     return len(bad)
 
@@ -385,7 +435,7 @@ def failure_note(bad, width_in):
     items = []
     for r in bad:
         why = r.get("how") or r.get("message") or ""
-        why = f" ({why[:40]})" if why else ""
+        why = f": {why[:40]}" if why else ""
         items.append(f"{r['method']} {run_label(r)}{why}")
     text = "failed/crashed: " + "; ".join(items)
     lines = textwrap.wrap(text, width=int(width_in * 72 / 4.3))
@@ -424,7 +474,7 @@ def chart_stability(d, title):
     fig.legend(handles=handles, loc="lower center", ncol=len(handles), frameon=False,
                bbox_to_anchor=(0.5, 0.2 / fig.get_size_inches()[1]))  # above the footnote
     suptitle(fig, "Stability map", title, d)
-    put_footnote(fig, d, repeats=False)
+    put_footnote(fig, d)
     margins(fig, 1.45, 0.2, 1.4, 0.7, wspace=0.08)
     save(fig, path)
 
@@ -449,14 +499,14 @@ def stability_panel(ax, rows, scale, dts, methods, limits):
     ax.imshow(grid, cmap=cmap, vmin=-0.5, vmax=len(STATUS) - 0.5, aspect="auto",
               interpolation="nearest")
     ax.grid(False)
-    ax.set_xticks(range(len(dts)), [compact(v) for v in dts], rotation=45, ha="right",
+    ax.set_xticks(range(len(dts)), [f"{v * 1e3:g}" for v in dts], rotation=45, ha="right",
                   rotation_mode="anchor")
     ax.set_yticks(range(len(methods)), methods)
     ax.set_xticks(np.arange(len(dts) + 1) - 0.5, minor=True)
     ax.set_yticks(np.arange(len(methods) + 1) - 0.5, minor=True)
     ax.grid(which="minor", color="white", lw=1.5, alpha=1)
     ax.tick_params(which="minor", length=0)
-    ax.set_xlabel("dt (s)")
+    ax.set_xlabel("dt (ms)")
     ax.set_title(f"stiffness \u00d7 {compact(scale)}")
     for i, m in enumerate(methods):
         j = nearest_index(dts, limits.get(m, math.nan))
@@ -514,7 +564,7 @@ def chart_scaling(d, title):
         if ax.get_legend_handles_labels()[0]:
             ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.13), frameon=False)
     suptitle(fig, "Scaling", title, d)
-    put_footnote(fig, d)
+    put_footnote(fig, d, "wall time per step")
     margins(fig, 0.75, 0.25, 1.0 + 0.19 * n, 0.7, wspace=0.32)
     save(fig, os.path.join(d, "scaling.png"))
 
@@ -618,7 +668,7 @@ def chart_tension(d, title, series):
     fig.legend(handles=handles, loc="upper left",
                bbox_to_anchor=(1 - 2.65 / fig.get_size_inches()[0], 0.88), frameon=False)
     suptitle(fig, "Tension series", title, d)
-    put_footnote(fig, d, repeats=False)
+    put_footnote(fig, d)
     margins(fig, 0.75, 2.8, 0.8, 0.75, wspace=0.3)
     save(fig, path)
 
@@ -627,7 +677,7 @@ def ref_run_label(ref):
     """The reference's method and rtol (adaptive) or dt (fixed-step, older folders: neither)."""
     rtol, dt = num(ref, "rtol"), num(ref, "dt")
     setting = f" rtol={compact(rtol)}" if math.isfinite(rtol) else \
-        f" dt={compact(dt)}" if math.isfinite(dt) else ""
+        f" dt={ms(dt)}" if math.isfinite(dt) else ""
     return f"reference ({ref['method']}{setting})"
 
 
@@ -743,6 +793,8 @@ def main():
     ap = argparse.ArgumentParser(description="Charts of a sinew bench folder.")
     ap.add_argument("dir", metavar="DIR", help="the bench folder")
     ap.add_argument("--title", default="", help="prefix of every chart's title")
+    ap.add_argument("--time", choices=["cpu", "wall"], default=None,
+                    help="the work-precision chart's time (default: the folder's, else cpu)")
     ap.add_argument("--series", default="", metavar="METHOD=VALUE[,...]",
                     help="runs for the tension series (default: each method's coarsest ok run)")
     args = ap.parse_args()
@@ -751,7 +803,8 @@ def main():
     if not os.path.isdir(d):
         return fail([f"{d}: no such directory"])
     have = {n for n in os.listdir(d) if n.endswith(".csv")}
-    jobs = [(lambda f=f: f(d, args.title)) for name, f in CHARTS if name in have]
+    jobs = [(lambda f=f: f(d, args.title, args.time) if f is chart_work_precision
+             else f(d, args.title)) for name, f in CHARTS if name in have]
     if {"work_precision.csv", "reference.csv"} <= have:
         jobs.append(lambda: chart_tension(d, args.title, series))
     if not jobs:

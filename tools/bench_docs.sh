@@ -7,8 +7,10 @@
 #                                              stiff stiff_stability
 #                                              drape_sphere drape_sphere_fold scaling
 #                                              (default: all)
-#   JOBS=N  runs N at a time (default 2, both cores: timings are then of runs sharing the
-#           machine; the scaling sweep always runs alone)
+#   JOBS=N  runs N at a time (default 2, both cores: the runs then share the machine, which
+#           moves their CPU times, charted by default, much less than their wall times
+#           (docs/benchmarks.md, "Timing on a shared machine"); the scaling sweep, which charts
+#           wall time per step, always runs alone)
 #   OUT=DIR where the run folders go (default out/bench_docs; they are not copied)
 #   SINEW=PATH the sinew executable (default build/sinew)
 #

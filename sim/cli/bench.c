@@ -34,6 +34,7 @@ typedef struct bench_cli {
   int orders[5], norder;       /* --max-orders: each adaptive method at each of these */
   double duration, sample_every;
   double scene_dt;             /* s: the scene's integrator.dt */
+  int time;                    /* --time: 1 cpu, 0 wall, -1 not given */
 } bench_cli;
 
 static void bench_usage(FILE *fp) {
@@ -47,8 +48,8 @@ static void bench_usage(FILE *fp) {
       "                   [--scaling [--sizes N,...] [--steps N]]\n"
       "                   [--jobs N | --emit-jobs FILE] [--timeout S] [--diverged F]\n"
       "                   [--tension-diverged F]\n"
-      "                   [--max-halvings N] [--no-charts]\n"
-      "       sinew bench --merge DIR [--no-charts]\n"
+      "                   [--max-halvings N] [--time cpu|wall] [--no-charts]\n"
+      "       sinew bench --merge DIR [--time cpu|wall] [--no-charts]\n"
       "\n"
       "  Runs SCENE under each method and setting, each in its own `sinew run` process, and\n"
       "  writes CSV files and PNG charts into DIR (default out/bench/<scene stem>).\n"
@@ -64,7 +65,8 @@ static void bench_usage(FILE *fp) {
       "  --rtols (default 1e-3 .. 1e-6).  Errors at the common sample times (every\n"
       "  --sample-every s, a multiple of every dt; default ~duration/40) against the reference:\n"
       "  RMS position error / cloth size, tension XY max and mean series (L2, max), tendon\n"
-      "  tension, final time; costs: wall time (median of --repeat N, default 3), counts.\n"
+      "  tension, final time; costs: CPU time (user + system) and wall time, each the\n"
+      "  median of --repeat N, default 3; counts.\n"
       "  Observed order per method: the least-squares slope of log(position error) over\n"
       "  log(dt or rtol) on its converged range (orders.csv), with a warning where the\n"
       "  error does not fall with dt.  The sweep's fixed-step runs stop Newton at the\n"
@@ -94,6 +96,9 @@ static void bench_usage(FILE *fp) {
       "  --max-halvings N  a failed step of a run is retried with half the step at most N\n"
       "               times (default 0: dt means dt, a failed step fails the run);\n"
       "               work_precision.csv counts the retries\n"
+      "  --time cpu|wall  the time of the printed table and the charts (default cpu: CPU\n"
+      "               time moves less than wall time when other programs share the machine;\n"
+      "               the CSV files have both)\n"
       "  --no-charts  CSV only (charts: /usr/bin/python3 tools/bench_charts.py DIR)\n");
 }
 
@@ -189,6 +194,11 @@ static int parse_valued(const char *a, const char *v, bench_cli *c, bench_cfg *g
   if (!strcmp(a, "--reference-newton-tol"))
     return cli_number(a, v, 1, &g->ref_newton_tol) ? -1 : 1;
   if (!strcmp(a, "--newton-tol")) return cli_number(a, v, 1, &g->newton_tol) ? -1 : 1;
+  if (!strcmp(a, "--time")) {
+    if (strcmp(v, "cpu") && strcmp(v, "wall"))
+      return fprintf(stderr, "sinew: --time expects cpu or wall, got '%s'\n", v), -1;
+    return c->time = g->time_cpu = !strcmp(v, "cpu"), 1;
+  }
   if (!strcmp(a, "--reference") || !strcmp(a, "--confirm")) {
     char *dst = a[2] == 'r' ? g->ref_method : g->confirm_method;
     if (check_spec(v) < 0 || !strcmp(v, "static") || strlen(v) >= SW_NAMESZ)
@@ -542,8 +552,8 @@ static int write_cfg(const bench_cfg *g) {
   num(f, "overdamped", g->overdamped), num(f, "diverged", g->diverged);
   num(f, "tension_diverged", g->tension_diverged);
   num(f, "timeout", g->timeout);
-  fprintf(f, "repeat = %d\nsteps = %d\nmax_halvings = %d\n", g->repeat, g->steps,
-          g->max_halvings);
+  fprintf(f, "repeat = %d\nsteps = %d\nmax_halvings = %d\ntime = %s\n", g->repeat, g->steps,
+          g->max_halvings, g->time_cpu ? "cpu" : "wall");
   char cpu[160];
   fprintf(f, "version = %s\ncpu = %s\n", SW_VERSION, cpu_model(cpu, sizeof cpu));
   return bench_commit(f, tmp);
@@ -593,6 +603,11 @@ static int cfg_line(bench_cfg *g, const char *key, const char *val, char *why, s
     for (int k = 0; k < BM_NMODE; k++)
       if (!strcmp(val, bench_mode_name(k))) return g->mode = k, 0;
     return snprintf(why, sz, "expected work_precision, stability or scaling"), -1;
+  }
+  if (!strcmp(key, "time")) {
+    if (strcmp(val, "cpu") && strcmp(val, "wall"))
+      return snprintf(why, sz, "expected cpu or wall"), -1;
+    return g->time_cpu = !strcmp(val, "cpu"), 0;
   }
   struct { const char *k; char *s; size_t sz; } str[] = {{"scene", g->scene, SW_PATHSZ},
       {"exe", g->exe, SW_PATHSZ}, {"reference", g->ref_method, SW_NAMESZ},
@@ -692,6 +707,7 @@ static int parse_job(char *line, bench_job *j, char *why, size_t sz) {
 int bench_plan_read(const char *dir, int mode, bench_plan *p, char *err, size_t errsz) {
   memset(p, 0, sizeof *p);
   p->cfg.tension_diverged = BENCH_TENSION_DIVERGED; /* a folder of an older sinew has none */
+  p->cfg.time_cpu = BENCH_TIME_CPU;
   int rc = read_cfg(dir, mode, &p->cfg, err, errsz);
   if (rc) return rc;
   snprintf(p->cfg.dir, sizeof p->cfg.dir, "%s", dir);
@@ -772,7 +788,8 @@ static int make_plan(const bench_cli *c, bench_plan *p) {
   return 0;
 }
 
-static int merge_all(const char *dir, int charts) {
+/* time: --time (1 cpu, 0 wall), or -1: the folder's */
+static int merge_all(const char *dir, int charts, int time) {
   int rc = 0, found = 0;
   for (int mode = 0; mode < BM_NMODE; mode++) {
     bench_plan p;
@@ -782,6 +799,7 @@ static int merge_all(const char *dir, int charts) {
     if (r) { free(p.job); continue; }
     found = 1;
     p.cfg.charts = charts;
+    if (time >= 0) p.cfg.time_cpu = time;
     int m = bench_merge(&p);
     rc = rc ? rc : m;
     free(p.job);
@@ -793,16 +811,16 @@ static int merge_all(const char *dir, int charts) {
 }
 
 int sw_bench_main(int argc, char **argv) {
-  bench_cli c = {0};
+  bench_cli c = {.time = -1};
   bench_plan p = {.cfg = {.mode = BM_WORK, .confirm_tol = 1e-6, .overdamped = 0.1,
                           .diverged = 1.0, .tension_diverged = BENCH_TENSION_DIVERGED,
                           .repeat = BENCH_REPEAT, .jobs = 1, .steps = 3, .charts = 1,
                           .max_halvings = -1, .ref_newton_tol = BENCH_REF_NEWTON_TOL,
-                          .newton_tol = BENCH_NEWTON_TOL,
+                          .newton_tol = BENCH_NEWTON_TOL, .time_cpu = BENCH_TIME_CPU,
                           .ref_method = "cvode:q5", .confirm_method = "ida:q5"}};
   int rc = parse_bench_args(argc, argv, &c, &p.cfg);
   if (rc) return rc < 0 ? 2 : 0;
-  if (c.merge) return merge_all(c.merge, p.cfg.charts);
+  if (c.merge) return merge_all(c.merge, p.cfg.charts, c.time);
   if (check_scene(&c, &p.cfg) || locate(&c, &p.cfg)) return 2;
   if (make_plan(&c, &p)) return 2;
   if (write_plan(&p)) return free(p.job), 2;

@@ -41,6 +41,9 @@ enum { BR_REFERENCE = 0, BR_CONFIRM, BR_RUN };
 #define BENCH_MIN_STABLE_STEPS 10
 /* Timings: the default --repeat (the median of 3 runs) */
 #define BENCH_REPEAT 3
+/* Timings: the default --time, 1: CPU time (user + system), 0: wall time; on a shared machine
+ * CPU time moves less (docs/benchmarks.md, "Timing on a shared machine") */
+#define BENCH_TIME_CPU 1
 /* A run fails when a tension error exceeds this fraction of the reference's largest tension */
 #define BENCH_TENSION_DIVERGED 1.0
 
@@ -80,6 +83,7 @@ typedef struct bench_cfg {
   double timeout;              /* s per run, 0: none */
   int repeat, jobs, steps, charts;
   int max_halvings;            /* passed to the runs (--max-halvings); < 0: the scene's */
+  int time_cpu;                /* the tables and charts time runs by CPU time (1) or wall (0) */
 } bench_cfg;
 
 typedef struct bench_plan {
@@ -104,7 +108,9 @@ typedef struct bench_result {
   char status[16];             /* ok | failed | crashed (no summary, "running", or a signal) */
   char how[48];                /* short reason of a failure */
   char message[512];
-  double wall, time_step, time_assemble, time_factor, time_solve, max_rss_mb;
+  double wall;                 /* s: wall time of the run (summary.json wall_time_s) */
+  double cpu;                  /* s: its CPU time, user + system (cpu_time_s); NaN: none */
+  double time_step, time_assemble, time_factor, time_solve, max_rss_mb;
   long steps, newton, factor, assemble, force, retries;
   long dofs, nv;
   /* the logs at the common sample times: ns samples */

@@ -140,6 +140,7 @@ static void warn_damaged_repeats(const bench_plan *p, int k) {
 }
 
 static double wall_of(const bench_result *r) { return r->wall; }
+static double cpu_of(const bench_result *r) { return r->cpu; }
 static double step_of(const bench_result *r) { return r->step_median; }
 static double rss_of(const bench_result *r) { return r->max_rss_mb; }
 
@@ -185,8 +186,9 @@ static void check_tension(const bench_cfg *c, bench_result *r, const errors *e) 
 /* -------------------------------------------------------- work precision */
 
 static const char *const wp_header =
-    "method,kind,setting,value,status,how,message,repeats,wall_s,wall_min_s,wall_max_s,steps,"
-    "newton_iterations,force_evaluations,assemblies,factorizations,retries,pos_err_max,pos_err_final,"
+    "method,kind,setting,value,status,how,message,repeats,wall_s,wall_min_s,wall_max_s,cpu_s,"
+    "cpu_min_s,cpu_max_s,steps,newton_iterations,force_evaluations,assemblies,factorizations,"
+    "retries,pos_err_max,pos_err_final,"
     "txy_max_l2,txy_max_linf,txy_mean_l2,txy_mean_linf,tendon_err,run_dir";
 
 /* One line of work_precision.csv and of the table; the run's point for its order into pt. */
@@ -201,15 +203,17 @@ static void wp_row(FILE *f, const bench_plan *p, int k, const bench_result *ref,
   check_tension(&p->cfg, &r, &e);
   int ok = !strcmp(r.status, "ok");
   *pt = (bench_point){j->method, j->adaptive, ok, j->adaptive ? j->rtol : j->dt, e.pos_max};
-  spread w = repeat_spread(p, k, wall_of);
+  spread w = repeat_spread(p, k, wall_of), u = repeat_spread(p, k, cpu_of);
   warn_damaged_repeats(p, k);
   fprintf(f, "%s,%s,%s,%.6g,%s", j->method, j->adaptive ? "adaptive" : "fixed",
           j->adaptive ? "rtol" : "dt", j->adaptive ? j->rtol : j->dt, r.status);
   put_text(f, r.how), put_text(f, r.message);
   fprintf(f, ",%d", w.n);
-  /* a failed run's wall time is its time to failure (first repeat) */
+  /* a failed run's times are its time to failure (first repeat) */
   double wall = ok ? w.median : strcmp(r.status, "damaged") ? r.wall : NAN; /* damaged: none */
+  double cpu = ok ? u.median : strcmp(r.status, "damaged") ? r.cpu : NAN;
   put_num(f, wall), put_num(f, w.lo), put_num(f, w.hi);
+  put_num(f, cpu), put_num(f, u.lo), put_num(f, u.hi);
   if (!strcmp(r.status, "damaged")) fputs(",,,,,,", f); /* its counters are not its own */
   else fprintf(f, ",%ld,%ld,%ld,%ld,%ld,%ld", r.steps, r.newton, r.force, r.assemble, r.factor,
                r.retries);
@@ -218,9 +222,9 @@ static void wp_row(FILE *f, const bench_plan *p, int k, const bench_result *ref,
   put_num(f, e.txy_max_linf), put_num(f, e.txy_mean_l2), put_num(f, e.txy_mean_linf);
   put_num(f, e.tendon);
   fprintf(f, ",runs/%s\n", j->id);
-  printf("  %-18s %-4s %-8.3g %-8s %10.3g %10.3g %9.3g s  %s\n", j->method,
+  printf("  %-18s %-4s %-8.3g %-8s %10.3g %10.3g %9.3g s %9.3g s  %s\n", j->method,
          j->adaptive ? "rtol" : "dt", j->adaptive ? j->rtol : j->dt, r.status, e.pos_max,
-         e.txy_max_l2, wall, r.how);
+         e.txy_max_l2, p->cfg.time_cpu ? cpu : wall, p->cfg.time_cpu ? wall : cpu, r.how);
   bench_result_free(&r);
 }
 
@@ -245,7 +249,7 @@ static const char *ended(int ok, const bench_result *r) {
 
 static const char *const ref_header =
     "method,rtol,dt,confirm_method,confirm_rtol,confirm_dt,pos_err,txy_err,tendon_err,bound,"
-    "confirmed,wall_s,retries,confirm_retries,run_dir,confirm_dir";
+    "confirmed,wall_s,cpu_s,retries,confirm_retries,run_dir,confirm_dir";
 
 /* reference.csv: the reference run and its agreement with the second method. */
 static int wp_reference(const bench_plan *p, const bench_result *ref, int have_ref,
@@ -268,7 +272,7 @@ static int wp_reference(const bench_plan *p, const bench_result *ref, int have_r
   put_num(f, e.pos_max), put_num(f, e.txy_max_l2), put_num(f, e.tendon);
   put_num(f, c->confirm_tol);
   fprintf(f, ",%s", confirmed ? "yes" : "no");
-  put_num(f, have_ref ? ref->wall : NAN);
+  put_num(f, have_ref ? ref->wall : NAN), put_num(f, have_ref ? ref->cpu : NAN);
   fprintf(f, ",%ld,%ld", have_ref ? ref->retries : 0L, cr.retries);
   fprintf(f, ",runs/%s,runs/%s\n", jr ? jr->id : "", jc ? jc->id : "");
   describe(rd, sizeof rd, jr, c->ref_method), describe(cd, sizeof cd, jc, c->confirm_method);
@@ -298,8 +302,8 @@ static int merge_work(const bench_plan *p) {
   printf("a run fails when its position error exceeds %g x the cloth's size or a tension "
          "error (XY max, XY mean, tendons) exceeds %g x the reference's largest\n",
          p->cfg.diverged, p->cfg.tension_diverged);
-  printf("  %-18s %-4s %-8s %-8s %10s %10s %11s\n", "method", "", "setting", "status",
-         "pos err", "txy err", "wall");
+  printf("  %-18s %-4s %-8s %-8s %10s %10s %11s %11s\n", "method", "", "setting", "status",
+         "pos err", "txy err", p->cfg.time_cpu ? "CPU" : "wall", p->cfg.time_cpu ? "wall" : "CPU");
   int npt = 0;
   for (int k = 0; k < p->njob; k++)
     if (p->job[k].role == BR_RUN && p->job[k].rep == 1)
@@ -430,7 +434,8 @@ static int merge_stability(const bench_plan *p) {
 static int merge_scaling(const bench_plan *p) {
   char path[SW_PATHSZ + 64];
   FILE *f = open_csv(&p->cfg, "scaling.csv", "method,grid,vertices,dofs,steps,step_s,"
-                     "assemble_s,factor_s,solve_s,factor_share,max_rss_mb,status,run_dir",
+                     "assemble_s,factor_s,solve_s,factor_share,max_rss_mb,wall_s,cpu_s,status,"
+                     "run_dir",
                      path, sizeof path);
   if (!f) return 2;
   printf("  %-18s %8s %9s %10s %8s %9s\n", "method", "vertices", "DOFs", "step (s)", "factor",
@@ -448,6 +453,8 @@ static int merge_scaling(const bench_plan *p) {
     put_num(f, step), put_num(f, step * r.time_assemble / ts);
     put_num(f, step * r.time_factor / ts), put_num(f, step * r.time_solve / ts);
     put_num(f, r.time_factor / ts), put_num(f, ok ? repeat_spread(p, k, rss_of).median : NAN);
+    put_num(f, ok ? repeat_spread(p, k, wall_of).median : NAN); /* s: the whole run */
+    put_num(f, ok ? repeat_spread(p, k, cpu_of).median : NAN);
     fprintf(f, ",%s,runs/%s\n", r.status, j->id);
     printf("  %-18s %8ld %9ld %10.4g %7.0f%% %9.1f  %s\n", j->method, r.nv, r.dofs, step,
            100.0 * r.time_factor / ts, r.max_rss_mb, ok ? "" : r.how);
@@ -480,7 +487,8 @@ static void charts(const bench_cfg *c) {
   fflush(NULL);
   pid_t pid = fork();
   if (pid == 0) {
-    execl("/usr/bin/python3", "python3", script, c->dir, (char *)NULL);
+    execl("/usr/bin/python3", "python3", script, c->dir, "--time", c->time_cpu ? "cpu" : "wall",
+          (char *)NULL);
     _exit(127);
   }
   int status = 0;

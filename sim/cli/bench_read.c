@@ -1,11 +1,11 @@
-/* bench_read.c — what one run left in DIR/runs/ID: summary.json (status, counters, wall time),
- * its logs at the common sample times (tension.csv, energy.csv, tendons.csv) and positions.bin,
- * and what its process did (DIR/logs/ID.exit).  Nothing here trusts the files: a run without a
- * final summary is "crashed"; a run whose summary says ok but whose data are damaged (a log
- * line cut short or with a field that is not a number, a value the bench uses that is not
- * finite, a positions.bin that is not whole records of finite numbers, a log above
- * BENCH_LOG_MAX bytes, positions above BENCH_POS_BUDGET bytes) is "damaged", with the file and
- * line in its message, and none of its numbers is used. */
+/* bench_read.c — what one run left in DIR/runs/ID: summary.json (status, counters, wall and CPU
+ * time), its logs at the common sample times (tension.csv, energy.csv, tendons.csv) and
+ * positions.bin, and what its process did (DIR/logs/ID.exit).  Nothing here trusts the files: a
+ * run without a final summary is "crashed"; a run whose summary says ok but whose data are damaged
+ * (a log line cut short or with a field that is not a number, a value the bench uses that is not
+ * finite, a positions.bin that is not whole records of finite numbers, a log above BENCH_LOG_MAX
+ * bytes, positions above BENCH_POS_BUDGET bytes) is "damaged", with the file and line in its
+ * message, and none of its numbers is used. */
 #include "bench.h"
 
 #include <math.h>
@@ -164,6 +164,7 @@ static void read_summary(const char *js, bench_result *r) {
   json_str(js, "status", r->status, sizeof r->status);
   json_str(js, "message", r->message, sizeof r->message);
   r->wall = json_num(js, "wall_time_s");
+  r->cpu = json_num(js, "cpu_time_s"); /* NaN: a run of a sinew before it */
   r->time_step = json_num(js, "time_step_s");
   r->time_assemble = json_num(js, "time_assemble_s");
   r->time_factor = json_num(js, "time_factor_s");
@@ -196,7 +197,7 @@ static int same_value(double a, double b) { return fabs(a - b) <= 1e-9 * fmax(fa
 /* Costs and counters of an ok summary: each one present is a finite number >= 0, and the wall
  * time is present (a summary saying `"wall_time_s": -1e308` is damaged, not a fast run). */
 static int check_costs(const char *js, const bench_job *j, bench_result *r) {
-  static const char *const keys[] = {"wall_time_s", "time_step_s", "time_assemble_s",
+  static const char *const keys[] = {"wall_time_s", "cpu_time_s", "time_step_s", "time_assemble_s",
       "time_factor_s", "time_solve_s", "max_rss_mb", "steps", "newton_iterations",
       "factorizations", "assemblies", "force_evaluations", "retries", "free_dofs", "vertices"};
   for (size_t k = 0; k < sizeof keys / sizeof *keys; k++) {
@@ -613,7 +614,7 @@ static void read_positions(const bench_cfg *c, const bench_job *j, bench_result 
 
 int bench_read(const bench_cfg *c, const bench_job *j, int want_positions, bench_result *r) {
   memset(r, 0, sizeof *r);
-  r->wall = r->time_step = r->max_rss_mb = r->step_median = NAN;
+  r->wall = r->cpu = r->time_step = r->max_rss_mb = r->step_median = NAN;
   char path[SW_PATHSZ + BENCH_IDSZ + 32];
   struct stat st;
   int n = snprintf(path, sizeof path, "%s/runs/%s", c->dir, j->id);

@@ -212,7 +212,7 @@ static int open_formats(sw_output *o, const sw_model *m, char *err, size_t errsz
 
 sw_output *sw_output_open(const sw_model *m, char *err, size_t errsz) {
   sw_output *o = sw_calloc(1, sizeof *o);
-  if (o) o->mfd = -1;
+  if (o) o->mfd = -1, o->cpu0 = sw_cpu_now();
   if (!o || output_alloc(o, m)) {
     sw_errf(err, errsz, "%s: out of memory for the output writers", m->opt.out_dir);
     if (o) output_free(o);
@@ -235,7 +235,7 @@ sw_output *sw_output_open(const sw_model *m, char *err, size_t errsz) {
 sw_output *sw_output_resume(const sw_model *m, const sw_data *d, sw_io *io, char *err,
                             size_t errsz) {
   sw_output *o = sw_calloc(1, sizeof *o);
-  if (o) o->mfd = -1, o->resume = 1;
+  if (o) o->mfd = -1, o->resume = 1, o->cpu0 = sw_cpu_now();
   if (!o || output_alloc(o, m)) {
     sw_errf(err, errsz, "%s: out of memory for the output writers", m->opt.out_dir);
     if (o) output_free(o);
@@ -267,6 +267,7 @@ int sw_output_close(sw_output *o, const sw_model *m, const sw_data *d, const cha
     sw_errf(err, errsz, "output: not open");
     return -1;
   }
+  o->cpu = sw_cpu_now() - o->cpu0; /* s: to here, as the caller's wall time */
   char logerr[SW_ERRSZ] = "", msg[3 * SW_ERRSZ];
   int rc = close_formats(o, logerr, sizeof logerr);
   if (rc) { /* the logs are incomplete: the run must not look like a success */

@@ -74,6 +74,8 @@ struct sw_output {
   char path[SW_OUT_PATHMAX], tmp[SW_OUT_PATHMAX]; /* path scratch */
   const char *status, *message;                   /* SW_OUT_STATUS: the run's status */
   double wall;                                    /* SW_OUT_STATUS: wall time so far, s */
+  double cpu0;                                    /* s: the process's CPU time at open */
+  double cpu;                                     /* SW_OUT_STATUS: CPU time since open, s */
   int resume;                                     /* opened by sw_output_resume */
   int mfd;                                        /* sinew.manifest, open to append; -1 */
   char *old;                                      /* the earlier run's manifest, NUL-separated */
