@@ -224,6 +224,14 @@ def tube(a):
     pieces_obj(a.output, title, pieces, seams)
 
 
+def top_widths(a):
+    """A top's body piece across, m: half its width, the neckline's half width at the armpit
+    line, and the strap's inner and outer edges at the shoulder seam (from the centre line)."""
+    half = a.bust * (1 + a.ease) / 4
+    inner0 = half - a.strap_columns * 2 * half / a.columns
+    return half, inner0, a.strap_at - a.strap_width / 2, a.strap_at + a.strap_width / 2
+
+
 def tank_piece(name, a):
     """One piece of the tank top as (name, uv, quads, corners): a body of columns x rows quads
     from the armpit line (v = -strap_length) down to the hem, and two straps of strap_columns x
@@ -231,9 +239,7 @@ def tank_piece(name, a):
     the body's outer strap_columns columns; its neckline edge runs straight up to the shoulder,
     its armhole edge curves in (a parabola, steepest at the armpit) to the strap's outer edge."""
     nx, ns, nyb, nys = a.columns, a.strap_columns, a.rows, a.strap_rows
-    half = a.bust * (1 + a.ease) / 4          # half the piece's width, m
-    inner0 = half - ns * 2 * half / nx        # the neckline's half width at the armpit line
-    inner1, outer1 = a.strap_at - a.strap_width / 2, a.strap_at + a.strap_width / 2
+    half, inner0, inner1, outer1 = top_widths(a)
     slot, uv = {}, []
     for j in range(nys + nyb + 1):
         if j < nys:                           # strap rows: t = 0 at the armpit, 1 at the top
@@ -297,8 +303,7 @@ def polyline_length(pts):
 def armhole_length(a):
     """The length of one armhole edge of a top's body piece (tank_piece's strap outer edge, from
     the armpit up to the shoulder point), m."""
-    half = a.bust * (1 + a.ease) / 4
-    outer1 = a.strap_at + a.strap_width / 2
+    half, _, _, outer1 = top_widths(a)
     pts = []
     for j in range(a.strap_rows + 1):
         t = 1 - j / a.strap_rows
@@ -364,9 +369,7 @@ def top_outline(a, steps):
     """A top's body piece (tank_piece's shape) as a counter-clockwise outline with the hem at
     y = 0 and the piece's centre line at x = 0, m: the armholes at `steps` points each; and
     its ten corners (hem, armpits, shoulder points, neck points, the neckline's foot)."""
-    half = a.bust * (1 + a.ease) / 4
-    inner0 = half - a.strap_columns * 2 * half / a.columns
-    inner1, outer1 = a.strap_at - a.strap_width / 2, a.strap_at + a.strap_width / 2
+    half, inner0, inner1, outer1 = top_widths(a)
     top, arm = a.length + a.strap_length, a.length
     hole = [(outer1 + (half - outer1) * (1 - k / steps) ** 2, arm + a.strap_length * k / steps)
             for k in range(steps + 1)]             # armpit up to the shoulder point, x > 0
