@@ -119,7 +119,9 @@ def test_sizes(fx, skirt, capsys):
     pat, _ = skirt
     assert pat.sizes == ["S", "M"] and pat.base_size == "M"
     small = {m.group: m for m in pattern.mesh(pat, size="S")}
-    assert sorted(small) == ["Back", "Front", "Pocket"]
+    # size S's pocket says Quantity 2 and is placed once: its mirrored copy is made
+    assert sorted(small) == ["Back", "Front", "Pocket", "Pocket_2"]
+    assert small["Pocket_2"].piece.mirrored and small["Pocket_2"].piece.copy == 2
     assert small["Pocket"].area == pytest.approx(6.5 * 7 * IN * IN, rel=5e-3)
     with pytest.raises(pattern.PatternError, match="no size 'XL'; expected one of: S, M"):
         pattern.mesh(pat, size="XL")

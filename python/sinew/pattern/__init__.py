@@ -2,7 +2,8 @@
 group per piece, per-corner (u,v) in metres with u along the grain line) and a scene skeleton.
 
     python3 -m sinew.pattern import FILE.dxf [--out DIR | --obj F --scene F] [--size S]
-                                             [--edge M] [--units in|mm|cm|m] [--list]
+                                             [--edge M] [--units in|mm|cm|m]
+                                             [--pieces LIST] [--list]
 
 (`sinew pattern import ...` runs the same.)  Reading: dxf.py (ezdxf); meshing: mesh.py (gmsh);
 writing: write.py.  docs/patterns.md is the guide.  From Python:
@@ -10,17 +11,20 @@ writing: write.py.  docs/patterns.md is the guide.  From Python:
     pat = sinew.pattern.read("skirt.dxf")           # every piece of every size, in m
     pieces = sinew.pattern.mesh(pat, size="M", edge=0.02)
 """
-from .dxf import Pattern, PatternError, Piece, Skipped, read, select  # noqa: F401
+from .dxf import (Pattern, PatternError, Piece, Skipped, category_of, read,  # noqa: F401
+                  select)
 from .mesh import Meshed, layout, mesh_piece  # noqa: F401
 
 # Target edge length, m: docs/patterns.md, "Edge length", has the measurement behind it.
 DEFAULT_EDGE = 0.02
 
 
-def mesh(pattern, size=None, edge=DEFAULT_EDGE):
+def mesh(pattern, size=None, edge=DEFAULT_EDGE, pieces=None):
     """The pieces of one size (None: the base size) meshed at target edge length edge (m):
-    a list of Meshed, in file order.  Pieces that cannot be meshed raise PatternError."""
-    pieces, _ = select(pattern, size)
+    a list of Meshed, in file order.  pieces: None (every piece but Quantity 0 ones and
+    alternates) or a comma-separated list of names and categories (dxf.select).  Pieces that
+    cannot be meshed raise PatternError."""
+    pieces, _ = select(pattern, size, pieces)
     out = []
     for p in pieces:
         try:

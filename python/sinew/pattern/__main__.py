@@ -47,6 +47,9 @@ def _parser():
                     help="target edge length of the triangles, m (default %g)" % DEFAULT_EDGE)
     im.add_argument("--units", choices=sorted(dxf.UNIT_NAMES),
                     help="the drawing unit, overriding what the file says")
+    im.add_argument("--pieces", metavar="LIST", help="comma-separated piece names, block "
+                    "names or categories (FRONT, SLEEVE, ...; case ignored): import exactly "
+                    "these (default: all but Quantity 0 pieces and alternates)")
     im.add_argument("--list", action="store_true", help="print the pieces, sizes and the "
                     "entities skipped, and write nothing")
     im.add_argument("--quiet", action="store_true", help="print only errors and warnings")
@@ -58,7 +61,7 @@ def _extent(xy):
     return hi - lo
 
 
-def _list(pat):
+def _list(pat, size, pieces):
     print("file: %s" % pat.path)
     print("units: %s" % pat.units)
     for k, v in pat.style.items():
@@ -67,14 +70,29 @@ def _list(pat):
         print("sizes: %s (base %s)" % (", ".join(pat.sizes), pat.base_size))
     else:
         print("sizes: not graded")
-    print("pieces: %d" % len(pat.pieces))
+    try:
+        chosen, size = dxf.select(pat, size, pieces)
+    except dxf.PatternError as e:  # listed all the same; the error printed first
+        print("sinew pattern: %s" % e, file=sys.stderr)
+        chosen, size = [], size or pat.base_size
+    print("pieces: %d; size %s: %d imported%s" % (
+        len(pat.pieces), size or "-", len(chosen), "".join("; " + n for n in pat.notes)))
     for p in pat.pieces:
-        w, h = _extent(p.boundary)
         bits = ["block '%s'" % p.block, "size %s" % (p.size or "-"),
-                "quantity %s" % (p.quantity if p.quantity is not None else "-")]
+                "quantity %s" % (p.quantity if p.quantity is not None else "-"),
+                "category %s" % (p.category or "-"), "copy %d" % p.copy]
         if p.mirrored:
             bits.append("mirrored")
+        if p.fold is not None:
+            bits.append("unfolded")
+        if p.group is not None:
+            bits.append("imported as %s" % p.group if p.excluded is None
+                        else "not imported: %s" % p.excluded)
         print("  %s: %s" % (p.name, ", ".join(bits)))
+        if p.error is not None:
+            print("    error: %s" % p.error)
+            continue
+        w, h = _extent(p.boundary)
         print("    %s: %.4g x %.4g m, %.6g m², %d points" %
               (p.boundary_from, w, h, signed_area(p.boundary), len(p.boundary)))
         print("    grain line: %s; notches %d, drill holes %d, internal lines %d, cutouts %d" %
@@ -82,6 +100,8 @@ def _list(pat):
                len(p.notches), len(p.drills), len(p.internal), len(p.holes)))
         for k, v in p.texts.items():
             print("    text: %s: %s" % (k, v))
+        for wn in p.warnings:
+            print("    warning: %s" % wn)
     print("skipped: %d" % len(pat.skipped))
     for s in pat.skipped:
         print("  %s: %s: %s" % (s.where, s.what, s.why))
@@ -109,18 +129,24 @@ def _outputs(a):
 def _import(a):
     pat = dxf.read(a.file, units=a.units)
     if a.list:
-        return _list(pat)
+        return _list(pat, a.size, a.pieces)
     obj, scene, stem = _outputs(a)
-    meshed = mesh(pat, size=a.size, edge=a.edge)
+    meshed = mesh(pat, size=a.size, edge=a.edge, pieces=a.pieces)
     size = a.size or pat.base_size
+    for n in pat.notes:
+        print("sinew pattern: note: %s" % n, file=sys.stderr)
+    for m in meshed:
+        for wn in m.piece.warnings:
+            print("sinew pattern: warning: %s" % wn, file=sys.stderr)
     for m in meshed:
         w, h = _extent(m.uv)
         if max(w, h) > PLAUSIBLE[1] or max(w, h) < PLAUSIBLE[0]:
             print("sinew pattern: warning: %s is %.3g x %.3g m: are the units right (%s)? "
                   "--units sets them" % (m.piece.label, w, h, pat.units), file=sys.stderr)
     positions, laid = layout(meshed)
-    cmd = "sinew pattern import %s%s --edge %g" % (os.path.basename(a.file),
-                                                    " --size %s" % size if size else "", a.edge)
+    cmd = "sinew pattern import %s%s --edge %g%s" % (
+        os.path.basename(a.file), " --size %s" % size if size else "", a.edge,
+        " --pieces '%s'" % a.pieces if a.pieces is not None else "")
     body = ["  " + cmd,
             "units %s; %d pieces, %d vertices, %d triangles; edges about %g m." %
             (pat.units, len(meshed), sum(len(m.xy) for m in meshed),
@@ -142,6 +168,10 @@ def _import(a):
     write_atomic([(obj, obj_text(meshed, positions, header(obj))),
                   (scene, scene_text(meshed, obj_rel, header(scene), stem))])
     if not a.quiet:
+        left = [p for p in pat.pieces if p.excluded is not None and p.group is not None]
+        if left:
+            print("not imported (--pieces names them): %s" % "; ".join(
+                "%s (%s)" % (p.group, p.excluded) for p in left))
         for m in meshed:
             print("%s: %d vertices, %d triangles, %.6g m², %d corners, %d notches%s" %
                   (m.group, len(m.xy), len(m.tris), m.area, len(m.corners), len(m.notches),

@@ -7,13 +7,16 @@ named) say what each entity is:
     1  piece boundary (the cut line) and the piece's text      7  grain line (the warp, u)
     4  notches (also 80-83: T, castle, check and U notches)   8  internal lines
     11 internal cutouts (holes)                                13 drill holes
-    14 sew line (replaces the cut line when present)
+    14 sew line (replaces the cut line when present and closed)
+    6  mirror line: a piece cut on the fold is unfolded (mirrored about it, one whole piece)
     2, 3 turn and curve points of the lines (turn points on the boundary become corners)
-    5, 6, 9, 10, 15, 84-87: grading, mirror, stripe and plaid references, annotation, quality
+    5, 9, 10, 15, 84-87: grading, stripe and plaid references, annotation, quality
        validation curves: read and not used (listed as ignored)
 
-TEXT and MTEXT "Key: value" lines give `Piece Name:`, `Size:`, `Quantity:` (in a block) and the
-style's `Sample Size:` and `Units:` (in the model space).  Anything else is listed as skipped,
+TEXT and MTEXT "Key: value" lines give `Piece Name:`, `Size:`, `Quantity:`, `Category:` (in a
+block) and the style's `Sample Size:` and `Units:` (in the model space).  `Quantity: N` makes N
+pieces of a block the file places fewer times (the 2nd, 4th, ... mirrored); a graded piece's
+other sizes take the quantity and category of the size that states them.  Anything else is listed as skipped,
 with its block, layer, type and handle; nothing is dropped without a word.
 
 Units, first found: the style text `Units: ENGLISH|METRIC` (AAMA; metric is mm), the header's
@@ -39,7 +42,6 @@ NOTCH_TOL = 2e-3     # m: a notch farther than this from the cut line is not on 
 NOTCH_LAYERS = {4, 80, 81, 82, 83}
 IGNORED = {2: "turn point off the boundary", 3: "curve point (the lines' own vertices)",
            5: "grade reference (grading rules are not applied)",
-           6: "mirror line (a piece cut on the fold is not unfolded)",
            9: "stripe reference", 10: "plaid reference", 15: "annotation text",
            84: "boundary quality validation curve", 85: "internal line validation curve",
            86: "cutout validation curve", 87: "sew line validation curve"}
@@ -60,26 +62,45 @@ class Skipped:
 
 @dataclass
 class Piece:
-    name: str
+    """One piece of one size, as placed (all coordinates in m, in the file's plane).  What
+    sewing code reads: name, category, copy, mirrored, boundary (counter-clockwise), its
+    corners (turn_points on it, and the turns mesh.py finds), notches, grain, fold."""
+    name: str                            # the `Piece Name:` text (default: the block's name)
     block: str
     size: str = None
-    quantity: int = None
-    texts: dict = field(default_factory=dict)
-    mirrored: bool = False
+    quantity: int = None                 # `Quantity:` (None: not stated)
+    texts: dict = field(default_factory=dict)   # other "Key: value" texts, keys lower case
+    category: str = ""                   # FRONT, BACK, SLEEVE, COLLAR, ... ("" not known)
+    copy: int = 1                        # 1, 2, ...: which copy of the block (placement or
+                                         # a copy made for `Quantity:`)
+    mirrored: bool = False               # a mirror image of the block as drawn
     boundary: np.ndarray = None          # (n, 2) m, counter-clockwise
     boundary_from: str = "cut line (layer 1)"
-    turn_points: list = field(default_factory=list)
+    turn_points: list = field(default_factory=list)   # [((2,) m, DXF entity)] on the boundary
     notches: list = field(default_factory=list)    # (2,) points on the boundary, m
     holes: list = field(default_factory=list)      # (k, 2) polygons, m
     internal: list = field(default_factory=list)   # (k, 2) open polylines, m
     drills: list = field(default_factory=list)     # (2,) points, m
-    grain: tuple = None                            # ((2,), (2,)) m, start and end
+    grain: tuple = None                            # ((2,), (2,)) m, start and end: the warp
+    grains: list = field(default_factory=list)     # every grain line (an unfolded piece: the
+                                                   # drawn one and its mirror image)
+    fold: tuple = None                   # ((2,), (2,)) m: the mirror line it was unfolded
+                                         # about (now inside the piece), or None
     handles: list = field(default_factory=list)    # of the boundary's DXF entities
+    warnings: list = field(default_factory=list)   # printed on import (open sew line, ...)
+    group: str = None                    # the OBJ group name, set by select()
+    excluded: str = None                 # why select() leaves it out (None: imported)
+    error: str = None                    # why it cannot be imported (raised when chosen)
 
     @property
     def label(self):
         h = ", boundary handle %s" % " ".join(self.handles[:4]) if self.handles else ""
         return "piece '%s' (block '%s'%s)" % (self.name, self.block, h)
+
+    @property
+    def category_text(self):
+        """The file's `Category:` text ("" when it has none)."""
+        return self.texts.get("category", "")
 
 
 @dataclass
@@ -93,6 +114,7 @@ class Pattern:
     base_size: str
     skipped: list
     repaired: list      # what ezdxf's recover mode fixed
+    notes: list = field(default_factory=list)   # select()'s warnings (all Quantity 0, ...)
 
 
 def _layer(e):
@@ -255,7 +277,7 @@ class _BlockReader:
     def __init__(self, block, matrix, scale, skipped):
         self.block, self.m, self.scale, self.skipped = block, matrix, scale, skipped
         self.where = "block '%s'" % block.name
-        self.cut, self.sew, self.cutouts = [], [], []
+        self.cut, self.sew, self.cutouts, self.mirrors = [], [], [], []
         self.piece = Piece(name=block.name, block=block.name)
 
     def skip(self, e, why):
@@ -329,6 +351,15 @@ class _BlockReader:
         if layer == 2 and t == "POINT":
             self.piece.turn_points.append((_point(e, self.m, self.scale), e))
             return None
+        if layer == 6 and t in ("LINE", "LWPOLYLINE", "POLYLINE"):
+            pts = np.vstack([p for p, _ in self.curves(e)] or [np.zeros((0, 2))])
+            if len(pts) < 2 or np.hypot(*(pts[-1] - pts[0])) <= JOIN_TOL:
+                return self.skip(e, "a mirror line of zero length")
+            if self.mirrors:
+                return self.skip(e, "a second mirror line (the piece is unfolded about the "
+                                 "first)")
+            self.mirrors.append(((pts[0], pts[-1]), e))
+            return None
         if layer in IGNORED:
             return self.skip(e, "ignored: " + IGNORED[layer])
         return self.skip(e, "not understood on this layer")
@@ -338,7 +369,18 @@ class _BlockReader:
         lab = "%s, %s" % (self.where, "piece '%s'" % p.name)
         if not self.cut and not self.sew:
             return None
-        loops = _closed_loops(self.sew or self.cut, "sew line (layer 14)" if self.sew
+        sew = self.sew
+        if sew:
+            try:
+                _join(sew, lab)
+            except PatternError as e:
+                if not self.cut:
+                    raise
+                p.warnings.append("%s: its sew line (layer 14) is open (%s): the cut line "
+                                  "(layer 1) is used instead" % (p.label, str(e).split(
+                                      "open boundary: ")[-1].split("; expected")[0]))
+                sew = []
+        loops = _closed_loops(sew or self.cut, "sew line (layer 14)" if sew
                               else "boundary (layer 1)", lab, self.skipped)
         if not loops:
             raise PatternError("%s: its boundary encloses no area; expected a closed line on "
@@ -347,22 +389,58 @@ class _BlockReader:
         p.boundary = loops[0]
         for extra in loops[1:]:
             self.skipped.append(Skipped(lab, "a second closed line on layer %d" %
-                                        (14 if self.sew else 1),
+                                        (14 if sew else 1),
                                         "not used: one boundary per piece (holes are layer 11)"))
-        if self.sew:
+        if sew:
             p.boundary_from = "sew line (layer 14)"
         cut = (_closed_loops(self.cut, "boundary (layer 1)", lab, []) or [None])[0] \
-            if self.sew and self.cut else p.boundary
+            if sew and self.cut else p.boundary
+        p.grains = [p.grain] if p.grain is not None else []
+        if self.mirrors:
+            cut = self.unfold(cut, lab)
         p.holes = _closed_loops(self.cutouts, "internal cutout (layer 11)", lab, self.skipped)
-        p.notches = self.notches_on(cut, lab)
+        p.notches = _distinct(self.notches_on(cut, lab))
         on = []
         for q, e in p.turn_points:
             if geo.project(p.boundary, q)[0] <= JOIN_TOL:
-                on.append((q, e))
+                if all(np.hypot(*(q - t)) > JOIN_TOL for t, _ in on):
+                    on.append((q, e))
             else:
                 self.skipped.append(Skipped(lab, _what(e), "ignored: " + IGNORED[2]))
         p.turn_points = on
         return p
+
+    def unfold(self, cut, lab):
+        """The piece joined to its mirror image about its mirror line (which must lie on its
+        boundary), with everything on it mirrored too; returns the cut line unfolded likewise
+        (the unfolded boundary when the mirror line is not on the cut line)."""
+        p = self.piece
+        (a, b), e = self.mirrors[0]
+        same = cut is p.boundary
+        whole = geo.unfold(p.boundary, a, b, JOIN_TOL)
+        if whole is None:
+            raise PatternError(
+                "%s: its mirror line (layer 6, %s) from (%.4g, %.4g) to (%.4g, %.4g) m does not "
+                "lie on its %s; expected the fold to be a straight stretch of the boundary "
+                "with the piece on one side" % (lab, _what(e), a[0], a[1], b[0], b[1],
+                                                p.boundary_from))
+        p.boundary, p.fold = whole[0], (whole[1][0], whole[1][1])
+        other = geo.unfold(cut, a, b, JOIN_TOL) if not same else None
+        cut = other[0] if other is not None else p.boundary
+
+        def on_fold(q):
+            return bool((geo.line_distance(q, a, b) <= JOIN_TOL).all())
+        p.grains = p.grains + [tuple(geo.reflect(np.array(g), a, b)) for g in p.grains]
+        p.notches = p.notches + [(geo.reflect(np.atleast_2d(q), a, b), ent)
+                                 for q, ent in p.notches]
+        p.drills = _distinct(p.drills + [geo.reflect(q, a, b) for q in p.drills])
+        p.internal = p.internal + [geo.reflect(ln, a, b) for ln in p.internal
+                                   if not on_fold(ln)]
+        p.turn_points = p.turn_points + [(geo.reflect(q, a, b), ent)
+                                         for q, ent in p.turn_points if not on_fold(q)]
+        self.cutouts = self.cutouts + [(geo.reflect(c, a, b), closed)
+                                       for c, closed in self.cutouts if not on_fold(c)]
+        return cut
 
     def notches_on(self, cut, lab):
         """Each notch as the point of its entity nearest the cut line, if within NOTCH_TOL of
@@ -381,6 +459,16 @@ class _BlockReader:
             _, s = geo.project(self.piece.boundary, q)
             out.append(geo.point_at(self.piece.boundary, np.array([s]))[0])
         return out
+
+
+def _distinct(points):
+    """points without those within JOIN_TOL of an earlier one (a mirrored copy of a point on
+    the fold is the point itself)."""
+    out = []
+    for q in points:
+        if all(np.hypot(*(q - t)) > JOIN_TOL for t in out):
+            out.append(q)
+    return out
 
 
 def _style(doc, skipped):
@@ -444,27 +532,34 @@ def read(path, units=None):
             if block.name.startswith("*") or block.block_record.is_any_layout:
                 continue
             matrices = placed.get(block.name, [None])
-            for m in matrices:
+            for copy, m in enumerate(matrices, 1):
                 r = _BlockReader(block, m, scale, skipped)
                 for e in block:
                     if e.dxftype() == "INSERT":
                         r.skip(e, "a nested INSERT (a piece is one block)")
                     else:
                         r.entity(e)
-                piece = r.finish()
+                try:
+                    piece = r.finish()
+                except PatternError as err:  # raised if this piece is chosen (select)
+                    piece = r.piece
+                    piece.error, piece.boundary = str(err), None
                 if piece is None:
                     if len(block):
                         skipped.append(Skipped(r.where, "%d entities" % len(block),
                                                "no boundary on layer 1: not a piece"))
                     break
-                piece.mirrored = _mirrored(m)
+                piece.mirrored, piece.copy = _mirrored(m), copy
                 pieces.append(piece)
+        pieces = _copies(_inherit(pieces))
     except PatternError as e:
         raise PatternError("%s: %s" % (path, e)) from None
     except Exception as e:  # data ezdxf accepted but that is not what a pattern holds
         raise PatternError("%s: cannot read the pattern (%s: %s)" %
                            (path, type(e).__name__, e)) from None
-    if not pieces:
+    if not pieces or all(p.error for p in pieces) and len(pieces) == 1:
+        if pieces:
+            raise PatternError("%s: %s" % (path, pieces[0].error))
         raise PatternError("%s: no pieces: no BLOCK has a closed boundary on layer 1; expected "
                            "an AAMA or ASTM D6673 pattern (one BLOCK per piece)" % path)
     sizes = []
@@ -477,22 +572,192 @@ def read(path, units=None):
     return Pattern(path, how, scale, style, pieces, sizes, base, skipped, repaired)
 
 
-def select(pattern, size=None):
-    """The pieces of one size (size None: the base size), each with a distinct name: a name
-    that comes again (a block placed twice, a left and a mirrored right) gets _2, _3, ..."""
+# Categories inferred from a piece's `Category:` text, else from its name: the first of these
+# words found in the text (spaces and punctuation removed; "WITH CUFF" and the like dropped
+# first: a sleeve with a cuff is a sleeve), else a whole-word abbreviation (of the text, or of
+# the name's last word: Gerber's piece codes, GMX1006S18BK).
+CATEGORY_WORDS = [("INTERLINING", ("INTERLI", "FUSING")), ("CUFF", ("CUFF",)),
+                  ("PLACKET", ("PLACKET",)), ("BINDING", ("BINDING",)),
+                  ("FACING", ("FACING",)),
+                  ("WAISTBAND", ("WAISTBAND",)), ("POCKET", ("POCKET",)),
+                  ("FRONT", ("FRONT",)), ("BACK", ("BACK",)), ("SLEEVE", ("SLEEVE",)),
+                  ("COLLAR", ("COLLAR", "NECK")), ("YOKE", ("YOKE",)), ("HOOD", ("HOOD",)),
+                  ("LEG", ("LEG",)), ("SKIRT", ("SKIRT",))]
+CATEGORY_CODES = {"FR": "FRONT", "FRT": "FRONT", "BK": "BACK", "SL": "SLEEVE", "SLV": "SLEEVE",
+                  "CO": "COLLAR", "CU": "CUFF", "WB": "WAISTBAND", "PKT": "POCKET"}
+# Words that tell two pieces of one category apart as parts of one garment (an upper and a
+# lower collar, a collar stand) rather than as alternates.
+PART_WORDS = ("UPPER", "LOWER", "UNDER", "TOP", "STAND", "INNER", "OUTER", "NECKHOLE",
+              "ARMHOLE", "LEFT", "RIGHT", "HEM")
+NO_ALTERNATES = ("", "INTERLINING")
+
+
+def category_of(text, name):
+    """The category (FRONT, BACK, SLEEVE, COLLAR, CUFF, PLACKET, ...; "" when none fits) of a
+    piece with the `Category:` text text and the name name (docs/patterns.md, "Categories")."""
+    for src, last_word in ((text, False), (name, True)):
+        up = re.sub(r"\bWITH\s+\w+", " ", str(src or "").upper())
+        squashed = re.sub(r"[^A-Z]", "", up)
+        if not squashed:
+            continue
+        for cat, words in CATEGORY_WORDS:  # (not LEG in a name: Gerber's ORILEG...)
+            if any(w in squashed for w in words) and not (last_word and cat == "LEG"):
+                return cat
+        toks = [t for t in re.split(r"[^A-Z0-9]+", up) if t]
+        if last_word:
+            toks = toks[-1:]
+        for t in toks:
+            for code in (t, re.search(r"[A-Z]*$", t).group()):
+                if code in CATEGORY_CODES:
+                    return CATEGORY_CODES[code]
+    return ""
+
+
+def _inherit(pieces):
+    """A graded piece's sizes that state no quantity or category (Gerber writes them in the
+    base size's block only) take them from the first size that does; then each piece's
+    category."""
+    donor = {}
+    for p in pieces:
+        if p.quantity is not None and p.name not in donor:
+            donor[p.name] = p
+    for p in pieces:
+        d = donor.get(p.name)
+        if d is not None and p.quantity is None:
+            p.quantity = d.quantity
+            if "category" in d.texts and "category" not in p.texts:
+                p.texts["category"] = d.texts["category"]
+        p.category = category_of(p.category_text, p.name)
+    return pieces
+
+
+def _count(p):
+    """How many pieces a block makes: its `Quantity:`; for a Quantity 0 piece (imported only
+    when asked for), the N of an `Annotation: NX...` text (Gerber's "2XFABRIC"), else 1."""
+    if p.quantity is not None and p.quantity > 0:
+        return p.quantity
+    m = re.match(r"\s*(\d+)\s*X", p.texts.get("annotation", ""), re.I)
+    return int(m.group(1)) if m and p.quantity == 0 and int(m.group(1)) > 0 else 1
+
+
+def _copies(pieces):
+    """Each block placed fewer times than its quantity gets the copies missing, in the order
+    of the file after its last placement: copy k is the first placement mirrored when k is
+    even (a left and a right), shifted beside it (by k - 1 widths and 5 cm gaps)."""
+    out = []
+    for i, p in enumerate(pieces):
+        out.append(p)
+        if i + 1 < len(pieces) and pieces[i + 1].block == p.block:
+            continue
+        first = next(q for q in out if q.block == p.block)
+        if first.error is not None:
+            continue
+        lo, hi = first.boundary.min(0), first.boundary.max(0)
+        for k in range(p.copy + 1, _count(first) + 1):
+            shift = (k - 1) * (hi[0] - lo[0] + 0.05)
+            if k % 2 == 0:
+                def f(q, shift=shift):
+                    q = np.array(q, float)
+                    q[..., 0] = lo[0] + hi[0] - q[..., 0] + shift
+                    return q
+            else:
+                def f(q, shift=shift):
+                    return np.array(q, float) + np.array([shift, 0.0])
+            out.append(_moved(first, f, k % 2 == 0, k))
+    return out
+
+
+def _moved(p, f, flip, copy):
+    """A copy of the piece p with every point mapped by f (a reflection when flip: its
+    boundary reversed to stay counter-clockwise)."""
+    import copy as _copy
+    q = _copy.copy(p)
+    q.boundary = f(p.boundary)[::-1] if flip else f(p.boundary)
+    q.turn_points = [(f(t), e) for t, e in p.turn_points]
+    q.notches = [f(n) for n in p.notches]
+    q.holes = [f(h)[::-1] if flip else f(h) for h in p.holes]
+    q.internal = [f(ln) for ln in p.internal]
+    q.drills = [f(d) for d in p.drills]
+    q.grains = [(f(a), f(b)) for a, b in p.grains]
+    q.grain = q.grains[0] if q.grains else None
+    q.fold = (f(p.fold[0]), f(p.fold[1])) if p.fold is not None else None
+    q.texts, q.warnings = dict(p.texts), list(p.warnings)
+    q.mirrored, q.copy = p.mirrored != flip, copy
+    return q
+
+
+def _matches(p, item):
+    item = item.strip().upper()
+    return item in {str(x).upper() for x in (p.group, p.name, p.block, p.category,
+                                               p.category_text) if x}
+
+
+def select(pattern, size=None, pieces=None):
+    """The pieces of one size (size None: the base size) to import, and the size.  Every piece
+    of the size gets a distinct group name (p.group; a name that comes again, a block placed
+    twice or a left and a mirrored right, gets _2, _3, ...) and p.excluded, why it is left out
+    (None: imported).  Left out by default: `Quantity: 0` pieces (unless every piece of the
+    size says 0: the file's quantities then say nothing and all are imported, with a note in
+    pattern.notes) and alternates, the pieces after the first of one category and the same
+    part words (a short sleeve after a long one; docs/patterns.md, "Alternates").  pieces, a
+    comma-separated list, imports exactly the pieces whose group name, piece name, block,
+    category or Category text equals one of its names (ignoring case)."""
     if size is not None and size not in pattern.sizes:
         raise PatternError("%s: no size '%s'; expected one of: %s" %
                            (pattern.path, size, ", ".join(pattern.sizes) or "(the file is "
                             "not graded)"))
     size = size if size is not None else pattern.base_size
     chosen = [p for p in pattern.pieces if p.size is None or p.size == size]
+    for p in pattern.pieces:
+        p.group = p.excluded = None
     seen = {}
     for p in chosen:
         base = re.sub(r"[^\x21-\x7e]+", "_", p.name).strip("_") or "piece"
         n = seen.get(base, 0) + 1
         seen[base] = n
         p.group = base if n == 1 else "%s_%d" % (base, n)
-    return chosen, size
+        p.excluded = None
+    if pieces is not None:
+        items = [x for x in pieces.split(",") if x.strip()]
+        for p in chosen:
+            if not any(_matches(p, x) for x in items):
+                p.excluded = "not named by --pieces"
+        unused = [x for x in items if not any(_matches(p, x) for p in chosen)]
+        if unused or not items:
+            names = sorted({p.group for p in chosen})
+            cats = sorted({p.category for p in chosen if p.category})
+            raise PatternError("%s: --pieces %s: no piece%s size %s is named %s; expected "
+                               "names of: pieces %s; categories %s" % (
+                                   pattern.path, pieces, " of" if size else "", size or "",
+                                   ", ".join("'%s'" % x.strip() for x in unused) or "(empty)",
+                                   ", ".join(names), ", ".join(cats) or "(none)"))
+        return _checked(pattern, [p for p in chosen if p.excluded is None]), size
+    if all(p.quantity == 0 for p in chosen):
+        pattern.notes.append("every piece of size %s says Quantity 0: all are imported "
+                             "(--pieces chooses)" % size)
+    else:
+        for p in chosen:
+            if p.quantity == 0:
+                p.excluded = "Quantity 0"
+    kept = {}
+    for p in chosen:
+        if p.excluded or p.category in NO_ALTERNATES:
+            continue
+        words = re.sub(r"[^A-Z]", "", (p.category_text or p.name).upper())
+        key = (p.category, tuple(w for w in PART_WORDS if w in words))
+        first = kept.setdefault(key, p)
+        if first.name != p.name:
+            p.excluded = "alternate of '%s' (category %s%s)" % (
+                first.group, p.category, "".join(" " + w.lower() for w in key[1]))
+    return _checked(pattern, [p for p in chosen if p.excluded is None]), size
+
+
+def _checked(pattern, chosen):
+    """chosen, or the PatternError of the first chosen piece that cannot be imported."""
+    for p in chosen:
+        if p.error is not None:
+            raise PatternError("%s: %s" % (pattern.path, p.error))
+    return chosen
 
 
 def grain_frame(piece):

@@ -112,3 +112,69 @@ def inside(p, q):
     with np.errstate(divide="ignore", invalid="ignore"):
         x = a[:, 0] + (q[1] - a[:, 1]) * (b[:, 0] - a[:, 0]) / (b[:, 1] - a[:, 1])
     return bool(np.count_nonzero(up & (q[0] < x)) % 2)
+
+
+def reflect(q, a, b):
+    """Points q ((2,) or (k, 2), m) mirrored about the line through a and b."""
+    d = (b - a) / np.hypot(*(b - a))
+    r = np.asarray(q, float) - a
+    along = r @ d if r.ndim == 1 else (r @ d)[:, None]
+    return a + 2 * along * d - r
+
+
+def line_distance(q, a, b):
+    """Distance (m) of the points q ((k, 2)) from the infinite line through a and b."""
+    d = (b - a) / np.hypot(*(b - a))
+    r = np.atleast_2d(q) - a
+    return np.abs(r[:, 0] * d[1] - r[:, 1] * d[0])
+
+
+def unfold(p, a, b, tol):
+    """The closed polygon p (counter-clockwise) joined to its mirror image about the fold line
+    ab, which must lie on p's boundary: p's boundary with the fold's run removed (the whole
+    run of consecutive points on the fold's line, from its first point to its last), then the
+    mirror image of that, back to the start; the fold's two ends once each.  Returns (the
+    polygon, counter-clockwise; the fold's two ends), or None when ab is not on p's boundary
+    (within tol) or p lies on both sides of it."""
+    length = np.hypot(*(b - a))
+    if length <= tol:
+        return None
+    probe = a + np.linspace(0, 1, 9)[:, None] * (b - a)
+    if max(project(p, q)[0] for q in probe) > tol:
+        return None
+    p = _with_points(p, [a, b], tol)
+    on = line_distance(p, a, b) <= tol
+    n = len(p)
+    if on.all():
+        return None
+    k = int(np.argmin(np.hypot(*(p - a).T)))   # a is a point of p, on the run
+    i0 = k
+    while on[(i0 - 1) % n]:
+        i0 = (i0 - 1) % n
+    i1 = k
+    while on[(i1 + 1) % n]:
+        i1 = (i1 + 1) % n
+    rest = np.array([p[(i1 + j) % n] for j in range(((i0 - i1) % n) + 1)])
+    r = rest[1:-1] - a
+    side = (b - a)[0] * r[:, 1] - (b - a)[1] * r[:, 0]
+    side = side[np.abs(side) / length > tol]
+    if len(side) == 0 or (side > 0).any() and (side < 0).any():
+        return None
+    whole = np.vstack([rest, reflect(rest[1:-1], a, b)[::-1]])
+    if signed_area(whole) < 0:
+        whole = whole[::-1]
+    return whole, (rest[0], rest[-1])
+
+
+def _with_points(p, qs, tol):
+    """p with each point of qs that lies on an edge (within tol) and is not already a point
+    (within tol) inserted on that edge."""
+    for q in qs:
+        if np.hypot(*(p - q).T).min() <= tol:
+            continue
+        a, b = p, np.roll(p, -1, axis=0)
+        d = b - a
+        t = np.clip(((q - a) * d).sum(1) / np.maximum((d * d).sum(1), 1e-300), 0, 1)
+        k = int(np.argmin(np.hypot(*(a + t[:, None] * d - q).T)))
+        p = np.vstack([p[:k + 1], q, p[k + 1:]])
+    return p

@@ -58,8 +58,12 @@ def scene_text(meshed, obj_rel, header, name):
             info.append("size %s" % p.size)
         if p.quantity is not None:
             info.append("quantity %d" % p.quantity)
+        if p.category:
+            info.append("category %s" % p.category)
         if p.mirrored:
             info.append("mirrored")
+        if p.fold is not None:
+            info.append("unfolded about its mirror line")
         info.append("%.6g m²" % m.area)
         out.append("#   %s:    # %s" % (json.dumps(m.group), ", ".join(info)))
         n = len(m.xy)
