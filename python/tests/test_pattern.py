@@ -363,3 +363,186 @@ def test_shipped_dxf_garment_is_its_commands(tmp_path, garment):
     shipped = re.findall(marks, open(scene).read(), re.M)
     assert len(shipped) == len(blocks)
     assert shipped == re.findall(marks, (tmp_path / "skel.yaml").read_text(), re.M)
+
+
+def write_blocks(path, blocks):
+    """An AAMA-style R12 file (inches, no units in it) of blocks, each placed once at the
+    origin: {name: [(kind, data, layer)]}, kind 'poly' (closed), 'open', 'line', 'point',
+    'text'."""
+    import ezdxf
+    doc = ezdxf.new("R12")
+    for name, ents in blocks.items():
+        b = doc.blocks.new(name)
+        for kind, data, layer in ents:
+            at = {"layer": str(layer)}
+            if kind in ("poly", "open"):
+                b.add_polyline2d(data, close=kind == "poly", dxfattribs=at)
+            elif kind == "line":
+                b.add_line(*data, dxfattribs=at)
+            elif kind == "point":
+                b.add_point(data, dxfattribs=at)
+            else:
+                b.add_text(data, dxfattribs=at)
+        doc.modelspace().add_blockref(name, (0, 0))
+    for var in ("$INSUNITS", "$MEASUREMENT"):
+        if var in doc.header:
+            del doc.header[var]
+    doc.saveas(str(path))
+    return str(path)
+
+
+# A half front cut on the fold x = 0 (inches): its outline, area 10*24 - 4*4/2 = 232 in².
+HALF = [(0, 0), (10, 0), (10, 20), (6, 24), (0, 24)]
+HALF_AREA = 232 * IN * IN
+
+
+def half_front(tmp_path, fold=((0, 0), (0, 24))):
+    return write_blocks(tmp_path / "fold.dxf", {"FRONT": [
+        ("poly", HALF, 1), ("line", fold, 6), ("line", ((3, 5), (3, 15)), 7),
+        ("point", (10, 10), 4), ("point", (0, 24), 4), ("point", (5, 12), 13),
+        ("point", (0, 0), 2), ("point", (0, 24), 2), ("line", ((2, 2), (8, 2)), 8),
+        ("text", "Piece Name: Front", 1), ("text", "Quantity: 1", 1)]})
+
+
+def xy_set(points, nd=9):
+    return sorted(tuple(np.round(np.asarray(q) / IN, nd)) for q in points)
+
+
+def test_a_piece_cut_on_the_fold_is_unfolded(tmp_path):
+    """The half front and its mirror image about its mirror line are one piece of twice its
+    area, its notches, drill hole, grain and internal lines mirrored; the fold is inside it
+    (its two ends the only boundary vertices on it) and its two ends, turn points, are
+    corners once each."""
+    pat = pattern.read(half_front(tmp_path))
+    p = pat.pieces[0]
+    assert pattern.geometry.signed_area(p.boundary) == pytest.approx(2 * HALF_AREA, rel=1e-12)
+    assert xy_set(p.boundary) == xy_set([(x * IN, y * IN) for x, y in HALF] +
+                                        [(-x * IN, y * IN) for x, y in HALF if x != 0])
+    assert xy_set(p.notches) == xy_set([(10 * IN, 10 * IN), (-10 * IN, 10 * IN),
+                                        (0, 24 * IN)])
+    assert xy_set(p.drills) == xy_set([(5 * IN, 12 * IN), (-5 * IN, 12 * IN)])
+    assert [xy_set(g) for g in p.grains] == [xy_set([(3 * IN, 5 * IN), (3 * IN, 15 * IN)]),
+                                             xy_set([(-3 * IN, 5 * IN), (-3 * IN, 15 * IN)])]
+    assert xy_set(p.grain) == xy_set(p.grains[0])
+    assert sorted(xy_set(ln) for ln in p.internal) == sorted(
+        [xy_set([(2 * IN, 2 * IN), (8 * IN, 2 * IN)]),
+         xy_set([(-2 * IN, 2 * IN), (-8 * IN, 2 * IN)])])
+    assert xy_set(q for q, _ in p.turn_points) == xy_set([(0, 0), (0, 24 * IN)])
+    assert xy_set(p.fold) == xy_set([(0, 0), (0, 24 * IN)])
+    m = pattern.mesh(pat)[0]
+    assert m.area == pytest.approx(2 * HALF_AREA, rel=1e-9)  # straight edges: exact
+    on_fold = [v for v in m.boundary if abs(m.xy[v, 0]) < 1e-9]
+    assert xy_set(m.xy[on_fold]) == xy_set([(0, 0), (0, 24 * IN)])
+    # corners: the 3 of the half and their mirror images, and the fold's two ends
+    assert xy_set(m.xy[m.corners]) == xy_set(
+        [(s * x * IN, y * IN) for x, y in [(10, 0), (10, 20), (6, 24)] for s in (1, -1)] +
+        [(0, 0), (0, 24 * IN)])
+    assert len(m.notches) == 3 and len(m.drills) == 2 and len(m.internal) == 2
+
+
+def test_a_mirror_line_off_the_boundary_is_refused(tmp_path, capsys):
+    path = half_front(tmp_path, fold=((5, 0), (5, 24)))
+    out = tmp_path / "out"
+    assert main(["import", path, "--out", str(out)]) == 1
+    err = capsys.readouterr().err
+    assert path in err and "piece 'Front'" in err and "mirror line (layer 6" in err
+    assert "does not lie on its cut line" in err and "Traceback" not in err
+    assert not out.exists()
+
+
+def wardrobe(tmp_path):
+    """A front, a long sleeve (Quantity 2, placed once), a short sleeve (Quantity 0), a
+    three-quarter sleeve (an alternate of the long one) and an upper and a lower collar."""
+    sleeve = [(0, 0), (12, 0), (10, 8), (2, 6)]
+    return write_blocks(tmp_path / "set.dxf", {
+        "FR": [("poly", [(0, 0), (20, 0), (20, 24), (0, 24)], 1),
+               ("text", "Piece Name: Front", 1), ("text", "Quantity: 1", 1)],
+        "SL": [("poly", sleeve, 1), ("point", (11, 4), 4), ("line", ((4, 2), (8, 2)), 7),
+               ("text", "Piece Name: Sleeve", 1), ("text", "Category: SLEEVE LONG", 1),
+               ("text", "Quantity: 2", 1)],
+        "SS": [("poly", [(0, 0), (12, 0), (11, 4), (1, 4)], 1),
+               ("text", "Piece Name: Short Sleeve", 1), ("text", "Category: SLEEVE SHORT", 1),
+               ("text", "Quantity: 0", 1)],
+        "S3": [("poly", [(0, 0), (12, 0), (10, 6), (2, 6)], 1),
+               ("text", "Piece Name: Sleeve 34", 1), ("text", "Category: SLEEVE 3/4", 1),
+               ("text", "Quantity: 2", 1)],
+        "C1": [("poly", [(0, 0), (16, 0), (16, 3), (0, 3)], 1),
+               ("text", "Piece Name: Collar1", 1), ("text", "Category: UPPER COLLAR", 1)],
+        "C2": [("poly", [(0, 0), (16, 0), (16, 2.5), (0, 2.5)], 1),
+               ("text", "Piece Name: Collar2", 1), ("text", "Category: LOWER COLLAR", 1)]})
+
+
+def test_quantity_two_makes_a_mirrored_second_piece(tmp_path):
+    pat = pattern.read(wardrobe(tmp_path))
+    a, b = [p for p in pat.pieces if p.name == "Sleeve"]
+    assert (a.copy, a.mirrored, b.copy, b.mirrored) == (1, False, 2, True)
+    assert a.category == b.category == "SLEEVE"
+    sa = pattern.geometry.signed_area
+    assert sa(a.boundary) == pytest.approx(sa(b.boundary), rel=1e-12) and sa(b.boundary) > 0
+    # the copy is the mirror image x -> c - x (c = 2 * 12 in + 5 cm, beside the first):
+    # mapped back, its boundary is the first's in reverse order (the mirror image turned the
+    # other way, then reversed to counter-clockwise)
+    c = 24 * IN + 0.05
+    back = np.column_stack([c - b.boundary[:, 0], b.boundary[:, 1]])
+    assert sa(back) < 0   # the mirror image runs clockwise: the copy was reversed
+    rev = back[::-1]
+    k = int(np.argmin(np.hypot(*(rev - a.boundary[0]).T)))
+    assert np.allclose(np.roll(rev, -k, axis=0), a.boundary, atol=1e-12)
+    assert np.allclose(b.notches, [(c - 11 * IN, 4 * IN)], atol=1e-12)
+    assert np.allclose(b.grain, [(c - 4 * IN, 2 * IN), (c - 8 * IN, 2 * IN)], atol=1e-12)
+    meshed = {m.group: m for m in pattern.mesh(pat, edge=0.05)}
+    assert sorted(meshed) == ["Collar1", "Collar2", "Front", "Sleeve", "Sleeve_2"]
+    assert meshed["Sleeve"].area == pytest.approx(meshed["Sleeve_2"].area, rel=1e-9)
+    assert meshed["Sleeve"].area == pytest.approx(sa(a.boundary), rel=1e-9)
+
+
+def test_quantity_zero_and_alternates_are_listed_and_chosen_by_pieces(tmp_path, capsys):
+    path = wardrobe(tmp_path)
+    pat = pattern.read(path)
+    chosen, _ = pattern.select(pat)
+    why = {p.group: p.excluded for p in pat.pieces}
+    assert why["Short_Sleeve"] == "Quantity 0"
+    assert why["Sleeve_34"] == "alternate of 'Sleeve' (category SLEEVE)"
+    assert why["Sleeve_34_2"] == why["Sleeve_34"] and why["Collar2"] is None
+    assert [p.group for p in chosen] == ["Front", "Sleeve", "Sleeve_2", "Collar1", "Collar2"]
+    assert main(["import", path, "--list"]) == 0
+    out = capsys.readouterr().out
+    assert "Short Sleeve: block 'SS', size -, quantity 0, category SLEEVE, copy 1, " \
+           "not imported: Quantity 0" in out
+    assert "pieces: 8; size -: 5 imported" in out
+    by_name = [m.group for m in pattern.mesh(pat, edge=0.05, pieces="short_sleeve")]
+    assert by_name == ["Short_Sleeve"]
+    by_category = [m.group for m in pattern.mesh(pat, edge=0.05, pieces="Sleeve, front")]
+    assert by_category == ["Front", "Sleeve", "Sleeve_2", "Short_Sleeve", "Sleeve_34",
+                           "Sleeve_34_2"]
+    out_dir = tmp_path / "out"
+    assert main(["import", path, "--pieces", "Front,nomatch", "--out", str(out_dir)]) == 1
+    err = capsys.readouterr().err
+    assert "--pieces Front,nomatch: no piece" in err and "'nomatch'" in err
+    assert "Short_Sleeve" in err and "SLEEVE" in err and path in err
+    assert not out_dir.exists()
+
+
+def test_an_open_sew_line_falls_back_to_the_cut_line(tmp_path, capsys):
+    path = write_blocks(tmp_path / "open_sew.dxf", {"P": [
+        ("poly", [(0, 0), (10, 0), (10, 10), (0, 10)], 1),
+        ("open", [(1, 1), (9, 1), (9, 9), (1, 9)], 14), ("text", "Piece Name: Yoke", 1)]})
+    out = tmp_path / "out"
+    assert main(["import", path, "--out", str(out), "--edge", "0.05"]) == 0
+    err = capsys.readouterr().err
+    assert re.search(r"warning: piece 'Yoke' \(block 'P'.*its sew line \(layer 14\) is open"
+                     r".*the cut line \(layer 1\) is used instead", err)
+    p = pattern.read(path).pieces[0]
+    assert p.boundary_from == "cut line (layer 1)"
+    assert pattern.geometry.signed_area(p.boundary) == pytest.approx(100 * IN * IN, rel=1e-12)
+    assert sorted(os.listdir(out)) == ["open_sew.obj", "open_sew.yaml"]
+
+
+@pytest.mark.parametrize("text,name,category", [
+    ("FRONT G", "X", "FRONT"), ("GMX1006S16BK", "GMX1006S18BK", "BACK"),
+    ("SLEEVE WITH CUFF", "", "SLEEVE"), ("SLEEVE CUFF", "", "CUFF"),
+    ("CREWNECKRIBG", "", "COLLAR"), ("PLACKET U_INTERLIN", "", "INTERLINING"),
+    ("HOOD FACING 2P", "", "FACING"), ("P1", "ORILEG WB WB", "WAISTBAND"),
+    ("LENGTH OPTIONS", "ORILEG WB LL", ""), ("", "Pocket", "POCKET"), ("", "11", "")])
+def test_categories(text, name, category):
+    assert pattern.category_of(text, name) == category
