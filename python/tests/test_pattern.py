@@ -441,12 +441,22 @@ def test_a_piece_cut_on_the_fold_is_unfolded(tmp_path):
 
 
 def test_a_mirror_line_off_the_boundary_is_refused(tmp_path, capsys):
+    """A mirror line 5 in inside the piece (127 mm from the boundary at its middle), and one on
+    the boundary's line but with the piece on both sides of it: refused, nothing written."""
     path = half_front(tmp_path, fold=((5, 0), (5, 24)))
     out = tmp_path / "out"
     assert main(["import", path, "--out", str(out)]) == 1
     err = capsys.readouterr().err
     assert path in err and "piece 'Front'" in err and "mirror line (layer 6" in err
-    assert "does not lie on its cut line" in err and "Traceback" not in err
+    assert "does not lie on the boundary (up to 127 mm from it) (its cut line (layer 1))" \
+        in err and "Traceback" not in err
+    assert not out.exists()
+    path = write_blocks(tmp_path / "both_sides.dxf", {"P": [
+        ("poly", [(0, 0), (10, 0), (10, 10), (-3, 10), (-3, 5), (0, 5)], 1),
+        ("line", ((0, 0), (0, 5)), 6)]})
+    assert main(["import", path, "--out", str(out)]) == 1
+    assert "the piece is on both sides of it (up to 76.2 and 254 mm)" in \
+        capsys.readouterr().err
     assert not out.exists()
 
 
@@ -546,3 +556,20 @@ def test_an_open_sew_line_falls_back_to_the_cut_line(tmp_path, capsys):
     ("LENGTH OPTIONS", "ORILEG WB LL", ""), ("", "Pocket", "POCKET"), ("", "11", "")])
 def test_categories(text, name, category):
     assert pattern.category_of(text, name) == category
+
+
+def test_a_sew_line_open_along_its_fold_is_closed_there(tmp_path, capsys):
+    """A half piece whose sew line stops at the fold (nothing is sewn there): closed along the
+    mirror line and unfolded, the sew line's whole, 18 x 8 in; no warning.  Its notch on the
+    cut line is moved onto the sew line, and mirrored."""
+    path = write_blocks(tmp_path / "fold_sew.dxf", {"P": [
+        ("poly", [(0, 0), (10, 0), (10, 10), (0, 10)], 1), ("line", ((0, 0), (0, 10)), 6),
+        ("open", [(0, 1), (9, 1), (9, 9), (0, 9)], 14), ("point", (10, 5), 4),
+        ("text", "Piece Name: Yoke", 1)]})
+    p = pattern.read(path).pieces[0]
+    assert p.boundary_from == "sew line (layer 14), closed along its mirror line"
+    assert pattern.geometry.signed_area(p.boundary) == pytest.approx(144 * IN * IN, rel=1e-12)
+    assert xy_set(p.notches) == xy_set([(9 * IN, 5 * IN), (-9 * IN, 5 * IN)])
+    assert p.warnings == []
+    assert main(["import", path, "--out", str(tmp_path / "o"), "--edge", "0.05"]) == 0
+    assert "warning" not in capsys.readouterr().err

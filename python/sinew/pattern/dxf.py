@@ -7,7 +7,7 @@ named) say what each entity is:
     1  piece boundary (the cut line) and the piece's text      7  grain line (the warp, u)
     4  notches (also 80-83: T, castle, check and U notches)   8  internal lines
     11 internal cutouts (holes)                                13 drill holes
-    14 sew line (replaces the cut line when present and closed)
+    14 sew line (replaces the cut line when present and closed, or open only along the fold)
     6  mirror line: a piece cut on the fold is unfolded (mirrored about it, one whole piece)
     2, 3 turn and curve points of the lines (turn points on the boundary become corners)
     5, 9, 10, 15, 84-87: grading, stripe and plaid references, annotation, quality
@@ -369,17 +369,21 @@ class _BlockReader:
         lab = "%s, %s" % (self.where, "piece '%s'" % p.name)
         if not self.cut and not self.sew:
             return None
-        sew = self.sew
+        sew, self.sew_fold = self.sew, None
         if sew:
             try:
                 _join(sew, lab)
             except PatternError as e:
-                if not self.cut:
+                closed = self.closed_on_fold(sew, lab)
+                if closed is not None:
+                    sew = closed
+                elif not self.cut:
                     raise
-                p.warnings.append("%s: its sew line (layer 14) is open (%s): the cut line "
-                                  "(layer 1) is used instead" % (p.label, str(e).split(
-                                      "open boundary: ")[-1].split("; expected")[0]))
-                sew = []
+                else:
+                    p.warnings.append("%s: its sew line (layer 14) is open (%s): the cut line "
+                                      "(layer 1) is used instead" % (p.label, str(e).split(
+                                          "open boundary: ")[-1].split("; expected")[0]))
+                    sew = []
         loops = _closed_loops(sew or self.cut, "sew line (layer 14)" if sew
                               else "boundary (layer 1)", lab, self.skipped)
         if not loops:
@@ -392,7 +396,8 @@ class _BlockReader:
                                         (14 if sew else 1),
                                         "not used: one boundary per piece (holes are layer 11)"))
         if sew:
-            p.boundary_from = "sew line (layer 14)"
+            p.boundary_from = "sew line (layer 14)" + (", closed along its mirror line"
+                                                        if self.sew_fold else "")
         cut = (_closed_loops(self.cut, "boundary (layer 1)", lab, []) or [None])[0] \
             if sew and self.cut else p.boundary
         p.grains = [p.grain] if p.grain is not None else []
@@ -410,6 +415,24 @@ class _BlockReader:
         p.turn_points = on
         return p
 
+    def closed_on_fold(self, sew, lab):
+        """The sew line's parts and the straight line between its two open ends, when both lie
+        on the mirror line (a fold is not sewn: some exporters leave the sew line open there),
+        if they then join into a closed line; else None."""
+        if not self.mirrors:
+            return None
+        (a, b), _ = self.mirrors[0]
+        ends = [q for pts, closed in sew if not closed for q in (pts[0], pts[-1])]
+        on = [q for q in ends if geo.project(np.array([a, b]), q)[0] <= JOIN_TOL]
+        if len(on) != 2 or np.hypot(*(on[1] - on[0])) <= JOIN_TOL:
+            return None
+        try:
+            _join(sew + [(np.array(on), False)], lab)
+        except PatternError:
+            return None
+        self.sew_fold = (on[0], on[1])
+        return sew + [(np.array(on), False)]
+
     def unfold(self, cut, lab):
         """The piece joined to its mirror image about its mirror line (which must lie on its
         boundary), with everything on it mirrored too; returns the cut line unfolded likewise
@@ -417,16 +440,20 @@ class _BlockReader:
         p = self.piece
         (a, b), e = self.mirrors[0]
         same = cut is p.boundary
-        whole = geo.unfold(p.boundary, a, b, JOIN_TOL)
-        if whole is None:
+        fa, fb = self.sew_fold if self.sew_fold is not None else (a, b)
+        try:
+            whole = geo.unfold(p.boundary, fa, fb, JOIN_TOL)
+        except ValueError as why:
             raise PatternError(
-                "%s: its mirror line (layer 6, %s) from (%.4g, %.4g) to (%.4g, %.4g) m does not "
-                "lie on its %s; expected the fold to be a straight stretch of the boundary "
-                "with the piece on one side" % (lab, _what(e), a[0], a[1], b[0], b[1],
-                                                p.boundary_from))
+                "%s: its mirror line (layer 6, %s) from (%.4g, %.4g) to (%.4g, %.4g) m %s "
+                "(its %s); expected the fold to be a straight stretch of the boundary with the "
+                "piece on one side" % (lab, _what(e), a[0], a[1], b[0], b[1], why,
+                                       p.boundary_from)) from None
         p.boundary, p.fold = whole[0], (whole[1][0], whole[1][1])
-        other = geo.unfold(cut, a, b, JOIN_TOL) if not same else None
-        cut = other[0] if other is not None else p.boundary
+        try:
+            cut = p.boundary if same else geo.unfold(cut, a, b, JOIN_TOL)[0]
+        except ValueError:  # the mirror line not on the cut line: notches against the sew line
+            cut = p.boundary
 
         def on_fold(q):
             return bool((geo.line_distance(q, a, b) <= JOIN_TOL).all())

@@ -133,20 +133,19 @@ def unfold(p, a, b, tol):
     """The closed polygon p (counter-clockwise) joined to its mirror image about the fold line
     ab, which must lie on p's boundary: p's boundary with the fold's run removed (the whole
     run of consecutive points on the fold's line, from its first point to its last), then the
-    mirror image of that, back to the start; the fold's two ends once each.  Returns (the
-    polygon, counter-clockwise; the fold's two ends), or None when ab is not on p's boundary
-    (within tol) or p lies on both sides of it."""
+    mirror image of that, back to the start; the fold's two ends once each.  Returns the
+    polygon (counter-clockwise) and the fold's two ends; raises ValueError saying why when ab
+    is not on p's boundary (within tol) or p lies on both sides of it."""
     length = np.hypot(*(b - a))
-    if length <= tol:
-        return None
     probe = a + np.linspace(0, 1, 9)[:, None] * (b - a)
-    if max(project(p, q)[0] for q in probe) > tol:
-        return None
+    far = max(project(p, q)[0] for q in probe)
+    if length <= tol or far > tol:
+        raise ValueError("does not lie on the boundary (up to %.3g mm from it)" % (far * 1e3))
     p = _with_points(p, [a, b], tol)
     on = line_distance(p, a, b) <= tol
     n = len(p)
     if on.all():
-        return None
+        raise ValueError("is all of the boundary")
     k = int(np.argmin(np.hypot(*(p - a).T)))   # a is a point of p, on the run
     i0 = k
     while on[(i0 - 1) % n]:
@@ -159,7 +158,9 @@ def unfold(p, a, b, tol):
     side = (b - a)[0] * r[:, 1] - (b - a)[1] * r[:, 0]
     side = side[np.abs(side) / length > tol]
     if len(side) == 0 or (side > 0).any() and (side < 0).any():
-        return None
+        raise ValueError("lies on the boundary, but the piece is on both sides of it (up to "
+                         "%.3g and %.3g mm)" % (side.max() * 1e3 / length if len(side) else 0,
+                                                -side.min() * 1e3 / length if len(side) else 0))
     whole = np.vstack([rest, reflect(rest[1:-1], a, b)[::-1]])
     if signed_area(whole) < 0:
         whole = whole[::-1]
