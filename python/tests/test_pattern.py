@@ -531,6 +531,8 @@ def test_quantity_zero_and_alternates_are_listed_and_chosen_by_pieces(tmp_path, 
     assert "--pieces Front,nomatch: no piece" in err and "'nomatch'" in err
     assert "Short_Sleeve" in err and "SLEEVE" in err and path in err
     assert not out_dir.exists()
+    assert main(["import", path, "--list", "--pieces", "nomatch"]) == 1  # listed, then refused
+    assert "pieces: 8; size -: 0 imported" in capsys.readouterr().out
 
 
 def test_an_open_sew_line_falls_back_to_the_cut_line(tmp_path, capsys):

@@ -70,11 +70,11 @@ def _list(pat, size, pieces):
         print("sizes: %s (base %s)" % (", ".join(pat.sizes), pat.base_size))
     else:
         print("sizes: not graded")
+    failed = None
     try:
         chosen, size = dxf.select(pat, size, pieces)
-    except dxf.PatternError as e:  # listed all the same; the error printed first
-        print("sinew pattern: %s" % e, file=sys.stderr)
-        chosen, size = [], size or pat.base_size
+    except dxf.PatternError as e:  # listed all the same, then raised
+        failed, chosen, size = e, [], size or pat.base_size
     print("pieces: %d; size %s: %d imported%s" % (
         len(pat.pieces), size or "-", len(chosen), "".join("; " + n for n in pat.notes)))
     for p in pat.pieces:
@@ -107,6 +107,8 @@ def _list(pat, size, pieces):
         print("  %s: %s: %s" % (s.where, s.what, s.why))
     for r in pat.repaired:
         print("repaired by ezdxf: %s" % r)
+    if failed is not None:
+        raise failed
 
 
 def _outputs(a):
