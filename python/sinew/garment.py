@@ -12,6 +12,7 @@ and fitted by `sinew run` at the fit's defaults; then a summary from the run fol
 when every fit ends ok, 1 on an error (nothing is left in DIR of a size that failed before its
 run) or a failed fit, 2 on bad arguments."""
 import argparse
+import inspect
 import json
 import os
 import resource
@@ -93,6 +94,9 @@ def _given_seams(path):
 def build(path, size, edge, pieces=None):
     """One size's pieces meshed, turned u up and sewn: (meshed, seams, flat positions)."""
     pat = pattern.read(path)
+    if "pieces" in inspect.signature(pattern.mesh).parameters:  # the importer chooses them
+        return _sewn(pattern.mesh(pat, size=size, edge=edge,
+                                  pieces=",".join(pieces) if pieces else None))
     meshed = pattern.mesh(pat, size=size, edge=edge)
     if pieces:
         names = {m.group for m in meshed}
@@ -101,6 +105,10 @@ def build(path, size, edge, pieces=None):
             raise GarmentError("%s: no piece %s; expected one of: %s"
                                % (path, ", ".join(unknown), ", ".join(sorted(names))))
         meshed = [m for m in meshed if m.group in pieces]
+    return _sewn(meshed)
+
+
+def _sewn(meshed):
     meshed = sew.upright(meshed)
     seams = sew.propose(meshed)
     positions, _ = layout(meshed)
@@ -172,7 +180,7 @@ def one_size(a, size, out_dir, given):
         print("%s, size %s: %d pieces, %d vertices" % (a.file, size or "-", len(meshed),
                                                        sum(len(m.xy) for m in meshed)))
         print(sew.table(seams))
-    body = os.path.relpath(_repo_file(BODY), os.path.abspath(out_dir))
+    body = os.path.relpath(_repo_file(a.mannequin), os.path.abspath(out_dir))
     parent = os.path.dirname(os.path.abspath(out_dir))
     os.makedirs(parent, exist_ok=True)
     tmp = tempfile.mkdtemp(prefix=".%s." % os.path.basename(out_dir), dir=parent)
@@ -272,6 +280,8 @@ def _parser():
     ap.add_argument("--pieces", metavar="A,B", help="only these pieces (the importer's names)")
     ap.add_argument("--seams", metavar="FILE", help="a YAML file whose `seams:` entries replace "
                     "proposed ones of the same name (others are added)")
+    ap.add_argument("--mannequin", metavar="OBJ", default=BODY, help="the body, a closed mesh "
+                    "with arms, standing as scenes/meshes/mannequin_arms.obj does (its default)")
     ap.add_argument("--quiet", action="store_true")
     return ap
 

@@ -24,6 +24,7 @@ import numpy as np
 # rib stretched 15-25 % onto a neckline does not, and is not sewn automatically.
 EASE = 0.10
 TIE = 2e-3     # m: corners this close in height or width count as level
+HEM_BAND = 0.1  # a hem drawn in several runs lies in the lowest tenth of the piece's height
 LOW = 0.3      # an armpit or a cap's foot lies above this fraction of the piece's height
 
 CATEGORIES = ("FRONT", "BACK", "SLEEVE", "COLLAR", "CUFF", "PLACKET", "INTERLINING")
@@ -150,7 +151,26 @@ class _Outline:
         if best is None:
             raise SewError("%s: no hem found (a lowest corner-to-corner run across the piece)"
                            % self.name)
-        return best[1], best[2]
+        a, b = best[1], best[2]
+        n = len(cs)
+        for _ in range(n):          # a hem drawn in several runs: the low runs across beside it
+            c = cs[(cs.index(b) + 1) % n]
+            if c == a or not self._low_across(b, c):
+                break
+            b = c
+        for _ in range(n):
+            c = cs[(cs.index(a) - 1) % n]
+            if c == b or not self._low_across(c, a):
+                break
+            a = c
+        return a, b
+
+    def _low_across(self, a, b):
+        """Whether the run a to b lies across the piece (|dv| > |du|, v falling) in its lowest
+        HEM_BAND of height."""
+        du, dv = self.uv[b] - self.uv[a]
+        top = self.u0 + HEM_BAND * (self.u1 - self.u0)
+        return abs(dv) > abs(du) and dv < 0 and max(self.u(a), self.u(b)) < top
 
     def widest(self, cands, what):
         """The candidate corner farthest from the centre line, the higher of level ones."""
