@@ -251,15 +251,15 @@ def sizes_picture(results, path):
     done = [r for r in results if r.get("last")]
     top = max(render.percentile_top([r["last"][1]["cloth"]], 99) for r in done)
     norm = colors.Normalize(0.0, top if top > 0 else 1.0)
-    fig = plt.figure(figsize=(3.2 * len(done) + 1, 4.2))
-    w = 0.9 / len(done)
+    fig = plt.figure(figsize=(5.5 * len(done) + 0.5, 5.0))
+    w = 0.92 / len(done)
     for k, r in enumerate(done):
-        ax = fig.add_axes([0.05 + k * w, 0.2, w * 0.95, 0.7])
+        ax = fig.add_axes([0.06 + k * w, 0.22, w * 0.88, 0.68])
         render.draw_flat(ax, r["last"][1]["cloth"], None, norm, None, r["scene"])
         ax.set_title("size %s" % r["size"], fontsize=10)
     fig.colorbar(cm.ScalarMappable(norm=norm, cmap="viridis"), orientation="horizontal",
-                 cax=fig.add_axes([0.2, 0.08, 0.6, 0.03]), extend="max",
-                 label="tension XY (N/m), one scale for every size (99th percentile)")
+                 cax=fig.add_axes([0.2, 0.11, 0.6, 0.03]), extend="max",
+                 label="tension XY (N/m), one scale (99th percentile of all)")
     fig.savefig(path, dpi=100)
     plt.close(fig)
 

@@ -109,6 +109,13 @@ def test_garment_fits_the_tshirt(tmp_path, capsys):
     assert "status ok" in text and "Sleeve_2" in text
     scene = yaml.safe_load(open(out / "scene.yaml"))
     assert len(scene["seams"]) == 10
+    # the --sizes outputs of two results: a table row per size and piece, one picture
+    tension, last, sc = garment.tension_per_piece(str(out / "run"), str(out / "scene.yaml"))
+    res = {"summary": s, "cpu_s": 1.0, "tension": tension, "last": last, "scene": sc}
+    rows = garment.sizes_table([dict(res, size="S"), dict(res, size="M")]).splitlines()
+    assert len(rows) == 2 + 2 * 4 and rows[2].startswith("| S | Front | ")
+    garment.sizes_picture([dict(res, size="S"), dict(res, size="M")], str(tmp_path / "s.png"))
+    assert open(tmp_path / "s.png", "rb").read(8) == b"\x89PNG\r\n\x1a\n"
 
 
 @pytest.mark.parametrize("args, message", [
