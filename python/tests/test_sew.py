@@ -122,6 +122,8 @@ def test_garment_fits_the_tshirt(tmp_path, capsys):
     (["--size", "XL"], "no size 'XL'; expected one of: (the file is not graded)"),
     (["--pieces", "Front,Nope"], "no piece Nope"),
     (["--pieces", "Front,Back,Sleeve"], "two SLEEVE pieces or none; found 1 (Sleeve)"),
+    (["--seams", "/nonexistent.yaml"], "--seams /nonexistent.yaml: No such file"),
+    (["--fabric", "{mass: -150}", "--edge", "0.08"], "failed before its first step (exit 1)"),
 ])
 def test_bad_inputs_write_nothing(tmp_path, capsys, args, message):
     out = tmp_path / "x"
@@ -136,3 +138,10 @@ def test_unsewable_pieces_write_nothing(tmp_path, capsys):
     assert garment.main([skirt, "--out", str(tmp_path / "x"), "--quiet"]) == 1
     assert "one FRONT and one BACK piece; found 2 FRONT, 2 BACK" in capsys.readouterr().err
     assert os.listdir(tmp_path) == []
+
+
+def test_sinew_garment_runs_the_module():
+    """`sinew garment` (sim/cli/render.c) runs python -m sinew.garment."""
+    exe = os.environ.get("SINEW_EXE", os.path.join(ROOT, "build", "sinew"))
+    r = subprocess.run([exe, "garment", "--help"], capture_output=True, text=True)
+    assert r.returncode == 0 and "usage: sinew garment" in r.stdout and "--sizes" in r.stdout
