@@ -275,7 +275,7 @@ def _parser():
                     "in measured units (docs/fabrics.md), a YAML flow mapping")
     ap.add_argument("--edge", type=float, default=pattern.DEFAULT_EDGE, metavar="M",
                     help="target edge length, m (default %g)" % pattern.DEFAULT_EDGE)
-    ap.add_argument("--out", metavar="DIR", help="output folder (default: STEM_garment beside "
+    ap.add_argument("--out", metavar="DIR", help="output folder (default: STEM_garment in "
                     "the current folder)")
     ap.add_argument("--pieces", metavar="A,B", help="only these pieces (the importer's names)")
     ap.add_argument("--seams", metavar="FILE", help="a YAML file whose `seams:` entries replace "
