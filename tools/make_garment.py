@@ -8,6 +8,7 @@
     /usr/bin/python3 tools/make_garment.py tank [--bust 0.88] [--ease -0.07] [--length 0.275]
         [--strap-length 0.185] [--strap-width 0.05] [--strap-at 0.11] [--columns 16]
         [--rows 10] [--strap-columns 5] [--strap-rows 8] [-o scenes/meshes/garment_tank.obj]
+        [--dxf garment_tank.dxf]
     /usr/bin/python3 tools/make_garment.py tshirt [--bust 0.88] [--ease -0.03] [--length 0.30]
         [--strap-length 0.20] [--strap-width 0.10] [--strap-at 0.115] [--columns 16] [--rows 10]
         [--strap-columns 5] [--strap-rows 8] [--sleeve-width 0.36] [--sleeve-length 0.12]
@@ -25,8 +26,8 @@ z = 0, laid side by side), its own per-corner (u,v) in metres (`vt`, u across, v
 own group (`usemtl NAME`); the scene sews them with `seams` and places them with `arrange`
 (docs/garments.md).  Each piece is a grid of quads (the tank's with the neckline cut out); its
 corners are printed as a comment at the head of the file (0-based vertex indices, as the
-scene's `seams` take them) and on stdout as the scene's `seams:` list.  With --dxf, skirt
-and tshirt write the pattern instead as a DXF file as a pattern CAD system exports it (ASTM
+scene's `seams` take them) and on stdout as the scene's `seams:` list.  With --dxf, skirt,
+tank and tshirt write the pattern instead as a DXF file as a pattern CAD system exports it (ASTM
 D6673; the same bytes for the same command), for `sinew pattern import` (docs/garments.md, "A
 skirt from its DXF pattern", "A T-shirt from its DXF pattern").
 
@@ -292,6 +293,8 @@ def top_title(what, a):
 
 
 def tank(a):
+    if a.dxf:
+        return tank_dxf(a)
     pieces = [tank_piece(n, a) for n in ("front", "back")]
     pieces_obj(a.output, top_title("tank top: tools/make_garment.py tank", a), pieces, top_seams())
 
@@ -379,21 +382,39 @@ def top_outline(a, steps):
     return [(-half, 0.0)] + right + left[:-1], corners + [(-x, y) for x, y in corners]
 
 
+def top_dxf(a):
+    """A DXF document holding a top's FRONT and BACK blocks (the same piece, top_outline's),
+    grain lines from the hem up, the corners as turn points."""
+    doc = dxf_document()
+    body, body_corners = top_outline(a, 100)
+    for name in ("FRONT", "BACK"):
+        dxf_piece(doc, name, body, [(0, 0.1 * a.length), (0, 0.9 * a.length)], body_corners,
+                  [], 1)
+    return doc
+
+
+def tank_dxf(a):
+    """The tank top's pattern as a pattern CAD system exports it (like tshirt_dxf): FRONT and
+    BACK, the same piece, each placed once."""
+    doc = top_dxf(a)
+    msp = doc.modelspace()
+    msp.add_blockref("FRONT", (0, 0))
+    msp.add_blockref("BACK", (1000.0 * (a.bust * (1 + a.ease) / 2 + 0.05), 0))
+    msp.add_text("Style Name: tank top (tools/make_garment.py tank --dxf)")
+    dxf_save(doc, a.dxf, "FRONT and BACK")
+
+
 def tshirt_dxf(a, h):
     """The T-shirt's pattern as a pattern CAD system exports it (ASTM D6673 as CLO writes it,
     like skirt_dxf): FRONT and BACK, the same body piece, and a SLEEVE placed twice, the
     second time mirrored; grain lines from the hem up (u up the body and up the arm); the
     corners as turn points; a notch at the top of the sleeve's cap, where its front half
     meets its back half."""
-    doc = dxf_document()
-    body, body_corners = top_outline(a, 100)
+    doc = top_dxf(a)
     w, L = a.sleeve_width, a.sleeve_length
     cap = [(w * (k / 200 - 0.5), L + h * math.cos(math.pi * (k / 200 - 0.5)) ** 2)
            for k in range(201)]                    # the cap, left to right
     sleeve = [(-w / 2, 0.0), (w / 2, 0.0)] + cap[::-1]
-    for name in ("FRONT", "BACK"):
-        dxf_piece(doc, name, body, [(0, 0.1 * a.length), (0, 0.9 * a.length)], body_corners,
-                  [], 1)
     dxf_piece(doc, "SLEEVE", sleeve, [(0, 0.1 * L), (0, 0.9 * L)],
               [(-w / 2, 0.0), (w / 2, 0.0), (-w / 2, L), (w / 2, L)], [(0.0, L + h)], 2)
     msp = doc.modelspace()
@@ -551,6 +572,7 @@ def main():
     k = sub.add_parser("tank", help="front and back of a tank top")
     top_options(k, ease=-0.07, length=0.275, strap_length=0.185, strap_width=0.05,
                 strap_at=0.11, output="scenes/meshes/garment_tank.obj")
+    k.add_argument("--dxf", help="write the pattern as a DXF file (ASTM D6673) instead of an OBJ")
     k = sub.add_parser("tshirt", help="front, back and two short sleeves of a T-shirt")
     top_options(k, ease=-0.03, length=0.30, strap_length=0.20, strap_width=0.10, strap_at=0.115,
                 output="scenes/meshes/garment_tshirt.obj")

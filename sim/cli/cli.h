@@ -17,6 +17,7 @@ int cli_render(int argc, char **argv);
 /* `sinew pattern ARGS` (render.c): runs Python's sinew.pattern (DXF pattern import) likewise. */
 int cli_pattern(int argc, char **argv);
 int cli_drape(int argc, char **argv);
+int cli_garment(int argc, char **argv);
 /* The folder holding the package sinew/ installed beside this program (render.c): 0, or -1. */
 int cli_package_dir(char *dir, size_t size);
 

@@ -21,6 +21,7 @@ static void usage(FILE *fp) {
           "       sinew render RUN_DIR [options]   (sinew render --help)\n"
           "       sinew pattern import FILE.dxf [options]  (sinew pattern import --help)\n"
           "       sinew drape RUN_DIR [options]    (sinew drape --help)\n"
+          "       sinew garment FILE.dxf [options] (sinew garment --help)\n"
           "       sinew --help | --version\n"
           "\n"
           "  Every option takes its value as --opt VALUE or --opt=VALUE.\n"
@@ -38,6 +39,8 @@ static void usage(FILE *fp) {
           "  pattern import  pattern pieces of an AAMA/ASTM D6673 DXF file meshed into an OBJ\n"
           "          (a group per piece, (u,v) in metres along the grain line) and a scene skeleton\n"
           "  drape   the drape coefficient and node count of a Cusick drape test run folder\n"
+          "  garment a DXF pattern's pieces sewn automatically, arranged on the mannequin and\n"
+          "          fitted by run; a summary of each size's fit\n"
           "\n"
           "  methods:");
   for (const char *const *n = sw_method_names(); *n; n++) fprintf(fp, " %s", *n);
@@ -611,6 +614,7 @@ static int dispatch(int argc, char **argv) {
   if (!strcmp(cmd, "render")) return cli_render(argc, argv);
   if (!strcmp(cmd, "pattern")) return cli_pattern(argc, argv);
   if (!strcmp(cmd, "drape")) return cli_drape(argc, argv);
+  if (!strcmp(cmd, "garment")) return cli_garment(argc, argv);
   if (!strcmp(cmd, "bench")) return sw_bench_main(argc, argv);
   fprintf(stderr, "sinew: unknown command '%s' (see sinew --help)\n", cmd);
   return 2;

@@ -1,7 +1,9 @@
 /* render.c — the subcommands written in Python: `sinew render RUN_DIR ...` (the pictures of a
  * run folder, python/sinew/render.py, matplotlib), `sinew pattern ...` (pattern import from
  * DXF, python/sinew/pattern/, ezdxf and gmsh) and `sinew drape RUN_DIR` (the drape coefficient
- * and nodes of a Cusick drape test run, python/sinew/drape.py, numpy).  Each runs as `PYTHON -m sinew.MODULE ARGS`
+ * and nodes of a Cusick drape test run, python/sinew/drape.py, numpy) and `sinew garment FILE.dxf`
+ * (a DXF pattern sewn, arranged and fitted, python/sinew/garment.py, which runs this program's
+ * `run`: SINEW_EXE names it).  Each runs as `PYTHON -m sinew.MODULE ARGS`
  * with the package's folders (the installed package beside this program, when there is one;
  * the source tree's python/ and where meson install puts it, unless built as a wheel) before any
  * PYTHONPATH already set.  SW_PYTHON and SW_PYTHONPATH are set by meson.build. */
@@ -27,6 +29,9 @@ static int run_module(const char *cmd, const char *module, int argc, char **argv
   if (old && *old) snprintf(path + strlen(path), n - strlen(path), "%s%s", *path ? ":" : "", old);
   if (setenv("PYTHONPATH", path, 1))
     return fprintf(stderr, "sinew %s: cannot set PYTHONPATH: %s\n", cmd, strerror(errno)), 2;
+  char exe[4096];
+  ssize_t len = readlink("/proc/self/exe", exe, sizeof exe - 1);
+  if (len > 0) exe[len] = 0, setenv("SINEW_EXE", exe, 1);
   args[0] = SW_PYTHON;
   args[1] = "-m";
   args[2] = (char *)module;
@@ -42,3 +47,7 @@ int cli_render(int argc, char **argv) { return run_module("render", "sinew.rende
 int cli_pattern(int argc, char **argv) { return run_module("pattern", "sinew.pattern", argc, argv); }
 
 int cli_drape(int argc, char **argv) { return run_module("drape", "sinew.drape", argc, argv); }
+
+int cli_garment(int argc, char **argv) {
+  return run_module("garment", "sinew.garment", argc, argv);
+}

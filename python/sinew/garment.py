@@ -1,0 +1,331 @@
+"""sinew garment: from a DXF pattern to a fitted garment in one command (docs/garments.md, "From
+a DXF to a fitted garment").
+
+    python3 -m sinew.garment FILE.dxf [--size S | --sizes all|S1,S2,...] [--fabric '{...}']
+                             [--edge M] [--out DIR] [--pieces A,B,...] [--seams FILE]
+
+(`sinew garment ...` runs the same.)  Per size: the pieces imported and meshed
+(sinew.pattern), turned u up, sewn automatically (sinew.pattern.sew: seams by corner and
+notch names, those of --seams replacing proposed ones of the same name), arranged round the
+mannequin (scenes/meshes/mannequin_arms.obj; FRONT at -y, BACK at +y, sleeves about the arms)
+and fitted by `sinew run` at the fit's defaults; then a summary from the run folder.  Exit 0
+when every fit ends ok, 1 on an error (nothing is left in DIR of a size that failed before its
+run) or a failed fit, 2 on bad arguments."""
+import argparse
+import inspect
+import json
+import os
+import resource
+import shutil
+import subprocess
+import sys
+import tempfile
+
+import numpy as np
+
+from . import pattern
+from .pattern import dxf, sew
+from .pattern.write import MATERIAL, obj_text, write_atomic
+from .pattern.mesh import layout
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+BODY = os.path.join(HERE, "..", "..", "scenes", "meshes", "mannequin_arms.obj")
+# The DXF T-shirt's arrangement (scenes/garment_tshirt_dxf.yaml): the tops 1.47 m up, above
+# the mannequin's shoulder ridge (1.42-1.43 m), 2 cm clear of it; a sleeve about its arm's axis
+# (45 degrees down from the shoulder joint at x = +-0.206 m, z = 1.371 m).
+TOP, CLEAR = 1.47, 0.02
+ARM = (0.206336, 1.37071)
+DURATION = 0.1   # s of dynamics after the fit: one frame at rest
+
+
+class GarmentError(Exception):
+    pass
+
+
+def _repo_file(path):
+    path = os.path.normpath(path)
+    if not os.path.exists(path):
+        raise GarmentError("the mannequin %s is not found (sinew garment runs from a source "
+                           "checkout, which holds scenes/meshes)" % path)
+    return path
+
+
+def arrangement(meshed, seams):
+    """`arrange` lines: each piece by its category; the sleeve sewn to the left armholes about
+    the left arm (+x), the other about the right."""
+    left = {s.b.panel for s in seams if s.name == "left_armhole_front"}
+    out = []
+    for m in meshed:
+        cat = sew.category(m)
+        if cat in ("FRONT", "BACK"):
+            out.append("  %s: {cylinder: {angle: %d, top: %g, clearance: %g, up: u}}"
+                       % (json.dumps(m.group), 270 if cat == "FRONT" else 90, TOP, CLEAR))
+        elif cat == "SLEEVE":
+            s = 1 if m.group in left else -1
+            out.append("  %s: {cylinder: {angle: %d, top: 0, clearance: %g, up: u, axis: "
+                       "[%g, 0, 0.707107], center: [%g, 0, %g]}}"
+                       % (json.dumps(m.group), 0 if s > 0 else 180, CLEAR, -0.707107 * s,
+                          s * ARM[0], ARM[1]))
+        else:
+            raise GarmentError("%s (%s): no arrangement for this category; expected FRONT, "
+                               "BACK or SLEEVE pieces (--pieces chooses them)"
+                               % (m.group, cat or "no category"))
+    return out
+
+
+def _given_seams(path):
+    """--seams FILE: [(name, one-line YAML of the entry)] from its `seams:` list."""
+    import yaml
+    try:
+        with open(path, encoding="utf-8") as f:
+            doc = yaml.safe_load(f)
+    except OSError as e:
+        raise GarmentError("--seams %s: %s" % (path, e.strerror)) from None
+    except yaml.YAMLError as e:
+        raise GarmentError("--seams %s: not YAML: %s" % (path, e)) from None
+    items = doc.get("seams") if isinstance(doc, dict) else None
+    if not isinstance(items, list) or not all(isinstance(s, dict) and s.get("name")
+                                              for s in items):
+        raise GarmentError("--seams %s: expected a `seams:` list of entries with a `name`"
+                           % path)
+    return [(str(s["name"]), json.dumps(s)) for s in items]
+
+
+def build(path, size, edge, pieces=None):
+    """One size's pieces meshed, turned u up and sewn: (meshed, seams, flat positions)."""
+    pat = pattern.read(path)
+    if "pieces" in inspect.signature(pattern.mesh).parameters:  # the importer chooses them
+        return _sewn(pattern.mesh(pat, size=size, edge=edge,
+                                  pieces=",".join(pieces) if pieces else None))
+    meshed = pattern.mesh(pat, size=size, edge=edge)
+    if pieces:
+        names = {m.group for m in meshed}
+        unknown = [p for p in pieces if p not in names]
+        if unknown:
+            raise GarmentError("%s: no piece %s; expected one of: %s"
+                               % (path, ", ".join(unknown), ", ".join(sorted(names))))
+        meshed = [m for m in meshed if m.group in pieces]
+    return _sewn(meshed)
+
+
+def _sewn(meshed):
+    meshed = sew.upright(meshed)
+    seams = sew.propose(meshed)
+    positions, _ = layout(meshed)
+    return meshed, seams, positions
+
+
+def scene_text(meshed, seams, stem, size, edge, given=(), fabric=None, body=BODY):
+    out = ["# %s: written by sinew garment (size %s, edges about %g m): the pieces turned u up,"
+           % (stem, size or "-", edge),
+           "# sewn automatically (docs/garments.md, \"Automatic sewing\"), arranged round the "
+           "mannequin", "name: %s" % json.dumps(stem), "dimension: 3",
+           "mesh: {obj: pieces.obj}"]
+    if fabric:
+        out += ["material:", "  fabric: %s" % fabric]
+    else:
+        out.append(MATERIAL.rstrip())
+    out += ["gravity: [0, 0, -9.81]", "obstacles:", "  - {mesh: %s}" % json.dumps(body),
+            "contact: {self: true, thickness: 5e-4, friction: 0.5}", "arrange:"]
+    out += arrangement(meshed, seams)
+    out.append("panels:")
+    first = 0
+    for m in meshed:
+        marks = ["%s: [%s]" % (key, ", ".join(str(v + first) for v in vals))
+                 for key, vals in (("corners", m.corners), ("notches", m.notches)) if vals]
+        out.append("  %s: {%s}" % (json.dumps(m.group), ", ".join(marks)))
+        first += len(m.xy)
+    out.append(sew.seams_yaml(seams, given))
+    out += ["damping: {mass: 0.5}", "integrator: {method: backward-euler, dt: 0.01}",
+            "duration: %g" % DURATION, "output: {frames_every: %g}" % DURATION]
+    return "\n".join(out) + "\n"
+
+
+def sinew_exe():
+    exe = os.environ.get("SINEW_EXE") or shutil.which("sinew")
+    if not exe:
+        build = os.path.join(HERE, "..", "..", "build", "sinew")
+        exe = build if os.path.exists(build) else None
+    if not exe:
+        raise GarmentError("the sinew program is not found (run as `sinew garment`, or put it "
+                           "on the PATH)")
+    return exe
+
+
+def tension_per_piece(run_dir, scene_path):
+    """{piece: (max, p95)} of the last frame's tension XY, N/m, per OBJ group."""
+    from . import frames, render
+    run = list(frames.read_run(run_dir))
+    cloth = run[-1][1]["cloth"]
+    scene = render.Scene(run_dir, scene_path)
+    piece, names = scene.pieces(cloth)
+    t = cloth.cell_data["tension_xy"]
+    return {names[p]: (float(t[piece == p].max()), float(np.percentile(t[piece == p], 95)))
+            for p in sorted(set(piece.tolist()))}, run[-1], scene
+
+
+def fit(scene_path, run_dir, quiet):
+    """sinew run; (exit code, CPU s of the child)."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    r = subprocess.run([sinew_exe(), "run", scene_path, "--out", run_dir, "--quiet"],
+                       stdout=subprocess.DEVNULL if quiet else None)
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.returncode, (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+
+
+def one_size(a, size, out_dir, given):
+    stem = os.path.splitext(os.path.basename(a.file))[0]
+    meshed, seams, positions = build(a.file, size, a.edge, a.pieces)
+    if not a.quiet:
+        print("%s, size %s: %d pieces, %d vertices" % (a.file, size or "-", len(meshed),
+                                                       sum(len(m.xy) for m in meshed)))
+        print(sew.table(seams))
+    body = os.path.relpath(_repo_file(a.mannequin), os.path.abspath(out_dir))
+    parent = os.path.dirname(os.path.abspath(out_dir))
+    os.makedirs(parent, exist_ok=True)
+    tmp = tempfile.mkdtemp(prefix=".%s." % os.path.basename(out_dir), dir=parent)
+    try:
+        scene = os.path.join(tmp, "scene.yaml")
+        write_atomic([(os.path.join(tmp, "pieces.obj"),
+                       obj_text(meshed, positions, ["%s: the pieces of %s, size %s"
+                                                    % ("pieces.obj", a.file, size or "-")])),
+                      (scene, scene_text(meshed, seams, stem, size, a.edge, given, a.fabric,
+                                         body))])
+        if os.path.exists(out_dir):
+            shutil.rmtree(out_dir)
+        os.replace(tmp, out_dir)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    try:
+        rc, cpu = fit(os.path.join(out_dir, "scene.yaml"), os.path.join(out_dir, "run"),
+                      a.quiet)
+    except BaseException:
+        shutil.rmtree(out_dir, ignore_errors=True)
+        raise
+    if not os.path.exists(os.path.join(out_dir, "run", "summary.json")):
+        shutil.rmtree(out_dir, ignore_errors=True)
+        raise GarmentError("sinew run on the scene of %s failed before its first step "
+                           "(exit %d); nothing is left of it" % (a.file, rc))
+    with open(os.path.join(out_dir, "run", "summary.json")) as f:
+        summ = json.load(f)
+    res = {"size": size, "dir": out_dir, "rc": rc, "cpu_s": cpu, "summary": summ}
+    if os.path.exists(os.path.join(out_dir, "run", "frames.pvd")):
+        res["tension"], res["last"], res["scene"] = tension_per_piece(
+            os.path.join(out_dir, "run"), os.path.join(out_dir, "scene.yaml"))
+    return res
+
+
+def report(res):
+    s = res["summary"]
+    gap = s.get("seam_gap_max")
+    lines = ["size %s: status %s, seam_gap_max %s, intersections self %s obstacle %s, fit %s s "
+             "wall (%s steps), sinew run %.1f s CPU"
+             % (res["size"] or "-", s.get("status"),
+                "%.3g mm" % (1e3 * gap) if gap is not None else "-",
+                s.get("self_intersections"), s.get("obstacle_intersections"),
+                s.get("fit_wall_s"), s.get("fit_steps"), res["cpu_s"])]
+    for name, (mx, p95) in (res.get("tension") or {}).items():
+        lines.append("  %-24s tension XY max %.4g N/m, p95 %.4g N/m" % (name, mx, p95))
+    lines.append("  run folder: %s" % os.path.join(res["dir"], "run"))
+    return "\n".join(lines)
+
+
+def sizes_table(results):
+    rows = ["| size | piece | tension XY max (N/m) | p95 (N/m) | seam gap (mm) | fit CPU (s) |",
+            "| --- | --- | --- | --- | --- | --- |"]
+    for r in results:
+        gap = r["summary"].get("seam_gap_max")
+        for name, (mx, p95) in (r.get("tension") or {}).items():
+            rows.append("| %s | %s | %.4g | %.4g | %s | %.1f |"
+                        % (r["size"], name, mx, p95, "%.3g" % (1e3 * gap) if gap is not None
+                           else "-", r["cpu_s"]))
+    return "\n".join(rows) + "\n"
+
+
+def sizes_picture(results, path):
+    """Each size's tension map on its flat pattern, side by side at one colour scale."""
+    from . import render
+    from matplotlib import cm, colors
+    plt = render.plt
+    done = [r for r in results if r.get("last")]
+    top = max(render.percentile_top([r["last"][1]["cloth"]], 99) for r in done)
+    norm = colors.Normalize(0.0, top if top > 0 else 1.0)
+    fig = plt.figure(figsize=(5.5 * len(done) + 0.5, 5.0))
+    w = 0.92 / len(done)
+    for k, r in enumerate(done):
+        ax = fig.add_axes([0.06 + k * w, 0.22, w * 0.88, 0.68])
+        render.draw_flat(ax, r["last"][1]["cloth"], None, norm, None, r["scene"])
+        ax.set_title("size %s" % r["size"], fontsize=10)
+    fig.colorbar(cm.ScalarMappable(norm=norm, cmap="viridis"), orientation="horizontal",
+                 cax=fig.add_axes([0.2, 0.11, 0.6, 0.03]), extend="max",
+                 label="tension XY (N/m), one scale (99th percentile of all)")
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+
+
+def _parser():
+    ap = argparse.ArgumentParser(prog="sinew garment", description=__doc__.split("\n\n")[0])
+    ap.add_argument("file", metavar="FILE.dxf")
+    g = ap.add_mutually_exclusive_group()
+    g.add_argument("--size", metavar="S", help="the size (default: the file's base size)")
+    g.add_argument("--sizes", metavar="all|S1,S2", help="fit each size; a table and a picture "
+                   "of every size's tension at one scale")
+    ap.add_argument("--fabric", metavar="'{mass: ..}'", help="the material as a fabric: block "
+                    "in measured units (docs/fabrics.md), a YAML flow mapping")
+    ap.add_argument("--edge", type=float, default=pattern.DEFAULT_EDGE, metavar="M",
+                    help="target edge length, m (default %g)" % pattern.DEFAULT_EDGE)
+    ap.add_argument("--out", metavar="DIR", help="output folder (default: STEM_garment in "
+                    "the current folder)")
+    ap.add_argument("--pieces", metavar="A,B", help="only these pieces (the importer's names)")
+    ap.add_argument("--seams", metavar="FILE", help="a YAML file whose `seams:` entries replace "
+                    "proposed ones of the same name (others are added)")
+    ap.add_argument("--mannequin", metavar="OBJ", default=BODY, help="the body, a closed mesh "
+                    "with arms, standing as scenes/meshes/mannequin_arms.obj does (its default)")
+    ap.add_argument("--quiet", action="store_true")
+    return ap
+
+
+def main(argv=None):
+    ap = _parser()
+    a = ap.parse_args(argv)
+    if not (0 < a.edge < 10):
+        ap.error("--edge expects a length in m in (0, 10), got %g" % a.edge)
+    a.pieces = [p for p in a.pieces.split(",") if p] if a.pieces else None
+    stem = os.path.splitext(os.path.basename(a.file))[0]
+    out = a.out or stem + "_garment"
+    try:
+        given = _given_seams(a.seams) if a.seams else ()
+        pat = pattern.read(a.file)
+        if a.sizes:
+            sizes = pat.sizes if a.sizes == "all" else a.sizes.split(",")
+            if not sizes:
+                raise GarmentError("%s is not graded: --sizes needs sizes" % a.file)
+        else:
+            sizes = [a.size]
+        for s in sizes:
+            if s is not None and s not in pat.sizes:
+                raise GarmentError("%s: no size '%s'; expected one of: %s" % (
+                    a.file, s, ", ".join(pat.sizes) or "(the file is not graded)"))
+        multi = len(sizes) > 1 or a.sizes
+        results = []
+        for s in sizes:
+            r = one_size(a, s, os.path.join(out, str(s)) if multi else out, given)
+            results.append(r)
+            print(report(r))
+        if multi:
+            write_atomic([(os.path.join(out, "sizes.md"), sizes_table(results))])
+            sizes_picture(results, os.path.join(out, "sizes.png"))
+            print("wrote %s and %s" % (os.path.join(out, "sizes.md"),
+                                        os.path.join(out, "sizes.png")))
+    except (GarmentError, sew.SewError, dxf.PatternError) as e:
+        print("sinew garment: %s" % e, file=sys.stderr)
+        return 1
+    except KeyboardInterrupt:
+        return 130
+    ok = all(r["rc"] == 0 and r["summary"].get("status") == "ok" for r in results)
+    return 0 if ok else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
