@@ -498,7 +498,7 @@ def obj_text(verts, tris, marks, m):
            "z = %.4g (hip), %.4g (waist), %.4g (bust)"
            % (len(verts), len(tris), HIP * m.height, WAIST * m.height, BUST * m.height)]
     for k, v in marks.items():
-        out.append("# landmark %s %s" % (k, " ".join("%.9g" % x for x in np.atleast_1d(v))))
+        out.append("# landmark %s %s" % (k, " ".join("%.17g" % x for x in np.atleast_1d(v))))
     out += ["v %.9g %.9g %.9g" % tuple(v) for v in verts]
     out += ["f %d %d %d" % (t[0] + 1, t[1] + 1, t[2] + 1) for t in tris]
     return "\n".join(out) + "\n"

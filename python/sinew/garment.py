@@ -23,6 +23,7 @@ import tempfile
 
 import numpy as np
 
+from . import body as bodies
 from . import pattern
 from .pattern import dxf, sew
 from .pattern.write import MATERIAL, obj_text, write_atomic
@@ -35,6 +36,9 @@ BODY = os.path.join(HERE, "..", "..", "scenes", "meshes", "mannequin_arms.obj")
 # (45 degrees down from the shoulder joint at x = +-0.206 m, z = 1.371 m).
 TOP, CLEAR = 1.47, 0.02
 ARM = (0.206336, 1.37071)
+# The tops' height on another body: as far above its neck base (sinew.body's landmark) as
+# TOP is above the mannequin's (0.848 x 1.70 m), scaled with the height.
+TOP_ABOVE_NECK, REF_HEIGHT = TOP - 0.848 * 1.70, 1.70
 DURATION = 0.1   # s of dynamics after the fit: one frame at rest
 
 
@@ -50,27 +54,86 @@ def _repo_file(path):
     return path
 
 
-def arrangement(meshed, seams):
-    """`arrange` lines: each piece by its category; the sleeve sewn to the left armholes about
-    the left arm (+x), the other about the right."""
+class Points:
+    """Arrangement points on a body: top, the height of the body pieces' tops (m); arms,
+    {+1 (left), -1 (right): (the cap's top on the arm's axis, the unit axis towards the
+    fingertips)}; neck, the centre of the neck's base section."""
+
+    def __init__(self, top, arms, neck):
+        self.top, self.arms, self.neck = top, arms, neck
+
+    @classmethod
+    def of(cls, marks, height):
+        """From sinew.body's landmarks of a body of this height."""
+        return cls(marks["neck_base"][2] + TOP_ABOVE_NECK * height / REF_HEIGHT,
+                   {s: (marks[k + "_arm"], marks[k + "_arm_direction"])
+                    for s, k in ((1, "left"), (-1, "right"))}, marks["neck_base"])
+
+
+# the shipped mannequin's (its OBJ header's arm axes)
+MANNEQUIN = Points(TOP, {s: ((s * ARM[0], 0.0, ARM[1]), (s * 0.707107, 0.0, -0.707107))
+                         for s in (1, -1)}, (0.0, 0.0, 0.848 * 1.70))
+
+
+def _vec(v):
+    return "[%s]" % ", ".join("%g" % (x + 0.0) for x in v)   # + 0.0: no -0
+
+
+def arrangement(meshed, seams, pts=MANNEQUIN, given=None):
+    """`arrange` lines: each piece by its category, from the body's arrangement points: FRONT
+    wrapped in front of the torso (-y), BACK behind it (+y), their tops at pts.top; the sleeve
+    sewn to the left armholes about the left arm (+x), the other about the right, its cap at
+    the arm's cap; a COLLAR round the neck from its base up.  given: {piece: one-line YAML}
+    replacing a piece's entry (--arrange)."""
     left = {s.b.panel for s in seams if s.name == "left_armhole_front"}
+    given = dict(given or {})
+    unknown = sorted(set(given) - {m.group for m in meshed})
+    if unknown:
+        raise GarmentError("--arrange: no piece %s; expected one of: %s"
+                           % (", ".join(unknown), ", ".join(m.group for m in meshed)))
     out = []
     for m in meshed:
         cat = sew.category(m)
-        if cat in ("FRONT", "BACK"):
+        name = json.dumps(m.group)
+        if m.group in given:
+            out.append("  %s: %s    # given" % (name, given[m.group]))
+        elif cat in ("FRONT", "BACK"):
             out.append("  %s: {cylinder: {angle: %d, top: %g, clearance: %g, up: u}}"
-                       % (json.dumps(m.group), 270 if cat == "FRONT" else 90, TOP, CLEAR))
+                       % (name, 270 if cat == "FRONT" else 90, pts.top, CLEAR))
         elif cat == "SLEEVE":
             s = 1 if m.group in left else -1
+            cap, d = pts.arms[s]
             out.append("  %s: {cylinder: {angle: %d, top: 0, clearance: %g, up: u, axis: "
-                       "[%g, 0, 0.707107], center: [%g, 0, %g]}}"
-                       % (json.dumps(m.group), 0 if s > 0 else 180, CLEAR, -0.707107 * s,
-                          s * ARM[0], ARM[1]))
+                       "%s, center: %s}}" % (name, 0 if s > 0 else 180, CLEAR,
+                                             _vec(-np.asarray(d, float)), _vec(cap)))
+        elif cat == "COLLAR":
+            # the long way round the neck: u round (up: v) when the piece is longer in u
+            du, dv = np.ptp(np.asarray(m.uv, float), axis=0)
+            out.append("  %s: {cylinder: {angle: 90, top: %g, clearance: %g, up: %s, "
+                       "center: %s}}" % (name, pts.neck[2] + min(du, dv), CLEAR,
+                                         "v" if du >= dv else "u", _vec(pts.neck[:2])))
         else:
             raise GarmentError("%s (%s): no arrangement for this category; expected FRONT, "
-                               "BACK or SLEEVE pieces (--pieces chooses them)"
-                               % (m.group, cat or "no category"))
+                               "BACK, SLEEVE or COLLAR pieces (--pieces chooses them; "
+                               "--arrange places others)" % (m.group, cat or "no category"))
     return out
+
+
+def _given_arrange(path):
+    """--arrange FILE: {piece: one-line YAML of its entry} from its `arrange:` map."""
+    import yaml
+    try:
+        with open(path, encoding="utf-8") as f:
+            doc = yaml.safe_load(f)
+    except OSError as e:
+        raise GarmentError("--arrange %s: %s" % (path, e.strerror)) from None
+    except yaml.YAMLError as e:
+        raise GarmentError("--arrange %s: not YAML: %s" % (path, e)) from None
+    items = doc.get("arrange") if isinstance(doc, dict) else None
+    if not isinstance(items, dict) or not all(isinstance(v, dict) for v in items.values()):
+        raise GarmentError("--arrange %s: expected an `arrange:` map from piece to its entry"
+                           % path)
+    return {str(k): json.dumps(v) for k, v in items.items()}
 
 
 def _given_seams(path):
@@ -115,11 +178,13 @@ def _sewn(meshed):
     return meshed, seams, positions
 
 
-def scene_text(meshed, seams, stem, size, edge, given=(), fabric=None, body=BODY):
+def scene_text(meshed, seams, stem, size, edge, given=(), fabric=None, body=BODY,
+               pts=MANNEQUIN, measured=None, placed=None):
     out = ["# %s: written by sinew garment (size %s, edges about %g m): the pieces turned u up,"
            % (stem, size or "-", edge),
            "# sewn automatically (docs/garments.md, \"Automatic sewing\"), arranged round the "
-           "mannequin", "name: %s" % json.dumps(stem), "dimension: 3",
+           + ("mannequin" if measured is None else "body of %s" % measured.text()),
+           "name: %s" % json.dumps(stem), "dimension: 3",
            "mesh: {obj: pieces.obj}"]
     if fabric:
         out += ["material:", "  fabric: %s" % fabric]
@@ -127,7 +192,7 @@ def scene_text(meshed, seams, stem, size, edge, given=(), fabric=None, body=BODY
         out.append(MATERIAL.rstrip())
     out += ["gravity: [0, 0, -9.81]", "obstacles:", "  - {mesh: %s}" % json.dumps(body),
             "contact: {self: true, thickness: 5e-4, friction: 0.5}", "arrange:"]
-    out += arrangement(meshed, seams)
+    out += arrangement(meshed, seams, pts, placed)
     out.append("panels:")
     first = 0
     for m in meshed:
@@ -173,14 +238,22 @@ def fit(scene_path, run_dir, quiet):
     return r.returncode, (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
 
 
-def one_size(a, size, out_dir, given):
+def one_size(a, size, out_dir, given, measured=None, placed=None):
+    """One size fitted into out_dir: on the body of Measurements `measured` (written as
+    out_dir/body.obj), else on a.mannequin."""
     stem = os.path.splitext(os.path.basename(a.file))[0]
     meshed, seams, positions = build(a.file, size, a.edge, a.pieces)
     if not a.quiet:
         print("%s, size %s: %d pieces, %d vertices" % (a.file, size or "-", len(meshed),
                                                        sum(len(m.xy) for m in meshed)))
         print(sew.table(seams))
-    body = os.path.relpath(_repo_file(a.mannequin), os.path.abspath(out_dir))
+    extra, pts = [], MANNEQUIN
+    if measured is not None:
+        verts, tris, marks = bodies.body_mesh(measured)
+        pts, body = Points.of(marks, measured.height), "body.obj"
+        extra = [("body.obj", bodies.obj_text(verts, tris, marks, measured))]
+    else:
+        body = os.path.relpath(_repo_file(a.mannequin), os.path.abspath(out_dir))
     parent = os.path.dirname(os.path.abspath(out_dir))
     os.makedirs(parent, exist_ok=True)
     tmp = tempfile.mkdtemp(prefix=".%s." % os.path.basename(out_dir), dir=parent)
@@ -190,7 +263,8 @@ def one_size(a, size, out_dir, given):
                        obj_text(meshed, positions, ["%s: the pieces of %s, size %s"
                                                     % ("pieces.obj", a.file, size or "-")])),
                       (scene, scene_text(meshed, seams, stem, size, a.edge, given, a.fabric,
-                                         body))])
+                                         body, pts, measured, placed))]
+                     + [(os.path.join(tmp, name), text) for name, text in extra])
         if os.path.exists(out_dir):
             shutil.rmtree(out_dir)
         os.replace(tmp, out_dir)
@@ -282,13 +356,44 @@ def _parser():
                     "proposed ones of the same name (others are added)")
     ap.add_argument("--mannequin", metavar="OBJ", default=BODY, help="the body, a closed mesh "
                     "with arms, standing as scenes/meshes/mannequin_arms.obj does (its default)")
+    b = ap.add_mutually_exclusive_group()
+    b.add_argument("--body", metavar="'height: M, bust: M, ...'", help="fit on a body of these "
+                   "measurements (height, bust or chest, waist, hip, arm, sex: women or men; "
+                   "m), every size on it")
+    b.add_argument("--body-table", metavar="FILE.csv|yaml", help="fit each size on the body "
+                   "of its row (one row a size of the pattern)")
+    ap.add_argument("--arrange", metavar="FILE", help="a YAML file whose `arrange:` entries "
+                    "replace the automatic placement of those pieces")
     ap.add_argument("--quiet", action="store_true")
     return ap
+
+
+def _bodies(a, pat, sizes):
+    """{size: Measurements} of --body (every size) or --body-table (each size its row; every
+    size fitted must have one), {} for the mannequin."""
+    if a.body:
+        m = bodies.parse(a.body)
+        return {s: m for s in sizes}
+    if not a.body_table:
+        return {}
+    if a.mannequin != BODY:
+        raise GarmentError("--mannequin and --body-table: give one body")
+    table = bodies.read_table(a.body_table)
+    if not pat.sizes:
+        raise GarmentError("--body-table %s: %s is not graded (no sizes to look up); give its "
+                           "body with --body" % (a.body_table, a.file))
+    missing = [s for s in sizes if s not in table]
+    if missing:
+        raise GarmentError("--body-table %s: no row for size %s; its sizes: %s"
+                           % (a.body_table, ", ".join(missing), ", ".join(table)))
+    return {s: table[s] for s in sizes}
 
 
 def main(argv=None):
     ap = _parser()
     a = ap.parse_args(argv)
+    if a.body and a.mannequin != BODY:
+        ap.error("--mannequin and --body: give one body")
     if not (0 < a.edge < 10):
         ap.error("--edge expects a length in m in (0, 10), got %g" % a.edge)
     a.pieces = [p for p in a.pieces.split(",") if p] if a.pieces else None
@@ -307,10 +412,13 @@ def main(argv=None):
             if s is not None and s not in pat.sizes:
                 raise GarmentError("%s: no size '%s'; expected one of: %s" % (
                     a.file, s, ", ".join(pat.sizes) or "(the file is not graded)"))
+        measured = _bodies(a, pat, sizes)
+        placed = _given_arrange(a.arrange) if a.arrange else None
         multi = len(sizes) > 1 or a.sizes
         results = []
         for s in sizes:
-            r = one_size(a, s, os.path.join(out, str(s)) if multi else out, given)
+            r = one_size(a, s, os.path.join(out, str(s)) if multi else out, given,
+                         measured.get(s), placed)
             results.append(r)
             print(report(r))
         if multi:
@@ -318,7 +426,7 @@ def main(argv=None):
             sizes_picture(results, os.path.join(out, "sizes.png"))
             print("wrote %s and %s" % (os.path.join(out, "sizes.md"),
                                         os.path.join(out, "sizes.png")))
-    except (GarmentError, sew.SewError, dxf.PatternError) as e:
+    except (GarmentError, sew.SewError, dxf.PatternError, bodies.BodyError) as e:
         print("sinew garment: %s" % e, file=sys.stderr)
         return 1
     except KeyboardInterrupt:
