@@ -377,7 +377,7 @@ static int fit_enter(sw_sim *s, char *err, size_t errsz) {
   s->fit_t_min = m->gravity_delay + m->gravity_ramp;
   s->fitting = 1;
   s->fit_wall0 = sw_now() - s->d->fit_wall; /* a resumed fit: its time so far */
-  s->ops = f->mode == SW_FIT_OPTIMIZE ? &sw_proximal_ops : sw_integrator_find("backward-euler");
+  s->ops = f->mode == SW_FIT_DYNAMIC ? sw_integrator_find("backward-euler") : &sw_proximal_ops;
   int rc = s->ops ? s->ops->init(&s->st, m, s->d, err, errsz) : SW_FATAL;
   if (rc) s->st = NULL;
   s->started = !rc; /* restart files from here on */
@@ -394,8 +394,12 @@ static double fit_next(sw_sim *s) {
   sw_model *m = s->m;
   const sw_data *d = s->d;
   const sw_fit *f = &m->fit;
-  if (f->mode != SW_FIT_OPTIMIZE) return tidy_time((double)(d->fit_steps + 1) * f->dt, f->dt);
   double h = f->opt_dt, t_min = s->fit_t_min; /* s */
+  int ramps = d->t < t_min - 1e-9 * f->dt;
+  if (f->mode == SW_FIT_DYNAMIC || (f->mode == SW_FIT_SETTLE && ramps)) {
+    m->opt.newton_tol = fmin(s->kept_tol, f->newton_tol);
+    return tidy_time((double)(d->fit_steps + 1) * f->dt, f->dt);
+  }
   if (d->fit_steps > 0) {
     h = d->last_dt;
     if (d->last_newton <= FIT_EASY) h *= f->opt_growth;
@@ -403,7 +407,7 @@ static double fit_next(sw_sim *s) {
   }
   h = fmax(h, f->dt);
   double end = d->t + h;
-  if (d->t < t_min - 1e-9 * f->dt) end = fmin(d->t + fmin(h, f->opt_dt), t_min);
+  if (ramps) end = fmin(d->t + fmin(h, f->opt_dt), t_min);
   m->opt.newton_tol = fmin(s->kept_tol, f->newton_tol) * f->dt / (end - d->t);
   return end;
 }
@@ -447,7 +451,7 @@ static int fit_stage(sw_sim *s, char *err, size_t errsz) {
     if (stop_signal) return stop(s, err, errsz);
     rc = fit_step(s, fit_next(s), err, errsz);
   }
-  if (!rc && f->mode == SW_FIT_OPTIMIZE) /* a rest state: dx/h was no speed */
+  if (!rc && f->mode != SW_FIT_DYNAMIC) /* a rest state: dx/h was no speed */
     memset(d->v, 0, (size_t)m->nv * (size_t)m->dim * sizeof *d->v);
   if (rc && err && strncmp(err, "fit: ", 5)) {
     char why[SW_ERRSZ];

@@ -285,12 +285,13 @@ typedef struct sw_seam {
  * sewn and settled by backward Euler steps of dt with extra mass damping, the seams ramped in
  * over `ramp`; it ends when the seams are closed to `gap` and the RMS speed is below `speed`,
  * after at least `ramp` s, or fails at `max_time`. */
-enum { SW_FIT_DYNAMIC = 0, SW_FIT_OPTIMIZE = 1 };
+enum { SW_FIT_DYNAMIC = 0, SW_FIT_OPTIMIZE = 1, SW_FIT_SETTLE = 2 };
 typedef struct sw_fit {
   int on;                      /* 1: fit before the dynamics (the default with seams) */
   int mode;                    /* SW_FIT_DYNAMIC: damped backward Euler steps of dt;
-                                  SW_FIT_OPTIMIZE: proximal steps of opt_dt over the ramps,
-                                  then growing by opt_growth each step */
+                                  SW_FIT_OPTIMIZE: proximal steps of at most opt_dt over the
+                                  ramps, then growing; SW_FIT_SETTLE: the dynamic fit's steps
+                                  over the ramps, then growing proximal steps */
   double opt_dt;               /* s: the optimisation fit's step over the ramps */
   double opt_growth;           /* >= 1: its step's growth once the ramps are over */
   double dt;                   /* s */

@@ -70,8 +70,11 @@ static int be_step(void *p, const sw_model *m, sw_data *d, double h) {
   be_state *s = p;
   sw_ipstep *ip = &s->ip;
   const int nd = m->nv * m->dim;
+  /* fit.mode settle: backward Euler itself while the fit's ramps run (to gravity in full) */
+  int proximal = s->proximal && !(m->fit.mode == SW_FIT_SETTLE &&
+                                   d->t < m->gravity_delay + m->gravity_ramp - 1e-9 * h);
   for (int i = 0; i < nd; i++) {
-    ip->xhat[i] = d->x[i] + (s->proximal ? 0.0 : h * d->v[i]);
+    ip->xhat[i] = d->x[i] + (proximal ? 0.0 : h * d->v[i]);
     ip->xd[i] = d->x[i]; /* damping: v_{n+1} = (x - x_n) / h */
   }
   sw_newton_opts o = sw_ipstep_opts(m, ip, 1.0 / (h * h), d->t + h, 1.0 / h, h, 1.0);
@@ -82,9 +85,9 @@ static int be_step(void *p, const sw_model *m, sw_data *d, double h) {
     o.reuse = 0;
   }
   /* the proximal step starts Newton from the motion's extrapolation, its centre kept at x_n */
-  if (s->proximal)
+  if (proximal)
     for (int i = 0; i < nd; i++) ip->xnew[i] = d->x[i] + h * d->v[i];
-  int rc = sw_ipstep_solve(ip, m, d, &o, s->one_step ? d->x : s->proximal ? ip->xnew : NULL);
+  int rc = sw_ipstep_solve(ip, m, d, &o, s->one_step ? d->x : proximal ? ip->xnew : NULL);
   if (rc) return rc;
   for (int i = 0; i < nd; i++) ip->vnew[i] = m->dof[i] < 0 ? 0.0 : (ip->xnew[i] - d->x[i]) / h;
   return sw_ipstep_commit(ip, m, d, h, 0);

@@ -321,7 +321,7 @@ static const char *const fit_keys[] = {"enabled",  "dt",         "damping", "gap
                                        "speed",    "max_time",   "newton_tol", "mode",
                                        "opt_dt",   "opt_growth"};
 static const char *const on_off[] = {"false", "true"};
-static const char *const fit_modes[] = {"dynamic", "optimize"}; /* SW_FIT_* */
+static const char *const fit_modes[] = {"dynamic", "optimize", "settle"}; /* SW_FIT_* */
 
 static int load_fit(const ctx *c, const ynode *y) {
   sw_fit *f = &c->m->fit;
@@ -338,7 +338,7 @@ static int load_fit(const ctx *c, const ynode *y) {
   if (v[4] && sy_num(c, v[4], "fit speed", 0, 1, "m/s", &f->speed)) return -1;
   if (v[5] && sy_num(c, v[5], "fit max_time", 0, 1, "s", &f->max_time)) return -1;
   if (v[6] && sy_num(c, v[6], "fit newton_tol", 0, 1, "m/s", &f->newton_tol)) return -1;
-  if (v[7] && sy_choice(c, v[7], "fit mode", fit_modes, 2, &f->mode)) return -1;
+  if (v[7] && sy_choice(c, v[7], "fit mode", fit_modes, 3, &f->mode)) return -1;
   if (v[8] && sy_num(c, v[8], "fit opt_dt", 0, 1, "s", &f->opt_dt)) return -1;
   if (v[9] && sy_num(c, v[9], "fit opt_growth", 1, 0, NULL, &f->opt_growth)) return -1;
   if (c->m->dim != 3 && f->on)
