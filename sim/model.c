@@ -521,8 +521,10 @@ void sw_model_print(const sw_model *m, void *file) {
             sm->length[1], sm->npair);
   }
   if (m->nseam)
-    fprintf(fp, "sewing      stiffness %g N/m^2, ramp %g s; fit %s\n", m->seam_stiffness,
-            m->seam_ramp, m->fit.on ? "on" : "off");
+    fprintf(fp, "sewing      stiffness %g N/m^2, ramp %g s; fit %s%s\n", m->seam_stiffness,
+            m->seam_ramp, m->fit.on ? "on" : "off",
+            !m->fit.on ? "" : m->fit.mode == SW_FIT_OPTIMIZE ? " (optimize)"
+                            : m->fit.mode == SW_FIT_SETTLE   ? " (settle)" : " (dynamic)");
   if (m->dim == 3 && m->nf > 1) /* an exact test, independent of the solver */
     fprintf(fp, "crossings   %ld face pairs intersect at the start\n",
             sw_mesh_self_intersections_sewn(m->nv, m->x0, m->nf, m->face, m->sewn_ptr,

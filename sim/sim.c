@@ -433,7 +433,7 @@ static int fit_over(sw_sim *s, int *rc, char *err, size_t errsz) {
 }
 
 /* The fit stage (sinew.h, sw_fit; docs/garments.md): backward Euler steps of fit.dt with the
- * fit's mass damping added, from the arrangement until the seams are closed to fit.gap and the
+ * fit's mass damping added (fit.mode optimize and settle: proximal steps, fit_next), from the arrangement until the seams are closed to fit.gap and the
  * RMS speed is below fit.speed (after the seams' ramp), logged as the run's first steps; the
  * scene's own method then starts from there, its step grid and duration counted from the
  * fit's end, which is written as a frame.  Gravity grows over the seams' ramp time once they

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # tools/bench_fit.sh [SINEW] — the fit stage as dynamics or as an optimisation (docs/garments.md,
-# `fit.mode`), on the shipped garments (scenes/garment_*.yaml), REPS times (default 1), the
+# `fit.mode`), on the shipped garments with seams (scenes/garment_{skirt,tank,tshirt,skirt_dxf,
+# tshirt_dxf}.yaml; the gather and the drawstring have none, so no fit), REPS times (default 1), the
 # runs interleaved per garment and repetition: the dynamic fit, the two optimisation fits
 # (`optimize`, `settle`), and the dynamic fit followed by a static solve (`--method static`),
 # the reference.  Each is the fit
@@ -22,7 +23,7 @@ mkdir -p "$out"
 csv=$out/fit.csv
 echo "garment,rep,run,status,cpu_s,fit_steps,fit_end_s,newton_iterations,static_iterations,retries,seam_gap_max_m,self_intersections,txy_mean,txy_p95,txy_max" >"$csv"
 for r in $(seq "$reps"); do
-  for g in ${GARMENTS:-skirt tank tshirt skirt_dxf tshirt_dxf gather drawstring}; do
+  for g in ${GARMENTS:-skirt tank tshirt skirt_dxf tshirt_dxf}; do
     for run in dynamic optimize settle static; do
       # the scene beside the shipped one (its files are found from its folder)
       sc=scenes/.bench_fit_${g}_$run.yaml
