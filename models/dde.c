@@ -7,12 +7,17 @@
  *   psi = c11 a^2 + 2 c12 a b + c22 b^2 + c33 g^2 / 2   (J/m^2 = N/m),
  * i.e. psi = 1/2 e^T Q e, Q = [[2 c11, 2 c12, 0], [2 c12, 2 c22, 0], [0, 0, c33]] (the stress
  * ARCSim's physics.cpp applies: its k = 2 c, and its shear force 2 k33 E12 dE12 = c33 g dg).
- * The stiffnesses c depend on the strain as the paper's piecewise-linear model:
- *   c = c0 + s (c_dir(q) - c0),  s = clamp(6 (w - 1), 0, 1),
+ * The stiffnesses c depend on the strain as the paper's model, between the same samples:
+ *   c = c0 + s (c_dir(q) - c0),  s = t^2 (3 - 2 t),  t = clamp(6 (w - 1), 0, 1),
  * w = sqrt(1 + 2 lambda) the largest principal stretch (lambda the largest eigenvalue of the
  * Green strain), c0 the zero-strain row, c_dir the five rows measured at w = 7/6 along the
  * principal direction theta = 0, 22.5, 45, 67.5, 90 degrees from warp, interpolated linearly
- * between neighbouring directions; beyond w = 7/6 the stiffness stays that of w = 7/6.
+ * between neighbouring directions; beyond w = 7/6 the stiffness stays that of w = 7/6.  In the
+ * strain, s is the smoothstep of the paper's linear ramp t: equal to it at the samples (0, 1)
+ * and half-way (1/2), and C1 where t reaches 0 and 1.  The linear ramp puts a kink into the
+ * energy's gradient at w = 1, which a face crosses wherever stretch turns to compression, and
+ * Newton does not converge on it: a 45 degree cantilever strip of gray-interlock stalled at a
+ * free force of 2e-7 N after 1000 static iterations with the ramp (tests/test_dde.c's strip).
  * The direction coordinate is q = sin^2 theta = (1 - cos 2 theta)/2 = (1 - d/r)/2,
  * d = (a - b)/2, r = sqrt(d^2 + g^2/4): linear in q between the sample directions, equal to
  * the samples at them, monotone between them (a clamped sample's zero is never undershot), and
@@ -26,7 +31,8 @@
  *   dpsi = c.dm + m.dc,   d2psi = c.d2m + dc (x) dm + dm (x) dc + m.d2c,
  *   dc = (c_dir - c0) ds + s c_dir' dq,
  *   d2c = (c_dir - c0) d2s + c_dir' (ds (x) dq + dq (x) ds) + s c_dir' d2q,
- * ds = (6/w) dlambda, d2s = (6/w) d2lambda - (6/w^3) dlambda (x) dlambda inside 0 < s < 1.
+ * ds = s'(t) dt, d2s = s'(t) d2t + s''(t) dt (x) dt, dt = (6/w) dlambda,
+ * d2t = (6/w) d2lambda - (6/w^3) dlambda (x) dlambda inside 0 < t < 1.
  * With S = (dpsi/da, dpsi/db, dpsi/dg) the forces are those of stvk (models/stvk.c):
  * dpsi/dwu = S11 wu + S12 wv, dpsi/dwv = S12 wu + S22 wv, P = J H J^T + S (x) I_d,
  * J = [[wu, 0, wv], [0, wv, wu]].  The energy is not convex (the data's c12 can exceed
@@ -87,15 +93,20 @@ static void dde_stiffness_eval(const sw_dde *dd, const double e[3], dde_eval *ou
   double lam, dl[3], d2l[9], q, dq[3], d2q[9];
   principal(e, &lam, dl, d2l, &q, dq, d2q);
   double w = sqrt(fmax(1.0 + 2.0 * lam, 1e-300)); /* principal stretch, 1 */
-  double s = 6.0 * (w - 1.0), ds[3] = {0}, d2s[9] = {0};
-  if (s <= 0.0) s = 0.0;
-  else if (s >= 1.0) s = 1.0;
-  else
+  double t = 6.0 * (w - 1.0), s, ds[3] = {0}, d2s[9] = {0};
+  if (t <= 0.0) s = 0.0;
+  else if (t >= 1.0) s = 1.0;
+  else {
+    s = t * t * (3.0 - 2.0 * t);                          /* smoothstep: C1 at t = 0 and 1 */
+    double st = 6.0 * t * (1.0 - t), stt = 6.0 - 12.0 * t; /* ds/dt, d2s/dt2 */
     for (int i = 0; i < 3; i++) {
-      ds[i] = 6.0 / w * dl[i];
+      double ti = 6.0 / w * dl[i];
+      ds[i] = st * ti;
       for (int j = 0; j < 3; j++)
-        d2s[3 * i + j] = 6.0 / w * d2l[3 * i + j] - 6.0 / (w * w * w) * dl[i] * dl[j];
+        d2s[3 * i + j] = st * (6.0 / w * d2l[3 * i + j] - 6.0 / (w * w * w) * dl[i] * dl[j]) +
+                         stt * ti * 6.0 / w * dl[j];
     }
+  }
   int k = 0;
   while (k < 3 && q > QNODE[k + 1]) k++;
   double dqn = QNODE[k + 1] - QNODE[k], f = (q - QNODE[k]) / dqn;

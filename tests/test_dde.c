@@ -273,13 +273,56 @@ static void preset_errors(void **st) {
   assert_non_null(strstr(err, "fabric.yaml:2:"));
 }
 
+/* ------------------------------------------------- (e) the orthotropic cantilever */
+
+/* Peirce's cantilever (scenes/peirce_cantilever.yaml) of a preset cut along warp (bias 0), at
+ * 45 degrees and along weft (bias 90): each strip overhangs by twice the bending length of its
+ * cut, c = (B / (rho g))^(1/3) with the rigidity of that cut, and must droop to the exact heavy
+ * elastica's chord angle, 41.487 degrees (w L^3 / D = 8), within 1 %.  The strip is narrow
+ * (width L/80, 161 x 2 cells): a bias strip reads its rigidity only as it narrows, the clamp
+ * holding its bend-twist coupling over about its width (docs/models.md, "Anisotropic bending"). */
+static void cantilever_cut(const char *name) {
+  const double elastica = 41.487;                 /* degrees (tests/test_cantilever.c) */
+  const double bias[3] = {0.0, 45.0, 90.0};       /* degrees: warp, bias and weft strips */
+  const int nx = 162, ny = 3;
+  sw_dde dd = preset(name);
+  double kb[3];
+  sc_dde_strips(&dd, kb);
+  const double B[3] = {kb[0], kb[2], kb[1]};      /* N m: warp, bias, weft */
+  for (int k = 0; k < 3; k++) {
+    double c = cbrt(B[k] / (dd.density * 9.81));  /* m; the scene's gravity is 9.81 */
+    double size = 2.0 * c * (nx - 1) / (nx - 1.5), h = size / (nx - 1); /* overhang (nx - 1.5) h */
+    char text[1024];
+    snprintf(text, sizeof text,
+             "dimension: 3\n"
+             "mesh: {grid: {size: [%.15g, %.15g], vertices: [%d, %d], plane: xy}}\n"
+             "material: {fabric: {preset: %s}, bending: {model: dihedral}, bias: %g}\n"
+             "gravity: [0, 0, -9.81]\n"
+             "pins: [{select: {box: [[-1, -1, -1], [%.15g, 1, 1]]}}]\n"
+             "integrator: {method: static}\nduration: 0\n",
+             size, size / 80.0, nx, ny, name, bias[k], 1.01 * h);
+    sw_model *m = th_scene("cut.yaml", text);
+    assert_non_null(m);
+    double angle = th_peirce_angle(m);
+    print_message("%s cut at %g degrees, B = %.4g N m, overhang %.4f m: chord %.3f deg "
+                  "(elastica %.3f)\n", name, bias[k], B[k], 2 * c, angle, elastica);
+    if (!(fabs(angle - elastica) < 0.01 * elastica)) fail_msg("chord %.3f deg", angle);
+    sw_model_free(m);
+  }
+}
+static void cantilever_cuts(void **st) {
+  (void)st;
+  cantilever_cut("gray-interlock");
+  cantilever_cut("11oz-black-denim");
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(density_derivatives), cmocka_unit_test(term_conformance),
       cmocka_unit_test(stiffness_at_samples), cmocka_unit_test(bending_at_samples),
       cmocka_unit_test(uniaxial_small),      cmocka_unit_test(reader_errors),
       cmocka_unit_test(presets_equal_files), cmocka_unit_test(preset_loads),
-      cmocka_unit_test(preset_errors),
+      cmocka_unit_test(preset_errors),       cmocka_unit_test(cantilever_cuts),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
