@@ -222,11 +222,18 @@ int sw_dde_uniaxial(const sw_dde *dd, int weft, double T, double *stretch) {
   return 0;
 }
 
+/* The data's bending (ARCSim's physics.cpp and dde.cpp): a hinge of length l between faces of
+ * areas a0 + a1 = a, bent by theta, has the energy k_e l^2 theta^2 / (8 a), k_e read at
+ * alpha = theta l / (2 a) with the columns 5 1/m apart in alpha.  Bent into a cylinder of
+ * curvature kappa, a strip of hinges d apart (a = l d, theta = kappa d: the cells between them
+ * stay flat) stores k_e kappa^2 / 8 per area, which is the plate's B kappa^2 / 2 for B = k_e / 4;
+ * and alpha = kappa / 2.  So the rigidity is a quarter of the file's number and the columns are
+ * 10 1/m apart in the curvature. */
 double sw_dde_bend_rigidity(const sw_dde *dd, double angle, double kappa) {
   double t = fabs(remainder(angle, M_PI)) / (0.25 * M_PI); /* 0..2: 0, 45, 90 degrees */
-  double x = fmin(fmax(fabs(kappa) / 5.0, 0.0), 4.0);       /* column: 5 1/m apart */
+  double x = fmin(fmax(0.5 * fabs(kappa) / 5.0, 0.0), 4.0); /* column: alpha = kappa/2, 5 1/m apart */
   int i = t >= 1.0, j = x >= 4.0 ? 3 : (int)x;
   double ft = t - i, fx = x - j;
-  return (1 - ft) * ((1 - fx) * dd->bend[i][j] + fx * dd->bend[i][j + 1]) +
-         ft * ((1 - fx) * dd->bend[i + 1][j] + fx * dd->bend[i + 1][j + 1]);
+  return 0.25 * ((1 - ft) * ((1 - fx) * dd->bend[i][j] + fx * dd->bend[i][j + 1]) +
+                 ft * ((1 - fx) * dd->bend[i + 1][j] + fx * dd->bend[i + 1][j + 1]));
 }

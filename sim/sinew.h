@@ -217,8 +217,10 @@ typedef struct sw_dde {
   double stretch[6][4];        /* (c11, c12, c22, c33), N/m: row 0 at zero strain, rows 1..5 at
                                   a principal stretch of 7/6 along 0, 22.5, 45, 67.5, 90 degrees
                                   from the u (warp) axis; negative samples clamped at 0 */
-  double bend[3][5];           /* bending rigidity, N m: rows hinge edge at 0, 45, 90 degrees
-                                  from u; columns curvature 0, 5, 10, 15, 20 1/m */
+  double bend[3][5];           /* the data's bending stiffness k_e, N m: rows hinge edge at 0,
+                                  45, 90 degrees from u; columns at its curvature measure 0, 5,
+                                  10, 15, 20 1/m (half the curvature); rigidity B = k_e / 4
+                                  (models/dde.c) */
   double density;              /* kg/m^2 */
   int nclamped;                /* negative stretch samples clamped at 0 when read */
 } sw_dde;

@@ -4,8 +4,8 @@
  *   {"density": kg/m^2 > 0,
  *    "stretching": 6 rows of 4 numbers (c11, c12, c22, c33, N/m): the zero-strain row, then the
  *                  rows at a principal stretch of 7/6 along 0, 22.5, 45, 67.5, 90 degrees,
- *    "bending": 3 rows (hinge at 0, 45, 90 degrees) of 5 rigidities >= 0 (N m) at curvatures
- *               0, 5, 10, 15, 20 1/m}
+ *    "bending": 3 rows (hinge at 0, 45, 90 degrees) of 5 stiffnesses >= 0 (N m; the rigidity is
+ *               a quarter of them, models/dde.c) at 0, 5, 10, 15, 20 1/m of half the curvature}
  * (JSON is YAML 1.2, so the scene's parser reads it with every node's line and column).  A
  * negative stretching sample (the data set has them: fitted values of a stiffness that was
  * hardly measured) is clamped at 0, as ARCSim does, and counted in sw_dde.nclamped. */
@@ -47,7 +47,7 @@ static int dde_load(const ctx *c, const ynode *root, sw_dde *dd) {
       table(c, v[1], "stretching", 6, 4, -HUGE_VAL, "c11, c12, c22, c33 in N/m",
             "the zero-strain row, then 0, 22.5, 45, 67.5 and 90 degrees from warp",
             &dd->stretch[0][0]) ||
-      table(c, v[2], "bending", 3, 5, 0, "N m at curvatures 0, 5, 10, 15, 20 1/m",
+      table(c, v[2], "bending", 3, 5, 0, "N m at half-curvatures 0, 5, 10, 15, 20 1/m",
             "the hinge at 0, 45 and 90 degrees from warp", &dd->bend[0][0]))
     return -1;
   for (int i = 0; i < 6; i++)

@@ -37,7 +37,8 @@ int sc_dde_parse(const char *name, const char *buf, size_t len, sw_dde *dd, char
                  size_t errsz);
 int sc_dde_read(const char *path, sw_dde *dd, char *err, size_t errsz);
 /* The rigidities (N m) of strips cut along warp, along weft and at 45 degrees, bent to small
- * curvature (the data's first column): a strip along warp folds about hinges across it. */
+ * curvature (the data's first column, a quarter of its number: models/dde.c): a strip along
+ * warp folds about hinges across it. */
 void sc_dde_strips(const sw_dde *dd, double kb[3]);
 
 /* The conversions (SI from each measured unit), for the tests. */
