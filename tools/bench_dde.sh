@@ -27,8 +27,9 @@ s = json.load(open(sys.argv[1] + '/summary.json'))
 n = max(s['newton_iterations'], 1)
 t = s['time_terms_s']
 memb = t.get('dde', t.get('bw98', 0.0))
+status = s['status'] if s['status'] == 'ok' else '%s: %s' % (s['status'], s.get('message', ''))
 print('| %s | %s | %s | %d | %d | %.2f | %.3f | %.4f | %.3f |' % (sys.argv[2], sys.argv[3],
-      s['status'], s['steps'], s['newton_iterations'], s['cpu_time_s'], 1e3 * s['cpu_time_s'] / n,
+      status, s['steps'], s['newton_iterations'], s['cpu_time_s'], 1e3 * s['cpu_time_s'] / n,
       1e3 * memb / n, 1e3 * sum(t.values()) / n))
 " "$tmp/out" "$r" "$([ $k = bw98 ] && echo 'bw98 (shipped)' || echo "$preset")"
   done
