@@ -153,6 +153,15 @@ double sw_dde_energy(const sw_dde *dd, const double e[3], double S[3], double H[
   return psi;
 }
 
+/* The symmetric 3 x 3 H positive definite (its leading minors > 0): then J H J^T is PSD, and
+ * P = J H J^T + S (x) I is PSD when S is, so no filter would change it. */
+static int pd3(const double H[9]) {
+  double m2 = H[0] * H[4] - H[1] * H[3];
+  double m3 = H[0] * (H[4] * H[8] - H[5] * H[7]) - H[1] * (H[3] * H[8] - H[5] * H[6]) +
+              H[2] * (H[3] * H[7] - H[4] * H[6]);
+  return H[0] > 0.0 && m2 > 0.0 && m3 > 0.0;
+}
+
 static double dde_density(const void *law, const double *wu, const double *wv, int d,
                           int project, double *gu, double *gv, double *P) {
   double e[3], S[3], H[9]; /* Voigt Green strain (1), its stress and stiffness (N/m) */
@@ -172,7 +181,9 @@ static double dde_density(const void *law, const double *wu, const double *wv, i
         if (ai == aj) v += i < d && j < d ? S[0] : i >= d && j >= d ? S[1] : S[2];
         P[i * ld + j] = v;
       }
-    if (project && sw_membrane_project(P, wu, wv, d, project)) return NAN;
+    if (project && !(pd3(H) && S[0] >= 0.0 && S[1] >= 0.0 && S[0] * S[1] >= S[2] * S[2]) &&
+        sw_membrane_project(P, wu, wv, d, project))
+      return NAN;
   }
   return psi;
 }

@@ -4,15 +4,18 @@
 # its material replaced by a measured preset (dde membrane, the preset's bending), run in turns
 # (bw98, preset, bw98, preset, ...) so that both see the same machine; per run: Newton
 # iterations, steps, CPU time and CPU time per Newton iteration (docs/bench/dde.md).
-# Usage: tools/bench_dde.sh [BUILD_DIR [PRESET [ROUNDS]]]   (default: build gray-interlock 2)
+# Usage: tools/bench_dde.sh [BUILD_DIR [PRESET [ROUNDS [SCENE [DURATION]]]]]
+#   (default: build gray-interlock 2 scenes/garment_tshirt.yaml, the scene's duration)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${1:-build}
 preset=${2:-gray-interlock}
 rounds=${3:-2}
+scene=${4:-scenes/garment_tshirt.yaml}
+dur=${5:+--duration $5}
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-sed -e "s| meshes/| $PWD/scenes/meshes/|g" scenes/garment_tshirt.yaml >"$tmp/bw98.yaml"
+sed -e "s| meshes/| $PWD/scenes/meshes/|g" "$scene" >"$tmp/bw98.yaml"
 awk -v p="$preset" '/^  density:|^  bending:/ {next}
   /^  membrane:/ {print "  fabric: {preset: " p "}"; next} {print}' "$tmp/bw98.yaml" >"$tmp/dde.yaml"
 printf '| run | material | status | steps | Newton iterations | CPU, s | CPU per iteration, ms | membrane term per iteration, ms | all terms per iteration, ms |\n'
@@ -20,7 +23,8 @@ printf '| --- | --- | --- | --- | --- | --- | --- | --- | --- |\n'
 for r in $(seq "$rounds"); do
   for k in bw98 dde; do
     rm -rf "$tmp/out"
-    "$build/sinew" run "$tmp/$k.yaml" --out "$tmp/out" --no-frames >/dev/null 2>&1 || true
+    # shellcheck disable=SC2086  # --duration and its value, split on purpose
+    "$build/sinew" run "$tmp/$k.yaml" --out "$tmp/out" --no-frames $dur >/dev/null 2>&1 || true
     PYTHONPATH=python /usr/bin/python3 -c "
 import json, sys
 s = json.load(open(sys.argv[1] + '/summary.json'))
