@@ -193,6 +193,17 @@ static void reader_errors(void **st) {
       "'bending' key");
   bad("{\"density\": 0.2, \"stretch\": 1}", "bad.json:1:18: fabric data has an unknown key 'stretch'");
   bad("{\"density\": 0.2,", "bad.json:2:1: invalid YAML");
+  assert_int_equal(sc_dde_read("no/such/fabric.json", &dd, err, sizeof err), -1);
+  assert_non_null(strstr(err, "no/such/fabric.json cannot be opened"));
+  char path[] = "/tmp/sinew_dde_XXXXXX"; /* over the 1 MB limit: refused before it is parsed */
+  int fd = mkstemp(path);
+  assert_true(fd >= 0);
+  FILE *f = fdopen(fd, "wb");
+  for (int i = 0; i < (1 << 20) / 8 + 2; i++) fputs("        ", f);
+  fclose(f);
+  assert_int_equal(sc_dde_read(path, &dd, err, sizeof err), -1);
+  remove(path);
+  assert_non_null(strstr(err, "is over 1048576 bytes"));
 }
 
 /* The table the presets read is the shipped files, byte for byte (tools/fabric_presets.py). */

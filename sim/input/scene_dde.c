@@ -16,6 +16,8 @@
 
 #include "scene_fabric.h"
 
+#define SC_DDE_MAX_BYTES (1 << 20) /* a data file's byte limit (the data set's are 0.7 KB) */
+
 static const char *const dde_keys[] = {"density", "stretching", "bending"};
 
 /* rows x cols numbers >= lo at y into out. */
@@ -73,6 +75,10 @@ int sc_dde_read(const char *path, sw_dde *dd, char *err, size_t errsz) {
   size_t len = 0, cap = 0, n;
   char chunk[4096];
   while ((n = fread(chunk, 1, sizeof chunk, f)) > 0) {
+    if (len + n > SC_DDE_MAX_BYTES)
+      return sw_free(buf), fclose(f),
+             sw_errf(err, errsz, "%s is over %d bytes; expected a fabric data file (under 1 KB "
+                     "in the data set)", path, SC_DDE_MAX_BYTES), -1;
     if (len + n > cap) {
       char *nb = sw_realloc(buf, cap = 2 * (len + n), 1);
       if (!nb) return sw_free(buf), fclose(f), sw_errf(err, errsz, "out of memory"), -1;
