@@ -268,6 +268,40 @@ static void preset_loads(void **st) {
   }
 }
 
+/* `data: FILE` reads a file of the data set's format (relative to the scene's folder): the same
+ * material as the preset; a bad file's error names the scene's key and the file's line. */
+static void data_file(void **st) {
+  (void)st;
+  char err[SW_ERRSZ];
+  sw_model *a = parse("mesh: {grid: {size: [0.2, 0.2], vertices: [3, 3]}}\n"
+                      "material: {fabric: {data: data/fabrics/11oz-black-denim.json}}\n", err);
+  if (!a) fail_msg("%s", err);
+  sw_model *b = parse("mesh: {grid: {size: [0.2, 0.2], vertices: [3, 3]}}\n"
+                      "material: {fabric: {preset: 11oz-black-denim}}\n", err);
+  if (!b) fail_msg("%s", err);
+  assert_memory_equal(&a->mat[0].dde, &b->mat[0].dde, sizeof(sw_dde));
+  near(a->mat[0].k_bend_u, b->mat[0].k_bend_u, 0);
+  near(a->mat[0].density, 0.324, 0);
+  sw_model_free(a), sw_model_free(b);
+  char path[] = "/tmp/sinew_dde_XXXXXX";
+  int fd = mkstemp(path);
+  assert_true(fd >= 0);
+  FILE *f = fdopen(fd, "wb");
+  fputs("{\"density\": 0.2,\n \"stretching\": [[1, 2, 3, 4]],\n \"bending\": []}\n", f);
+  fclose(f);
+  char text[256], want[128];
+  snprintf(text, sizeof text, "mesh: {grid: {size: [0.2, 0.2], vertices: [3, 3]}}\n"
+           "material: {fabric: {data: %s}}\n", path);
+  assert_null(parse(text, err));
+  remove(path);
+  snprintf(want, sizeof want, "fabric.yaml:2:27: material fabric data: %s:2:16: stretching has 1 "
+           "rows", path);
+  if (!strstr(err, want)) fail_msg("error '%s' lacks '%s'", err, want);
+  assert_null(parse("mesh: {grid: {size: [1, 1], vertices: [3, 3]}}\n"
+                    "material: {fabric: {data: no/such.json, preset: gray-interlock}}\n", err));
+  assert_non_null(strstr(err, "fabric.yaml:2:27: material fabric gives preset and data"));
+}
+
 static void preset_errors(void **st) {
   (void)st;
   char err[SW_ERRSZ];
@@ -334,6 +368,7 @@ int main(void) {
       cmocka_unit_test(uniaxial_small),      cmocka_unit_test(reader_errors),
       cmocka_unit_test(presets_equal_files), cmocka_unit_test(preset_loads),
       cmocka_unit_test(preset_errors),       cmocka_unit_test(cantilever_cuts),
+      cmocka_unit_test(data_file),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
