@@ -131,15 +131,9 @@ static void fabric_dde(const sw_dde *dd, sw_material *mat, int *set) {
 
 /* `data: FILE`: a fabric file in the data set's format, relative to the scene's folder, into dd. */
 static int fabric_data(const ctx *c, const ynode *y, const char *lab, sw_dde *dd) {
-  const char *rel, *slash = strrchr(c->name, '/');
+  const char *rel;
   char path[SW_PATHSZ], err[SW_ERRSZ];
-  if (sy_str(c, y, lab, SW_PATHSZ, &rel)) return -1;
-  size_t dir = rel[0] != '/' && slash ? (size_t)(slash - c->name) + 1 : 0;
-  if (dir + strlen(rel) >= SW_PATHSZ)
-    return sy_fail(c, y, "%s makes a path longer than %d bytes; expected a shorter path", lab,
-                   SW_PATHSZ - 1);
-  memcpy(path, c->name, dir);
-  strcpy(path + dir, rel);
+  if (sy_str(c, y, lab, SW_PATHSZ, &rel) || sy_path(c, y, lab, rel, path)) return -1;
   if (sc_dde_read(path, dd, err, sizeof err)) return sy_fail(c, y, "%s: %s", lab, err);
   return 0;
 }
