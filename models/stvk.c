@@ -43,19 +43,11 @@ static void stvk_hessian(const stvk_law *q, const double *wu, const double *wv, 
 static double stvk_density(const void *law, const double *wu, const double *wv, int d,
                            int project, double *gu, double *gv, double *P) {
   const stvk_law *q = law;
-  double uu = 0.0, vv = 0.0, uv = 0.0;
-  for (int a = 0; a < d; a++) {
-    uu += wu[a] * wu[a];
-    vv += wv[a] * wv[a];
-    uv += wu[a] * wv[a];
-  }
-  const double e[3] = {0.5 * (uu - 1.0), 0.5 * (vv - 1.0), uv}; /* Voigt Green strain, 1 */
+  double e[3]; /* Voigt Green strain, 1 */
+  sw_green_voigt(wu, wv, d, e);
   const double s[3] = {q->q11 * e[0] + q->q12 * e[1], q->q12 * e[0] + q->q22 * e[1],
                        q->g * e[2]}; /* S11, S22, S12: N/m */
-  for (int a = 0; a < d; a++) {
-    gu[a] = s[0] * wu[a] + s[2] * wv[a];
-    gv[a] = s[2] * wu[a] + s[1] * wv[a];
-  }
+  sw_green_forces(s, wu, wv, d, gu, gv);
   if (P) {
     stvk_hessian(q, wu, wv, d, s, P);
     int s_psd = s[0] >= 0.0 && s[1] >= 0.0 && s[0] * s[1] >= s[2] * s[2];

@@ -51,6 +51,21 @@ void sw_membrane_free(void *param);
  * dsyev from 9 up); the zero ones stay zero.  0, or -1 when n is out of range or A is not
  * finite. */
 int sw_psd_project(double *A, int n, int mode);
+/* The Voigt Green strain e = ((|wu|^2 - 1)/2, (|wv|^2 - 1)/2, wu.wv) of F = [wu wv] (d each),
+ * and the columns of F S, gu = S11 wu + S12 wv, gv = S12 wu + S22 wv, of a stress s = (S11, S22,
+ * S12) (N/m): dpsi/dwu and dpsi/dwv of a density of e (stvk, dde). */
+static inline void sw_green_voigt(const double *wu, const double *wv, int d, double e[3]) {
+  double uu = 0.0, vv = 0.0, uv = 0.0;
+  for (int a = 0; a < d; a++) uu += wu[a] * wu[a], vv += wv[a] * wv[a], uv += wu[a] * wv[a];
+  e[0] = 0.5 * (uu - 1.0), e[1] = 0.5 * (vv - 1.0), e[2] = uv;
+}
+static inline void sw_green_forces(const double s[3], const double *wu, const double *wv, int d,
+                                   double *gu, double *gv) {
+  for (int a = 0; a < d; a++) {
+    gu[a] = s[0] * wu[a] + s[2] * wv[a];
+    gv[a] = s[2] * wu[a] + s[1] * wv[a];
+  }
+}
 /* The filtered P (2d x 2d) of a density that depends on F only through C = F^T F (stvk,
  * corotated), from the filtered in-plane and out-of-plane blocks (sw_psd_project).  0 or -1. */
 int sw_membrane_project(double *P, const double *wu, const double *wv, int d, int mode);

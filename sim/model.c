@@ -5,6 +5,7 @@
 
 #include "contact.h"
 #include "contact_geom.h"
+#include "dde.h"
 #include "terms.h"
 #include "util.h"
 
@@ -244,6 +245,7 @@ static int build_terms(sw_model *m, char *err, size_t errsz) {
       {SW_MEMBRANE_STVK, sw_stvk_build},
       {SW_MEMBRANE_COROTATED, sw_corotated_build},
       {SW_MEMBRANE_SPRINGS, sw_springs_build},
+      {SW_MEMBRANE_DDE, sw_dde_build},
   };
   static const struct { int model; term_builder build; } bendings[] = {
       {SW_BENDING_DIHEDRAL, sw_dihedral_build},
@@ -306,6 +308,12 @@ static void tension_stiffness(sw_model *m) {
     case SW_MEMBRANE_STVK: ku = mt->e_u, kv = mt->e_v; break;
     case SW_MEMBRANE_COROTATED: ku = kv = mt->k_corot; break;
     case SW_MEMBRANE_SPRINGS: ku = kv = mt->ks_stretch; break;
+    case SW_MEMBRANE_DDE: { /* zero-strain strip, free across: 2 (c11 - c12^2/c22) (models/dde.c) */
+      const double *c = mt->dde.stretch[0];
+      ku = 2.0 * (c[2] > 0.0 ? c[0] - c[1] * c[1] / c[2] : c[0]);
+      kv = 2.0 * (c[0] > 0.0 ? c[2] - c[1] * c[1] / c[0] : c[2]);
+      break;
+    }
     default: break;
     }
     if (mt->tx_k_u < 0) mt->tx_k_u = m->opt.tx_k_u >= 0 ? m->opt.tx_k_u : ku;
@@ -521,8 +529,10 @@ void sw_model_print(const sw_model *m, void *file) {
             sm->length[1], sm->npair);
   }
   if (m->nseam)
-    fprintf(fp, "sewing      stiffness %g N/m^2, ramp %g s; fit %s\n", m->seam_stiffness,
-            m->seam_ramp, m->fit.on ? "on" : "off");
+    fprintf(fp, "sewing      stiffness %g N/m^2, ramp %g s; fit %s%s\n", m->seam_stiffness,
+            m->seam_ramp, m->fit.on ? "on" : "off",
+            !m->fit.on ? "" : m->fit.mode == SW_FIT_OPTIMIZE ? " (optimize)"
+                            : m->fit.mode == SW_FIT_SETTLE   ? " (settle)" : " (dynamic)");
   if (m->dim == 3 && m->nf > 1) /* an exact test, independent of the solver */
     fprintf(fp, "crossings   %ld face pairs intersect at the start\n",
             sw_mesh_self_intersections_sewn(m->nv, m->x0, m->nf, m->face, m->sewn_ptr,

@@ -45,9 +45,13 @@ struct sw_sim {
   int fitting;                 /* the fit stage is going: ops and st are its backward Euler */
   double fit_wall0;            /* s: wall clock the fit stage's time counts from */
   double kept_damp, kept_tol, kept_ramp; /* the model's own, while the fit holds its own */
+  double fit_t_min;            /* s: the fit's ramps are over (gravity in full) from here */
   double last_restart;         /* s: wall clock of the last restart.bin written */
   int closed;                  /* sw_sim_close was called: no more steps or changes */
 };
+
+#define FIT_EASY 6  /* Newton iterations: the optimisation fit's step grows after at most */
+#define FIT_HARD 16 /* ... and is halved after more */
 
 static int write_restart(sw_sim *s, char *err, size_t errsz);
 static void fit_restore(sw_sim *s);
@@ -370,13 +374,42 @@ static int fit_enter(sw_sim *s, char *err, size_t errsz) {
   m->gravity_delay = m->seam_ramp;
   m->gravity_ramp = fmax(s->kept_ramp, m->seam_ramp);
   m->opt.newton_tol = fmin(s->kept_tol, f->newton_tol);
+  s->fit_t_min = m->gravity_delay + m->gravity_ramp;
   s->fitting = 1;
   s->fit_wall0 = sw_now() - s->d->fit_wall; /* a resumed fit: its time so far */
-  s->ops = sw_integrator_find("backward-euler");
+  s->ops = f->mode == SW_FIT_DYNAMIC ? sw_integrator_find("backward-euler") : &sw_proximal_ops;
   int rc = s->ops ? s->ops->init(&s->st, m, s->d, err, errsz) : SW_FATAL;
   if (rc) s->st = NULL;
   s->started = !rc; /* restart files from here on */
   return rc;
+}
+
+/* The end of the fit's next step, s.  Dynamic: the grid of fit.dt.  Optimisation: a step
+ * chosen from the last one by its Newton iterations (grown by opt_growth after at most
+ * FIT_EASY, halved after more than FIT_HARD; a step halved on failure goes on from its halved
+ * size), at least fit.dt, at most opt_dt until the ramps are over (gravity in full, at twice the
+ * seams' ramp time, where a step ends), unbounded after; its Newton tolerance the dynamic
+ * fit's in metres, newton_tol x dt, whatever the step. */
+static double fit_next(sw_sim *s) {
+  sw_model *m = s->m;
+  const sw_data *d = s->d;
+  const sw_fit *f = &m->fit;
+  double h = f->opt_dt, t_min = s->fit_t_min; /* s */
+  int ramps = d->t < t_min - 1e-9 * f->dt;
+  if (f->mode == SW_FIT_DYNAMIC || (f->mode == SW_FIT_SETTLE && ramps)) {
+    m->opt.newton_tol = fmin(s->kept_tol, f->newton_tol);
+    return tidy_time((double)(d->fit_steps + 1) * f->dt, f->dt);
+  }
+  if (d->fit_steps > 0) {
+    h = d->last_dt;
+    if (d->last_newton <= FIT_EASY) h *= f->opt_growth;
+    else if (d->last_newton > FIT_HARD) h *= 0.5;
+  }
+  h = fmax(h, f->dt);
+  double end = d->t + h;
+  if (ramps) end = fmin(d->t + fmin(h, f->opt_dt), t_min);
+  m->opt.newton_tol = fmin(s->kept_tol, f->newton_tol) * f->dt / (end - d->t);
+  return end;
 }
 
 /* 1 when the fit is over after its last step: the seams closed to fit.gap and the RMS speed
@@ -400,7 +433,7 @@ static int fit_over(sw_sim *s, int *rc, char *err, size_t errsz) {
 }
 
 /* The fit stage (sinew.h, sw_fit; docs/garments.md): backward Euler steps of fit.dt with the
- * fit's mass damping added, from the arrangement until the seams are closed to fit.gap and the
+ * fit's mass damping added (fit.mode optimize and settle: proximal steps, fit_next), from the arrangement until the seams are closed to fit.gap and the
  * RMS speed is below fit.speed (after the seams' ramp), logged as the run's first steps; the
  * scene's own method then starts from there, its step grid and duration counted from the
  * fit's end, which is written as a frame.  Gravity grows over the seams' ramp time once they
@@ -416,9 +449,10 @@ static int fit_stage(sw_sim *s, char *err, size_t errsz) {
   int rc = s->fitting ? SW_OK : fit_enter(s, err, errsz);
   while (rc == SW_OK && !fit_over(s, &rc, err, errsz)) {
     if (stop_signal) return stop(s, err, errsz);
-    double end = tidy_time((double)(d->fit_steps + 1) * f->dt, f->dt);
-    rc = fit_step(s, end, err, errsz);
+    rc = fit_step(s, fit_next(s), err, errsz);
   }
+  if (!rc && f->mode != SW_FIT_DYNAMIC) /* a rest state: dx/h was no speed */
+    memset(d->v, 0, (size_t)m->nv * (size_t)m->dim * sizeof *d->v);
   if (rc && err && strncmp(err, "fit: ", 5)) {
     char why[SW_ERRSZ];
     snprintf(why, sizeof why, "%s", err);

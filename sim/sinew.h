@@ -206,9 +206,24 @@ typedef struct sw_contact_lag {
 /* Membrane models (models/bw98.c, stvk.c, corotated.c, springs.c) and bending models
  * (models/dihedral.c, quadratic_bending.c, morley_bending.c; docs/models.md). */
 enum { SW_MEMBRANE_NONE = 0, SW_MEMBRANE_BW98, SW_MEMBRANE_STVK, SW_MEMBRANE_COROTATED,
-       SW_MEMBRANE_SPRINGS };
+       SW_MEMBRANE_SPRINGS, SW_MEMBRANE_DDE };
 enum { SW_BENDING_NONE = 0, SW_BENDING_DIHEDRAL, SW_BENDING_QUADRATIC, SW_BENDING_MORLEY };
 enum { SW_BEND_REST_INITIAL = 0, SW_BEND_REST_FLAT = 1 };
+
+/* A measured fabric in the format of Wang, Ramamoorthi and O'Brien's data set ("Data-Driven
+ * Elastic Models for Cloth: Modeling and Measurement", SIGGRAPH 2011; models/dde.c,
+ * docs/fabrics.md).  The numbers are the file's, in its units. */
+typedef struct sw_dde {
+  double stretch[6][4];        /* (c11, c12, c22, c33), N/m: row 0 at zero strain, rows 1..5 at
+                                  a principal stretch of 7/6 along 0, 22.5, 45, 67.5, 90 degrees
+                                  from the u (warp) axis; negative samples clamped at 0 */
+  double bend[3][5];           /* the data's bending stiffness k_e, N m: rows hinge edge at 0,
+                                  45, 90 degrees from u; columns at its curvature measure 0, 5,
+                                  10, 15, 20 1/m (half the curvature); rigidity B = k_e / 4
+                                  (models/dde.c) */
+  double density;              /* kg/m^2 */
+  int nclamped;                /* negative stretch samples clamped at 0 when read */
+} sw_dde;
 
 /* The material of a panel.  m->mat[0] is the scene's `material`; m->mat[k > 0] is a panel of
  * `panels:` (an OBJ usemtl/g group), a copy of mat[0] with the keys the panel overrides. */
@@ -224,6 +239,7 @@ typedef struct sw_material {
   double g_uv;                 /* stvk in-plane shear modulus, N/m */
   double k_corot;              /* corotated: k/2 |U - I|^2 per unit area, N/m */
   double ks_stretch, ks_shear, ks_bend; /* springs: stiffness of each kind of spring, N/m */
+  sw_dde dde;                  /* dde: the measured fabric (models/dde.c) */
   int bending;                 /* SW_BENDING_* */
   double k_bend;               /* bending stiffness, N m (= J); the largest of the three
                                   below when they are set */
@@ -285,8 +301,15 @@ typedef struct sw_seam {
  * sewn and settled by backward Euler steps of dt with extra mass damping, the seams ramped in
  * over `ramp`; it ends when the seams are closed to `gap` and the RMS speed is below `speed`,
  * after at least `ramp` s, or fails at `max_time`. */
+enum { SW_FIT_DYNAMIC = 0, SW_FIT_OPTIMIZE = 1, SW_FIT_SETTLE = 2 };
 typedef struct sw_fit {
   int on;                      /* 1: fit before the dynamics (the default with seams) */
+  int mode;                    /* SW_FIT_DYNAMIC: damped backward Euler steps of dt;
+                                  SW_FIT_OPTIMIZE: proximal steps of at most opt_dt over the
+                                  ramps, then growing; SW_FIT_SETTLE: the dynamic fit's steps
+                                  over the ramps, then growing proximal steps */
+  double opt_dt;               /* s: the optimisation fit's step over the ramps */
+  double opt_growth;           /* >= 1: its step's growth once the ramps are over */
   double dt;                   /* s */
   double damping;              /* 1/s: mass-proportional damping added during the fit */
   double gap;                  /* m: largest seam gap at the end */

@@ -331,6 +331,7 @@ double sw_energy_bound(const sw_model *m, sw_data *d);
 
 extern const sw_integrator_ops sw_backward_euler_ops;
 extern const sw_integrator_ops sw_baraff_witkin_ops;
+extern const sw_integrator_ops sw_proximal_ops; /* the optimisation fit's (not a scene method) */
 extern const sw_integrator_ops sw_cvode_ops, sw_ida_ops; /* cvode.c, ida.c (SUNDIALS) */
 extern const sw_integrator_ops sw_bdf2_ops, sw_implicit_midpoint_ops, sw_newmark_ops,
     sw_symplectic_euler_ops;

@@ -12,7 +12,6 @@ and fitted by `sinew run` at the fit's defaults; then a summary from the run fol
 when every fit ends ok, 1 on an error (nothing is left in DIR of a size that failed before its
 run) or a failed fit, 2 on bad arguments."""
 import argparse
-import inspect
 import json
 import os
 import resource
@@ -157,18 +156,8 @@ def _given_seams(path):
 def build(path, size, edge, pieces=None):
     """One size's pieces meshed, turned u up and sewn: (meshed, seams, flat positions)."""
     pat = pattern.read(path)
-    if "pieces" in inspect.signature(pattern.mesh).parameters:  # the importer chooses them
-        return _sewn(pattern.mesh(pat, size=size, edge=edge,
-                                  pieces=",".join(pieces) if pieces else None))
-    meshed = pattern.mesh(pat, size=size, edge=edge)
-    if pieces:
-        names = {m.group for m in meshed}
-        unknown = [p for p in pieces if p not in names]
-        if unknown:
-            raise GarmentError("%s: no piece %s; expected one of: %s"
-                               % (path, ", ".join(unknown), ", ".join(sorted(names))))
-        meshed = [m for m in meshed if m.group in pieces]
-    return _sewn(meshed)
+    return _sewn(pattern.mesh(pat, size=size, edge=edge,
+                              pieces=",".join(pieces) if pieces else None))
 
 
 def _sewn(meshed):

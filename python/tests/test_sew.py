@@ -120,8 +120,8 @@ def test_garment_fits_the_tshirt(tmp_path, capsys):
 
 @pytest.mark.parametrize("args, message", [
     (["--size", "XL"], "no size 'XL'; expected one of: (the file is not graded)"),
-    (["--pieces", "Front,Nope"], "no piece Nope"),
-    (["--pieces", "Front,Back,Sleeve"], "two SLEEVE pieces or none; found 1 (Sleeve)"),
+    (["--pieces", "Front,Nope"], "no piece is named 'Nope'"),
+    (["--pieces", "Front,Back,Sleeve_2"], "two SLEEVE pieces or none; found 1 (Sleeve_2)"),
     (["--seams", "/nonexistent.yaml"], "--seams /nonexistent.yaml: No such file"),
     (["--fabric", "{mass: -150}", "--edge", "0.08"], "failed before its first step (exit 1)"),
 ])

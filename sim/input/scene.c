@@ -81,8 +81,7 @@ static int load_grid(const ctx *c, const ynode *y, mesh_in *mi) {
   return 0;
 }
 
-/* The OBJ path relative to the scene file's folder (absolute paths are kept). */
-static int obj_path(const ctx *c, const ynode *y, const char *what, const char *rel, char *out) {
+int sy_path(const ctx *c, const ynode *y, const char *what, const char *rel, char *out) {
   const char *slash = strrchr(c->name, '/');
   size_t dir = rel[0] != '/' && slash ? (size_t)(slash - c->name) + 1 : 0;
   if (dir + strlen(rel) >= SW_PATHSZ)
@@ -132,7 +131,7 @@ int sc_note_input(const ctx *c, const ynode *y, const char *path, const char *bu
 
 int sc_read_obj(const ctx *c, const ynode *y, const char *what, sw_mesh *mesh, char *path) {
   const char *rel;
-  if (sy_str(c, y, what, SW_PATHSZ, &rel) || obj_path(c, y, what, rel, path)) return -1;
+  if (sy_str(c, y, what, SW_PATHSZ, &rel) || sy_path(c, y, what, rel, path)) return -1;
   FILE *f = fopen(path, "rb");
   if (!f)
     return sy_fail(c, y, "%s '%s' cannot be opened: %s; expected an OBJ file (relative to "

@@ -22,6 +22,7 @@
  * as tensile stiffnesses (N/m), which is what `tensile` and FAST's secant at 100 gf/cm give. */
 #include "scene_fabric.h"
 #include "scene_material.h"
+#include "dde.h"
 
 #include <math.h>
 #include <stdarg.h>
@@ -38,8 +39,8 @@
 #define G_STANDARD 9.80665                        /* m/s^2 */
 
 static const char *const fab_keys[] = {"mass", "kes_b", "fast_b", "bending_length", "kes_g",
-                                       "tensile", "fast_e100"};
-enum { F_MASS, F_KES_B, F_FAST_B, F_BLEN, F_KES_G, F_TENSILE, F_E100, F_N };
+                                       "tensile", "fast_e100", "preset", "data"};
+enum { F_MASS, F_KES_B, F_FAST_B, F_BLEN, F_KES_G, F_TENSILE, F_E100, F_PRESET, F_DATA, F_N };
 
 double sc_fabric_kes_b(double b) { return b * KES_B_SI; }
 double sc_fabric_kes_g(double g) { return g * KES_G_SI; }
@@ -108,14 +109,81 @@ static int fabric_membrane(const ctx *c, const ynode *y, const ynode *const *v, 
   return 0;
 }
 
+void sc_dde_strips(const sw_dde *dd, double kb[3]) {
+  kb[0] = sw_dde_bend_rigidity(dd, 0.5 * M_PI, 0.0);  /* warp strip: hinges along weft */
+  kb[1] = sw_dde_bend_rigidity(dd, 0.0, 0.0);         /* weft strip: hinges along warp */
+  kb[2] = sw_dde_bend_rigidity(dd, 0.25 * M_PI, 0.0); /* bias strip */
+}
+
+/* The material of a measured fabric dd. */
+static void fabric_dde(const sw_dde *dd, sw_material *mat, int *set) {
+  double kb[3];
+  sc_dde_strips(dd, kb);
+  mat->density = dd->density;
+  mat->membrane = SW_MEMBRANE_DDE;
+  mat->dde = *dd;
+  mat->bending = SW_BENDING_QUADRATIC;
+  mat->bend_rest = SW_BEND_REST_FLAT;
+  mat->k_bend_u = kb[0], mat->k_bend_v = kb[1], mat->k_bend_bias = kb[2];
+  mat->k_bend = fmax(fmax(kb[0], kb[1]), kb[2]);
+  *set = SC_FABRIC_BENDING | SC_FABRIC_MEMBRANE;
+}
+
+/* `data: FILE`: a fabric file in the data set's format, relative to the scene's folder, into dd. */
+static int fabric_data(const ctx *c, const ynode *y, const char *lab, sw_dde *dd) {
+  const char *rel;
+  char path[SW_PATHSZ], err[SW_ERRSZ];
+  if (sy_str(c, y, lab, SW_PATHSZ, &rel) || sy_path(c, y, lab, rel, path)) return -1;
+  if (sc_dde_read(path, dd, err, sizeof err)) return sy_fail(c, y, "%s: %s", lab, err);
+  return 0;
+}
+
+/* `preset: NAME` (a fabric of data/fabrics/) or `data: FILE` (one in their format): its
+ * density, the dde membrane, and the quadratic bending with the rigidities its strips read,
+ * alone in the block. */
+static int fabric_preset(const ctx *c, const ynode *y, const ynode *const *v, const char *w,
+                         sw_material *mat, int *set) {
+  char lab[192], list[600] = "", t[48];
+  const int key = v[F_PRESET] ? F_PRESET : F_DATA;
+  for (int k = 0; k < F_N; k++)
+    if (k != key && v[k])
+      return sy_fail(c, v[k], "%s gives %s and %s; expected %s alone (it sets the mass, "
+                     "membrane and bending of a measured fabric)", w, fab_keys[key],
+                     fab_keys[k], fab_keys[key]);
+  snprintf(lab, sizeof lab, "%s %s", w, fab_keys[key]);
+  sw_dde dd;
+  if (key == F_DATA) {
+    if (fabric_data(c, v[F_DATA], lab, &dd)) return -1;
+    return fabric_dde(&dd, mat, set), 0;
+  }
+  const char *name;
+  if (sy_str(c, v[F_PRESET], lab, 64, &name)) return -1;
+  const sc_fabric_preset *p = sc_fabric_preset_find(name);
+  if (!p) {
+    for (int k = 0; k < sc_nfabric_presets; k++)
+      snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s", k ? ", " : "",
+               sc_fabric_presets[k].name);
+    return sy_fail(c, v[F_PRESET], "%s is '%s'; expected one of: %s", lab,
+                   sy_clip(v[F_PRESET], t, sizeof t), list);
+  }
+  char err[SW_ERRSZ];
+  if (sc_dde_parse(p->file, p->json, strlen(p->json), &dd, err, sizeof err))
+    return sy_fail(c, v[F_PRESET], "%s %s: %s", lab, name, err);
+  (void)y;
+  fabric_dde(&dd, mat, set);
+  return 0;
+}
+
 int sc_load_fabric(const ctx *c, const ynode *y, const char *what, sw_material *mat, int *set) {
   const ynode *v[F_N];
   char w[160], lab[192];
   double gsm;
   snprintf(w, sizeof w, "%s fabric", what);
   *set = 0;
-  if (sy_map(c, y, w, fab_keys, F_N, v) ||
-      sy_need(c, y, v[F_MASS], w, "mass", "mass: a number > 0 (g/m^2)"))
+  if (sy_map(c, y, w, fab_keys, F_N, v)) return -1;
+  if (v[F_PRESET] || v[F_DATA]) return fabric_preset(c, y, v, w, mat, set);
+  if (sy_need(c, y, v[F_MASS], w, "mass", "mass: a number > 0 (g/m^2), or preset: a measured "
+              "fabric (docs/fabrics.md)"))
     return -1;
   snprintf(lab, sizeof lab, "%s mass", w);
   if (sy_num(c, v[F_MASS], lab, 0, 1, "g/m^2", &gsm)) return -1;
@@ -174,7 +242,9 @@ void sc_plausibility(const ctx *c) {
            "it)", c->name, p, g, mt->k_bend, SC_PLAUSIBLE_BENDING_MAX);
     double k = mt->membrane == SW_MEMBRANE_BW98 ? fmax(mt->k_u, mt->k_v)
                : mt->membrane == SW_MEMBRANE_STVK ? fmax(mt->e_u, mt->e_v)
-               : mt->membrane == SW_MEMBRANE_COROTATED ? mt->k_corot : 0;
+               : mt->membrane == SW_MEMBRANE_COROTATED ? mt->k_corot
+               : mt->membrane == SW_MEMBRANE_DDE ? 2.0 * fmax(mt->dde.stretch[0][0], mt->dde.stretch[0][2])
+               : 0;
     if (k > SC_PLAUSIBLE_TENSILE_MAX)
       warn(m, "%s: %s%s tensile stiffness is %g N/m, above the %g N/m of the stiffest "
            "fabrics: is it in N/m? (a modulus in Pa times the thickness in m)", c->name, p, g,

@@ -23,6 +23,24 @@ int sc_load_fabric(const ctx *c, const ynode *y, const char *what, sw_material *
  * tensile stiffness over 1e6 N/m. */
 void sc_plausibility(const ctx *c);
 
+/* The measured fabrics shipped in data/fabrics/ (sim/input/fabric_presets.c, written from the
+ * files by tools/fabric_presets.py): name, the file's path in the source tree, its text. */
+typedef struct sc_fabric_preset {
+  const char *name, *file, *json;
+} sc_fabric_preset;
+extern const sc_fabric_preset sc_fabric_presets[];
+extern const int sc_nfabric_presets;
+const sc_fabric_preset *sc_fabric_preset_find(const char *name);
+/* A fabric in the data set's own format (scene_dde.c): the text buf of len bytes, `name` for
+ * messages, into dd; 0, or -1 with err "name:line:column: what was found; expected what". */
+int sc_dde_parse(const char *name, const char *buf, size_t len, sw_dde *dd, char *err,
+                 size_t errsz);
+int sc_dde_read(const char *path, sw_dde *dd, char *err, size_t errsz);
+/* The rigidities (N m) of strips cut along warp, along weft and at 45 degrees, bent to small
+ * curvature (the data's first column, a quarter of its number: models/dde.c): a strip along
+ * warp folds about hinges across it. */
+void sc_dde_strips(const sw_dde *dd, double kb[3]);
+
 /* The conversions (SI from each measured unit), for the tests. */
 double sc_fabric_kes_b(double gf_cm2_per_cm);   /* N m */
 double sc_fabric_kes_g(double gf_per_cm_deg);   /* N/m per rad */

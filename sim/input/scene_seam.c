@@ -7,7 +7,8 @@
  *       # or an end by its panel's landmark: {panel: back, from: {corner: 0}, to: {notch: 1}},
  *       # the K-th (0-based) of panels: {back: {corners: [...], notches: [...]}}
  *   sewing: {stiffness: auto, ramp: 0.3, ease_max: 0.1}
- *   fit: {enabled: true, dt: 0.01, damping: 10, gap: 5e-4, speed: 1e-3, max_time: 10}
+ *   fit: {enabled: true, dt: 0.01, damping: 10, gap: 5e-4, speed: 1e-3, max_time: 10,
+ *         mode: dynamic, opt_dt: 0.1, opt_growth: 2}
  *
  * A run goes along the panel's boundary (the edges of its faces that only one of its faces
  * holds) from `from` to `to`, the shorter way round.  Each curve's rest length is measured in
@@ -30,6 +31,8 @@
 #define FIT_SPEED 1e-3      /* m/s */
 #define FIT_MAX_TIME 10.0   /* s */
 #define FIT_NEWTON_TOL 1e-2 /* m/s */
+#define FIT_OPT_DT 0.1      /* s */
+#define FIT_OPT_GROWTH 2.0
 
 /* A panel's boundary: per vertex its (at most two) boundary neighbours and the face of each
  * boundary edge. */
@@ -314,17 +317,20 @@ static int load_sewing(const ctx *c, const ynode *y) {
   return 0;
 }
 
-static const char *const fit_keys[] = {"enabled", "dt", "damping", "gap", "speed", "max_time",
-                                       "newton_tol"};
+static const char *const fit_keys[] = {"enabled",  "dt",         "damping", "gap",
+                                       "speed",    "max_time",   "newton_tol", "mode",
+                                       "opt_dt",   "opt_growth"};
 static const char *const on_off[] = {"false", "true"};
+static const char *const fit_modes[] = {"dynamic", "optimize", "settle"}; /* SW_FIT_* */
 
 static int load_fit(const ctx *c, const ynode *y) {
   sw_fit *f = &c->m->fit;
-  const ynode *v[7];
+  const ynode *v[10];
   *f = (sw_fit){.on = c->m->nseam > 0, .dt = FIT_DT, .damping = FIT_DAMPING, .gap = FIT_GAP,
-                .speed = FIT_SPEED, .max_time = FIT_MAX_TIME, .newton_tol = FIT_NEWTON_TOL};
+                .speed = FIT_SPEED, .max_time = FIT_MAX_TIME, .newton_tol = FIT_NEWTON_TOL,
+                .mode = SW_FIT_DYNAMIC, .opt_dt = FIT_OPT_DT, .opt_growth = FIT_OPT_GROWTH};
   if (!y) return 0;
-  if (sy_map(c, y, "fit", fit_keys, 7, v)) return -1;
+  if (sy_map(c, y, "fit", fit_keys, 10, v)) return -1;
   if (v[0] && sy_choice(c, v[0], "fit enabled", on_off, 2, &f->on)) return -1;
   if (v[1] && sy_num(c, v[1], "fit dt", 0, 1, "s", &f->dt)) return -1;
   if (v[2] && sy_num(c, v[2], "fit damping", 0, 0, "1/s", &f->damping)) return -1;
@@ -332,6 +338,9 @@ static int load_fit(const ctx *c, const ynode *y) {
   if (v[4] && sy_num(c, v[4], "fit speed", 0, 1, "m/s", &f->speed)) return -1;
   if (v[5] && sy_num(c, v[5], "fit max_time", 0, 1, "s", &f->max_time)) return -1;
   if (v[6] && sy_num(c, v[6], "fit newton_tol", 0, 1, "m/s", &f->newton_tol)) return -1;
+  if (v[7] && sy_choice(c, v[7], "fit mode", fit_modes, 3, &f->mode)) return -1;
+  if (v[8] && sy_num(c, v[8], "fit opt_dt", 0, 1, "s", &f->opt_dt)) return -1;
+  if (v[9] && sy_num(c, v[9], "fit opt_growth", 1, 0, NULL, &f->opt_growth)) return -1;
   if (c->m->dim != 3 && f->on)
     return sy_fail(c, y, "fit is on in a 2D scene; expected fit only with dimension: 3");
   return 0;

@@ -65,6 +65,10 @@ const char *sy_clip(const ynode *y, char *t, size_t sz);
 const char *sy_join(const char *const *names, int n, char *buf, size_t sz);
 int sy_scalar_number(const ynode *y, double *v);
 
+/* The path rel relative to the scene file's folder (absolute paths are kept) into out
+ * (SW_PATHSZ bytes); -1 with the error at y when it is too long (scene.c). */
+int sy_path(const ctx *c, const ynode *y, const char *what, const char *rel, char *out);
+
 /* Selections (scene_select.c): mark in c->sel the vertices y picks ({vertices: [...]},
  * {box: ...}, {grid: [[i, j], ...]} or {disc: {center, radius}}). */
 int sy_select(const ctx *c, const ynode *y, const char *what);

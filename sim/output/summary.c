@@ -166,6 +166,9 @@ static void summary_seams(out_file *w, const sw_model *m, const sw_data *d) {
   w_json_num(w, "seam_gap_max", d->seam_gap_max);
   w_json_num(w, "seam_stiffness", m->seam_stiffness); /* N/m^2 */
   if (!m->fit.on) return;
+  static const char *const modes[] = {"dynamic", "optimize", "settle"}; /* SW_FIT_* */
+  w_key(w, "fit_mode");
+  out_json_str(w, modes[m->fit.mode], SW_NAMESZ);
   w_json_num(w, "fit_end_s", d->fit_end);
   w_json_long(w, "fit_steps", d->fit_steps);
   w_json_num(w, "fit_wall_s", d->fit_wall);

@@ -753,9 +753,9 @@ def select(pattern, size=None, pieces=None):
         if unused or not items:
             names = sorted({p.group for p in chosen})
             cats = sorted({p.category for p in chosen if p.category})
-            raise PatternError("%s: --pieces %s: no piece%s size %s is named %s; expected "
+            raise PatternError("%s: --pieces %s: no piece%s is named %s; expected "
                                "names of: pieces %s; categories %s" % (
-                                   pattern.path, pieces, " of" if size else "", size or "",
+                                   pattern.path, pieces, " of size %s" % size if size else "",
                                    ", ".join("'%s'" % x.strip() for x in unused) or "(empty)",
                                    ", ".join(names), ", ".join(cats) or "(none)"))
         return _checked(pattern, [p for p in chosen if p.excluded is None]), size

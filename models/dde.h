@@ -1,0 +1,30 @@
+/* dde.h — the data-driven membrane of a measured fabric (models/dde.c; Wang, Ramamoorthi and
+ * O'Brien, "Data-Driven Elastic Models for Cloth: Modeling and Measurement", SIGGRAPH 2011). */
+#ifndef SW_DDE_H
+#define SW_DDE_H
+
+#include <stddef.h>
+
+#include "sinew.h"
+
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
+/* The membrane term "dde" on the faces whose material has membrane dde. */
+int sw_dde_build(sw_term *t, const sw_model *m, char *err, size_t errsz);
+/* The stiffnesses c = (c11, c12, c22, c33) (N/m, the data's own) at the Voigt Green strain
+ * e = (E11, E22, 2 E12) of the warp/weft frame. */
+void sw_dde_stiffness(const sw_dde *dd, const double e[3], double c[4]);
+/* psi(e) (J/m^2), S = dpsi/de (N/m) and, when H is not NULL, H = d2psi/de2 (3 x 3, N/m). */
+double sw_dde_energy(const sw_dde *dd, const double e[3], double S[3], double H[9]);
+/* The stretch (1) of a strip pulled along u (weft 0) or v (weft 1) by the nominal tension T
+ * (N per m of rest width), free across and unsheared; -1 past a stretch of sqrt(5). */
+int sw_dde_uniaxial(const sw_dde *dd, int weft, double T, double *stretch);
+/* The bending rigidity B (N m) of a hinge whose edge makes `angle` (rad) with u, at curvature
+ * kappa (1/m): a quarter of the data's k_e (models/dde.c), linear in the angle between the 0,
+ * 45 and 90 degree rows, linear in the curvature between the columns (kappa = 0, 10, 20, 30,
+ * 40 1/m), the last column's beyond 40 1/m. */
+double sw_dde_bend_rigidity(const sw_dde *dd, double angle, double kappa);
+
+#endif

@@ -1,0 +1,56 @@
+#!/usr/bin/env bash
+# tools/bench_fit.sh [SINEW] — the fit stage as dynamics or as an optimisation (docs/garments.md,
+# `fit.mode`), on the shipped garments with seams (scenes/garment_{skirt,tank,tshirt,skirt_dxf,
+# tshirt_dxf}.yaml; the gather and the drawstring have none, so no fit), REPS times (default 1), the
+# runs interleaved per garment and repetition: the dynamic fit, the two optimisation fits
+# (`optimize`, `settle`), and the dynamic fit followed by a static solve (`--method static`),
+# the reference.  Each is the fit
+# alone (`--duration 0`, one BLAS thread, positions.bin at every step: its last record is the
+# end); CPU time is the process's user time.  Writes
+# docs/bench/fit/fit.csv (one row per run) and docs/bench/fit/fit.md (the table: CPU and Newton
+# iterations of each fit, their ratios, and each optimisation fit against the reference: RMS and
+# largest distance of the final positions, relative change of tension XY's mean and 95th
+# percentile, largest seam gap, self-intersections).  GARMENTS="skirt tank" runs some of them.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bin=${1:-build/sinew}
+reps=${REPS:-1}
+out=${OUT:-docs/bench/fit}
+work=$(mktemp -d)
+scenes=()
+trap 'rm -rf "$work" "${scenes[@]}"' EXIT
+mkdir -p "$out"
+csv=$out/fit.csv
+echo "garment,rep,run,status,cpu_s,fit_steps,fit_end_s,newton_iterations,static_iterations,retries,seam_gap_max_m,self_intersections,txy_mean,txy_p95,txy_max" >"$csv"
+for r in $(seq "$reps"); do
+  for g in ${GARMENTS:-skirt tank tshirt skirt_dxf tshirt_dxf}; do
+    for run in dynamic optimize settle static; do
+      # the scene beside the shipped one (its files are found from its folder)
+      sc=scenes/.bench_fit_${g}_$run.yaml
+      scenes+=("$sc")
+      cp "scenes/garment_$g.yaml" "$sc"
+      mode=dynamic extra=()
+      [ "$run" = optimize ] || [ "$run" = settle ] && mode=$run
+      [ "$run" = static ] && extra=(--method static)
+      echo "fit: {mode: $mode}" >>"$sc"
+      d=$work/$g-$run-$r
+      /usr/bin/time -f %U -o "$d.cpu" "$bin" run "$sc" --out "$d" --duration 0 --no-frames \
+        --positions-every 1e-6 --threads 1 --quiet "${extra[@]}" >/dev/null 2>"$d.err" || true
+      /usr/bin/python3 - "$d" "$g" "$r" "$run" >>"$csv" <<'PY'
+import csv, json, sys
+d, g, rep, run = sys.argv[1:5]
+s = json.load(open(d + "/summary.json"))
+cpu = float(open(d + ".cpu").read().split()[-1])
+t = list(csv.DictReader(open(d + "/tension.csv")))[-1]
+print(",".join(str(v) for v in (g, rep, run, s["status"], cpu, s["fit_steps"], s["fit_end_s"],
+      s["newton_iterations"], s.get("static_iterations", 0), s.get("retries", 0),
+      s["seam_gap_max"], s["self_intersections"], t["txy_mean"], t["txy_p95"], t["txy_max"])))
+PY
+      mkdir -p "$work/pos"
+      cp "$d/positions.bin" "$work/pos/$g-$run-$r.bin" 2>/dev/null || true
+      rm -rf "$d"
+    done
+  done
+done
+/usr/bin/python3 tools/fit_table.py "$csv" "$work/pos" >"$out/fit.md"
+cat "$out/fit.md"

@@ -1,0 +1,60 @@
+#!/usr/bin/python3
+"""fit_table.py CSV POSDIR -- the table of tools/bench_fit.sh: per garment and fit mode the
+median CPU time and Newton iterations over the repetitions, their ratios to the dynamic fit's,
+and each fit's last state against the reference (the dynamic fit followed by a static
+solve) of the same repetition: RMS and largest distance of the positions (m), the relative
+change of tension XY's mean and 95th percentile, its seam gap and self-intersections."""
+import csv
+import os
+import statistics
+import sys
+
+import numpy as np
+
+
+def last_positions(path):
+    """The last record of a positions.bin (nv x dim)."""
+    raw = open(path, "rb").read()
+    nv, dim = np.frombuffer(raw[8:16], dtype=np.int32)
+    rec = 1 + int(nv) * int(dim)
+    n = (len(raw) - 16) // (8 * rec)
+    data = np.frombuffer(raw[16:16 + 8 * rec * n], dtype=np.float64).reshape(n, rec)
+    return data[-1, 1:].reshape(int(nv), int(dim))
+
+
+def main():
+    rows = list(csv.DictReader(open(sys.argv[1])))
+    pos = sys.argv[2]
+    runs = {}
+    for r in rows:
+        runs.setdefault(r["garment"], {}).setdefault(r["run"], []).append(r)
+    print("| garment | fit | CPU s | Newton iterations | status | CPU / dynamic | Newton / "
+          "dynamic | positions vs dynamic + static: RMS / max mm | tension XY mean / p95 vs it "
+          "| seam gap mm | self-intersections |")
+    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
+    for g, by in runs.items():
+        med = lambda run, k: statistics.median(float(r[k]) for r in by[run])
+        cd, nd = med("dynamic", "cpu_s"), med("dynamic", "newton_iterations")
+        for run in ("dynamic", "optimize", "settle"):
+            if run not in by:
+                continue
+            dist, dmax, dm, dp = [], [], [], []
+            for o, ref in zip(by[run], by["static"]):
+                a, b = (os.path.join(pos, f"{g}-{x}-{o['rep']}.bin") for x in (run, "static"))
+                if os.path.exists(a) and os.path.exists(b):
+                    e = np.linalg.norm(last_positions(a) - last_positions(b), axis=1)
+                    dist.append(np.sqrt(np.mean(e * e))), dmax.append(e.max())
+                dm.append(float(o["txy_mean"]) / float(ref["txy_mean"]) - 1)
+                dp.append(float(o["txy_p95"]) / float(ref["txy_p95"]) - 1)
+            c, n = med(run, "cpu_s"), med(run, "newton_iterations")
+            st = "/".join(sorted({r["status"] for r in by[run]}))
+            gap = max(float(r["seam_gap_max_m"]) for r in by[run])
+            sx = max(int(r["self_intersections"]) for r in by[run])
+            pd = "%.2f / %.2f" % (1e3 * max(dist), 1e3 * max(dmax)) if dist else "-"
+            print(f"| {g} | {run} | {c:.2f} | {n:.0f} | {st} | {c / cd:.2f} | {n / nd:.2f} | "
+                  f"{pd} | {100 * max(dm, key=abs):+.1f} % / {100 * max(dp, key=abs):+.1f} % | "
+                  f"{1e3 * gap:.2f} | {sx} |")
+
+
+if __name__ == "__main__":
+    main()
