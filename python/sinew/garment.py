@@ -3,11 +3,13 @@ a DXF to a fitted garment").
 
     python3 -m sinew.garment FILE.dxf [--size S | --sizes all|S1,S2,...] [--fabric '{...}']
                              [--edge M] [--out DIR] [--pieces A,B,...] [--seams FILE]
+                             [--body '...' | --body-table FILE] [--arrange FILE]
 
 (`sinew garment ...` runs the same.)  Per size: the pieces imported and meshed
 (sinew.pattern), turned u up, sewn automatically (sinew.pattern.sew: seams by corner and
-notch names, those of --seams replacing proposed ones of the same name), arranged round the
-mannequin (scenes/meshes/mannequin_arms.obj; FRONT at -y, BACK at +y, sleeves about the arms)
+notch names, those of --seams replacing proposed ones of the same name), arranged from the
+landmarks of the mannequin (scenes/meshes/mannequin_arms.obj) or of a body of the size's
+measurements (sinew.body; FRONT at -y, BACK at +y, sleeves about the arms)
 and fitted by `sinew run` at the fit's defaults; then a summary from the run folder.  Exit 0
 when every fit ends ok, 1 on an error (nothing is left in DIR of a size that failed before its
 run) or a failed fit, 2 on bad arguments."""
