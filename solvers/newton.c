@@ -770,6 +770,53 @@ static void name_obstacle(const sw_newton *nw, const sw_model *m, sw_data *d, co
            "update at t = %g s (a smaller dt or more max_halvings)", item, iv, frac, t);
 }
 
+#ifdef SW_NEWTON_PROBE
+/* A diagnostic build (-DSW_NEWTON_PROBE, tools/newton_certificate.sh) measures two cheaper
+ * certificates of convergence against Newton's own test, at every iteration after the first
+ * (docs/performance.md, "Newton's last iteration"):
+ * - the chord step dx' = S_prev^-1 (-grad Phi(x)), a solve with the factorisation at hand;
+ * - the residual bound |dx|_M <= |grad Phi|_(M^-1) / a, exact when the filtered S >= a M.
+ * One line per iteration on stderr.  Allocates: never in a normal build. */
+static struct { double *chord, *resid; double chord_size, resid_size; } probe;
+
+static double probe_size(const sw_newton *nw, int norm, const double *v) {
+  double vmax = max_abs(v, nw->n), s = 0.0;
+  if (norm != SW_NORM_RMS || isnan(vmax)) return vmax;
+  for (int c = 0; c < nw->n; c++) s += nw->wdof[c] * v[c] * v[c];
+  return fmax(sqrt(s), vmax / SW_NEWTON_RMS_CAP);
+}
+
+static void probe_before(sw_newton *nw, const sw_model *m, sw_data *d, const sw_newton_opts *o,
+                         int it) {
+  probe.chord_size = probe.resid_size = -1.0;
+  if (it == 0 || !nw->fac_valid) return;
+  probe.chord = realloc(probe.chord, (size_t)nw->n * sizeof(double));
+  probe.resid = realloc(probe.resid, (size_t)nw->n * sizeof(double));
+  if (!probe.chord || !probe.resid) return;
+  if (sw_chol_solve(&nw->chol, nw->g, probe.chord, d->err, sizeof d->err) != SW_OK) return;
+  for (int i = 0; i < m->nv * m->dim; i++)
+    if (m->dof[i] >= 0) probe.resid[m->dof[i]] = nw->g[m->dof[i]] / (o->a * m->mass[i / m->dim]);
+  probe.chord_size = probe_size(nw, o->norm, probe.chord);
+  probe.resid_size = probe_size(nw, o->norm, probe.resid);
+}
+
+/* The error left by a step of this size after one of size prev (Newton's own test). */
+static double probe_left(double step, double prev) {
+  double rate = prev > 0.0 ? step / prev : 1.0;
+  return rate < 0.5 ? step * rate / (1.0 - rate) : step;
+}
+
+static void probe_after(const sw_newton *nw, const sw_newton_opts *o, int it, double prev) {
+  if (probe.chord_size < 0.0) return;
+  double exact = update_size(nw, o->norm, max_abs(nw->dx, nw->n));
+  for (int c = 0; c < nw->n; c++) probe.chord[c] -= nw->dx[c];
+  fprintf(stderr, "newton_probe t=%.17g it=%d tol=%.6e exact=%.6e chord=%.6e diff=%.6e "
+          "left_exact=%.6e left_chord=%.6e resid=%.6e\n", o->t, it, o->tol_dx, exact,
+          probe.chord_size, probe_size(nw, o->norm, probe.chord), probe_left(exact, prev),
+          probe_left(probe.chord_size, prev), probe.resid_size);
+}
+#endif
+
 int sw_newton_solve(sw_newton *nw, const sw_model *m, sw_data *d, double *x, const double *xhat,
                     const sw_newton_opts *o) {
   d->last_newton = 0;
@@ -796,7 +843,13 @@ int sw_newton_solve(sw_newton *nw, const sw_model *m, sw_data *d, double *x, con
       if ((rc = linearise(nw, m, d, x, xhat, o, &phi))) return rc;
       for (int c = 0; c < nw->n; c++) nw->g[c] = -nw->g[c];
     }
+#ifdef SW_NEWTON_PROBE
+    probe_before(nw, m, d, o, it);
+#endif
     if ((rc = direction(nw, m, d, x, o, &fresh))) return rc;
+#ifdef SW_NEWTON_PROBE
+    probe_after(nw, o, it, prev);
+#endif
     d->nnewton++;
     d->last_newton++;
     double slope = 0.0; /* grad Phi . dx, negative for a descent direction */
