@@ -371,7 +371,7 @@ SW_API const char *const *sw_norm_names(void);
 enum { SW_FACTOR_AUTO = 0, SW_FACTOR_SIMPLICIAL = 1, SW_FACTOR_SUPERNODAL = 2, SW_FACTOR_N = 3 };
 SW_API const char *const *sw_factor_names(void);
 /* The fill-reducing ordering of the sparse Cholesky factorisation (docs/performance.md,
- * "Factorisation: ordering, kind and threads"): auto, the measured rule (sw_chol_mode); or
+ * "Factorisation: ordering, kind and threads"): auto, the measured rule (solvers/cholmod.c); or
  * forced: AMD (approximate minimum degree), METIS's nested dissection, or CHOLMOD's own nested
  * dissection (METIS's separators with a constrained minimum degree). */
 enum { SW_ORDERING_AUTO = 0, SW_ORDERING_AMD = 1, SW_ORDERING_METIS = 2, SW_ORDERING_NESDIS = 3,

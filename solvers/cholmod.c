@@ -52,15 +52,36 @@ static int lowrank_init(sw_chol *ch, const sw_pattern *p) {
   return 0;
 }
 
-/* CHOLMOD's method for an SW_ORDERING_* (auto: CHOLMOD's default strategy, AMD then METIS when
- * AMD's factor is costly). */
+/* CHOLMOD's method for an SW_ORDERING_* (auto: AMD first, sw_chol_init). */
 static void chol_ordering(sw_chol *ch, int ordering) {
   static const int method[SW_ORDERING_N] = {CHOLMOD_AMD, CHOLMOD_AMD, CHOLMOD_METIS,
                                             CHOLMOD_NESDIS};
   ch->ordering = ordering > 0 && ordering < SW_ORDERING_N ? ordering : SW_ORDERING_AUTO;
   ch->c.postorder = 1; /* a weighted postorder of the elimination tree: larger supernodes */
-  ch->c.nmethods = ch->ordering == SW_ORDERING_AUTO ? 0 : 1;
-  if (ch->c.nmethods) ch->c.method[0].ordering = method[ch->ordering];
+  ch->c.nmethods = 1;
+  ch->c.method[0].ordering = method[ch->ordering];
+}
+
+/* auto, after AMD's analysis: a factor that costs at least SW_ORDERING_SWITCH flops per
+ * nonzero is analysed again with NESDIS, and the ordering with fewer flops kept (AMD's too when
+ * this CHOLMOD has no METIS). */
+static int chol_auto(sw_chol *ch, char *err, size_t errsz) {
+  const double fl = ch->c.fl, lnz = ch->c.lnz;
+  if (ch->ordering != SW_ORDERING_AUTO || !(fl >= SW_ORDERING_SWITCH * lnz)) return SW_OK;
+  ch->c.method[0].ordering = CHOLMOD_NESDIS;
+  cholmod_factor *nd = cholmod_l_analyze(ch->A, &ch->c);
+  if (nd && ch->c.status >= CHOLMOD_OK && ch->c.fl < fl) {
+    cholmod_l_free_factor(&ch->L, &ch->c);
+    ch->L = nd;
+    return SW_OK;
+  }
+  if (!nd && ch->c.status != CHOLMOD_NOT_INSTALLED && ch->c.status != CHOLMOD_OUT_OF_MEMORY)
+    return chol_failed(ch, "analyze", err, errsz);
+  cholmod_l_free_factor(&nd, &ch->c);
+  ch->c.status = CHOLMOD_OK;
+  ch->c.fl = fl, ch->c.lnz = lnz; /* AMD's stays */
+  ch->c.method[0].ordering = CHOLMOD_AMD;
+  return SW_OK;
 }
 
 void sw_chol_mode(sw_chol *ch, int mode) {
@@ -111,7 +132,7 @@ int sw_chol_init(sw_chol *ch, const sw_pattern *p, int mode, char *err, size_t e
   sw_chol_mode(ch, mode);
   ch->L = cholmod_l_analyze(ch->A, &ch->c);
   if (!ch->L || ch->c.status < CHOLMOD_OK) return chol_failed(ch, "analyze", err, errsz);
-  return SW_OK;
+  return chol_auto(ch, err, errsz);
 }
 
 double *sw_chol_values(sw_chol *ch) { return ch->A->x; }
