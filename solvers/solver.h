@@ -106,7 +106,7 @@ void sw_chol_mode(sw_chol *ch, int mode);
 /* ordering auto: AMD, or NESDIS when it needs fewer flops and AMD's factor takes at least
  * SW_ORDERING_SWITCH flops per nonzero (docs/performance.md, "Factorisation: ordering, kind
  * and threads"). */
-#define SW_ORDERING_SWITCH 200.0
+#define SW_ORDERING_SWITCH 250.0
 /* The mode of a factorisation of kind SW_FACTOR_* with the ordering SW_ORDERING_* (a plain
  * SW_FACTOR_* is that kind with the automatic ordering). */
 #define SW_CHOL_MODE(kind, ordering) ((kind) + SW_FACTOR_N * (ordering))
