@@ -62,12 +62,12 @@ static void chol_ordering(sw_chol *ch, int ordering) {
   ch->c.method[0].ordering = method[ch->ordering];
 }
 
-/* auto, after AMD's analysis: a factor that costs at least SW_ORDERING_SWITCH flops per
- * nonzero is analysed again with NESDIS, and the ordering with fewer flops kept (AMD's too when
- * this CHOLMOD has no METIS). */
+/* auto, after AMD's analysis: a system of at least SW_ORDERING_SWITCH unknowns is analysed
+ * again with NESDIS, and the ordering with fewer flops kept (AMD's too when this CHOLMOD has
+ * no METIS). */
 static int chol_auto(sw_chol *ch, char *err, size_t errsz) {
   const double fl = ch->c.fl, lnz = ch->c.lnz;
-  if (ch->ordering != SW_ORDERING_AUTO || !(fl >= SW_ORDERING_SWITCH * lnz)) return SW_OK;
+  if (ch->ordering != SW_ORDERING_AUTO || ch->A->nrow < SW_ORDERING_SWITCH) return SW_OK;
   ch->c.method[0].ordering = CHOLMOD_NESDIS;
   cholmod_factor *nd = cholmod_l_analyze(ch->A, &ch->c);
   if (nd && ch->c.status >= CHOLMOD_OK && ch->c.fl < fl) {

@@ -103,10 +103,10 @@ int sw_chol_init(sw_chol *ch, const sw_pattern *p, int mode, char *err, size_t e
  * threads"). */
 void sw_chol_mode(sw_chol *ch, int mode);
 #define SW_FACTOR_SWITCH 100.0
-/* ordering auto: AMD, or NESDIS when it needs fewer flops and AMD's factor takes at least
- * SW_ORDERING_SWITCH flops per nonzero (docs/performance.md, "Factorisation: ordering, kind
- * and threads"). */
-#define SW_ORDERING_SWITCH 250.0
+/* ordering auto: AMD, or NESDIS when it needs fewer flops and the system has at least
+ * SW_ORDERING_SWITCH unknowns (docs/performance.md, "Factorisation: ordering, kind and
+ * threads"). */
+#define SW_ORDERING_SWITCH 40000
 /* The mode of a factorisation of kind SW_FACTOR_* with the ordering SW_ORDERING_* (a plain
  * SW_FACTOR_* is that kind with the automatic ordering). */
 #define SW_CHOL_MODE(kind, ordering) ((kind) + SW_FACTOR_N * (ordering))
