@@ -257,7 +257,7 @@ static double tri_eval(const sw_term *t, int s, const sw_eval *ev) {
   }
   if (ev->project) project_psd(B, w, ev->project);
   double *blk = ev->hess + t->hptr[s];
-  for (int k = 0; k < w * w; k++) blk[k] += B[k];
+  sw_hess_add_full(blk, w, B);
   return e;
 }
 

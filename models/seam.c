@@ -106,7 +106,7 @@ static double pair_rest(const sw_model *m, const sw_seam *sm, int p, double t) {
   return sm->gap0 ? sm->gap0[p] * (1.0 - sw_ramp(t, m->seam_ramp)) : 0.0;
 }
 
-/* The Hessian block of one pair (3d x 3d, accumulated): kp c_i c_j [a (I - n n^T) + n n^T],
+/* The Hessian block of one pair (3d x 3d, its upper triangle, accumulated): kp c_i c_j [a (I - n n^T) + n n^T],
  * a = 1 - r/|g| filtered by `project`. */
 static void pair_block(double kp, const double c[3], const double *g, double len, double r,
                        int d, int project, double *blk) {
@@ -120,7 +120,8 @@ static void pair_block(double kp, const double c[3], const double *g, double len
   for (int i = 0; i < 3; i++)
     for (int j = 0; j < 3; j++)
       for (int u = 0; u < d; u++)
-        for (int v = 0; v < d; v++) blk[(i * d + u) * nb + j * d + v] += kp * c[i] * c[j] * P[u * d + v];
+        for (int v = 0; v < d; v++)
+          sw_hess_add(blk, nb, i * d + u, j * d + v, kp * c[i] * c[j] * P[u * d + v]);
 }
 
 static int seam_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, double *energy) {

@@ -149,10 +149,9 @@ static int springs_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, 
     double *blk = ev->hess + t->hptr[s];
     for (int a = 0; a < d; a++)
       for (int c = 0; c < d; c++) {
-        blk[a * w + c] += H[a * d + c];
-        blk[(d + a) * w + d + c] += H[a * d + c];
-        blk[a * w + d + c] -= H[a * d + c];
-        blk[(d + a) * w + c] -= H[a * d + c];
+        sw_hess_add(blk, w, a, c, H[a * d + c]);
+        sw_hess_add(blk, w, d + a, d + c, H[a * d + c]);
+        sw_hess_add(blk, w, a, d + c, -H[a * d + c]);
       }
   }
   *energy = total;
