@@ -105,7 +105,8 @@ void sw_membrane_free(void *param) {
   sw_free(mb);
 }
 
-/* Hessian block of one face from P (2d x 2d): (3d x 3d), vertex-major, its upper triangle. */
+/* Hessian block of one face from P (2d x 2d): (3d x 3d), vertex-major, its upper triangle, set
+ * (every entry written: the membranes' ops have sets_blocks). */
 static void membrane_block(const double *cu, const double *cv, double area, const double *P,
                            int d, double *blk) {
   const int ld = 2 * d, n = 3 * d;
@@ -115,7 +116,7 @@ static void membrane_block(const double *cu, const double *cv, double area, cons
       double vu = area * cv[i] * cu[j], vv = area * cv[i] * cv[j];
       for (int a = 0; a < d; a++)
         for (int b = j == i ? a : 0; b < d; b++)
-          blk[sw_hess_upper(i * d + a, j * d + b, n)] +=
+          blk[sw_hess_upper(i * d + a, j * d + b, n)] =
               uu * P[a * ld + b] + uv * P[a * ld + d + b] + vu * P[(d + a) * ld + b] +
               vv * P[(d + a) * ld + d + b];
     }

@@ -78,7 +78,8 @@ typedef struct sw_eval {
   double t;                    /* time, s */
   const double *x;             /* (nv x dim) positions, m (pinned ones included) */
   double *grad;                /* (nv x dim) += dE/dx, N; or NULL */
-  double *hess;                /* += d2E/dx2 per stencil block (see sw_term.hptr), N/m; or NULL */
+  double *hess;                /* += d2E/dx2 per stencil block (see sw_term.hptr), N/m, or set
+                                  (=) by a term with sets_blocks; or NULL */
   double *lowrank;             /* the low-rank vectors u_r of the Hessian (see sw_term.lptr),
                                   sqrt(N/m), written (not accumulated) whenever hess is asked
                                   for; never NULL then for a term with nlowrank > 0 */
@@ -101,6 +102,9 @@ typedef struct sw_term_ops {
   /* energy (J) into *energy; gradient and Hessian blocks as asked by ev. */
   int (*eval)(const sw_term *term, const sw_model *m, const sw_eval *ev, double *energy);
   void (*free_param)(void *param);
+  /* 1: whenever hess is asked for, eval sets (=, not +=) every stored entry of every one of its
+   * blocks, so they are not zeroed before it (a term that may skip a block leaves this 0). */
+  int sets_blocks;
 } sw_term_ops;
 
 /* Offset of entry (r, c), r <= c, in the upper triangle of a w x w block stored row by row. */

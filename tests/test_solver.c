@@ -105,6 +105,26 @@ static void add_repeat_term(sw_model *m) {
   memcpy(nt->sidx, v, sizeof v);
 }
 
+/* A term with sets_blocks writes every stored entry of its blocks: evaluated into a buffer of
+ * NaN, it leaves what it leaves in a zeroed one. */
+static void check_sets_blocks(const sw_model *m, const sw_data *d, const char *label) {
+  for (int k = 0; k < m->nterm; k++) {
+    const sw_term *t = &m->term[k];
+    if (!t->ops->sets_blocks) continue;
+    long len = t->hptr[t->nstencil];
+    double *h = malloc(sizeof(double) * (size_t)(len + 1)), e;
+    double *lr = calloc((size_t)(t->nlowrank ? t->lptr[t->nlowrank] * m->dim : 0) + 1, sizeof *lr);
+    assert_non_null(h), assert_non_null(lr);
+    for (long q = 0; q < len; q++) h[q] = NAN;
+    sw_eval ev = {.x = d->x, .hess = h, .lowrank = lr, .project = SW_FILTER_CLAMP};
+    assert_int_equal(t->ops->eval(t, m, &ev, &e), SW_OK);
+    long same = 0;
+    for (long q = 0; q < len; q++) same += h[q] == d->hess[d->hoff[k] + q];
+    if (same != len) fail_msg("%s: term %s left %ld of %ld entries unset", label, t->name, len - same, len);
+    free(h), free(lr);
+  }
+}
+
 /* The assembled S = a M + sum of the terms' blocks, as a product S v on the pattern
  * (sw_pattern_symv of sw_pattern_fill), against the blocks multiplied out one by one, each
  * read in full (both halves of its stored upper triangle): every term of the model, every
@@ -151,6 +171,7 @@ static void check_fill_products(sw_model *m, const char *label) {
   print_message("%s: %d terms, %ld block entries, %ld pattern entries, |S v - sum B v| %.2e "
                 "of %.2e\n", label, m->nterm, entries, p.nnz, err_max, scale);
   assert_true(err_max <= 1e-12 * scale);
+  check_sets_blocks(m, d, label);
   free(val), free(v), free(y), free(want);
   sw_pattern_free(&p, m->nterm);
   sw_data_free(d);
