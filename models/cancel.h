@@ -2,9 +2,9 @@
  * large mesh obstacle, counting intersecting pairs), so that a SIGINT or SIGTERM ends them
  * within a fraction of a second.
  *
- * The flag lives on models' floor so that models never call up into the run loop: the layer
- * above sets it (sim/sim.c: sw_interrupt, safe from a signal handler) and clears it; models
- * only read it. */
+ * The flag lives on models' floor so that models never call up into the run loop: the run
+ * loop sets it (sim/sim.c: sw_interrupt, safe from a signal handler) and clears it; models and
+ * the OBJ reader (sim/input/obj.c) only read it. */
 #ifndef SW_CANCEL_H
 #define SW_CANCEL_H
 
