@@ -186,7 +186,7 @@ int sw_mcontact_check_start(const sw_model *m, const double *x, int obstacles, c
 /* The pairs of a cloth triangle and a mesh obstacle's that intersect with the cloth at x and
  * the obstacles at time t (exact, models/intersect.c); the first pair's faces (numbering the
  * obstacles' after the cloth's) into first when not NULL; -1 when out of memory, -2 when
- * stopped by a signal (sw_interrupted). */
+ * stopped by a signal (cancel.h: sw_cancelled). */
 long sw_mcontact_obstacle_intersections(const sw_model *m, sw_mcontact *mc, const double *x,
                                         double t, int *first);
 /* The self-contact diagnostics of d at d->x (sinew.h: self_count, self_min, self_force), and

@@ -29,6 +29,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "cancel.h"
 #include "contact.h"
 #include "contact_geom.h"
 #include "terms.h"
@@ -975,7 +976,7 @@ static int build_tree(mc_param *p, const sw_model *m, char *err, size_t errsz) {
   int rc = sw_bvh_build(&p->tree, p->nf - m->nf, tree_box, &c);
   if (rc == -2)
     return sw_errf(err, errsz, "stopped by signal %d while building the mesh obstacles' "
-                   "tree", sw_interrupted()), -1;
+                   "tree", sw_cancelled()), -1;
   if (rc) return sw_errf(err, errsz, "out of memory for the mesh obstacles' tree"), -1;
   if (p->moving) { /* each workspace fits its own (fit_tree) */
     sw_free(p->tree.box);
@@ -1305,7 +1306,7 @@ long sw_mcontact_obstacle_intersections(const sw_model *m, sw_mcontact *mc, cons
   if (broad_phase(m, mc, &q, &q, 0.0, SW_BP_FF)) return -1;
   long count = 0;
   for (int k = 0; k < mc->bp.nff; k++) {
-    if ((k & 0xffff) == 0xffff && sw_interrupted()) return -2; /* a stop request */
+    if ((k & 0xffff) == 0xffff && sw_cancelled()) return -2; /* a stop request */
     int v[6];
     double p[18];
     face_vertices(m, mc->p, mc->bp.ff[2 * k], v);

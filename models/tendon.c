@@ -2,7 +2,7 @@
  * docs/tendons.md).
  *
  * A tendon with waypoints w_0 .. w_{n-1} has segments s_k = x_{w_k} - x_{w_{k+1}} (the tendon
- * model §1.2), length l = sum |s_k|, rest length alpha(t) (keyframes, models/forcing.c),
+ * model §1.2), length l = sum |s_k|, rest length alpha(t) (keyframes, models/keyframe.c),
  * Delta = l - alpha and energy
  * E(Delta; K):  spring E = K/2 Delta^2;  cable E = K/2 max(Delta, 0)^2.  With s^_k = s_k/|s_k|:
  *   grad Delta at waypoint a = s^_a - s^_{a-1}            (its "first partials"; the end

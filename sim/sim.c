@@ -17,6 +17,7 @@
 #include <unistd.h>
 
 #include "output.h"
+#include "cancel.h"
 #include "contact.h"
 #include "solver.h"
 #include "util.h"
@@ -268,14 +269,13 @@ int sw_sim_step(sw_sim *s, char *err, size_t errsz) {
   return rc;
 }
 
-static volatile sig_atomic_t stop_signal; /* sw_interrupt's request */
-
-void sw_interrupt(int sig) { stop_signal = sig; }
-int sw_interrupted(void) { return stop_signal; }
+/* The request is models' flag (models/cancel.h), which their long loops poll. */
+void sw_interrupt(int sig) { sw_stop_request = sig; }
+int sw_interrupted(void) { return sw_stop_request; }
 
 /* Stop at sw_interrupt's request: the state is that of the last step, whole. */
 static int stop(sw_sim *s, char *err, size_t errsz) {
-  int sig = stop_signal;
+  int sig = sw_stop_request;
   s->stopped = 1;
   snprintf(s->msg, sizeof s->msg, "interrupted by signal %d (%s) at t = %.9g s", sig,
            sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : "signal", s->d->t);
@@ -297,7 +297,7 @@ int sw_sim_run_steps(sw_sim *s, double until, long max_steps, char *err, size_t 
   const double dt = s->m->opt.dt;
   int rc = SW_OK;
   for (long k = 0; rc == SW_OK && s->d->t < until && (max_steps < 0 || k < max_steps); k++) {
-    if (stop_signal) return stop(s, err, errsz);
+    if (sw_stop_request) return stop(s, err, errsz);
     /* a step ends on the grid (not a running sum), and a last sliver below dt/1e6 is merged */
     double grid = grid_next(s), end = fmin(grid, until);
     if (until - end < 1e-6 * dt) end = until;
@@ -448,7 +448,7 @@ static int fit_stage(sw_sim *s, char *err, size_t errsz) {
   if (!f->on) return SW_OK;
   int rc = s->fitting ? SW_OK : fit_enter(s, err, errsz);
   while (rc == SW_OK && !fit_over(s, &rc, err, errsz)) {
-    if (stop_signal) return stop(s, err, errsz);
+    if (sw_stop_request) return stop(s, err, errsz);
     rc = fit_step(s, fit_next(s), err, errsz);
   }
   if (!rc && f->mode != SW_FIT_DYNAMIC) /* a rest state: dx/h was no speed */

@@ -286,10 +286,10 @@ typedef struct sw_tendon {
   double damping;              /* N s/m: force -c (dl/dt) grad l along the tendon */
 } sw_tendon;
 
-/* Forcing (models/forcing.c, docs/scenes.md "Forcing").  Keyframes are interpolated linearly
- * (the slope jumps at each keyframe) or smoothly: the quintic blend 6u^5 - 15u^4 + 10u^3
- * between consecutive keyframes, C^2 everywhere and never outside the keyframes' range.
- * Scenes default to smooth; a zeroed sw_tendon is linear. */
+/* Forcing (models/keyframe.c and forcing.c, docs/scenes.md "Forcing").  Keyframes are
+ * interpolated linearly (the slope jumps at each keyframe) or smoothly: the quintic blend
+ * 6u^5 - 15u^4 + 10u^3 between consecutive keyframes, C^2 everywhere and never outside the
+ * keyframes' range.  Scenes default to smooth; a zeroed sw_tendon is linear. */
 /* Seams (models/seam.c, docs/garments.md): two boundary curves of the pattern, each a run of
  * a panel's boundary, sewn together.  Each vertex of either curve is paired with the point at
  * the same fraction of arc length (in the (u,v) pattern) on the other curve, which may lie

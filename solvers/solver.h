@@ -328,8 +328,9 @@ typedef struct sw_integrator_ops {
  * motion changed at d->t, a history of states still holds). */
 enum { SW_CHANGED_STATE = 1, SW_CHANGED_MODEL = 2 };
 
-/* SW_OK, or SW_RECOVER (with d->err) when K(v) + U(x, t) exceeds d->energy_bound (> 0) or is
- * not finite: an explicit method blowing up fails the step instead of producing garbage. */
+/* energy_check.c: SW_OK, or SW_RECOVER (with d->err) when K(v) + U(x, t) exceeds
+ * d->energy_bound (> 0) or is not finite: an explicit method blowing up fails the step instead
+ * of producing garbage. */
 int sw_energy_check(const sw_model *m, sw_data *d, const double *x, const double *v, double t);
 /* The automatic bound: E0 + 1e3 * (|E0| + sum of |term energies| + K0 + M |g| diam(x0) + 1 uJ). */
 double sw_energy_bound(const sw_model *m, sw_data *d);
