@@ -104,7 +104,7 @@ static double friction_f0(double y, double eps, double *f1_over_y) {
 }
 
 /* Friction of vertex i against obstacle o: energy (J), gradient and Hessian block (dim x dim,
- * positive semi-definite as it is) added. */
+ * its upper triangle; positive semi-definite as it is) added. */
 static double friction_add(const sw_model *m, const sw_contact_lag *lag, int i, int o,
                            const double *x, double t, double *g, double *H) {
   const int dim = m->dim;
@@ -120,7 +120,7 @@ static double friction_add(const sw_model *m, const sw_contact_lag *lag, int i, 
   double c = y <= 0.0 ? 0.0 : (y >= eps ? -1.0 / y : -y / (eps * eps)) / (y * y);
   for (int a = 0; a < dim; a++)
     for (int b = 0; b < dim; b++)
-      H[a * dim + b] += mul * (q * ((a == b) - n0[a] * n0[b]) + c * u[a] * u[b]);
+      sw_hess_add(H, dim, a, b, mul * (q * ((a == b) - n0[a] * n0[b]) + c * u[a] * u[b]));
   return e;
 }
 
@@ -151,7 +151,7 @@ static int barrier_add(const sw_model *m, const sw_eval *ev, int i, int o, doubl
    * presses closer, and its absolute value stiffens the tangential directions by twice the
    * exact amount, which made Newton converge linearly on a cloth pressed onto a sphere. */
   sw_psd_project(B, dim, ev->project == SW_FILTER_ABS ? SW_FILTER_CLAMP : ev->project);
-  for (int k = 0; k < dim * dim; k++) H[k] += B[k];
+  sw_hess_add_full(H, dim, B);
   return SW_OK;
 }
 

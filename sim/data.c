@@ -107,8 +107,10 @@ int sw_eval_terms(const sw_model *m, sw_data *d, const double *x, double t, int 
                   int want_hess, int project, double *energy) {
   size_t nd = (size_t)m->nv * (size_t)m->dim;
   if (want_grad) memset(d->grad, 0, nd * sizeof(double));
-  if (want_hess) {
-    memset(d->hess, 0, (size_t)d->hoff[m->nterm] * sizeof(double));
+  if (want_hess) { /* blocks zeroed only where a term adds into them */
+    for (int k = 0; k < m->nterm; k++)
+      if (!m->term[k].ops->sets_blocks)
+        memset(d->hess + d->hoff[k], 0, (size_t)(d->hoff[k + 1] - d->hoff[k]) * sizeof(double));
     memset(d->lowrank, 0, (size_t)d->loff[m->nterm] * sizeof(double));
   }
   double total = 0.0;

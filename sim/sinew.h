@@ -78,7 +78,8 @@ typedef struct sw_eval {
   double t;                    /* time, s */
   const double *x;             /* (nv x dim) positions, m (pinned ones included) */
   double *grad;                /* (nv x dim) += dE/dx, N; or NULL */
-  double *hess;                /* += d2E/dx2 per stencil block (see sw_term.hptr), N/m; or NULL */
+  double *hess;                /* += d2E/dx2 per stencil block (see sw_term.hptr), N/m, or set
+                                  (=) by a term with sets_blocks; or NULL */
   double *lowrank;             /* the low-rank vectors u_r of the Hessian (see sw_term.lptr),
                                   sqrt(N/m), written (not accumulated) whenever hess is asked
                                   for; never NULL then for a term with nlowrank > 0 */
@@ -135,6 +136,9 @@ typedef struct sw_term_ops {
   /* energy (J) into *energy; gradient and Hessian blocks as asked by ev. */
   int (*eval)(const sw_term *term, const sw_model *m, const sw_eval *ev, double *energy);
   void (*free_param)(void *param);
+  /* 1: whenever hess is asked for, eval sets (=, not +=) every stored entry of every one of its
+   * blocks, so they are not zeroed before it (a term that may skip a block leaves this 0). */
+  int sets_blocks;
 
   /* --- workspace */
   /* the term's workspace for d (sw_data_new, after d's own arrays), or NULL when out of
@@ -200,9 +204,22 @@ typedef struct sw_term_ops {
   void (*io)(const sw_term *term, const sw_model *m, void *data, struct sw_io *io);
 } sw_term_ops;
 
+/* Offset of entry (r, c), r <= c, in the upper triangle of a w x w block stored row by row. */
+static inline long sw_hess_upper(int r, int c, int w) {
+  return (long)r * w - (long)r * (r - 1) / 2 + (c - r);
+}
+/* Doubles in the upper triangle of a w x w block. */
+static inline long sw_hess_size(int w) { return (long)w * (w + 1) / 2; }
+/* Entry (r, c) of a symmetric block stored as its upper triangle (either order of r, c). */
+static inline double sw_hess_get(const double *blk, int r, int c, int w) {
+  return r <= c ? blk[sw_hess_upper(r, c, w)] : blk[sw_hess_upper(c, r, w)];
+}
+
 /* One energy term: its operations, its Hessian stencils (declared once), its parameters.
- * Stencil s covers vertices sidx[sptr[s] .. sptr[s+1]-1]; its dense Hessian block of
- * (n*dim) x (n*dim) doubles (row-major, vertex-major then component) starts at hess + hptr[s].
+ * Stencil s covers vertices sidx[sptr[s] .. sptr[s+1]-1]; its Hessian block, symmetric of
+ * w = n*dim rows (vertex-major then component), is stored as its upper triangle, row by row:
+ * entry (r, c), r <= c, at hess + hptr[s] + sw_hess_upper(r, c, w), sw_hess_size(w) doubles in
+ * all (the lower half is never stored, assembled or read).
  * A term may also declare low-rank vectors: its Hessian is then the sum of the blocks plus
  * sum_r u_r u_r^T, where u_r covers vertices lidx[lptr[r] .. lptr[r+1]-1] and its n*dim values
  * (vertex-major) start at lowrank + lptr[r]*dim.  They keep a coupling of many vertices (a

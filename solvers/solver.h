@@ -17,7 +17,12 @@ typedef struct sw_pattern {
   long *colptr;          /* (n + 1) */
   long *rowind;          /* (nnz), sorted within each column */
   long *diag;            /* (n) slot of each diagonal entry */
-  int **map;             /* (nterm) for term k: the slot of each Hessian block entry, or -1 */
+  int **map;             /* (nterm) for term k: the slot of each entry of its blocks' upper
+                            triangles (sw_hess_upper), or -1 (a pinned component) */
+  long ndup;             /* entries off a block's diagonal that land on the matrix's diagonal
+                            (a vertex twice in one stencil): added a second time */
+  long *dupsrc;          /* (ndup) index of each in d->hess */
+  long *dupslot;         /* (ndup) its slot */
   /* The terms' low-rank vectors (sw_term.lptr) on the free DOFs: the system is
    * S = (values on the pattern) + sum_r v_r v_r^T, v_r stored sparse (CSC, n x nlr). */
   int nlr;               /* vectors of all terms */
