@@ -157,7 +157,8 @@ static int barrier_add(const sw_model *m, const sw_eval *ev, int i, int o, doubl
 
 static int contact_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, double *energy) {
   const int dim = m->dim;
-  const sw_contact_lag *lag = ev->lag;
+  const sw_contact_lag *lag = ev->lag; /* a caller's own, or the step's (lagged: h > 0) */
+  if (!lag && ev->data && ((const sw_contact_lag *)ev->data)->h > 0.0) lag = ev->data;
   double e = 0.0;
   for (int s = 0; s < t->nstencil; s++) {
     int i = t->sidx[s];
@@ -174,7 +175,33 @@ static int contact_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, 
   return SW_OK;
 }
 
-static const sw_term_ops contact_ops = {.kind = "contact", .eval = contact_eval};
+static void *contact_data_new(const sw_term *t, const sw_model *m, sw_data *d);
+static void contact_data_free(void *data);
+static int contact_begin_op(const sw_term *t, const sw_model *m, sw_data *d, void *data,
+                            double h, double t1, double *y);
+static double contact_bound(const sw_term *t, const sw_model *m, sw_data *d, void *data,
+                            const double *x0, const double *x1, double time);
+static void contact_clip_op(const sw_term *t, const sw_model *m, sw_data *d, void *data,
+                            const double *x0, const double *x1, double time, double *frac);
+static int contact_settled_op(const sw_term *t, const sw_model *m, sw_data *d, void *data,
+                              const double *x0, const double *x1, double time);
+static int contact_swept_op(const sw_term *t, const sw_model *m, sw_data *d, void *data,
+                            const double *y, double t1);
+static int contact_held(const sw_term *t, const sw_model *m, const sw_data *d, const void *data,
+                        const double *x, double time, const double *vfrac, double frac,
+                        int *item, int *vertex, double *held);
+static void contact_state_op(const sw_term *t, const sw_model *m, sw_data *d, void *data);
+static const double *contact_vertex_force(const sw_term *t, const sw_model *m,
+                                          const sw_data *d, const void *data);
+static int contact_dissipates(const sw_term *t, const sw_model *m);
+
+static const sw_term_ops contact_ops = {
+    .kind = "contact", .eval = contact_eval,
+    .data_new = contact_data_new, .data_free = contact_data_free,
+    .begin = contact_begin_op, .bound = contact_bound, .clip = contact_clip_op,
+    .settled = contact_settled_op, .swept = contact_swept_op, .held = contact_held,
+    .state = contact_state_op, .vertex_force = contact_vertex_force,
+    .dissipates = contact_dissipates};
 
 int sw_contact_build(sw_term *t, const sw_model *m, char *err, size_t errsz) {
   t->ops = &contact_ops;
@@ -407,18 +434,94 @@ void sw_contact_state(const sw_model *m, sw_data *d) {
   }
 }
 
-void sw_contact_pressure(const sw_model *m, sw_data *d) {
-  if (!d->contact_pressure) return;
-  const double *fo = d->lag ? ((const lag_store *)d->lag)->vforce : NULL;
-  const double *fs = sw_mcontact_vertex_force(d->mc);
-  for (int f = 0; f < m->nf; f++) {
-    double p = 0.0;
-    for (int c = 0; c < 3; c++) {
-      int i = m->face[3 * f + c];
-      double share = d->vertex_area[i]; /* m^2 */
-      double fi = (fo ? fo[i] : 0.0) + (fs ? fs[i] : 0.0); /* N */
-      p += share > 0.0 ? fi / share / 3.0 : 0.0; /* N/m^2 */
-    }
-    d->contact_pressure[f] = p;
+/* ------------------------------------------------------ the term's optional operations */
+
+/* The workspace: the lag (also d->lag, by name for the functions above). */
+static void *contact_data_new(const sw_term *t, const sw_model *m, sw_data *d) {
+  (void)t;
+  return d->lag = sw_contact_lag_new(m);
+}
+
+static void contact_data_free(void *data) { sw_contact_lag_free(data); }
+
+/* The solvers' contact checks, each timed into d->time_contact. */
+static int contact_begin_op(const sw_term *t, const sw_model *m, sw_data *d, void *data,
+                            double h, double t1, double *y) {
+  (void)t, (void)data;
+  double t0 = sw_now();
+  int rc = sw_contact_begin(m, d, h, t1, y);
+  d->time_contact += sw_now() - t0;
+  return rc;
+}
+
+static double contact_bound(const sw_term *t, const sw_model *m, sw_data *d, void *data,
+                            const double *x0, const double *x1, double time) {
+  (void)t, (void)data;
+  double t0 = sw_now(), r = sw_contact_toi(m, x0, x1, time);
+  d->time_contact += sw_now() - t0;
+  return r;
+}
+
+static void contact_clip_op(const sw_term *t, const sw_model *m, sw_data *d, void *data,
+                            const double *x0, const double *x1, double time, double *frac) {
+  (void)t, (void)data;
+  double t0 = sw_now();
+  sw_contact_clip(m, x0, x1, time, frac);
+  d->time_contact += sw_now() - t0;
+}
+
+static int contact_settled_op(const sw_term *t, const sw_model *m, sw_data *d, void *data,
+                              const double *x0, const double *x1, double time) {
+  (void)t, (void)data;
+  double t0 = sw_now();
+  int r = sw_contact_settled(m, x0, x1, time);
+  d->time_contact += sw_now() - t0;
+  return r;
+}
+
+static int contact_swept_op(const sw_term *t, const sw_model *m, sw_data *d, void *data,
+                            const double *y, double t1) {
+  (void)t, (void)data;
+  double t0 = sw_now();
+  int rc = sw_contact_swept(m, d, y, t1);
+  d->time_contact += sw_now() - t0;
+  return rc;
+}
+
+/* After Newton failed: when the clip held a vertex below 1/2 of its update, the most held
+ * one and the obstacle nearest it. */
+static int contact_held(const sw_term *t, const sw_model *m, const sw_data *d, const void *data,
+                        const double *x, double time, const double *vfrac, double frac,
+                        int *item, int *vertex, double *held) {
+  (void)t, (void)d, (void)data, (void)frac;
+  int iv = -1;
+  for (int i = 0; vfrac && i < m->nv; i++)
+    if (vfrac[i] < 0.5 && (iv < 0 || vfrac[i] < vfrac[iv])) iv = i;
+  if (iv < 0) return 0;
+  double best = INFINITY;
+  *item = -1;
+  for (int k = 0; k < m->nobstacle; k++) {
+    double dist = sw_obstacle_sdf(&m->obstacle[k], m->dim, time, x + (size_t)iv * m->dim, NULL,
+                                  NULL);
+    if (dist < best) best = dist, *item = m->obstacle[k].item;
   }
+  *vertex = iv;
+  *held = vfrac[iv];
+  return 1;
+}
+
+static void contact_state_op(const sw_term *t, const sw_model *m, sw_data *d, void *data) {
+  (void)t, (void)data;
+  sw_contact_state(m, d);
+}
+
+static const double *contact_vertex_force(const sw_term *t, const sw_model *m,
+                                          const sw_data *d, const void *data) {
+  (void)t, (void)m, (void)d;
+  return data ? ((const lag_store *)data)->vforce : NULL;
+}
+
+static int contact_dissipates(const sw_term *t, const sw_model *m) {
+  (void)t;
+  return m->contact.friction > 0.0;
 }

@@ -102,9 +102,6 @@ int sw_contact_swept(const sw_model *m, sw_data *d, const double *y, double t1);
 /* The contact diagnostics of d (sinew.h: contact_count, contact_min, contact_force,
  * friction_force) at d->x, d->t. */
 void sw_contact_state(const sw_model *m, sw_data *d);
-/* d->contact_pressure from the last diagnostics of obstacles and self-contact: per face, the
- * mean over its corners of |contact force| / the corner's share of the rest area, N/m^2. */
-void sw_contact_pressure(const sw_model *m, sw_data *d);
 /* The lag's buffers (NULL: the model has no obstacles), and their release. */
 sw_contact_lag *sw_contact_lag_new(const sw_model *m);
 void sw_contact_lag_free(sw_contact_lag *lag);

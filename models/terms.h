@@ -32,6 +32,15 @@ static inline void sw_hess_set_full(double *blk, int w, const double *A) {
 int sw_term_alloc_stencils(sw_term *t, int nstencil, int per, int dim);
 void sw_term_free(sw_term *t);
 
+/* sim/data.c: the terms' optional operations of the run (sw_term_ops), on every term that has
+ * one, in the order of m->term.  sw_terms_state: each term's diagnostics of d, then the faces'
+ * contact pressure (d->contact_pressure: per face, the mean over its corners of the terms'
+ * summed |contact force| / the corner's share of the rest area, N/m^2); sw_terms_commit: each
+ * term's commit; sw_terms_dissipate: 1 when a term dissipates (friction). */
+void sw_terms_state(const sw_model *m, sw_data *d);
+void sw_terms_commit(const sw_model *m, sw_data *d);
+int sw_terms_dissipate(const sw_model *m);
+
 /* An eigenvalue lam of a Hessian after the filter `mode` (SW_FILTER_*, sinew.h): unchanged
  * (none), clamped at 0 (clamp), or its absolute value (abs).  A NaN stays NaN. */
 static inline double sw_filter_eigenvalue(double lam, int mode) {

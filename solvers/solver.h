@@ -106,6 +106,8 @@ int sw_chol_init(sw_chol *ch, const sw_pattern *p, int mode, char *err, size_t e
  * supernodal"). */
 void sw_chol_mode(sw_chol *ch, int mode);
 #define SW_FACTOR_SWITCH 100.0
+#define SW_BLOCK_MAXS (9 * SW_BLOCK_MAXV * SW_BLOCK_MAXV) /* slots of a term's largest extra
+                                                       block, in 3D */
 /* 1: the analysis chose a supernodal factor, 0: simplicial, -1: not analysed. */
 int sw_chol_super(const sw_chol *ch);
 double *sw_chol_values(sw_chol *ch);
@@ -167,17 +169,22 @@ typedef struct sw_newton {
   double theta;          /* the last observed contraction |dx_k| / |dx_k-1| */
   double *wdof;          /* (n) each free DOF's share of the free mass, m_i / sum m_i */
   int iter;              /* the current iteration of the solve */
-  double *vfrac;         /* (nv) with obstacles: each vertex's allowed fraction of a step */
-  double mfrac;          /* mesh contact: the fraction of the last update its CCD allowed */
-  /* self-contact: the vertex pairs its Hessian has coupled so far, on top of the stencils'
-   * pattern (it only grows: a pair once in contact keeps its entries for the run) */
+  /* the terms' step limits (sw_term_ops bound, clip, ccd) */
+  double *vfrac;         /* (nv) with a term that clips: each vertex's allowed fraction of a
+                            step */
+  double *vtmp;          /* (nv) with two or more such terms: the next one's fractions */
+  double *tfrac;         /* (nterm) the fraction of the last update each term's ccd allowed */
+  int nblock_terms;      /* terms with extra Hessian blocks (sw_term_ops.blocks) */
+  /* the vertex pairs the terms' extra blocks have coupled so far, on top of the stencils'
+   * pattern (it only grows: a pair once coupled keeps its entries for the run) */
   int *xpair;            /* (2 nxpair) */
   long nxpair, capxpair;
-  /* self-contact: the pattern's slots of the pairs' blocks, kept for the pattern by the pairs'
-     vertices (an open-addressing hash table of entries into kv and kslot) */
+  /* the pattern's slots of the extra blocks, kept for the pattern by the blocks' vertices (an
+     open-addressing hash table of entries into kv and kslot) */
   int *ktab;             /* (captab, a power of 2) an entry, or -1 */
-  int *kv;               /* (capslot x 4) each entry's vertices */
-  int *kslot;            /* (capslot x 144) its block's slots (sw_pattern_block_slots) */
+  int *kv;               /* (capslot x SW_BLOCK_MAXV) each entry's vertices (-1 past nvb) */
+  int *kslot;            /* (capslot x SW_BLOCK_MAXS) its block's slots
+                            (sw_pattern_block_slots) */
   int captab, nslot, capslot;
 } sw_newton;
 
