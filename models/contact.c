@@ -195,13 +195,25 @@ static const double *contact_vertex_force(const sw_term *t, const sw_model *m,
                                           const sw_data *d, const void *data);
 static int contact_dissipates(const sw_term *t, const sw_model *m);
 
+/* Every free vertex starts outside every obstacle's contact surface. */
+static int contact_check_start(const sw_term *t, const sw_model *m, const double *x,
+                               const char **key, char *err, size_t errsz) {
+  (void)t;
+  char e[SW_ERRSZ];
+  if (!sw_contact_outside(m, x, 0.0, e, sizeof e)) return 0;
+  *key = "obstacles";
+  sw_errf(err, errsz, "%s; expected every free vertex to start outside every obstacle's "
+          "contact surface", e);
+  return -1;
+}
+
 static const sw_term_ops contact_ops = {
     .kind = "contact", .eval = contact_eval,
     .data_new = contact_data_new, .data_free = contact_data_free,
     .begin = contact_begin_op, .bound = contact_bound, .clip = contact_clip_op,
     .settled = contact_settled_op, .swept = contact_swept_op, .held = contact_held,
     .state = contact_state_op, .vertex_force = contact_vertex_force,
-    .dissipates = contact_dissipates};
+    .dissipates = contact_dissipates, .check_start = contact_check_start};
 
 int sw_contact_build(sw_term *t, const sw_model *m, char *err, size_t errsz) {
   t->ops = &contact_ops;

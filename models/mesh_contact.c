@@ -962,12 +962,34 @@ static int mc_summary(const sw_term *t, const sw_model *m, const sw_data *d, voi
                       sw_field *f, int nmax);
 static void mc_io(const sw_term *t, const sw_model *m, void *data, sw_io *io);
 
+/* The cloth starts apart from every mesh obstacle by more than its offset, and (with
+ * self-contact) its triangles apart by more than the thickness. */
+static int mc_check_start(const sw_term *t, const sw_model *m, const double *x, const char **key,
+                          char *err, size_t errsz) {
+  (void)t;
+  char e[SW_ERRSZ];
+  if (sw_mcontact_check_start(m, x, 1, e, sizeof e)) {
+    *key = "obstacles";
+    sw_errf(err, errsz, "%s; expected the cloth to start apart from every mesh obstacle by "
+            "more than its offset", e);
+    return -1;
+  }
+  if (sw_mcontact_check_start(m, x, 0, e, sizeof e)) {
+    *key = "contact: self";
+    sw_errf(err, errsz, "%s; expected a starting mesh whose triangles are apart by more than "
+            "the thickness", e);
+    return -1;
+  }
+  return 0;
+}
+
 static const sw_term_ops mc_ops = {
     .kind = "mesh_contact", .eval = mc_eval, .free_param = mc_free,
     .data_new = mc_data_new, .data_free = mc_data_free, .blocks = mc_blocks,
     .begin = mc_begin, .ccd = mc_ccd, .settled = mc_settled, .swept = mc_swept,
     .held = mc_held, .commit = mc_commit, .state = mc_state, .vertex_force = mc_vertex_force,
-    .dissipates = mc_dissipates, .summary = mc_summary, .io = mc_io};
+    .dissipates = mc_dissipates, .summary = mc_summary, .io = mc_io,
+    .check_start = mc_check_start};
 
 /* The numbering of the mesh obstacles' vertices and faces after the cloth's, and their radii
  * about their centres and rotation axes; -1 when out of memory. */

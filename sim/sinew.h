@@ -202,6 +202,13 @@ typedef struct sw_term_ops {
                  sw_field *f, int nmax);
   /* the term's run state into or out of restart.bin (sim/util.h, sw_io_bytes) */
   void (*io)(const sw_term *term, const sw_model *m, void *data, struct sw_io *io);
+
+  /* --- loading (sim/input/scene.c) */
+  /* whether the term can start from the scene's state x: 0, or nonzero with err ("what is
+   * wrong; expected ...") and *key the scene key the error is reported at ("obstacles",
+   * "contact") */
+  int (*check_start)(const sw_term *term, const sw_model *m, const double *x, const char **key,
+                     char *err, size_t errsz);
 } sw_term_ops;
 
 /* Offset of entry (r, c), r <= c, in the upper triangle of a w x w block stored row by row. */

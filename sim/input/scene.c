@@ -10,7 +10,6 @@
 #include "scene.h"
 #include "scene_material.h"
 #include "scene_fabric.h"
-#include "contact.h"
 
 #include "util.h"
 
@@ -616,21 +615,13 @@ sw_model *sw_scene_parse_ex(const char *name, const char *buf, size_t len,
     sw_model_free(c.m);
     return NULL;
   }
-  if (c.m->nobstacle > 0 && sw_contact_outside(c.m, c.m->x0, 0.0, e, sizeof e)) {
-    sw_errf(err, errsz, "%s:%d:%d: obstacles: %s; expected every free vertex to start outside "
-            "every obstacle's contact surface", name, ob[0], ob[1], e);
-    sw_model_free(c.m);
-    return NULL;
-  }
-  if (sw_mcontact_check_start(c.m, c.m->x0, 1, e, sizeof e)) {
-    sw_errf(err, errsz, "%s:%d:%d: obstacles: %s; expected the cloth to start apart from every "
-            "mesh obstacle by more than its offset", name, ob[0], ob[1], e);
-    sw_model_free(c.m);
-    return NULL;
-  }
-  if (sw_mcontact_check_start(c.m, c.m->x0, 0, e, sizeof e)) {
-    sw_errf(err, errsz, "%s:%d:%d: contact: self: %s; expected a starting mesh whose "
-            "triangles are apart by more than the thickness", name, ct[0], ct[1], e);
+  for (int k = 0; k < c.m->nterm; k++) { /* each term's start check (contact's) */
+    const sw_term *t = &c.m->term[k];
+    const char *key = "";
+    if (!t->ops->check_start || !t->ops->check_start(t, c.m, c.m->x0, &key, e, sizeof e))
+      continue;
+    const int *at_key = !strncmp(key, "contact", 7) ? ct : ob;
+    sw_errf(err, errsz, "%s:%d:%d: %s: %s", name, at_key[0], at_key[1], key, e);
     sw_model_free(c.m);
     return NULL;
   }
