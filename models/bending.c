@@ -163,7 +163,7 @@ int sw_bend_alloc_stencils(sw_term *t, const sw_bend_tri *tri, int n, int dim) {
   for (int s = 0; s < n; s++) {
     int w = tri[s].nv * dim;
     t->sptr[s + 1] = t->sptr[s] + tri[s].nv;
-    t->hptr[s + 1] = t->hptr[s] + (long)w * w;
+    t->hptr[s + 1] = t->hptr[s] + sw_hess_size(w);
     memcpy(t->sidx + t->sptr[s], tri[s].v, (size_t)tri[s].nv * sizeof(int));
   }
   return 0;

@@ -15,6 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "cancel.h"
 #include "contact_geom.h"
 #include "sinew.h"
 #include "util.h"
@@ -91,7 +92,7 @@ int sw_bvh_build(sw_bvh *t, int n, sw_bvh_box_fn box, const void *ctx) {
   double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
   for (int pass = 0; pass < 2; pass++) /* the centres' bounds, then the centres */
     for (int i = 0; i < n; i++) {
-      if ((i & 0xffff) == 0 && sw_interrupted()) return sw_free(c), sw_bvh_free(t), -2;
+      if ((i & 0xffff) == 0 && sw_cancelled()) return sw_free(c), sw_bvh_free(t), -2;
       double b[6];
       box(ctx, i, b);
       for (int a = 0; a < 3; a++) {
@@ -108,7 +109,7 @@ int sw_bvh_build(sw_bvh *t, int n, sw_bvh_box_fn box, const void *ctx) {
   while (top > 0) {
     top--;
     int k = stack[top][0], lo = stack[top][1], hi = stack[top][2];
-    if (hi - lo > 65536 && sw_interrupted()) return sw_free(c), sw_bvh_free(t), -2;
+    if (hi - lo > 65536 && sw_cancelled()) return sw_free(c), sw_bvh_free(t), -2;
     if (hi - lo <= SW_BVH_LEAF) {
       t->node[2 * k] = lo, t->node[2 * k + 1] = hi - lo;
       continue;

@@ -104,7 +104,7 @@ static double friction_f0(double y, double eps, double *f1_over_y) {
 }
 
 /* Friction of vertex i against obstacle o: energy (J), gradient and Hessian block (dim x dim,
- * positive semi-definite as it is) added. */
+ * its upper triangle; positive semi-definite as it is) added. */
 static double friction_add(const sw_model *m, const sw_contact_lag *lag, int i, int o,
                            const double *x, double t, double *g, double *H) {
   const int dim = m->dim;
@@ -120,7 +120,7 @@ static double friction_add(const sw_model *m, const sw_contact_lag *lag, int i, 
   double c = y <= 0.0 ? 0.0 : (y >= eps ? -1.0 / y : -y / (eps * eps)) / (y * y);
   for (int a = 0; a < dim; a++)
     for (int b = 0; b < dim; b++)
-      H[a * dim + b] += mul * (q * ((a == b) - n0[a] * n0[b]) + c * u[a] * u[b]);
+      sw_hess_add(H, dim, a, b, mul * (q * ((a == b) - n0[a] * n0[b]) + c * u[a] * u[b]));
   return e;
 }
 
@@ -151,13 +151,14 @@ static int barrier_add(const sw_model *m, const sw_eval *ev, int i, int o, doubl
    * presses closer, and its absolute value stiffens the tangential directions by twice the
    * exact amount, which made Newton converge linearly on a cloth pressed onto a sphere. */
   sw_psd_project(B, dim, ev->project == SW_FILTER_ABS ? SW_FILTER_CLAMP : ev->project);
-  for (int k = 0; k < dim * dim; k++) H[k] += B[k];
+  sw_hess_add_full(H, dim, B);
   return SW_OK;
 }
 
 static int contact_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, double *energy) {
   const int dim = m->dim;
-  const sw_contact_lag *lag = ev->lag;
+  const sw_contact_lag *lag = ev->lag; /* a caller's own, or the step's (lagged: h > 0) */
+  if (!lag && ev->data && ((const sw_contact_lag *)ev->data)->h > 0.0) lag = ev->data;
   double e = 0.0;
   for (int s = 0; s < t->nstencil; s++) {
     int i = t->sidx[s];
@@ -174,7 +175,45 @@ static int contact_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, 
   return SW_OK;
 }
 
-static const sw_term_ops contact_ops = {.kind = "contact", .eval = contact_eval};
+static void *contact_data_new(const sw_term *t, const sw_model *m, sw_data *d);
+static void contact_data_free(void *data);
+static int contact_begin_op(const sw_term *t, const sw_model *m, sw_data *d, void *data,
+                            double h, double t1, double *y);
+static double contact_bound(const sw_term *t, const sw_model *m, sw_data *d, void *data,
+                            const double *x0, const double *x1, double time);
+static void contact_clip_op(const sw_term *t, const sw_model *m, sw_data *d, void *data,
+                            const double *x0, const double *x1, double time, double *frac);
+static int contact_settled_op(const sw_term *t, const sw_model *m, sw_data *d, void *data,
+                              const double *x0, const double *x1, double time);
+static int contact_swept_op(const sw_term *t, const sw_model *m, sw_data *d, void *data,
+                            const double *y, double t1);
+static int contact_held(const sw_term *t, const sw_model *m, const sw_data *d, const void *data,
+                        const double *x, double time, const double *vfrac, double frac,
+                        int *item, int *vertex, double *held);
+static void contact_state_op(const sw_term *t, const sw_model *m, sw_data *d, void *data);
+static const double *contact_vertex_force(const sw_term *t, const sw_model *m,
+                                          const sw_data *d, const void *data);
+static int contact_dissipates(const sw_term *t, const sw_model *m);
+
+/* Every free vertex starts outside every obstacle's contact surface. */
+static int contact_check_start(const sw_term *t, const sw_model *m, const double *x,
+                               const char **key, char *err, size_t errsz) {
+  (void)t;
+  char e[SW_ERRSZ];
+  if (!sw_contact_outside(m, x, 0.0, e, sizeof e)) return 0;
+  *key = "obstacles";
+  sw_errf(err, errsz, "%s; expected every free vertex to start outside every obstacle's "
+          "contact surface", e);
+  return -1;
+}
+
+static const sw_term_ops contact_ops = {
+    .kind = "contact", .eval = contact_eval,
+    .data_new = contact_data_new, .data_free = contact_data_free,
+    .begin = contact_begin_op, .bound = contact_bound, .clip = contact_clip_op,
+    .settled = contact_settled_op, .swept = contact_swept_op, .held = contact_held,
+    .state = contact_state_op, .vertex_force = contact_vertex_force,
+    .dissipates = contact_dissipates, .check_start = contact_check_start};
 
 int sw_contact_build(sw_term *t, const sw_model *m, char *err, size_t errsz) {
   t->ops = &contact_ops;
@@ -407,18 +446,94 @@ void sw_contact_state(const sw_model *m, sw_data *d) {
   }
 }
 
-void sw_contact_pressure(const sw_model *m, sw_data *d) {
-  if (!d->contact_pressure) return;
-  const double *fo = d->lag ? ((const lag_store *)d->lag)->vforce : NULL;
-  const double *fs = sw_mcontact_vertex_force(d->mc);
-  for (int f = 0; f < m->nf; f++) {
-    double p = 0.0;
-    for (int c = 0; c < 3; c++) {
-      int i = m->face[3 * f + c];
-      double share = d->vertex_area[i]; /* m^2 */
-      double fi = (fo ? fo[i] : 0.0) + (fs ? fs[i] : 0.0); /* N */
-      p += share > 0.0 ? fi / share / 3.0 : 0.0; /* N/m^2 */
-    }
-    d->contact_pressure[f] = p;
+/* ------------------------------------------------------ the term's optional operations */
+
+/* The workspace: the lag (also d->lag, by name for the functions above). */
+static void *contact_data_new(const sw_term *t, const sw_model *m, sw_data *d) {
+  (void)t;
+  return d->lag = sw_contact_lag_new(m);
+}
+
+static void contact_data_free(void *data) { sw_contact_lag_free(data); }
+
+/* The solvers' contact checks, each timed into d->time_contact. */
+static int contact_begin_op(const sw_term *t, const sw_model *m, sw_data *d, void *data,
+                            double h, double t1, double *y) {
+  (void)t, (void)data;
+  double t0 = sw_now();
+  int rc = sw_contact_begin(m, d, h, t1, y);
+  d->time_contact += sw_now() - t0;
+  return rc;
+}
+
+static double contact_bound(const sw_term *t, const sw_model *m, sw_data *d, void *data,
+                            const double *x0, const double *x1, double time) {
+  (void)t, (void)data;
+  double t0 = sw_now(), r = sw_contact_toi(m, x0, x1, time);
+  d->time_contact += sw_now() - t0;
+  return r;
+}
+
+static void contact_clip_op(const sw_term *t, const sw_model *m, sw_data *d, void *data,
+                            const double *x0, const double *x1, double time, double *frac) {
+  (void)t, (void)data;
+  double t0 = sw_now();
+  sw_contact_clip(m, x0, x1, time, frac);
+  d->time_contact += sw_now() - t0;
+}
+
+static int contact_settled_op(const sw_term *t, const sw_model *m, sw_data *d, void *data,
+                              const double *x0, const double *x1, double time) {
+  (void)t, (void)data;
+  double t0 = sw_now();
+  int r = sw_contact_settled(m, x0, x1, time);
+  d->time_contact += sw_now() - t0;
+  return r;
+}
+
+static int contact_swept_op(const sw_term *t, const sw_model *m, sw_data *d, void *data,
+                            const double *y, double t1) {
+  (void)t, (void)data;
+  double t0 = sw_now();
+  int rc = sw_contact_swept(m, d, y, t1);
+  d->time_contact += sw_now() - t0;
+  return rc;
+}
+
+/* After Newton failed: when the clip held a vertex below 1/2 of its update, the most held
+ * one and the obstacle nearest it. */
+static int contact_held(const sw_term *t, const sw_model *m, const sw_data *d, const void *data,
+                        const double *x, double time, const double *vfrac, double frac,
+                        int *item, int *vertex, double *held) {
+  (void)t, (void)d, (void)data, (void)frac;
+  int iv = -1;
+  for (int i = 0; vfrac && i < m->nv; i++)
+    if (vfrac[i] < 0.5 && (iv < 0 || vfrac[i] < vfrac[iv])) iv = i;
+  if (iv < 0) return 0;
+  double best = INFINITY;
+  *item = -1;
+  for (int k = 0; k < m->nobstacle; k++) {
+    double dist = sw_obstacle_sdf(&m->obstacle[k], m->dim, time, x + (size_t)iv * m->dim, NULL,
+                                  NULL);
+    if (dist < best) best = dist, *item = m->obstacle[k].item;
   }
+  *vertex = iv;
+  *held = vfrac[iv];
+  return 1;
+}
+
+static void contact_state_op(const sw_term *t, const sw_model *m, sw_data *d, void *data) {
+  (void)t, (void)data;
+  sw_contact_state(m, d);
+}
+
+static const double *contact_vertex_force(const sw_term *t, const sw_model *m,
+                                          const sw_data *d, const void *data) {
+  (void)t, (void)m, (void)d;
+  return data ? ((const lag_store *)data)->vforce : NULL;
+}
+
+static int contact_dissipates(const sw_term *t, const sw_model *m) {
+  (void)t;
+  return m->contact.friction > 0.0;
 }

@@ -102,9 +102,6 @@ int sw_contact_swept(const sw_model *m, sw_data *d, const double *y, double t1);
 /* The contact diagnostics of d (sinew.h: contact_count, contact_min, contact_force,
  * friction_force) at d->x, d->t. */
 void sw_contact_state(const sw_model *m, sw_data *d);
-/* d->contact_pressure from the last diagnostics of obstacles and self-contact: per face, the
- * mean over its corners of |contact force| / the corner's share of the rest area, N/m^2. */
-void sw_contact_pressure(const sw_model *m, sw_data *d);
 /* The lag's buffers (NULL: the model has no obstacles), and their release. */
 sw_contact_lag *sw_contact_lag_new(const sw_model *m);
 void sw_contact_lag_free(sw_contact_lag *lag);
@@ -186,7 +183,7 @@ int sw_mcontact_check_start(const sw_model *m, const double *x, int obstacles, c
 /* The pairs of a cloth triangle and a mesh obstacle's that intersect with the cloth at x and
  * the obstacles at time t (exact, models/intersect.c); the first pair's faces (numbering the
  * obstacles' after the cloth's) into first when not NULL; -1 when out of memory, -2 when
- * stopped by a signal (sw_interrupted). */
+ * stopped by a signal (cancel.h: sw_cancelled). */
 long sw_mcontact_obstacle_intersections(const sw_model *m, sw_mcontact *mc, const double *x,
                                         double t, int *first);
 /* The self-contact diagnostics of d at d->x (sinew.h: self_count, self_min, self_force), and

@@ -251,7 +251,7 @@ int sw_triangles_intersect(const double p0[3], const double p1[3], const double 
                            const double q0[3], const double q1[3], const double q2[3]);
 /* The number of pairs of faces with no shared vertex that intersect (x: nv x 3, faces:
  * nf x 3), with the broad phase; -1 when out of memory, -2 when stopped by a signal
- * (sw_interrupted, polled every 65536 candidate pairs). */
+ * (cancel.h: sw_cancelled, polled every 65536 candidate pairs). */
 long sw_mesh_self_intersections(int nv, const double *x, int nf, const int *faces);
 /* The same where faces with vertices sewn together (sw_model.sewn_ptr, sewn_idx over the
  * first nv vertices; NULL: none) count as sharing one: a closed seam's two sides touch. */

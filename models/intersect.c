@@ -9,6 +9,7 @@
  * vertex, degenerate triangles) is decided by signs alone. */
 #include <math.h>
 
+#include "cancel.h"
 #include "contact_geom.h"
 #include "sinew.h"
 
@@ -306,7 +307,7 @@ long sw_mesh_self_intersections_sewn(int nv, const double *x, int nf, const int 
   if (!sw_broadphase_query(&bp, &in, SW_BP_FF)) {
     count = 0;
     for (int k = 0; k < bp.nff; k++) {
-      if ((k & 0xffff) == 0xffff && sw_interrupted()) { /* a stop request */
+      if ((k & 0xffff) == 0xffff && sw_cancelled()) { /* a stop request */
         count = -2;
         break;
       }

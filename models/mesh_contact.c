@@ -29,6 +29,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "cancel.h"
 #include "contact.h"
 #include "contact_geom.h"
 #include "terms.h"
@@ -904,7 +905,7 @@ static int eval_friction(const sw_model *m, sw_mcontact *mc, const sw_eval *ev,
 
 static int mc_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, double *energy) {
   (void)t;
-  sw_mcontact *mc = ev->mc;
+  sw_mcontact *mc = ev->mc ? ev->mc : ev->data; /* a caller's own, or the run's */
   *energy = 0.0;
   if (!mc) {
     sw_eval_why(ev, "no contact workspace (an evaluation outside a run)");
@@ -937,8 +938,58 @@ static void mc_free(void *param) {
   sw_free(p);
 }
 
-static const sw_term_ops mc_ops = {.kind = "mesh_contact", .eval = mc_eval,
-                                   .free_param = mc_free};
+static void *mc_data_new(const sw_term *t, const sw_model *m, sw_data *d);
+static void mc_data_free(void *data);
+static void mc_blocks(const sw_term *t, const sw_model *m, const sw_data *d, const void *data,
+                      sw_blocks *b);
+static int mc_begin(const sw_term *t, const sw_model *m, sw_data *d, void *data, double h,
+                    double t1, double *y);
+static double mc_ccd(const sw_term *t, const sw_model *m, sw_data *d, void *data,
+                     const double *x0, const double *x1, double time);
+static int mc_settled(const sw_term *t, const sw_model *m, sw_data *d, void *data,
+                      const double *x0, const double *x1, double time);
+static int mc_swept(const sw_term *t, const sw_model *m, sw_data *d, void *data, const double *y,
+                    double t1);
+static int mc_held(const sw_term *t, const sw_model *m, const sw_data *d, const void *data,
+                   const double *x, double time, const double *vfrac, double frac, int *item,
+                   int *vertex, double *held);
+static void mc_commit(const sw_term *t, const sw_model *m, sw_data *d, void *data);
+static void mc_state(const sw_term *t, const sw_model *m, sw_data *d, void *data);
+static const double *mc_vertex_force(const sw_term *t, const sw_model *m, const sw_data *d,
+                                     const void *data);
+static int mc_dissipates(const sw_term *t, const sw_model *m);
+static int mc_summary(const sw_term *t, const sw_model *m, const sw_data *d, void *data, int at,
+                      sw_field *f, int nmax);
+static void mc_io(const sw_term *t, const sw_model *m, void *data, sw_io *io);
+
+/* The cloth starts apart from every mesh obstacle by more than its offset, and (with
+ * self-contact) its triangles apart by more than the thickness. */
+static int mc_check_start(const sw_term *t, const sw_model *m, const double *x, const char **key,
+                          char *err, size_t errsz) {
+  (void)t;
+  char e[SW_ERRSZ];
+  if (sw_mcontact_check_start(m, x, 1, e, sizeof e)) {
+    *key = "obstacles";
+    sw_errf(err, errsz, "%s; expected the cloth to start apart from every mesh obstacle by "
+            "more than its offset", e);
+    return -1;
+  }
+  if (sw_mcontact_check_start(m, x, 0, e, sizeof e)) {
+    *key = "contact: self";
+    sw_errf(err, errsz, "%s; expected a starting mesh whose triangles are apart by more than "
+            "the thickness", e);
+    return -1;
+  }
+  return 0;
+}
+
+static const sw_term_ops mc_ops = {
+    .kind = "mesh_contact", .eval = mc_eval, .free_param = mc_free,
+    .data_new = mc_data_new, .data_free = mc_data_free, .blocks = mc_blocks,
+    .begin = mc_begin, .ccd = mc_ccd, .settled = mc_settled, .swept = mc_swept,
+    .held = mc_held, .commit = mc_commit, .state = mc_state, .vertex_force = mc_vertex_force,
+    .dissipates = mc_dissipates, .summary = mc_summary, .io = mc_io,
+    .check_start = mc_check_start};
 
 /* The numbering of the mesh obstacles' vertices and faces after the cloth's, and their radii
  * about their centres and rotation axes; -1 when out of memory. */
@@ -975,7 +1026,7 @@ static int build_tree(mc_param *p, const sw_model *m, char *err, size_t errsz) {
   int rc = sw_bvh_build(&p->tree, p->nf - m->nf, tree_box, &c);
   if (rc == -2)
     return sw_errf(err, errsz, "stopped by signal %d while building the mesh obstacles' "
-                   "tree", sw_interrupted()), -1;
+                   "tree", sw_cancelled()), -1;
   if (rc) return sw_errf(err, errsz, "out of memory for the mesh obstacles' tree"), -1;
   if (p->moving) { /* each workspace fits its own (fit_tree) */
     sw_free(p->tree.box);
@@ -1305,7 +1356,7 @@ long sw_mcontact_obstacle_intersections(const sw_model *m, sw_mcontact *mc, cons
   if (broad_phase(m, mc, &q, &q, 0.0, SW_BP_FF)) return -1;
   long count = 0;
   for (int k = 0; k < mc->bp.nff; k++) {
-    if ((k & 0xffff) == 0xffff && sw_interrupted()) return -2; /* a stop request */
+    if ((k & 0xffff) == 0xffff && sw_cancelled()) return -2; /* a stop request */
     int v[6];
     double p[18];
     face_vertices(m, mc->p, mc->bp.ff[2 * k], v);
@@ -1499,4 +1550,129 @@ int sw_mcontact_adapt(const sw_model *m, sw_mcontact *mc) {
   if (!(mc->gap_min < SW_KAPPA_GAP * m->contact.dhat)) return 0;
   mc->kscale *= 2.0;
   return 1;
+}
+
+/* ------------------------------------------------------ the term's optional operations */
+
+/* The workspace (also d->mc, by name for the functions above). */
+static void *mc_data_new(const sw_term *t, const sw_model *m, sw_data *d) {
+  (void)t;
+  return d->mc = sw_mcontact_new(m);
+}
+
+static void mc_data_free(void *data) { sw_mcontact_free(data); }
+
+/* The active pairs' blocks: 4 vertices each, their indices in sw_mc_pair.v. */
+_Static_assert(sizeof(sw_mc_pair) % sizeof(int) == 0, "sw_mc_pair in whole ints");
+static void mc_blocks(const sw_term *t, const sw_model *m, const sw_data *d, const void *data,
+                      sw_blocks *b) {
+  (void)t, (void)m, (void)d;
+  const sw_mc_pair *pr = NULL;
+  const double *blk = NULL;
+  b->n = sw_mcontact_pairs(data, &pr, &blk);
+  b->nvb = 4;
+  b->v = b->n > 0 ? pr[0].v : NULL;
+  b->vstride = (int)(sizeof(sw_mc_pair) / sizeof(int));
+  b->val = blk;
+}
+
+/* The step's start: the mesh pairs' friction lagged at d->x, the guess cut back (timed into
+ * d->time_ccd). */
+static int mc_begin(const sw_term *t, const sw_model *m, sw_data *d, void *data, double h,
+                    double t1, double *y) {
+  (void)t, (void)data;
+  double t0 = sw_now();
+  int rc = sw_mcontact_lag(m, d, h);
+  if (!rc) rc = sw_mcontact_begin(m, d, t1, y);
+  d->time_ccd += sw_now() - t0;
+  return rc;
+}
+
+static double mc_ccd(const sw_term *t, const sw_model *m, sw_data *d, void *data,
+                     const double *x0, const double *x1, double time) {
+  (void)t;
+  double t0 = sw_now(), s = sw_mcontact_toi(m, data, x0, time, x1, time, &d->time_broadphase);
+  d->time_ccd += sw_now() - t0;
+  return s;
+}
+
+static int mc_settled(const sw_term *t, const sw_model *m, sw_data *d, void *data,
+                      const double *x0, const double *x1, double time) {
+  (void)t, (void)time;
+  double t0 = sw_now();
+  int r = sw_mcontact_settled(m, data, x0, x1);
+  d->time_contact += sw_now() - t0;
+  return r;
+}
+
+static int mc_swept(const sw_term *t, const sw_model *m, sw_data *d, void *data, const double *y,
+                    double t1) {
+  (void)t, (void)data;
+  double t0 = sw_now();
+  int rc = sw_mcontact_swept(m, d, y, t1);
+  d->time_contact += sw_now() - t0;
+  return rc;
+}
+
+/* After Newton failed: when the CCD cut the last update below 1/2, the mesh obstacle of the
+ * pair that limited it and that pair's cloth vertex. */
+static int mc_held(const sw_term *t, const sw_model *m, const sw_data *d, const void *data,
+                   const double *x, double time, const double *vfrac, double frac, int *item,
+                   int *vertex, double *held) {
+  (void)t, (void)d, (void)x, (void)time, (void)vfrac;
+  if (!(frac < 0.5)) return 0;
+  int iv = -1;
+  *item = sw_mcontact_limit(m, data, &iv);
+  *vertex = iv;
+  *held = frac;
+  return 1;
+}
+
+/* The automatic stiffness adapted after each accepted state (sw_mcontact_adapt). */
+static void mc_commit(const sw_term *t, const sw_model *m, sw_data *d, void *data) {
+  (void)t, (void)d;
+  sw_mcontact_adapt(m, data);
+}
+
+static void mc_state(const sw_term *t, const sw_model *m, sw_data *d, void *data) {
+  (void)t, (void)data;
+  sw_mcontact_state(m, d);
+}
+
+static const double *mc_vertex_force(const sw_term *t, const sw_model *m, const sw_data *d,
+                                     const void *data) {
+  (void)t, (void)m, (void)d;
+  return sw_mcontact_vertex_force(data);
+}
+
+static int mc_dissipates(const sw_term *t, const sw_model *m) {
+  (void)t;
+  const sw_contact *c = &m->contact;
+  return (c->friction > 0.0 && m->nmesh_obstacle > 0) || (c->self && c->self_friction > 0.0);
+}
+
+/* summary.json: the adapted stiffness's factor at the end; the cloth's triangles that
+ * intersect a mesh obstacle's at the state written (it cannot pass through them). */
+static int mc_summary(const sw_term *t, const sw_model *m, const sw_data *d, void *data, int at,
+                      sw_field *f, int nmax) {
+  (void)t;
+  if (nmax < 1) return 0;
+  if (at == SW_SUMMARY_RUN && m->contact.kappa_mesh_auto) {
+    f[0] = (sw_field){.name = "self_stiffness_factor", .value = sw_mcontact_kappa_scale(data)};
+    return 1;
+  }
+  long n = at == SW_SUMMARY_STATE && data && m->nmesh_obstacle
+               ? sw_mcontact_obstacle_intersections(m, data, d->x, d->t, NULL)
+               : -1;
+  if (n < 0) return 0;
+  f[0] = (sw_field){.name = "obstacle_intersections", .count = n, .is_count = 1};
+  return 1;
+}
+
+/* restart.bin: the automatic stiffness's factor so far. */
+static void mc_io(const sw_term *t, const sw_model *m, void *data, sw_io *io) {
+  (void)t, (void)m;
+  double ks = sw_mcontact_kappa_scale(data);
+  sw_io_bytes(io, &ks, sizeof ks);
+  sw_mcontact_set_kappa_scale(data, ks);
 }

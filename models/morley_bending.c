@@ -344,7 +344,7 @@ static int morley_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, d
     double *blk = ev->hess + t->hptr[s];
     for (int i = 0; i < nv; i++)
       for (int j = 0; j < nv; j++)
-        for (int a = 0; a < d; a++) blk[(i * d + a) * bw + j * d + a] += Q[NV * i + j];
+        for (int a = 0; a < d; a++) sw_hess_add(blk, bw, i * d + a, j * d + a, Q[NV * i + j]);
   }
   *energy = total;
   return isfinite(total) ? SW_OK : SW_RECOVER;
@@ -380,7 +380,7 @@ int sw_morley_bending_build(sw_term *t, const sw_model *m, char *err, size_t err
     int nv = tri_setup(m, &tp, fe, f, s, mp->L + 3 * NV * k, mp->D + 9 * k, mp->Q + NV * NV * k);
     if (nv == 0) continue;
     t->sptr[mp->n + 1] = t->sptr[mp->n] + nv;
-    t->hptr[mp->n + 1] = t->hptr[mp->n] + (long)(nv * m->dim) * (nv * m->dim);
+    t->hptr[mp->n + 1] = t->hptr[mp->n] + sw_hess_size(nv * m->dim);
     mp->n++;
   }
   t->nstencil = mp->n;

@@ -89,7 +89,7 @@ static int quadratic_eval(const sw_term *t, const sw_model *m, const sw_eval *ev
     double *blk = ev->hess + t->hptr[s];
     for (int i = 0; i < nv; i++)
       for (int j = 0; j < nv; j++)
-        for (int a = 0; a < d; a++) blk[(i * d + a) * bw + j * d + a] += Q[6 * i + j];
+        for (int a = 0; a < d; a++) sw_hess_add(blk, bw, i * d + a, j * d + a, Q[6 * i + j]);
   }
   *energy = total;
   return isfinite(total) ? SW_OK : SW_RECOVER;

@@ -106,7 +106,7 @@ static double pair_rest(const sw_model *m, const sw_seam *sm, int p, double t) {
   return sm->gap0 ? sm->gap0[p] * (1.0 - sw_ramp(t, m->seam_ramp)) : 0.0;
 }
 
-/* The Hessian block of one pair (3d x 3d, accumulated): kp c_i c_j [a (I - n n^T) + n n^T],
+/* The Hessian block of one pair (3d x 3d, its upper triangle, each entry set once): kp c_i c_j [a (I - n n^T) + n n^T],
  * a = 1 - r/|g| filtered by `project`. */
 static void pair_block(double kp, const double c[3], const double *g, double len, double r,
                        int d, int project, double *blk) {
@@ -120,7 +120,8 @@ static void pair_block(double kp, const double c[3], const double *g, double len
   for (int i = 0; i < 3; i++)
     for (int j = 0; j < 3; j++)
       for (int u = 0; u < d; u++)
-        for (int v = 0; v < d; v++) blk[(i * d + u) * nb + j * d + v] += kp * c[i] * c[j] * P[u * d + v];
+        for (int v = 0; v < d; v++)
+          sw_hess_set(blk, nb, i * d + u, j * d + v, kp * c[i] * c[j] * P[u * d + v]);
 }
 
 static int seam_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, double *energy) {
@@ -145,7 +146,7 @@ static int seam_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, dou
   return SW_OK;
 }
 
-static const sw_term_ops seam_ops = {.kind = "seams", .eval = seam_eval};
+static const sw_term_ops seam_ops = {.kind = "seams", .eval = seam_eval, .sets_blocks = 1};
 
 int sw_seam_build(sw_term *t, const sw_model *m, char *err, size_t errsz) {
   t->ops = &seam_ops;

@@ -149,10 +149,9 @@ static int springs_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, 
     double *blk = ev->hess + t->hptr[s];
     for (int a = 0; a < d; a++)
       for (int c = 0; c < d; c++) {
-        blk[a * w + c] += H[a * d + c];
-        blk[(d + a) * w + d + c] += H[a * d + c];
-        blk[a * w + d + c] -= H[a * d + c];
-        blk[(d + a) * w + c] -= H[a * d + c];
+        sw_hess_set(blk, w, a, c, H[a * d + c]); /* every stored entry, once */
+        sw_hess_set(blk, w, d + a, d + c, H[a * d + c]);
+        sw_hess_set(blk, w, a, d + c, -H[a * d + c]);
       }
   }
   *energy = total;
@@ -160,7 +159,7 @@ static int springs_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, 
 }
 
 static const sw_term_ops springs_ops = {
-    .kind = "springs", .eval = springs_eval, .free_param = springs_free};
+    .kind = "springs", .eval = springs_eval, .free_param = springs_free, .sets_blocks = 1};
 
 void sw_springs_counts(const sw_term *t, int count[3]) {
   const springs_param *sp = t->param;

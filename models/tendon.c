@@ -2,7 +2,7 @@
  * docs/tendons.md).
  *
  * A tendon with waypoints w_0 .. w_{n-1} has segments s_k = x_{w_k} - x_{w_{k+1}} (the tendon
- * model §1.2), length l = sum |s_k|, rest length alpha(t) (keyframes, models/forcing.c),
+ * model §1.2), length l = sum |s_k|, rest length alpha(t) (keyframes, models/keyframe.c),
  * Delta = l - alpha and energy
  * E(Delta; K):  spring E = K/2 Delta^2;  cable E = K/2 max(Delta, 0)^2.  With s^_k = s_k/|s_k|:
  *   grad Delta at waypoint a = s^_a - s^_{a-1}            (its "first partials"; the end
@@ -120,11 +120,14 @@ static double law(const sw_tendon *td, double delta, double *e1, double *e2) {
   return 0.5 * K * delta * delta;
 }
 
-/* c (I - p p^T) / len (zeta_k, or I / eps for a short segment) into the (d x d) block at B
- * (leading dimension ld); nothing when len is infinite (a degenerate segment). */
-static void add_zeta(double *B, int ld, int d, const double *sh, double len, double c) {
+/* c (I - p p^T) / len (zeta_k, or I / eps for a short segment) into the (d x d) block at rows
+ * r0.., columns c0.. of blk (w x w, its upper triangle); nothing when len is infinite (a
+ * degenerate segment). */
+static void add_zeta(double *blk, int w, int r0, int c0, int d, const double *sh, double len,
+                     double c) {
   for (int a = 0; a < d; a++)
-    for (int b = 0; b < d; b++) B[a * ld + b] += c * ((a == b) - sh[a] * sh[b]) / len;
+    for (int b = 0; b < d; b++)
+      sw_hess_add(blk, w, r0 + a, c0 + b, c * ((a == b) - sh[a] * sh[b]) / len);
 }
 
 /* c d2 Delta of segment k (the tendon model: +zeta_k on the diagonal blocks of its two ends,
@@ -133,23 +136,23 @@ static void add_segment_band(const sw_tendon *td, const double *x, int d, int k,
                              double *blk, int ld, int i0, int i1) {
   double sh[3], p[3], hl;
   segment(td, x, d, k, sh, p, &hl);
-  add_zeta(blk + (i0 * d) * ld + i0 * d, ld, d, p, hl, c);
-  add_zeta(blk + (i1 * d) * ld + i1 * d, ld, d, p, hl, c);
-  add_zeta(blk + (i0 * d) * ld + i1 * d, ld, d, p, hl, -c);
-  add_zeta(blk + (i1 * d) * ld + i0 * d, ld, d, p, hl, -c);
+  add_zeta(blk, ld, i0 * d, i0 * d, d, p, hl, c);
+  add_zeta(blk, ld, i1 * d, i1 * d, d, p, hl, c);
+  add_zeta(blk, ld, i0 * d, i1 * d, d, p, hl, -c);
+  add_zeta(blk, ld, i1 * d, i0 * d, d, p, hl, -c);
 }
 
-/* The whole Hessian E'' grad grad^T + cb d2 Delta of a short tendon: one (n d)^2 block. */
+/* The whole Hessian E'' grad grad^T + cb d2 Delta of a short tendon: one block of n d rows. */
 static void dense_block(const sw_tendon *td, const double *x, int d, double e2, double cb,
                         double *blk) {
   const int n = td->nway, ld = n * d;
   for (int i = 0; i < n; i++) {
     double gi[3], gj[3];
     sw_tendon_grad(td, x, d, i, gi);
-    for (int j = 0; j < n; j++) {
+    for (int j = i; j < n; j++) {
       sw_tendon_grad(td, x, d, j, gj);
       for (int a = 0; a < d; a++)
-        for (int b = 0; b < d; b++) blk[(i * d + a) * ld + j * d + b] += e2 * gi[a] * gj[b];
+        for (int b = 0; b < d; b++) sw_hess_add(blk, ld, i * d + a, j * d + b, e2 * gi[a] * gj[b]);
     }
   }
   if (cb != 0.0)
@@ -244,7 +247,7 @@ static void fill_stencils(sw_term *t, const sw_model *m, const tendon_param *tp)
     int n = td->nway, per = tp->rank[k] < 0 ? n : 2, nst = tp->rank[k] < 0 ? 1 : n - 1;
     for (int q = 0; q < nst; q++, s++) {
       t->sptr[s + 1] = t->sptr[s] + per;
-      t->hptr[s + 1] = t->hptr[s] + (long)(per * d) * (per * d);
+      t->hptr[s + 1] = t->hptr[s] + sw_hess_size(per * d);
       for (int i = 0; i < per; i++) t->sidx[t->sptr[s] + i] = td->way[q + i];
     }
     int r = tp->rank[k];

@@ -15,7 +15,7 @@ int sw_term_alloc_stencils(sw_term *t, int nstencil, int per, int dim) {
   t->sidx = sw_calloc((size_t)nstencil * (size_t)per, sizeof(int));
   t->hptr = sw_calloc((size_t)nstencil + 1, sizeof(long));
   if (!t->sptr || !t->sidx || !t->hptr) return -1;
-  long block = (long)(per * dim) * (per * dim);
+  long block = sw_hess_size(per * dim);
   for (int s = 0; s <= nstencil; s++) {
     t->sptr[s] = s * per;
     t->hptr[s] = (long)s * block;
@@ -105,17 +105,18 @@ void sw_membrane_free(void *param) {
   sw_free(mb);
 }
 
-/* Hessian block of one face from P (2d x 2d): (3d x 3d), row-major, vertex-major. */
+/* Hessian block of one face from P (2d x 2d): (3d x 3d), vertex-major, its upper triangle, set
+ * (every entry written: the membranes' ops have sets_blocks). */
 static void membrane_block(const double *cu, const double *cv, double area, const double *P,
                            int d, double *blk) {
   const int ld = 2 * d, n = 3 * d;
   for (int i = 0; i < 3; i++)
-    for (int j = 0; j < 3; j++) {
+    for (int j = i; j < 3; j++) {
       double uu = area * cu[i] * cu[j], uv = area * cu[i] * cv[j];
       double vu = area * cv[i] * cu[j], vv = area * cv[i] * cv[j];
       for (int a = 0; a < d; a++)
-        for (int b = 0; b < d; b++)
-          blk[(i * d + a) * n + j * d + b] +=
+        for (int b = j == i ? a : 0; b < d; b++)
+          blk[sw_hess_upper(i * d + a, j * d + b, n)] =
               uu * P[a * ld + b] + uv * P[a * ld + d + b] + vu * P[(d + a) * ld + b] +
               vv * P[(d + a) * ld + d + b];
     }

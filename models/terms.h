@@ -8,10 +8,38 @@
 
 #include "sinew.h"
 
+/* blk(r, c) += v for a block stored as its upper triangle (sw_hess_upper): an entry below the
+ * diagonal is dropped, since its mirror above is added by the same loop. */
+static inline void sw_hess_add(double *blk, int w, int r, int c, double v) {
+  if (r <= c) blk[sw_hess_upper(r, c, w)] += v;
+}
+/* blk(r, c) = v, the same way (the terms with sets_blocks). */
+static inline void sw_hess_set(double *blk, int w, int r, int c, double v) {
+  if (r <= c) blk[sw_hess_upper(r, c, w)] = v;
+}
+/* Add (set) the upper triangle of the full symmetric w x w matrix A (row-major) into blk. */
+static inline void sw_hess_add_full(double *blk, int w, const double *A) {
+  for (int r = 0; r < w; r++)
+    for (int c = r; c < w; c++) *blk++ += A[r * w + c];
+}
+static inline void sw_hess_set_full(double *blk, int w, const double *A) {
+  for (int r = 0; r < w; r++)
+    for (int c = r; c < w; c++) *blk++ = A[r * w + c];
+}
+
 /* Allocate nstencil stencils of `per` vertices each (sidx left for the caller to fill) and
  * set hptr for blocks of (per*dim)^2 doubles.  Nonzero when out of memory. */
 int sw_term_alloc_stencils(sw_term *t, int nstencil, int per, int dim);
 void sw_term_free(sw_term *t);
+
+/* sim/data.c: the terms' optional operations of the run (sw_term_ops), on every term that has
+ * one, in the order of m->term.  sw_terms_state: each term's diagnostics of d, then the faces'
+ * contact pressure (d->contact_pressure: per face, the mean over its corners of the terms'
+ * summed |contact force| / the corner's share of the rest area, N/m^2); sw_terms_commit: each
+ * term's commit; sw_terms_dissipate: 1 when a term dissipates (friction). */
+void sw_terms_state(const sw_model *m, sw_data *d);
+void sw_terms_commit(const sw_model *m, sw_data *d);
+int sw_terms_dissipate(const sw_model *m);
 
 /* An eigenvalue lam of a Hessian after the filter `mode` (SW_FILTER_*, sinew.h): unchanged
  * (none), clamped at 0 (clamp), or its absolute value (abs).  A NaN stays NaN. */

@@ -2,7 +2,6 @@
 #include <math.h>
 #include <string.h>
 
-#include "contact.h"
 #include "terms.h"
 #include "util.h"
 
@@ -42,9 +41,20 @@ sw_data *sw_data_new(const sw_model *m) {
   if (!d->x || !d->v || !d->grad || !d->hess || !d->lowrank || !d->term_energy || !d->term_time || !d->txy ||
       !d->stretch_u || !d->stretch_v || !d->shear || !d->rlu || !d->rlv || !d->scratch)
     return sw_data_free(d), NULL;
-  if (m->nobstacle > 0 && !(d->lag = sw_contact_lag_new(m))) return sw_data_free(d), NULL;
-  if (sw_mesh_contact_on(m) && !(d->mc = sw_mcontact_new(m))) return sw_data_free(d), NULL;
-  if (m->nobstacle > 0 || sw_mesh_contact_on(m)) {
+  /* each term's workspace (the model and the terms' param stay immutable) */
+  d->tdata = sw_calloc((size_t)m->nterm + 1, sizeof(void *));
+  d->tdata_free = sw_calloc((size_t)m->nterm + 1, sizeof *d->tdata_free);
+  if (!d->tdata || !d->tdata_free) return sw_data_free(d), NULL;
+  d->ntdata = m->nterm;
+  int forces = 0;
+  for (int k = 0; k < m->nterm; k++) {
+    const sw_term_ops *ops = m->term[k].ops;
+    if (ops->data_new && !(d->tdata[k] = ops->data_new(&m->term[k], m, d)))
+      return sw_data_free(d), NULL;
+    d->tdata_free[k] = ops->data_free;
+    forces += ops->vertex_force != NULL;
+  }
+  if (forces) { /* the faces' contact pressure (sw_terms_pressure) */
     d->contact_pressure = sw_calloc(nf + 1, sizeof(double));
     d->vertex_area = sw_calloc((size_t)m->nv + 1, sizeof(double));
     if (!d->contact_pressure || !d->vertex_area) return sw_data_free(d), NULL;
@@ -85,8 +95,10 @@ void sw_data_free(sw_data *d) {
   sw_free(d->tendon_delta);
   sw_free(d->tendon_tension);
   sw_free(d->seam_state);
-  sw_contact_lag_free(d->lag);
-  sw_mcontact_free(d->mc);
+  for (int k = 0; d->tdata && d->tdata_free && k < d->ntdata; k++)
+    if (d->tdata[k] && d->tdata_free[k]) d->tdata_free[k](d->tdata[k]);
+  sw_free(d->tdata);
+  sw_free(d->tdata_free);
   sw_free(d->contact_pressure);
   sw_free(d->vertex_area);
   sw_free(d);
@@ -96,8 +108,10 @@ int sw_eval_terms(const sw_model *m, sw_data *d, const double *x, double t, int 
                   int want_hess, int project, double *energy) {
   size_t nd = (size_t)m->nv * (size_t)m->dim;
   if (want_grad) memset(d->grad, 0, nd * sizeof(double));
-  if (want_hess) {
-    memset(d->hess, 0, (size_t)d->hoff[m->nterm] * sizeof(double));
+  if (want_hess) { /* blocks zeroed only where a term adds into them */
+    for (int k = 0; k < m->nterm; k++)
+      if (!m->term[k].ops->sets_blocks)
+        memset(d->hess + d->hoff[k], 0, (size_t)(d->hoff[k + 1] - d->hoff[k]) * sizeof(double));
     memset(d->lowrank, 0, (size_t)d->loff[m->nterm] * sizeof(double));
   }
   double total = 0.0;
@@ -105,7 +119,7 @@ int sw_eval_terms(const sw_model *m, sw_data *d, const double *x, double t, int 
     sw_eval ev = {.t = t, .x = x, .grad = want_grad ? d->grad : NULL,
                   .hess = want_hess ? d->hess + d->hoff[k] : NULL,
                   .lowrank = want_hess ? d->lowrank + d->loff[k] : NULL, .project = project,
-                  .lag = d->lag && d->lag->h > 0.0 ? d->lag : NULL, .mc = d->mc};
+                  .data = d->tdata[k]};
     double e = 0.0;
     char why[192] = "";
     ev.why = why, ev.whysz = sizeof why;
@@ -138,4 +152,37 @@ double sw_kinetic(const sw_model *m, const double *v) {
     k += 0.5 * m->mass[i] * s; /* J */
   }
   return k;
+}
+
+void sw_terms_state(const sw_model *m, sw_data *d) {
+  for (int k = 0; k < m->nterm; k++)
+    if (m->term[k].ops->state) m->term[k].ops->state(&m->term[k], m, d, d->tdata[k]);
+  if (!d->contact_pressure) return;
+  for (int f = 0; f < m->nf; f++) {
+    double p = 0.0;
+    for (int c = 0; c < 3; c++) {
+      int i = m->face[3 * f + c];
+      double share = d->vertex_area[i], fi = 0.0; /* m^2, N */
+      for (int k = 0; k < m->nterm; k++) {
+        const sw_term *t = &m->term[k];
+        const double *fk = t->ops->vertex_force ? t->ops->vertex_force(t, m, d, d->tdata[k]) : NULL;
+        if (fk) fi += fk[i];
+      }
+      p += share > 0.0 ? fi / share / 3.0 : 0.0; /* N/m^2 */
+    }
+    d->contact_pressure[f] = p;
+  }
+}
+
+void sw_terms_commit(const sw_model *m, sw_data *d) {
+  for (int k = 0; k < m->nterm; k++)
+    if (m->term[k].ops->commit) m->term[k].ops->commit(&m->term[k], m, d, d->tdata[k]);
+}
+
+int sw_terms_dissipate(const sw_model *m) {
+  for (int k = 0; k < m->nterm; k++)
+    if (m->term[k].ops && m->term[k].ops->dissipates &&
+        m->term[k].ops->dissipates(&m->term[k], m))
+      return 1;
+  return 0;
 }

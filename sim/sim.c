@@ -17,8 +17,9 @@
 #include <unistd.h>
 
 #include "output.h"
-#include "contact.h"
+#include "cancel.h"
 #include "solver.h"
+#include "terms.h"
 #include "util.h"
 
 struct sw_sim {
@@ -63,7 +64,7 @@ static int damping_power(sw_sim *s) {
   double p = 0.0;
   int rc = sw_damped(s->m) ? sw_damping_force(s->m, d, d->x, d->t, d->v, d->grad, &p) : SW_OK;
   if (rc) return rc;
-  p += d->friction_power; /* W: contact friction (sw_contact_state) */
+  p += d->friction_power; /* W: contact friction (the terms' state, sw_terms_state) */
   if (s->logged) d->dissipated += 0.5 * (d->damp_power + p) * (d->t - s->t_logged); /* J */
   d->damp_power = p; /* W */
   return SW_OK;
@@ -117,24 +118,23 @@ static int diagnose(sw_sim *s, double *u) {
   return SW_OK;
 }
 
-/* Diagnostics of the current state and, with a run folder, one log line, a record of
- * positions.bin and a frame when they are due (force: the first and last state, due anyway
- * when they are on). */
+/* The diagnostics of an accepted state: the terms' (contact forces and pressure), the
+ * dissipated and put-in power, the energies, tension XY, tendons, seams. */
+static int observe(sw_sim *s) {
+  const sw_model *m = s->m;
+  double u;
+  sw_terms_state(m, s->d);
+  int rc = sw_damped(m) || sw_terms_dissipate(m) || m->fit.on ? damping_power(s) : SW_OK;
+  if (sw_actuated(m)) actuation_power(s);
+  if (!rc) rc = diagnose(s, &u);
+  return rc;
+}
+
+/* With a run folder, one log line of the current state, a record of positions.bin and a frame
+ * when they are due (force: the first and last state, due anyway when they are on). */
 static int record(sw_sim *s, int force, char *err, size_t errsz) {
   const sw_model *m = s->m;
   sw_data *d = s->d;
-  double u;
-  if (m->nobstacle > 0) sw_contact_state(m, d);
-  if (d->mc) sw_mcontact_state(m, d);
-  sw_contact_pressure(m, d);
-  int rc = sw_damped(m) || sw_contact_friction_on(m) || m->fit.on ? damping_power(s) : SW_OK;
-  if (sw_actuated(m)) actuation_power(s);
-  if (!rc) rc = diagnose(s, &u);
-  if (d->mc) sw_mcontact_adapt(m, d->mc); /* the stiffness of the steps from here on */
-  if (rc) /* e.g. a step accepted a state whose energy is not finite */
-    return sw_errf(err, errsz, "t = %.9g s: %s: cannot evaluate the state to log it: %s", d->t,
-                   m->opt.method, d->err),
-           SW_FATAL;
   s->t_logged = d->t;
   s->logged = 1;
   if (!s->out) return SW_OK;
@@ -150,6 +150,21 @@ static int record(sw_sim *s, int force, char *err, size_t errsz) {
     if (write_restart(s, err, errsz)) return output_failed(d, err, errsz);
   }
   return SW_OK;
+}
+
+/* A state accepted (the first state, then each step's): its diagnostics, then each term's
+ * commit (its lagged state advanced for the steps from here on: the adaptive contact
+ * stiffness; after the diagnostics, which belong to the state as the steps reached it, and
+ * before the logs, whose restart file holds the committed state), then its logs. */
+static int accepted(sw_sim *s, int force, char *err, size_t errsz) {
+  sw_data *d = s->d;
+  int rc = observe(s);
+  sw_terms_commit(s->m, d);
+  if (rc) /* e.g. a step accepted a state whose energy is not finite */
+    return sw_errf(err, errsz, "t = %.9g s: %s: cannot evaluate the state to log it: %s", d->t,
+                   s->m->opt.method, d->err),
+           SW_FATAL;
+  return record(s, force, err, errsz);
 }
 
 static void show_progress(sw_sim *s, int final) {
@@ -191,7 +206,7 @@ static int step_with_retries(sw_sim *s, double end, char *err, size_t errsz) {
     rc = try_step(s, fmin(h, end - d->t));
     /* After a success with a reduced step, finish [t, t + dt] with it, logging each one. */
     while (rc == SW_OK && d->t < end - 1e-12 * dt) {
-      if (record(s, 0, err, errsz)) return SW_FATAL;
+      if (accepted(s, 0, err, errsz)) return SW_FATAL;
       rc = try_step(s, fmin(h, end - d->t));
     }
     if (rc == SW_OK) {
@@ -232,7 +247,7 @@ static int static_step(sw_sim *s, char *err, size_t errsz) {
   if (s->progress)
     fprintf(stderr, "static equilibrium: pin reactions sum to (%.9g, %.9g, %.9g) N\n",
             reaction[0], reaction[1], reaction[2]);
-  return outcome(s, record(s, 1, err, errsz), err);
+  return outcome(s, accepted(s, 1, err, errsz), err);
 }
 
 /* The step to end (a point of the grid, or the end of a sw_sim_run), logged; force: a frame
@@ -242,7 +257,7 @@ static int step_to(sw_sim *s, double end, int force, char *err, size_t errsz) {
   if (s->changed && s->ops->reset) s->ops->reset(s->st, s->m, s->d, s->changed);
   s->changed = 0;
   int rc = step_with_retries(s, end, err, errsz);
-  if (rc == SW_OK) rc = record(s, force, err, errsz);
+  if (rc == SW_OK) rc = accepted(s, force, err, errsz);
   return outcome(s, rc, err);
 }
 
@@ -268,14 +283,13 @@ int sw_sim_step(sw_sim *s, char *err, size_t errsz) {
   return rc;
 }
 
-static volatile sig_atomic_t stop_signal; /* sw_interrupt's request */
-
-void sw_interrupt(int sig) { stop_signal = sig; }
-int sw_interrupted(void) { return stop_signal; }
+/* The request is models' flag (models/cancel.h), which their long loops poll. */
+void sw_interrupt(int sig) { sw_stop_request = sig; }
+int sw_interrupted(void) { return sw_stop_request; }
 
 /* Stop at sw_interrupt's request: the state is that of the last step, whole. */
 static int stop(sw_sim *s, char *err, size_t errsz) {
-  int sig = stop_signal;
+  int sig = sw_stop_request;
   s->stopped = 1;
   snprintf(s->msg, sizeof s->msg, "interrupted by signal %d (%s) at t = %.9g s", sig,
            sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : "signal", s->d->t);
@@ -297,7 +311,7 @@ int sw_sim_run_steps(sw_sim *s, double until, long max_steps, char *err, size_t 
   const double dt = s->m->opt.dt;
   int rc = SW_OK;
   for (long k = 0; rc == SW_OK && s->d->t < until && (max_steps < 0 || k < max_steps); k++) {
-    if (stop_signal) return stop(s, err, errsz);
+    if (sw_stop_request) return stop(s, err, errsz);
     /* a step ends on the grid (not a running sum), and a last sliver below dt/1e6 is merged */
     double grid = grid_next(s), end = fmin(grid, until);
     if (until - end < 1e-6 * dt) end = until;
@@ -352,7 +366,7 @@ static double rms_speed(const sw_model *m, const sw_data *d) {
 static int fit_step(sw_sim *s, double end, char *err, size_t errsz) {
   int rc = step_with_retries(s, end, err, errsz);
   s->d->fit_steps++; /* counted before the log: a restart file written there holds it */
-  if (!rc) rc = record(s, 0, err, errsz);
+  if (!rc) rc = accepted(s, 0, err, errsz);
   return rc;
 }
 
@@ -448,7 +462,7 @@ static int fit_stage(sw_sim *s, char *err, size_t errsz) {
   if (!f->on) return SW_OK;
   int rc = s->fitting ? SW_OK : fit_enter(s, err, errsz);
   while (rc == SW_OK && !fit_over(s, &rc, err, errsz)) {
-    if (stop_signal) return stop(s, err, errsz);
+    if (sw_stop_request) return stop(s, err, errsz);
     rc = fit_step(s, fit_next(s), err, errsz);
   }
   if (!rc && f->mode != SW_FIT_DYNAMIC) /* a rest state: dx/h was no speed */
@@ -535,7 +549,7 @@ static int begin(sw_sim *s, char *err, size_t errsz) {
   s->d->energy_bound = m->opt.energy_bound > 0.0 ? m->opt.energy_bound : sw_energy_bound(m, s->d);
   /* a failure of any is the run's: the folder says so */
   int is_static = !strcmp(m->opt.method, "static");
-  int rc = is_static && !m->fit.on ? SW_OK : record(s, 1, err, errsz);
+  int rc = is_static && !m->fit.on ? SW_OK : accepted(s, 1, err, errsz);
   return rc ? rc : fit_then_start(s, err, errsz);
 }
 
@@ -602,9 +616,13 @@ static void sim_io(sw_sim *s, sw_io *io) {
     sw_model *m = s->m;
     IO(m->damp_mass), IO(m->gravity_delay), IO(m->gravity_ramp), IO(m->opt.newton_tol);
   }
-  double ks = sw_mcontact_kappa_scale(d->mc); /* the adapted contact stiffness's factor */
-  IO(ks);
-  sw_mcontact_set_kappa_scale(d->mc, ks);
+  int nio = 0; /* the terms' run state (the adapted contact stiffness's factor) */
+  for (int k = 0; k < s->m->nterm; k++) {
+    const sw_term *t = &s->m->term[k];
+    if (t->ops->io) t->ops->io(t, s->m, d->tdata[k], io), nio++;
+  }
+  double one = 1.0; /* without any: the one double the format keeps there */
+  if (!nio) IO(one);
   IO(d->time_assemble), IO(d->time_factor), IO(d->time_solve), IO(d->time_step);
   double wall = d->wall_before + (sw_now() - s->wall0); /* s: every part's, to this state */
   IO(wall);

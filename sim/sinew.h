@@ -78,34 +78,155 @@ typedef struct sw_eval {
   double t;                    /* time, s */
   const double *x;             /* (nv x dim) positions, m (pinned ones included) */
   double *grad;                /* (nv x dim) += dE/dx, N; or NULL */
-  double *hess;                /* += d2E/dx2 per stencil block (see sw_term.hptr), N/m; or NULL */
+  double *hess;                /* += d2E/dx2 per stencil block (see sw_term.hptr), N/m, or set
+                                  (=) by a term with sets_blocks; or NULL */
   double *lowrank;             /* the low-rank vectors u_r of the Hessian (see sw_term.lptr),
                                   sqrt(N/m), written (not accumulated) whenever hess is asked
                                   for; never NULL then for a term with nlowrank > 0 */
   int project;                 /* SW_FILTER_*: how each block is made positive semi-definite
                                   (SW_FILTER_NONE: the exact Hessian) */
   const struct sw_contact_lag *lag; /* contact friction lagged for the current step, or NULL
-                                  (models/contact.c; set by the Newton integrators) */
+                                  (models/contact.c): for a caller that evaluates the term
+                                  contact alone; else its workspace in data, when lagged */
   sw_mcontact *mc;             /* mesh contact's workspace (models/mesh_contact.c): the
                                   term lists its active pairs and their Hessian blocks there;
-                                  NULL without self-contact and mesh obstacles */
+                                  for a caller that evaluates the term alone (else data) */
+  void *data;                  /* the term's workspace (sw_term_ops.data_new; sw_eval_terms
+                                  passes d->tdata[k]), or NULL */
   char *why;                   /* or NULL: when eval fails, a term may say which element and
                                   why here (whysz bytes, e.g. "face 3 (vertices 0 1 4): energy
                                   inf J"); the first failure is kept */
   size_t whysz;
 } sw_eval;
 
-/* The table of operations of one energy term (models/). */
+/* The Hessian blocks a term's last evaluation added beyond its declared stencils (contact
+ * pairs that come and go, sw_term_ops.blocks): n blocks of nvb vertices each (1 <= nvb <=
+ * SW_BLOCK_MAXV); block k's vertices at v + k vstride (an index >= nv has no DOF and is
+ * skipped), its dense (nvb dim) x (nvb dim) block (row-major, vertex-major then component) at
+ * val + k (nvb dim)^2, N/m, or val NULL when that evaluation did not ask for the Hessian. */
+#define SW_BLOCK_MAXV 4
+typedef struct sw_blocks {
+  int n, nvb;
+  const int *v;
+  int vstride;                 /* ints from one block's vertices to the next's (>= nvb) */
+  const double *val;
+} sw_blocks;
+
+/* One number of summary.json that a term adds (sw_term_ops.summary): a count when is_count,
+ * else a value. */
+typedef struct sw_field {
+  const char *name;
+  double value;
+  long count;
+  int is_count;
+} sw_field;
+enum { SW_SUMMARY_RUN = 0,     /* with the run's counters (each run) */
+       SW_SUMMARY_STATE = 1 }; /* of the state written at the end */
+
+struct sw_io;
+
+/* The table of operations of one energy term (models/).  kind and eval are required; every
+ * other operation is optional (NULL: the term has none) and the solvers and the run loop call
+ * each term that has it, in the order of m->term, never a term by name (docs/models.md,
+ * "Adding a term").  `data` is the term's mutable workspace in d (d->tdata[k]; NULL without
+ * data_new): the model and its terms' param stay immutable, what changes over a run is
+ * there. */
 typedef struct sw_term_ops {
   const char *kind;            /* "bw98", "gravity", ... */
   /* energy (J) into *energy; gradient and Hessian blocks as asked by ev. */
   int (*eval)(const sw_term *term, const sw_model *m, const sw_eval *ev, double *energy);
   void (*free_param)(void *param);
+  /* 1: whenever hess is asked for, eval sets (=, not +=) every stored entry of every one of its
+   * blocks, so they are not zeroed before it (a term that may skip a block leaves this 0). */
+  int sets_blocks;
+
+  /* --- workspace */
+  /* the term's workspace for d (sw_data_new, after d's own arrays), or NULL when out of
+   * memory; data_free releases it (sw_data_free) */
+  void *(*data_new)(const sw_term *term, const sw_model *m, sw_data *d);
+  void (*data_free)(void *data);
+
+  /* --- assembly */
+  /* the Hessian blocks of the last evaluation beyond the stencils, into *b (b->n = 0: none):
+   * before each assembly the Newton solver adds the vertex pairs of those its sparse pattern
+   * lacks and re-analyses it (the pattern only grows), then adds the blocks */
+  void (*blocks)(const sw_term *term, const sw_model *m, const sw_data *d, const void *data,
+                 sw_blocks *b);
+
+  /* --- the steps (the Newton integrators, solvers/ipstep.c, solvers/newton.c) */
+  /* start a step of size h (s) from (d->x, d->t) to stage time t1: lag what the step keeps
+   * fixed, and move the start guess y (nv x dim) to an admissible one; SW_RECOVER when the
+   * step cannot start (it is retried smaller) */
+  int (*begin)(const sw_term *term, const sw_model *m, sw_data *d, void *data, double h,
+               double t1, double *y);
+  /* the largest fraction in [0, 1] of the straight update x0 -> x1 at time t that the term
+   * admits; bound: checked on the whole update first, clip next, ccd last on what is left
+   * (continuous collision detection, also on a final correction) */
+  double (*bound)(const sw_term *term, const sw_model *m, sw_data *d, void *data,
+                  const double *x0, const double *x1, double t);
+  /* each vertex's own admissible fraction of x0 -> x1 into frac (nv): when the bounds cut
+   * the update short, each vertex's part is clipped at its own fraction instead */
+  void (*clip)(const sw_term *term, const sw_model *m, sw_data *d, void *data,
+               const double *x0, const double *x1, double t, double *frac);
+  double (*ccd)(const sw_term *term, const sw_model *m, sw_data *d, void *data,
+                const double *x0, const double *x1, double t);
+  /* 1 when the update x0 -> x1 is small next to every constraint of the term (Newton stops
+   * only then), else 0 */
+  int (*settled)(const sw_term *term, const sw_model *m, sw_data *d, void *data,
+                 const double *x0, const double *x1, double t);
+  /* after a step's solve: SW_RECOVER with d->err when the motion from d->x (at d->t) to y (at
+   * t1) passed through a constraint on the way */
+  int (*swept)(const sw_term *term, const sw_model *m, sw_data *d, void *data,
+               const double *y, double t1);
+  /* after Newton failed at x, time t: 1 when the term held the last update below half (frac:
+   * what its ccd allowed, vfrac: the clip's fractions or NULL), with the obstacle (scene
+   * item, or -1) into *item, the vertex into *vertex and its fraction into *held */
+  int (*held)(const sw_term *term, const sw_model *m, const sw_data *d, const void *data,
+              const double *x, double t, const double *vfrac, double frac, int *item,
+              int *vertex, double *held);
+
+  /* --- the run (sim/sim.c) */
+  /* once a state is accepted (the first state, then after each accepted step), after its
+   * diagnostics: the term's lagged state advanced for the steps from here on */
+  void (*commit)(const sw_term *term, const sw_model *m, sw_data *d, void *data);
+  /* the term's diagnostics of d (d->x, d->t) into d's fields, before the logs */
+  void (*state)(const sw_term *term, const sw_model *m, sw_data *d, void *data);
+  /* (nv) |force| of the term's contacts on each vertex at the last state, N (the faces'
+   * contact pressure sums them), or NULL */
+  const double *(*vertex_force)(const sw_term *term, const sw_model *m, const sw_data *d,
+                                const void *data);
+  /* 1 when the term dissipates energy (friction): energy.csv logs the dissipation */
+  int (*dissipates)(const sw_term *term, const sw_model *m);
+  /* up to nmax fields of summary.json into f (at: SW_SUMMARY_*); their number */
+  int (*summary)(const sw_term *term, const sw_model *m, const sw_data *d, void *data, int at,
+                 sw_field *f, int nmax);
+  /* the term's run state into or out of restart.bin (sim/util.h, sw_io_bytes) */
+  void (*io)(const sw_term *term, const sw_model *m, void *data, struct sw_io *io);
+
+  /* --- loading (sim/input/scene.c) */
+  /* whether the term can start from the scene's state x: 0, or nonzero with err ("what is
+   * wrong; expected ...") and *key the scene key the error is reported at ("obstacles",
+   * "contact") */
+  int (*check_start)(const sw_term *term, const sw_model *m, const double *x, const char **key,
+                     char *err, size_t errsz);
 } sw_term_ops;
 
+/* Offset of entry (r, c), r <= c, in the upper triangle of a w x w block stored row by row. */
+static inline long sw_hess_upper(int r, int c, int w) {
+  return (long)r * w - (long)r * (r - 1) / 2 + (c - r);
+}
+/* Doubles in the upper triangle of a w x w block. */
+static inline long sw_hess_size(int w) { return (long)w * (w + 1) / 2; }
+/* Entry (r, c) of a symmetric block stored as its upper triangle (either order of r, c). */
+static inline double sw_hess_get(const double *blk, int r, int c, int w) {
+  return r <= c ? blk[sw_hess_upper(r, c, w)] : blk[sw_hess_upper(c, r, w)];
+}
+
 /* One energy term: its operations, its Hessian stencils (declared once), its parameters.
- * Stencil s covers vertices sidx[sptr[s] .. sptr[s+1]-1]; its dense Hessian block of
- * (n*dim) x (n*dim) doubles (row-major, vertex-major then component) starts at hess + hptr[s].
+ * Stencil s covers vertices sidx[sptr[s] .. sptr[s+1]-1]; its Hessian block, symmetric of
+ * w = n*dim rows (vertex-major then component), is stored as its upper triangle, row by row:
+ * entry (r, c), r <= c, at hess + hptr[s] + sw_hess_upper(r, c, w), sw_hess_size(w) doubles in
+ * all (the lower half is never stored, assembled or read).
  * A term may also declare low-rank vectors: its Hessian is then the sum of the blocks plus
  * sum_r u_r u_r^T, where u_r covers vertices lidx[lptr[r] .. lptr[r+1]-1] and its n*dim values
  * (vertex-major) start at lowrank + lptr[r]*dim.  They keep a coupling of many vertices (a
@@ -269,10 +390,10 @@ typedef struct sw_tendon {
   double damping;              /* N s/m: force -c (dl/dt) grad l along the tendon */
 } sw_tendon;
 
-/* Forcing (models/forcing.c, docs/scenes.md "Forcing").  Keyframes are interpolated linearly
- * (the slope jumps at each keyframe) or smoothly: the quintic blend 6u^5 - 15u^4 + 10u^3
- * between consecutive keyframes, C^2 everywhere and never outside the keyframes' range.
- * Scenes default to smooth; a zeroed sw_tendon is linear. */
+/* Forcing (models/keyframe.c and forcing.c, docs/scenes.md "Forcing").  Keyframes are
+ * interpolated linearly (the slope jumps at each keyframe) or smoothly: the quintic blend
+ * 6u^5 - 15u^4 + 10u^3 between consecutive keyframes, C^2 everywhere and never outside the
+ * keyframes' range.  Scenes default to smooth; a zeroed sw_tendon is linear. */
 /* Seams (models/seam.c, docs/garments.md): two boundary curves of the pattern, each a run of
  * a panel's boundary, sewn together.  Each vertex of either curve is paired with the point at
  * the same fraction of arc length (in the (u,v) pattern) on the other curve, which may lie
@@ -577,6 +698,9 @@ struct sw_data {
   long *loff;                  /* (nterm + 1) */
   double *term_energy;         /* (nterm) J, at the last evaluation */
   double *term_time;           /* (nterm) s of wall time in each term's evaluations, cumulative */
+  int ntdata;                  /* m->nterm */
+  void **tdata;                /* (ntdata) each term's workspace (sw_term_ops.data_new), or NULL */
+  void (**tdata_free)(void *); /* (ntdata) its release (sw_term_ops.data_free), or NULL */
   /* diagnostics (after every accepted step) */
   double *txy;                 /* (nf) tension XY, N/m */
   double *stretch_u, *stretch_v; /* (nf) warp and weft stretch |wu|, |wv| */
@@ -587,7 +711,8 @@ struct sw_data {
   double *tendon_delta;        /* (ntendon) length - rest, m */
   double *tendon_tension;      /* (ntendon) E'(delta), N */
   /* contact (models/contact.c; only with obstacles) */
-  sw_contact_lag *lag;         /* friction lagged for the current step, or NULL */
+  sw_contact_lag *lag;         /* friction lagged for the current step, or NULL: the term
+                                  contact's workspace (its d->tdata), named for models/ */
   int contact_count;           /* vertex-obstacle pairs closer than dhat at the last diagnostics
                                   (with mesh obstacles: their point-triangle and edge-edge
                                   pairs too) */
@@ -598,7 +723,7 @@ struct sw_data {
   double friction_force[3];    /* N: total friction force of the last step's lag */
   double friction_power;       /* W: the power friction dissipates at the last diagnostics */
   sw_mcontact *mc;             /* mesh contact's workspace, or NULL (contact: {self: true}
-                                  or a mesh obstacle) */
+                                  or a mesh obstacle): the term mesh_contact's d->tdata */
   int self_count;              /* self-contact pairs closer than dhat beyond the thickness */
   double self_min;             /* m: smallest gap (distance - thickness) of a self-contact
                                   candidate pair (inf: none within thickness + dhat) */

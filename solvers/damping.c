@@ -48,7 +48,7 @@ static void add_blocks(const sw_model *m, const sw_data *d, double beta, const d
       const double *b = h + t->hptr[s];
       for (int i = 0; i < w; i++) {
         double acc = 0.0;
-        for (int j = 0; j < w; j++) acc += b[i * w + j] * v[idx[j / dim] * dim + j % dim];
+        for (int j = 0; j < w; j++) acc += sw_hess_get(b, i, j, w) * v[idx[j / dim] * dim + j % dim];
         out[idx[i / dim] * dim + i % dim] += beta * acc;
       }
     }

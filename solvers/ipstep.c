@@ -7,7 +7,6 @@
  * the commit of the new state. */
 #include <string.h>
 
-#include "contact.h"
 #include "solver.h"
 #include "util.h"
 
@@ -62,28 +61,26 @@ int sw_ipstep_solve(sw_ipstep *s, const sw_model *m, sw_data *d, const sw_newton
   const int nd = m->nv * m->dim;
   if (!y0) y0 = s->xhat;
   for (int i = 0; i < nd; i++) s->xnew[i] = m->dof[i] < 0 ? d->x[i] : y0[i];
-  double t0 = sw_now();
-  int rc = sw_contact_begin(m, d, o->h, o->t, s->xnew);
-  double t1 = sw_now();
-  d->time_contact += t1 - t0;
-  if (!rc && d->mc) {
-    rc = sw_mcontact_lag(m, d, o->h); /* friction of the mesh pairs, lagged at d->x */
-    if (!rc) rc = sw_mcontact_begin(m, d, o->t, s->xnew);
-    d->time_ccd += sw_now() - t1;
+  /* each term's start of the step (contact: friction lagged at d->x, the guess made
+   * admissible), in term order */
+  int rc = SW_OK, begun = 0;
+  for (int k = 0; !rc && k < m->nterm; k++) {
+    const sw_term *t = &m->term[k];
+    if (!t->ops->begin) continue;
+    rc = t->ops->begin(t, m, d, d->tdata[k], o->h, o->t, s->xnew);
+    begun = 1;
   }
   if (rc) return rc;
-  /* D at the predictor; with contact at the start guess instead, which the contact checks
-   * made admissible (the predictor may be inside an obstacle or through the cloth itself,
+  /* D at the predictor; with a term that moved the guess at the start guess instead, which
+   * it made admissible (the predictor may be inside an obstacle or through the cloth itself,
    * where the barriers have no Hessian) */
-  rc = sw_newton_damping(&s->nw, m, d, d->lag || d->mc ? s->xnew : s->xhat, o->t);
+  rc = sw_newton_damping(&s->nw, m, d, begun ? s->xnew : s->xhat, o->t);
   if (!rc) rc = sw_newton_solve(&s->nw, m, d, s->xnew, s->xhat, o);
   /* the solve keeps the obstacles at the stage time: a moving one must not have passed
    * through the cloth on the way there (recoverable: the step is retried smaller) */
-  if (!rc && (d->lag || d->mc)) {
-    double t2 = sw_now();
-    rc = sw_contact_swept(m, d, s->xnew, o->t);
-    if (!rc) rc = sw_mcontact_swept(m, d, s->xnew, o->t);
-    d->time_contact += sw_now() - t2;
+  for (int k = 0; !rc && k < m->nterm; k++) {
+    const sw_term *t = &m->term[k];
+    if (t->ops->swept) rc = t->ops->swept(t, m, d, d->tdata[k], s->xnew, o->t);
   }
   return rc;
 }

@@ -16,7 +16,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "contact.h"
 #include "solver.h"
 #include "util.h"
 
@@ -63,7 +62,15 @@ int sw_newton_init(sw_newton *nw, const sw_model *m, char *err, size_t errsz) {
   nw->g = sw_calloc((size_t)nw->n, sizeof(double));
   nw->dx = sw_calloc((size_t)nw->n, sizeof(double));
   nw->xtry = sw_calloc((size_t)m->nv * (size_t)m->dim, sizeof(double));
-  if (m->nobstacle > 0 && !(nw->vfrac = sw_calloc((size_t)m->nv, sizeof(double)))) {
+  int nclip = 0;
+  for (int k = 0; k < m->nterm; k++) {
+    nclip += m->term[k].ops->clip != NULL;
+    nw->nblock_terms += m->term[k].ops->blocks != NULL;
+  }
+  nw->tfrac = sw_calloc((size_t)m->nterm + 1, sizeof(double));
+  if (nclip > 0) nw->vfrac = sw_calloc((size_t)m->nv, sizeof(double));
+  if (nclip > 1) nw->vtmp = sw_calloc((size_t)m->nv, sizeof(double));
+  if (!nw->tfrac || (nclip > 0 && !nw->vfrac) || (nclip > 1 && !nw->vtmp)) {
     sw_errf(err, errsz, "out of memory for Newton's workspaces (%d DOFs)", nw->n);
     return SW_FATAL;
   }
@@ -102,6 +109,8 @@ void sw_newton_free(sw_newton *nw) {
   sw_free(nw->vres);
   sw_free(nw->wdof);
   sw_free(nw->vfrac);
+  sw_free(nw->vtmp);
+  sw_free(nw->tfrac);
   sw_free(nw->xpair);
   sw_free(nw->ktab);
   sw_free(nw->kv);
@@ -209,50 +218,70 @@ static void add_step(const sw_model *m, const double *x, const double *dx, doubl
   }
 }
 
-/* The full step dx from x against the obstacles (models/contact.c), timed: the largest fraction
- * of it that keeps every vertex outside (continuous collision detection, STEP_BOUND), or 1 when
- * it leaves every contact settled and 0 when not (sw_contact_settled, STEP_SETTLED; with
- * self-contact, sw_mcontact_settled too); 1 without obstacles. */
-enum { STEP_BOUND, STEP_SETTLED };
-static double contact_check(sw_newton *nw, const sw_model *m, sw_data *d, const double *x,
-                            double t, int what) {
-  if (m->nobstacle == 0 && !(d->mc && what == STEP_SETTLED)) return 1.0;
-  double t0 = sw_now(), r = 1.0;
-  add_step(m, x, nw->dx, 1.0, nw->xtry);
-  if (m->nobstacle > 0)
-    r = what == STEP_BOUND ? sw_contact_toi(m, x, nw->xtry, t)
-                           : sw_contact_settled(m, x, nw->xtry, t);
-  if (d->mc && what == STEP_SETTLED && r == 1.0) r = sw_mcontact_settled(m, d->mc, x, nw->xtry);
-  d->time_contact += sw_now() - t0;
+/* 1 when the whole step dx from x leaves every term's constraints settled (sw_term_ops
+ * settled, in term order until one is not), else 0. */
+static double settled(sw_newton *nw, const sw_model *m, sw_data *d, const double *x, double t) {
+  double r = 1.0;
+  int any = 0;
+  for (int k = 0; k < m->nterm && r == 1.0; k++) {
+    const sw_term *tm = &m->term[k];
+    if (!tm->ops->settled) continue;
+    if (!any++) add_step(m, x, nw->dx, 1.0, nw->xtry);
+    r = tm->ops->settled(tm, m, d, d->tdata[k], x, nw->xtry, t);
+  }
   return r;
 }
 
-/* Mesh contact: the fraction of the step alpha dx from x over which no pair of the cloth's
- * primitives, or of the cloth's and a mesh obstacle's (fixed at time t), comes within its
- * thickness (CCD), timed; 1 without the term mesh_contact. */
-static double self_bound(sw_newton *nw, const sw_model *m, sw_data *d, const double *x,
-                         double t, double alpha) {
-  if (!d->mc || alpha <= 0.0) return 1.0;
-  double t0 = sw_now();
-  add_step(m, x, nw->dx, alpha, nw->xtry);
-  double s = sw_mcontact_toi(m, d->mc, x, t, nw->xtry, t, &d->time_broadphase);
-  d->time_ccd += sw_now() - t0;
-  nw->mfrac = s * alpha;
-  return s;
+/* The largest fraction of the whole step dx from x that every term's bound admits (1 without
+ * any). */
+static double bound(sw_newton *nw, const sw_model *m, sw_data *d, const double *x, double t) {
+  double r = 1.0;
+  int any = 0;
+  for (int k = 0; k < m->nterm; k++) {
+    const sw_term *tm = &m->term[k];
+    if (!tm->ops->bound) continue;
+    if (!any++) add_step(m, x, nw->dx, 1.0, nw->xtry);
+    r = fmin(r, tm->ops->bound(tm, m, d, d->tdata[k], x, nw->xtry, t));
+  }
+  return r;
 }
 
-/* When the obstacles cut the whole step dx short (alpha < 1), each vertex's part of dx is
- * clipped at what that vertex alone may take instead, so that a vertex running into an obstacle
- * does not hold back the rest of the cloth; kept if it is still a descent direction (then
- * *alpha = 1 and *slope is its own).  Newton's quadratic model does not see an obstacle
- * beyond the barrier's reach, so without this one vertex can cut every step to a few percent
- * for many iterations. */
+/* alpha cut by the terms' continuous collision detection (sw_term_ops ccd): the fraction of
+ * the whole step dx from x they allow, each term on the part alpha dx the earlier ones left
+ * (nw->tfrac[k]: term k's result); alpha without any. */
+static double ccd(sw_newton *nw, const sw_model *m, sw_data *d, const double *x, double t,
+                  double alpha) {
+  double a = alpha;
+  for (int k = 0; k < m->nterm; k++) {
+    const sw_term *tm = &m->term[k];
+    if (!tm->ops->ccd || a <= 0.0) continue;
+    add_step(m, x, nw->dx, a, nw->xtry);
+    double s = tm->ops->ccd(tm, m, d, d->tdata[k], x, nw->xtry, t);
+    nw->tfrac[k] = s * a;
+    a *= s;
+  }
+  return a;
+}
+
+/* When the bounds cut the whole step dx short (alpha < 1), each vertex's part of dx is
+ * clipped at what that vertex alone may take instead (sw_term_ops clip; the smallest of the
+ * terms' fractions), so that a vertex running into an obstacle does not hold back the rest of
+ * the cloth; kept if it is still a descent direction (then *alpha = 1 and *slope is its own).
+ * Newton's quadratic model does not see an obstacle beyond the barrier's reach, so without
+ * this one vertex can cut every step to a few percent for many iterations. */
 static void clip_step(sw_newton *nw, const sw_model *m, sw_data *d, const double *x, double t,
                       double *alpha, double *slope) {
   if (*alpha >= 1.0 || !nw->vfrac) return;
-  double t0 = sw_now(), s = 0.0;
+  double s = 0.0;
+  int any = 0;
   add_step(m, x, nw->dx, 1.0, nw->xtry);
-  sw_contact_clip(m, x, nw->xtry, t, nw->vfrac);
+  for (int k = 0; k < m->nterm; k++) {
+    const sw_term *tm = &m->term[k];
+    if (!tm->ops->clip) continue;
+    tm->ops->clip(tm, m, d, d->tdata[k], x, nw->xtry, t, any ? nw->vtmp : nw->vfrac);
+    for (int i = 0; any && i < m->nv; i++) nw->vfrac[i] = fmin(nw->vfrac[i], nw->vtmp[i]);
+    any = 1;
+  }
   for (int i = 0; i < m->nv * m->dim; i++)
     if (m->dof[i] >= 0) s += nw->g[m->dof[i]] * nw->dx[m->dof[i]] * nw->vfrac[i / m->dim];
   if (-s < 0.0) { /* nw->g is -grad Phi here: the clipped slope grad Phi . dx_clipped */
@@ -261,16 +290,15 @@ static void clip_step(sw_newton *nw, const sw_model *m, sw_data *d, const double
     *alpha = 1.0;
     *slope = -s;
   }
-  d->time_contact += sw_now() - t0;
 }
 
 int sw_newton_line_search(sw_newton *nw, const sw_model *m, sw_data *d, double *x,
                           const double *xhat, const sw_newton_opts *o, double phi0, double slope) {
   /* Differences below this are round-off in Phi itself. */
   double noise = 1e-13 * (fabs(phi0) + 1e-300);
-  double alpha = contact_check(nw, m, d, x, o->t, STEP_BOUND);
+  double alpha = bound(nw, m, d, x, o->t);
   clip_step(nw, m, d, x, o->t, &alpha, &slope);
-  alpha *= self_bound(nw, m, d, x, o->t, alpha);
+  alpha = ccd(nw, m, d, x, o->t, alpha);
   for (int k = 0; k < 40 && alpha > 0.0; k++, alpha *= 0.5) {
     add_step(m, x, nw->dx, alpha, nw->xtry);
     double phi;
@@ -340,10 +368,11 @@ static void forget_slots(sw_newton *nw) {
 /* The position in nw->ktab of the entry of vertices v, or of the free place where it goes. */
 static int slot_place(const sw_newton *nw, const int *v) {
   unsigned h = 2166136261u; /* FNV-1a over the four indices */
-  for (int i = 0; i < 4; i++) h = (h ^ (unsigned)v[i]) * 16777619u;
+  for (int i = 0; i < SW_BLOCK_MAXV; i++) h = (h ^ (unsigned)v[i]) * 16777619u;
   for (unsigned q = h & (unsigned)(nw->captab - 1);; q = (q + 1) & (unsigned)(nw->captab - 1)) {
     int e = nw->ktab[q];
-    if (e < 0 || !memcmp(nw->kv + 4 * (size_t)e, v, 4 * sizeof(int))) return (int)q;
+    if (e < 0 || !memcmp(nw->kv + SW_BLOCK_MAXV * (size_t)e, v, SW_BLOCK_MAXV * sizeof(int)))
+      return (int)q;
   }
 }
 
@@ -351,9 +380,9 @@ static int slot_place(const sw_newton *nw, const int *v) {
 static int slot_room(sw_newton *nw) {
   if (nw->nslot == nw->capslot) {
     int cap = nw->capslot + nw->capslot / 2 + 256;
-    int *kv = sw_realloc(nw->kv, (size_t)cap * 4, sizeof(int));
+    int *kv = sw_realloc(nw->kv, (size_t)cap * SW_BLOCK_MAXV, sizeof(int));
     if (kv) nw->kv = kv;
-    int *ks = kv ? sw_realloc(nw->kslot, (size_t)cap * 144, sizeof(int)) : NULL;
+    int *ks = kv ? sw_realloc(nw->kslot, (size_t)cap * SW_BLOCK_MAXS, sizeof(int)) : NULL;
     if (!ks) return -1;
     nw->kslot = ks, nw->capslot = cap;
   }
@@ -363,27 +392,42 @@ static int slot_room(sw_newton *nw) {
   if (!t) return -1;
   nw->ktab = t, nw->captab = cap;
   for (int q = 0; q < cap; q++) t[q] = -1;
-  for (int e = 0; e < nw->nslot; e++) t[slot_place(nw, nw->kv + 4 * (size_t)e)] = e;
+  for (int e = 0; e < nw->nslot; e++) t[slot_place(nw, nw->kv + SW_BLOCK_MAXV * (size_t)e)] = e;
   return 0;
 }
 
-/* The kept slots of pair pr's block, or NULL. */
-static const int *kept_slots(const sw_newton *nw, const sw_mc_pair *pr) {
-  if (!nw->captab) return NULL;
-  int e = nw->ktab[slot_place(nw, pr->v)];
-  return e < 0 ? NULL : nw->kslot + 144 * (size_t)e;
+/* The key of a block of nvb vertices v: its vertices, -1 past nvb. */
+static void block_key(const int *v, int nvb, int key[SW_BLOCK_MAXV]) {
+  for (int i = 0; i < SW_BLOCK_MAXV; i++) key[i] = i < nvb ? v[i] : -1;
 }
 
-/* The slots of pair pr's block, found and kept when not kept yet; NULL when they cannot be
- * kept (out of memory). */
-static const int *pair_slots(sw_newton *nw, const sw_model *m, const sw_mc_pair *pr) {
-  const int *s = kept_slots(nw, pr);
+/* The kept slots of the block of key, or NULL. */
+static const int *kept_slots(const sw_newton *nw, const int *key) {
+  if (!nw->captab) return NULL;
+  int e = nw->ktab[slot_place(nw, key)];
+  return e < 0 ? NULL : nw->kslot + SW_BLOCK_MAXS * (size_t)e;
+}
+
+/* The slots of the block of key (nvb vertices), found and kept when not kept yet; NULL when
+ * they cannot be kept (out of memory). */
+static const int *block_slots(sw_newton *nw, const sw_model *m, const int *key, int nvb) {
+  const int *s = kept_slots(nw, key);
   if (s || slot_room(nw)) return s;
-  int e = nw->nslot++, *slot = nw->kslot + 144 * (size_t)e;
-  memcpy(nw->kv + 4 * (size_t)e, pr->v, 4 * sizeof(int));
-  sw_pattern_block_slots(&nw->pat, m, pr->v, 4, slot);
-  nw->ktab[slot_place(nw, pr->v)] = e;
+  int e = nw->nslot++, *slot = nw->kslot + SW_BLOCK_MAXS * (size_t)e;
+  memcpy(nw->kv + SW_BLOCK_MAXV * (size_t)e, key, SW_BLOCK_MAXV * sizeof(int));
+  sw_pattern_block_slots(&nw->pat, m, key, nvb, slot);
+  nw->ktab[slot_place(nw, key)] = e;
   return slot;
+}
+
+/* Term k's extra blocks of the last evaluation (none when it has no blocks op, or a bad
+ * size). */
+static sw_blocks term_blocks(const sw_model *m, const sw_data *d, int k) {
+  sw_blocks b = {0};
+  const sw_term *tm = &m->term[k];
+  if (tm->ops->blocks) tm->ops->blocks(tm, m, d, d->tdata[k], &b);
+  if (b.n < 0 || b.nvb < 1 || b.nvb > SW_BLOCK_MAXV || !b.v || b.vstride < b.nvb) b.n = 0;
+  return b;
 }
 
 /* Rebuild the pattern with nw->xpair and analyse it again (the damping matrix carried over). */
@@ -418,25 +462,30 @@ static int regrow(sw_newton *nw, const sw_model *m, sw_data *d) {
   return sw_chol_init(&nw->chol, &nw->pat, nw->factor_mode, d->err, sizeof d->err);
 }
 
-/* Self-contact: when the last evaluation's pairs couple vertices the pattern does not hold,
- * add those pairs and rebuild it (a new symbolic analysis).  The pattern only grows: a pair
- * that left contact keeps its (zero) entries, so a contact that comes and goes costs one
- * analysis, not one per change (docs/contact.md, "The sparsity pattern"). */
+/* When the last evaluation's extra blocks (sw_term_ops blocks: self-contact's pairs, say)
+ * couple vertices the pattern does not hold, add those pairs and rebuild it (a new symbolic
+ * analysis).  The pattern only grows: a pair that left contact keeps its (zero) entries, so a
+ * contact that comes and goes costs one analysis, not one per change (docs/contact.md, "The
+ * sparsity pattern"). */
 static int grow_pattern(sw_newton *nw, const sw_model *m, sw_data *d) {
-  const sw_mc_pair *pr;
-  int np = sw_mcontact_pairs(d->mc, &pr, NULL);
   long before = nw->nxpair;
-  for (int k = 0; k < np; k++) {
-    if (kept_slots(nw, &pr[k])) continue; /* its slots were found on this pattern: all held */
-    for (int i = 0; i < 4; i++)
-      for (int j = i + 1; j < 4; j++) {
-        int a = pr[k].v[i], b = pr[k].v[j];
-        if (a >= m->nv || b >= m->nv) continue; /* a mesh obstacle's vertex: no DOF */
-        if (a != b && !sw_pattern_has_pair(&nw->pat, m, a, b) && push_xpair(nw, a, b)) {
-          sw_errf(d->err, sizeof d->err, "out of memory growing the sparsity pattern");
-          return SW_FATAL;
+  for (int t = 0; t < m->nterm; t++) {
+    sw_blocks b = term_blocks(m, d, t);
+    for (int k = 0; k < b.n; k++) {
+      const int *v = b.v + (size_t)k * b.vstride;
+      int key[SW_BLOCK_MAXV];
+      block_key(v, b.nvb, key);
+      if (kept_slots(nw, key)) continue; /* its slots were found on this pattern: all held */
+      for (int i = 0; i < b.nvb; i++)
+        for (int j = i + 1; j < b.nvb; j++) {
+          int a = v[i], c = v[j];
+          if (a < 0 || c < 0 || a >= m->nv || c >= m->nv) continue; /* no DOF */
+          if (a != c && !sw_pattern_has_pair(&nw->pat, m, a, c) && push_xpair(nw, a, c)) {
+            sw_errf(d->err, sizeof d->err, "out of memory growing the sparsity pattern");
+            return SW_FATAL;
+          }
         }
-      }
+    }
   }
   if (nw->nxpair == before) return SW_OK;
   double t0 = sw_now();
@@ -451,28 +500,35 @@ static int grow_pattern(sw_newton *nw, const sw_model *m, sw_data *d) {
   return rc;
 }
 
-/* The active self-contact pairs' Hessian blocks into val, by their kept slots. */
-static void add_pair_blocks(sw_newton *nw, const sw_model *m, const sw_data *d, double *val) {
-  const sw_mc_pair *pr;
-  const double *blk;
-  int np = sw_mcontact_pairs(d->mc, &pr, &blk);
-  if (nw->nslot > 4 * np + 4096) forget_slots(nw); /* pairs long gone: keep memory bounded */
-  for (int k = 0; blk && k < np; k++) {
-    const int *slot = pair_slots(nw, m, &pr[k]);
-    if (slot) sw_pattern_add_slots(slot, 12, blk + 144 * (size_t)k, 1.0, val);
-    else sw_pattern_add_block(&nw->pat, m, pr[k].v, 4, blk + 144 * (size_t)k, 1.0, val);
+/* The terms' extra blocks into val, by their kept slots. */
+static void add_extra_blocks(sw_newton *nw, const sw_model *m, const sw_data *d, double *val) {
+  long nb = 0;
+  for (int t = 0; t < m->nterm; t++) nb += term_blocks(m, d, t).n;
+  if (nw->nslot > 4 * nb + 4096) forget_slots(nw); /* blocks long gone: keep memory bounded */
+  for (int t = 0; t < m->nterm; t++) {
+    sw_blocks b = term_blocks(m, d, t);
+    const int nd = b.nvb * m->dim;
+    for (int k = 0; b.val && k < b.n; k++) {
+      const int *v = b.v + (size_t)k * b.vstride;
+      const double *blk = b.val + (size_t)nd * nd * k;
+      int key[SW_BLOCK_MAXV];
+      block_key(v, b.nvb, key);
+      const int *slot = block_slots(nw, m, key, b.nvb);
+      if (slot) sw_pattern_add_slots(slot, nd, blk, 1.0, val);
+      else sw_pattern_add_block(&nw->pat, m, v, b.nvb, blk, 1.0, val);
+    }
   }
 }
 
 /* S = a M + H (H from the last evaluation: blocks, self-contact pairs and low-rank vectors)
  * + cd D into nw->sval and nw->lrcur (the pattern grown first for new self-contact pairs). */
 static int assemble(sw_newton *nw, const sw_model *m, sw_data *d, double a) {
-  int rc = d->mc ? grow_pattern(nw, m, d) : SW_OK;
+  int rc = nw->nblock_terms ? grow_pattern(nw, m, d) : SW_OK;
   if (rc) return rc;
   double t0 = sw_now();
   double *val = nw->sval;
   sw_pattern_fill(&nw->pat, m, d, a, 1.0, val);
-  if (d->mc) add_pair_blocks(nw, m, d, val);
+  if (nw->nblock_terms) add_extra_blocks(nw, m, d, val);
   sw_pattern_fill_lowrank(&nw->pat, d, nw->lrcur);
   if (nw->cd > 0.0 && nw->dval)
     for (long q = 0; q < nw->pat.nnz; q++) val[q] += nw->cd * nw->dval[q];
@@ -481,11 +537,11 @@ static int assemble(sw_newton *nw, const sw_model *m, sw_data *d, double a) {
 }
 
 int sw_newton_hessian(sw_newton *nw, const sw_model *m, sw_data *d, double a) {
-  int rc = d->mc ? grow_pattern(nw, m, d) : SW_OK;
+  int rc = nw->nblock_terms ? grow_pattern(nw, m, d) : SW_OK;
   if (rc) return rc;
   double *val = sw_chol_values(&nw->chol);
   sw_pattern_fill(&nw->pat, m, d, a, 1.0, val);
-  if (d->mc) add_pair_blocks(nw, m, d, val);
+  if (nw->nblock_terms) add_extra_blocks(nw, m, d, val);
   return SW_OK;
 }
 
@@ -728,8 +784,7 @@ static int polish(sw_newton *nw, const sw_model *m, sw_data *d, double *x, const
     return SW_OK;
   }
   if (!(update_size(nw, o->norm, max_abs(nw->dx, nw->n)) <= cap) ||
-      contact_check(nw, m, d, x, o->t, STEP_SETTLED) != 1.0 ||
-      self_bound(nw, m, d, x, o->t, 1.0) < 1.0)
+      settled(nw, m, d, x, o->t) != 1.0 || ccd(nw, m, d, x, o->t, 1.0) < 1.0)
     return SW_OK;
   add_step(m, x, nw->dx, 1.0, x);
   return SW_OK;
@@ -744,26 +799,19 @@ static double round_off_floor(const sw_model *m, const double *x) {
   return 1e3 * DBL_EPSILON * xmax;
 }
 
-/* After Newton failed: when the obstacles clipped the last update (a vertex's fraction below
- * 1/2), name the obstacle nearest the most clipped vertex in d->err, so that a failure at a
- * fast obstacle says which one and where; else when a mesh obstacle's pair cut the last update
- * below 1/2 (its CCD), name that obstacle and the pair's cloth vertex. */
+/* After Newton failed: the first term that held the last update below half (sw_term_ops
+ * held: the obstacles' clip of a vertex, or a mesh obstacle's pair in the CCD) names the
+ * obstacle and the vertex in d->err, so that a failure at a fast obstacle says which one and
+ * where. */
 static void name_obstacle(const sw_newton *nw, const sw_model *m, sw_data *d, const double *x,
                           double t) {
   int iv = -1, item = -1;
   double frac = 1.0;
-  for (int i = 0; nw->vfrac && m->nobstacle > 0 && i < m->nv; i++)
-    if (nw->vfrac[i] < 0.5 && (iv < 0 || nw->vfrac[i] < nw->vfrac[iv])) iv = i;
-  if (iv >= 0) {
-    double best = INFINITY;
-    for (int k = 0; k < m->nobstacle; k++) {
-      double dist = sw_obstacle_sdf(&m->obstacle[k], m->dim, t, x + (size_t)iv * m->dim, NULL, NULL);
-      if (dist < best) best = dist, item = m->obstacle[k].item;
-    }
-    frac = nw->vfrac[iv];
-  } else if (d->mc && nw->mfrac < 0.5) {
-    item = sw_mcontact_limit(m, d->mc, &iv);
-    frac = nw->mfrac;
+  for (int k = 0; k < m->nterm; k++) {
+    const sw_term *tm = &m->term[k];
+    if (tm->ops->held && tm->ops->held(tm, m, d, d->tdata[k], x, t, nw->vfrac, nw->tfrac[k],
+                                       &item, &iv, &frac))
+      break;
   }
   if (item < 0) return;
   size_t n = strlen(d->err);
@@ -831,7 +879,7 @@ int sw_newton_solve(sw_newton *nw, const sw_model *m, sw_data *d, double *x, con
   }
   if (o->reuse == SW_REUSE_STEP) nw->fac_stale = 1; /* each solve factorises its first S */
   const double xfloor = round_off_floor(m, x);
-  nw->mfrac = 1.0;
+  for (int k = 0; k < m->nterm; k++) nw->tfrac[k] = 1.0;
   double prev = 0.0, phi = 0.0; /* max |dx| of the last iteration; Phi at x */
   int redo = 0; /* 1: the same iterate again, with a fresh factorisation */
   for (int it = 0; it < o->max_iter; it++) {
@@ -868,7 +916,7 @@ int sw_newton_solve(sw_newton *nw, const sw_model *m, sw_data *d, double *x, con
     double rate = prev > 0.0 ? step / prev : 1.0;
     double left = rate < 0.5 ? step * rate / (1.0 - rate) : step;
     if ((left <= o->tol_dx || dxmax <= xfloor || stalled) &&
-        contact_check(nw, m, d, x, o->t, STEP_SETTLED) == 1.0) {
+        settled(nw, m, d, x, o->t) == 1.0) {
       add_step(m, x, nw->dx, 1.0, x);
       /* step: CG's preconditioner is this solve's own factorisation, no correction
        * (docs/integrators.md, "Newton-Krylov") */
@@ -882,8 +930,7 @@ int sw_newton_solve(sw_newton *nw, const sw_model *m, sw_data *d, double *x, con
       }
       if (rc) return rc;
     } else { /* a full step, as far as the obstacles let it go */
-      double alpha = contact_check(nw, m, d, x, o->t, STEP_BOUND);
-      add_step(m, x, nw->dx, alpha * self_bound(nw, m, d, x, o->t, alpha), x);
+      add_step(m, x, nw->dx, ccd(nw, m, d, x, o->t, bound(nw, m, d, x, o->t)), x);
     }
     nw->theta = prev > 0.0 ? rate : 0.0;
     prev = step;

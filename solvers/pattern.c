@@ -1,6 +1,7 @@
 /* pattern.c — the fixed sparsity pattern of S = c^2 M + c D + H on the free DOFs.
  * Built once per run from the terms' stencils: vertex adjacency -> upper-triangle CSC with
- * sorted rows -> for every entry of every term's Hessian blocks, the slot it adds into. */
+ * sorted rows -> for every entry of the upper triangle of every term's Hessian blocks (the
+ * half they store), the slot it adds into. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -103,24 +104,52 @@ static long find_slot(const sw_pattern *p, int r, int c) {
   return -1;
 }
 
-static int build_maps(sw_pattern *p, const sw_model *m) {
+/* The slots of term k's block entries (upper triangles: entry (i, j), i <= j, goes to the
+ * slot of (min, max) of its DOFs); an off-diagonal entry whose two DOFs are one also goes to
+ * the duplicate list when dup is not NULL (counted in *ndup either way).  hoff: where the term's
+ * blocks start in d->hess. */
+static void term_map(sw_pattern *p, const sw_model *m, int k, long hoff, long *ndup, int fill) {
   const int d = m->dim;
+  const sw_term *t = &m->term[k];
+  for (int s = 0; s < t->nstencil; s++) {
+    int w = (t->sptr[s + 1] - t->sptr[s]) * d;
+    const int *v = t->sidx + t->sptr[s];
+    int *mp = p->map[k] + t->hptr[s];
+    for (int i = 0; i < w; i++)
+      for (int j = i; j < w; j++, mp++) {
+        int r = m->dof[v[i / d] * d + i % d], c = m->dof[v[j / d] * d + j % d];
+        if (r < 0 || c < 0) {
+          *mp = -1;
+          continue;
+        }
+        *mp = (int)find_slot(p, r < c ? r : c, r < c ? c : r);
+        if (r != c || i == j) continue;
+        if (fill) p->dupsrc[*ndup] = hoff + (mp - p->map[k]), p->dupslot[*ndup] = *mp;
+        ++*ndup;
+      }
+  }
+}
+
+static int build_maps(sw_pattern *p, const sw_model *m) {
   p->map = sw_calloc((size_t)m->nterm + 1, sizeof(int *));
   if (!p->map) return -1;
+  long hoff = 0;
   for (int k = 0; k < m->nterm; k++) {
     const sw_term *t = &m->term[k];
-    p->map[k] = sw_calloc((size_t)t->hptr[t->nstencil], sizeof(int));
+    p->map[k] = sw_calloc((size_t)t->hptr[t->nstencil] + 1, sizeof(int));
     if (!p->map[k]) return -1;
-    for (int s = 0; s < t->nstencil; s++) {
-      int len = t->sptr[s + 1] - t->sptr[s], w = len * d;
-      const int *v = t->sidx + t->sptr[s];
-      int *mp = p->map[k] + t->hptr[s];
-      for (int i = 0; i < w; i++)
-        for (int j = 0; j < w; j++) {
-          int r = m->dof[v[i / d] * d + i % d], c = m->dof[v[j / d] * d + j % d];
-          mp[i * w + j] = (r < 0 || c < 0 || r > c) ? -1 : (int)find_slot(p, r, c);
-        }
-    }
+    term_map(p, m, k, hoff, &p->ndup, 0);
+    hoff += t->hptr[t->nstencil];
+  }
+  if (!p->ndup) return 0;
+  p->dupsrc = sw_calloc((size_t)p->ndup, sizeof(long));
+  p->dupslot = sw_calloc((size_t)p->ndup, sizeof(long));
+  if (!p->dupsrc || !p->dupslot) return -1;
+  long n = 0;
+  hoff = 0;
+  for (int k = 0; k < m->nterm; k++) {
+    term_map(p, m, k, hoff, &n, 1);
+    hoff += m->term[k].hptr[m->term[k].nstencil];
   }
   return 0;
 }
@@ -185,6 +214,8 @@ void sw_pattern_free(sw_pattern *p, int nterm) {
   sw_free(p->colptr);
   sw_free(p->rowind);
   sw_free(p->diag);
+  sw_free(p->dupsrc);
+  sw_free(p->dupslot);
   sw_free(p->lrptr);
   sw_free(p->lrrow);
   sw_free(p->lrsrc);
@@ -201,6 +232,7 @@ void sw_pattern_fill(const sw_pattern *p, const sw_model *m, const sw_data *d, d
     for (long q = 0; q < len; q++)
       if (mp[q] >= 0) values[mp[q]] += h[q];
   }
+  for (long q = 0; q < p->ndup; q++) values[p->dupslot[q]] += d->hess[p->dupsrc[q]];
   if (hess_coef != 1.0)
     for (long q = 0; q < p->nnz; q++) values[q] *= hess_coef;
   for (int i = 0; i < m->nv; i++)

@@ -17,7 +17,12 @@ typedef struct sw_pattern {
   long *colptr;          /* (n + 1) */
   long *rowind;          /* (nnz), sorted within each column */
   long *diag;            /* (n) slot of each diagonal entry */
-  int **map;             /* (nterm) for term k: the slot of each Hessian block entry, or -1 */
+  int **map;             /* (nterm) for term k: the slot of each entry of its blocks' upper
+                            triangles (sw_hess_upper), or -1 (a pinned component) */
+  long ndup;             /* entries off a block's diagonal that land on the matrix's diagonal
+                            (a vertex twice in one stencil): added a second time */
+  long *dupsrc;          /* (ndup) index of each in d->hess */
+  long *dupslot;         /* (ndup) its slot */
   /* The terms' low-rank vectors (sw_term.lptr) on the free DOFs: the system is
    * S = (values on the pattern) + sum_r v_r v_r^T, v_r stored sparse (CSC, n x nlr). */
   int nlr;               /* vectors of all terms */
@@ -110,6 +115,8 @@ void sw_chol_mode(sw_chol *ch, int mode);
 /* The mode of a factorisation of kind SW_FACTOR_* with the ordering SW_ORDERING_* (a plain
  * SW_FACTOR_* is that kind with the automatic ordering). */
 #define SW_CHOL_MODE(kind, ordering) ((kind) + SW_FACTOR_N * (ordering))
+#define SW_BLOCK_MAXS (9 * SW_BLOCK_MAXV * SW_BLOCK_MAXV) /* slots of a term's largest extra
+                                                       block, in 3D */
 /* 1: the analysis chose a supernodal factor, 0: simplicial, -1: not analysed. */
 int sw_chol_super(const sw_chol *ch);
 /* The SW_ORDERING_* the analysis used (never auto), -1 when not analysed. */
@@ -173,17 +180,22 @@ typedef struct sw_newton {
   double theta;          /* the last observed contraction |dx_k| / |dx_k-1| */
   double *wdof;          /* (n) each free DOF's share of the free mass, m_i / sum m_i */
   int iter;              /* the current iteration of the solve */
-  double *vfrac;         /* (nv) with obstacles: each vertex's allowed fraction of a step */
-  double mfrac;          /* mesh contact: the fraction of the last update its CCD allowed */
-  /* self-contact: the vertex pairs its Hessian has coupled so far, on top of the stencils'
-   * pattern (it only grows: a pair once in contact keeps its entries for the run) */
+  /* the terms' step limits (sw_term_ops bound, clip, ccd) */
+  double *vfrac;         /* (nv) with a term that clips: each vertex's allowed fraction of a
+                            step */
+  double *vtmp;          /* (nv) with two or more such terms: the next one's fractions */
+  double *tfrac;         /* (nterm) the fraction of the last update each term's ccd allowed */
+  int nblock_terms;      /* terms with extra Hessian blocks (sw_term_ops.blocks) */
+  /* the vertex pairs the terms' extra blocks have coupled so far, on top of the stencils'
+   * pattern (it only grows: a pair once coupled keeps its entries for the run) */
   int *xpair;            /* (2 nxpair) */
   long nxpair, capxpair;
-  /* self-contact: the pattern's slots of the pairs' blocks, kept for the pattern by the pairs'
-     vertices (an open-addressing hash table of entries into kv and kslot) */
+  /* the pattern's slots of the extra blocks, kept for the pattern by the blocks' vertices (an
+     open-addressing hash table of entries into kv and kslot) */
   int *ktab;             /* (captab, a power of 2) an entry, or -1 */
-  int *kv;               /* (capslot x 4) each entry's vertices */
-  int *kslot;            /* (capslot x 144) its block's slots (sw_pattern_block_slots) */
+  int *kv;               /* (capslot x SW_BLOCK_MAXV) each entry's vertices (-1 past nvb) */
+  int *kslot;            /* (capslot x SW_BLOCK_MAXS) its block's slots
+                            (sw_pattern_block_slots) */
   int captab, nslot, capslot;
 } sw_newton;
 
@@ -334,8 +346,9 @@ typedef struct sw_integrator_ops {
  * motion changed at d->t, a history of states still holds). */
 enum { SW_CHANGED_STATE = 1, SW_CHANGED_MODEL = 2 };
 
-/* SW_OK, or SW_RECOVER (with d->err) when K(v) + U(x, t) exceeds d->energy_bound (> 0) or is
- * not finite: an explicit method blowing up fails the step instead of producing garbage. */
+/* energy_check.c: SW_OK, or SW_RECOVER (with d->err) when K(v) + U(x, t) exceeds
+ * d->energy_bound (> 0) or is not finite: an explicit method blowing up fails the step instead
+ * of producing garbage. */
 int sw_energy_check(const sw_model *m, sw_data *d, const double *x, const double *v, double t);
 /* The automatic bound: E0 + 1e3 * (|E0| + sum of |term energies| + K0 + M |g| diam(x0) + 1 uJ). */
 double sw_energy_bound(const sw_model *m, sw_data *d);

@@ -114,7 +114,7 @@ void th_dense_hessian(const sw_model *m, int k, const double *blocks, double *H)
     const double *b = blocks + t->hptr[s];
     for (int i = 0; i < w; i++)
       for (int j = 0; j < w; j++)
-        H[(long)(v[i / d] * d + i % d) * n + v[j / d] * d + j % d] += b[i * w + j];
+        H[(long)(v[i / d] * d + i % d) * n + v[j / d] * d + j % d] += sw_hess_get(b, i, j, w);
   }
 }
 

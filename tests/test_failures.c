@@ -164,7 +164,7 @@ static int negdef_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, d
   }
   if (ev->hess && !ev->project)
     for (int s = 0; s < t->nstencil; s++)
-      for (int a = 0; a < dim; a++) ev->hess[t->hptr[s] + a * dim + a] -= c;
+      for (int a = 0; a < dim; a++) ev->hess[t->hptr[s] + sw_hess_upper(a, a, dim)] -= c;
   *energy = e;
   return SW_OK;
 }

@@ -176,19 +176,24 @@ static void term_hessian(const sw_model *m, int k, const double *x, int mode, do
   assert_int_equal(t->ops->eval(t, m, &ev, &e), SW_OK);
 }
 
-/* Smallest eigenvalue of the symmetric w x w block B, and its largest |eigenvalue| in *amax. */
-static double min_eigenvalue(const double *B, int w, double *amax) {
+/* Smallest eigenvalue of the symmetric w x w matrix B (row-major, full, or a term's block
+ * stored as its upper triangle when packed), and its largest |eigenvalue| in *amax. */
+static double eigenvalue_range(const double *B, int w, int packed, double *amax) {
   int lwork = 64 * w, info = 0;
   double *A = malloc(sizeof(double) * (size_t)(w * w)), *lam = malloc(sizeof(double) * (size_t)w);
   double *work = malloc(sizeof(double) * (size_t)lwork);
   assert_non_null(A), assert_non_null(lam), assert_non_null(work);
-  memcpy(A, B, sizeof(double) * (size_t)(w * w));
+  for (int i = 0; i < w; i++)
+    for (int j = 0; j < w; j++) A[i * w + j] = packed ? sw_hess_get(B, i, j, w) : B[i * w + j];
   dsyev_("N", "U", &w, A, &w, lam, work, &lwork, &info);
   assert_int_equal(info, 0);
   double lmin = lam[0];
   *amax = fmax(fabs(lam[0]), fabs(lam[w - 1]));
   free(A), free(lam), free(work);
   return lmin;
+}
+static double min_eigenvalue(const double *B, int w, double *amax) {
+  return eigenvalue_range(B, w, 0, amax);
 }
 
 static size_t lowrank_size(const sw_model *m, const sw_term *t) {
@@ -218,7 +223,7 @@ static void check_psd(const config *c, unsigned long seed) {
         term_hessian(m, k, x, mode, blk, lr);
         for (int s = 0; s < t->nstencil; s++) {
           int w = (t->sptr[s + 1] - t->sptr[s]) * m->dim;
-          double amax, lmin = min_eigenvalue(blk + t->hptr[s], w, &amax);
+          double amax, lmin = eigenvalue_range(blk + t->hptr[s], w, 1, &amax);
           if (lmin >= -1e-10 * amax) continue;
           if (failures++ < 5)
             print_message("%s %dD %s: %s state %d, stencil %d: smallest eigenvalue %.3e, "
@@ -402,7 +407,7 @@ static void spring_half_length(void **st) {
           int a = p % 3, c = q % 3;
           double h = mode == SW_FILTER_ABS ? 250.0 * (a == c) : 250.0 * n[a] * n[c];
           if (p / 3 != q / 3) h = -h;
-          assert_true(fabs(b[p * 6 + q] - h) < 1e-10);
+          assert_true(fabs(sw_hess_get(b, p, q, 6) - h) < 1e-10);
         }
     }
   }

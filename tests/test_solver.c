@@ -1,5 +1,5 @@
 /* test_solver.c — the shared linear-algebra path: the fixed pattern and its fill equal the
- * dense a M + H on the free DOFs, CHOLMOD solves it, and Newton's minimiser of the incremental
+ * dense a M + H on the free DOFs (every term's blocks, stored as upper triangles), CHOLMOD solves it, and Newton's minimiser of the incremental
  * potential has zero gradient. */
 #include <math.h>
 #include <setjmp.h>
@@ -13,6 +13,7 @@
 
 #include "harness.h"
 #include "solver.h"
+#include "terms.h"
 
 static sw_model *small_model(int dim) {
   const double g[3] = {0.0, -9.81, -9.81};
@@ -76,6 +77,131 @@ static void fill_matches_dense(int dim) {
 
 static void fill_3d(void **st) { (void)st, fill_matches_dense(3); }
 static void fill_2d(void **st) { (void)st, fill_matches_dense(2); }
+
+/* A term whose stencils name one vertex twice, (0, 0, 1) and (1, 2, 1): the entries off a
+ * block's diagonal that land on the matrix's diagonal.  Hessian: the constant symmetric block
+ * B(i, j) = 1 + i + j (+ 10 on the diagonal), energy 0 (the fill test reads only blocks). */
+static int repeat_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, double *energy) {
+  *energy = 0.0;
+  const int w = 3 * m->dim;
+  for (int s = 0; ev->hess && s < t->nstencil; s++)
+    for (int i = 0; i < w; i++)
+      for (int j = i; j < w; j++)
+        ev->hess[t->hptr[s] + sw_hess_upper(i, j, w)] += 1.0 + i + j + (i == j ? 10.0 : 0.0);
+  return SW_OK;
+}
+static const sw_term_ops repeat_ops = {.kind = "repeat", .eval = repeat_eval};
+
+static void add_repeat_term(sw_model *m) {
+  sw_term *t = realloc(m->term, (size_t)(m->nterm + 1) * sizeof *t);
+  assert_non_null(t);
+  m->term = t;
+  sw_term *nt = &t[m->nterm++];
+  memset(nt, 0, sizeof *nt);
+  nt->ops = &repeat_ops;
+  snprintf(nt->name, sizeof nt->name, "repeat");
+  assert_int_equal(sw_term_alloc_stencils(nt, 2, 3, m->dim), 0);
+  const int v[6] = {0, 0, 1, 1, 2, 1};
+  memcpy(nt->sidx, v, sizeof v);
+}
+
+/* A term with sets_blocks writes every stored entry of its blocks: evaluated into a buffer of
+ * NaN, it leaves what it leaves in a zeroed one. */
+static void check_sets_blocks(const sw_model *m, const sw_data *d, const char *label) {
+  for (int k = 0; k < m->nterm; k++) {
+    const sw_term *t = &m->term[k];
+    if (!t->ops->sets_blocks) continue;
+    long len = t->hptr[t->nstencil];
+    double *h = malloc(sizeof(double) * (size_t)(len + 1)), e;
+    double *lr = calloc((size_t)(t->nlowrank ? t->lptr[t->nlowrank] * m->dim : 0) + 1, sizeof *lr);
+    assert_non_null(h), assert_non_null(lr);
+    for (long q = 0; q < len; q++) h[q] = NAN;
+    sw_eval ev = {.x = d->x, .hess = h, .lowrank = lr, .project = SW_FILTER_CLAMP};
+    assert_int_equal(t->ops->eval(t, m, &ev, &e), SW_OK);
+    long same = 0;
+    for (long q = 0; q < len; q++) same += h[q] == d->hess[d->hoff[k] + q];
+    if (same != len) fail_msg("%s: term %s left %ld of %ld entries unset", label, t->name, len - same, len);
+    free(h), free(lr);
+  }
+}
+
+/* The assembled S = a M + sum of the terms' blocks, as a product S v on the pattern
+ * (sw_pattern_symv of sw_pattern_fill), against the blocks multiplied out one by one, each
+ * read in full (both halves of its stored upper triangle): every term of the model, every
+ * entry of every block. */
+static void check_fill_products(sw_model *m, const char *label) {
+  sw_data *d = sw_data_new(m);
+  assert_non_null(d);
+  sw_pattern p;
+  char err[SW_ERRSZ];
+  assert_int_equal(sw_pattern_build(&p, m, err, sizeof err), 0);
+  double e, a = 1e3; /* 1/s^2 */
+  int rc = sw_eval_terms(m, d, d->x, 0.0, 0, 1, SW_FILTER_CLAMP, &e);
+  if (rc) fail_msg("%s: evaluation failed (%d)", label, rc);
+  const int dim = m->dim, n = m->nv * dim;
+  double *val = calloc((size_t)p.nnz + 1, sizeof *val), *v = calloc((size_t)p.n + 1, sizeof *v);
+  double *y = calloc((size_t)p.n + 1, sizeof *y), *want = calloc((size_t)p.n + 1, sizeof *want);
+  assert_non_null(val), assert_non_null(v), assert_non_null(y), assert_non_null(want);
+  sw_pattern_fill(&p, m, d, a, 1.0, val);
+  unsigned long rs = 5;
+  for (int c = 0; c < p.n; c++) v[c] = th_rand(&rs);
+  sw_pattern_symv(&p, val, v, y);
+  for (int i = 0; i < n; i++)
+    if (m->dof[i] >= 0) want[m->dof[i]] += a * m->mass[i / dim] * v[m->dof[i]];
+  long entries = 0;
+  for (int k = 0; k < m->nterm; k++) {
+    const sw_term *t = &m->term[k];
+    for (int s = 0; s < t->nstencil; s++) {
+      const int *idx = t->sidx + t->sptr[s], w = (t->sptr[s + 1] - t->sptr[s]) * dim;
+      const double *b = d->hess + d->hoff[k] + t->hptr[s];
+      for (int i = 0; i < w; i++)
+        for (int j = 0; j < w; j++) {
+          int r = m->dof[idx[i / dim] * dim + i % dim], c = m->dof[idx[j / dim] * dim + j % dim];
+          if (r < 0 || c < 0) continue;
+          want[r] += sw_hess_get(b, i, j, w) * v[c];
+          entries++;
+        }
+    }
+  }
+  double err_max = 0.0, scale = 0.0;
+  for (int c = 0; c < p.n; c++) {
+    err_max = fmax(err_max, fabs(y[c] - want[c]));
+    scale = fmax(scale, fabs(want[c]));
+  }
+  print_message("%s: %d terms, %ld block entries, %ld pattern entries, |S v - sum B v| %.2e "
+                "of %.2e\n", label, m->nterm, entries, p.nnz, err_max, scale);
+  assert_true(err_max <= 1e-12 * scale);
+  check_sets_blocks(m, d, label);
+  free(val), free(v), free(y), free(want);
+  sw_pattern_free(&p, m->nterm);
+  sw_data_free(d);
+}
+
+/* Every term of the shipped scenes (membranes, bending, seams, tendons, contact; 2D and 3D). */
+static void fill_every_term(void **st) {
+  (void)st;
+  const char *scenes[] = {"scenes/hanging_cloth.yaml", "scenes/cloth_drawstring.yaml",
+                          "scenes/garment_skirt.yaml", "scenes/drape_sphere.yaml",
+                          "scenes/tendon_membrane_2d.yaml", "scenes/peirce_cantilever.yaml"};
+  for (size_t q = 0; q < sizeof scenes / sizeof *scenes; q++) {
+    char err[SW_ERRSZ];
+    sw_model *m = sw_scene_load(scenes[q], err, sizeof err);
+    if (!m) fail_msg("%s", err);
+    check_fill_products(m, scenes[q]);
+    sw_model_free(m);
+  }
+}
+
+/* A vertex twice in one stencil: its off-diagonal entries on the matrix's diagonal count. */
+static void fill_repeated_vertex(void **st) {
+  (void)st;
+  for (int dim = 2; dim <= 3; dim++) {
+    sw_model *m = small_model(dim);
+    add_repeat_term(m);
+    check_fill_products(m, dim == 2 ? "repeated vertex, 2D" : "repeated vertex, 3D");
+    sw_model_free(m);
+  }
+}
 
 static void *no_memory(size_t n) { (void)n; return NULL; }
 static void *no_memory2(size_t n, size_t k) { (void)n, (void)k; return NULL; }
@@ -278,6 +404,7 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(fill_3d),
       cmocka_unit_test(fill_2d),
+      cmocka_unit_test(fill_every_term), cmocka_unit_test(fill_repeated_vertex),
       cmocka_unit_test(not_positive_definite), cmocka_unit_test(cholmod_out_of_memory),
       cmocka_unit_test(newton_minimises),
       cmocka_unit_test(every_mode_descends),

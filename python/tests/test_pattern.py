@@ -535,6 +535,34 @@ def test_quantity_zero_and_alternates_are_listed_and_chosen_by_pieces(tmp_path, 
     assert "pieces: 8; size -: 0 imported" in capsys.readouterr().out
 
 
+def test_a_cutting_annotation_counts_pieces(tmp_path):
+    """`Annotation: 2XFABRIC` (cut two in the fabric) on a piece of `Quantity: 1` makes a
+    left and a right, as Gerber's polo sleeves are marked; "1XRIB" leaves one; "10X2" (no
+    material: not a count) and no annotation leave the Quantity; `Quantity: 3` wins over
+    "2XFABRIC"; a Quantity 0 piece asked for by name makes its annotation's count."""
+    sq = [(0, 0), (4, 0), (4, 4), (0, 4)]
+    blocks = {}
+    for name, q, note in [("SL", 1, "2XFABRIC"), ("CO", 1, "1XRIB"), ("BI", 1, "10X2"),
+                          ("PL", 1, None), ("PO", 3, "2XFABRIC"), ("CU", 0, "2XRIB")]:
+        ents = [("poly", sq, 1), ("text", "Piece Name: %s" % name, 1),
+                ("text", "Quantity: %d" % q, 1)]
+        if note:
+            ents.append(("text", "Annotation: %s" % note, 1))
+        blocks[name] = ents
+    path = write_blocks(tmp_path / "notes.dxf", blocks)
+    pat = pattern.read(path)
+    count = {}
+    for p in pat.pieces:
+        count[p.name] = count.get(p.name, 0) + 1
+    assert count == {"SL": 2, "CO": 1, "BI": 1, "PL": 1, "PO": 3, "CU": 2}
+    a, b = [p for p in pat.pieces if p.name == "SL"]
+    assert (a.mirrored, b.mirrored) == (False, True)
+    chosen, _ = pattern.select(pat)
+    assert [p.group for p in chosen] == ["SL", "SL_2", "CO", "BI", "PL", "PO", "PO_2", "PO_3"]
+    chosen, _ = pattern.select(pat, None, "CU")
+    assert [p.group for p in chosen] == ["CU", "CU_2"]
+
+
 def test_an_open_sew_line_falls_back_to_the_cut_line(tmp_path, capsys):
     path = write_blocks(tmp_path / "open_sew.dxf", {"P": [
         ("poly", [(0, 0), (10, 0), (10, 10), (0, 10)], 1),

@@ -16,6 +16,7 @@
  * NUL-terminated, and a message quotes at most 40 bytes of it, non-printable ones as '?'; a
  * file whose first statement is no OBJ keyword is "not an OBJ file", without a quote (it may
  * be any file: a line of /etc/passwd has no place in a message). */
+#include "cancel.h"
 #include "obj.h"
 #include "sinew.h"
 #include "util.h"
@@ -459,9 +460,9 @@ static int read_line(obj_state *st, const char *buf, size_t len, size_t pos, siz
 /* Every line of buf[pos, len) (the last one may lack its '\n'). */
 static int read_some_lines(obj_state *st, const char *buf, size_t len, size_t pos) {
   while (pos < len) {
-    if ((st->line & 0xffff) == 0 && sw_interrupted()) /* a stop request, every 65536 lines */
+    if ((st->line & 0xffff) == 0 && sw_cancelled()) /* a stop request, every 65536 lines */
       return sw_errf(st->err, st->errsz, "%s: stopped by signal %d at line %zu", st->name,
-                     sw_interrupted(), st->line + 1), -1;
+                     sw_cancelled(), st->line + 1), -1;
     if (read_line(st, buf, len, pos, &pos)) return -1;
   }
   return 0;
@@ -566,7 +567,7 @@ static int too_large(const char *path, char *err, size_t errsz) {
  * above SW_OBJ_MAX_BYTES is refused before it is read, anything else (a pipe, a device) once
  * it passes the limit.  Reading stops at the first chunk holding a NUL byte: the parser
  * refuses the NUL with its line and column, and /dev/zero is not read for seconds first.
- * The stop request (sw_interrupted) is polled at every chunk and every 65536 lines. */
+ * The stop request (cancel.h: sw_cancelled) is polled at every chunk and every 65536 lines. */
 #define OBJ_CHUNK ((size_t)1 << 20)
 static int read_file(obj_state *st, const char *path, FILE *fp) {
   struct stat sb;
@@ -576,9 +577,9 @@ static int read_file(obj_state *st, const char *path, FILE *fp) {
   char *buf = NULL;
   int rc = 0;
   for (int end = 0; !rc && !end;) {
-    if (sw_interrupted()) {
+    if (sw_cancelled()) {
       sw_errf(st->err, st->errsz, "%s: stopped by signal %d after reading %zu bytes", path,
-              sw_interrupted(), total);
+              sw_cancelled(), total);
       rc = -1;
       break;
     }

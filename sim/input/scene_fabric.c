@@ -21,7 +21,6 @@
  * angle gamma, which is what KES-F G measures; its warp and weft conditions give k_u and k_v
  * as tensile stiffnesses (N/m), which is what `tensile` and FAST's secant at 100 gf/cm give. */
 #include "scene_fabric.h"
-#include "scene_material.h"
 #include "dde.h"
 
 #include <math.h>
@@ -48,6 +47,13 @@ double sc_fabric_e100(double e) { return FAST_E100_LOAD / (e / 100.0); }
 double sc_fabric_cantilever(double gsm, double c_cm) {
   double c = c_cm * 1e-2; /* m */
   return gsm * 1e-3 * G_STANDARD * c * c * c;
+}
+
+/* The default bias rigidity (N m): a twisting rigidity G = sqrt(D_u D_v)/2, the geometric mean
+ * of the isotropic ones, so D_45 = 4 / (1/sqrt(D_u) + 1/sqrt(D_v))^2 (models/bending.c). */
+double sc_bend_bias_default(double ku, double kv) {
+  double s = 1.0 / sqrt(ku) + 1.0 / sqrt(kv);
+  return 4.0 / (s * s);
 }
 
 /* The bending rigidity from one of kes_b, fast_b or bending_length (N m). */

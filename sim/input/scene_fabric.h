@@ -18,6 +18,9 @@ enum { SC_FABRIC_BENDING = 1, SC_FABRIC_MEMBRANE = 2 };
 
 /* `fabric: {...}` of the material or panel `what` into mat; *set says what it set. */
 int sc_load_fabric(const ctx *c, const ynode *y, const char *what, sw_material *mat, int *set);
+/* The bias bending rigidity when a scene gives only warp and weft ones (N m; docs/models.md
+ * "Anisotropic bending"). */
+double sc_bend_bias_default(double ku, double kv);
 /* Warnings (appended to m->warning) for numbers a garment user mistypes: a cloth over 10 m
  * across, a density outside 10 g/m^2 to 2 kg/m^2, a bending stiffness over 1e-2 N m, a
  * tensile stiffness over 1e6 N/m. */

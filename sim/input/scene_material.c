@@ -126,13 +126,6 @@ enum { BK_MODEL, BK_K, BK_REST, BK_KU, BK_KV, BK_KBIAS, BK_N };
 static const char *const bend_models[] = {"dihedral", "quadratic", "morley"};
 static const char *const bend_rests[] = {"initial", "flat"}; /* SW_BEND_REST_* order */
 
-/* The default bias rigidity (N m): a twisting rigidity G = sqrt(D_u D_v)/2, the geometric mean
- * of the isotropic ones, so D_45 = 4 / (1/sqrt(D_u) + 1/sqrt(D_v))^2 (models/bending.c). */
-double sc_bend_bias_default(double ku, double kv) {
-  double s = 1.0 / sqrt(ku) + 1.0 / sqrt(kv);
-  return 4.0 / (s * s);
-}
-
 /* A positive twisting rigidity needs 4/D_45 > 1/D_u + 1/D_v (models/bending.c).  0 or -1. */
 static int check_bias(const ctx *c, const ynode *at, const char *w, const sw_material *mat) {
   double top = 4.0 / (1.0 / mat->k_bend_u + 1.0 / mat->k_bend_v); /* N m */

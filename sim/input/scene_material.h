@@ -15,10 +15,11 @@ int sc_load_panels(const ctx *c, const ynode *y, const sw_mesh *me, const char *
 int sc_load_damping(const ctx *c, const ynode *y);
 /* `tendons` after the geometry is filled (x0 gives relative rest lengths). */
 int sc_load_tendons(const ctx *c, const ynode *y);
-/* Read the OBJ file that y names (a path relative to the scene's folder) into mesh (its full
- * path into path, SW_PATHSZ bytes); what names the key in messages ("mesh obj"). */
+/* scene_files.c: read the OBJ file that y names (a path relative to the scene's folder) into
+ * mesh (its full path into path, SW_PATHSZ bytes); what names the key in messages ("mesh obj"). */
 int sc_read_obj(const ctx *c, const ynode *y, const char *what, sw_mesh *mesh, char *path);
-/* Remember a file the scene read (buf NULL: read path again) in m->input, for resumes. */
+/* scene_files.c: remember a file the scene read (buf NULL: read path again) in m->input, for
+ * resumes. */
 int sc_note_input(const ctx *c, const ynode *y, const char *path, const char *buf, size_t len);
 /* `obstacles` (scene_contact.c). */
 int sc_load_obstacles(const ctx *c, const ynode *y);
@@ -37,8 +38,4 @@ int sc_load_arrange(const ctx *c, const ynode *y);
 /* Multiply every elastic stiffness of a loaded model (before sw_model_finish) by s > 0 and
  * record s in m->stiffness_scale (sw_scene_overrides in sinew.h says which). */
 void sc_scale_stiffness(sw_model *m, double s);
-/* The bias bending rigidity when a scene gives only warp and weft ones (N m; docs/models.md
- * "Anisotropic bending"). */
-double sc_bend_bias_default(double ku, double kv);
-
 #endif

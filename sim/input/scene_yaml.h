@@ -66,7 +66,7 @@ const char *sy_join(const char *const *names, int n, char *buf, size_t sz);
 int sy_scalar_number(const ynode *y, double *v);
 
 /* The path rel relative to the scene file's folder (absolute paths are kept) into out
- * (SW_PATHSZ bytes); -1 with the error at y when it is too long (scene.c). */
+ * (SW_PATHSZ bytes); -1 with the error at y when it is too long (scene_files.c). */
 int sy_path(const ctx *c, const ynode *y, const char *what, const char *rel, char *out);
 
 /* Selections (scene_select.c): mark in c->sel the vertices y picks ({vertices: [...]},

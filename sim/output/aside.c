@@ -145,16 +145,13 @@ typedef struct mover {
   size_t errsz;
 } mover;
 
-static int move_old(void *ctx, const char *name) {
+static int move_form(void *ctx, const char *file) {
   mover *mv = ctx;
-  static const char *const forms[] = {"", ".tmp", ".part"};
-  for (int k = 0; k < 3; k++) {
-    char file[SW_OUT_PATHMAX];
-    snprintf(file, sizeof file, "%s%s", name, forms[k]);
-    if (move_aside(mv->o, file, mv->err, mv->errsz)) return -1;
-  }
-  return 0;
+  return move_aside(mv->o, file, mv->err, mv->errsz) ? -1 : 0;
 }
+
+/* NAME, NAME.tmp and NAME.part into .sinew-earlier/. */
+static int move_old(void *ctx, const char *name) { return out_name_forms(name, move_form, ctx); }
 
 int out_aside_move(sw_output *o, int (*each)(const sw_output *, int (*)(void *, const char *), void *),
                    char *err, size_t errsz) {

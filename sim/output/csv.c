@@ -14,6 +14,7 @@
 #include <string.h>
 
 #include "contact.h"
+#include "terms.h"
 #include "util.h"
 #include "writer.h"
 
@@ -180,7 +181,7 @@ static int tension_write(void *self, sw_output *out, const sw_model *m, const sw
 
 /* Whether energy.csv logs dissipation: damping, or contact friction. */
 static int dissipates(const sw_model *m) {
-  return sw_damped(m) || m->fit.on || sw_contact_friction_on(m);
+  return sw_damped(m) || m->fit.on || sw_terms_dissipate(m);
 }
 
 static void energy_header(csv_log *o, const sw_model *m) {

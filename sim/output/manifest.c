@@ -95,9 +95,7 @@ static int same_name(void *ctx, const char *name) { return !strcmp(ctx, name); }
 int out_owned(const sw_output *o, const char *name) {
   char base[SW_OUT_PATHMAX];
   snprintf(base, sizeof base, "%s", name);
-  size_t n = strlen(base);
-  if (n > 4 && !strcmp(base + n - 4, ".tmp")) base[n - 4] = '\0';
-  else if (n > 5 && !strcmp(base + n - 5, ".part")) base[n - 5] = '\0';
+  base[out_name_base(base)] = '\0';
   return each_old(o, same_name, base);
 }
 
@@ -107,52 +105,47 @@ typedef struct removal {
   size_t errsz;
 } removal;
 
-/* NAME, NAME.tmp and NAME.part of a run that could not start (absent is fine; a folder of that
- * name, in the way of the file, is not sinew's: it stays). */
-static int remove_new(void *ctx, const char *name) {
+/* One form of a name of a run that could not start (absent is fine; a folder of that name, in
+ * the way of the file, is not sinew's: it stays). */
+static int remove_form(void *ctx, const char *file) {
   removal *r = ctx;
-  static const char *const forms[] = {"", ".tmp", ".part"};
-  for (int k = 0; k < 3; k++) {
-    char file[SW_OUT_PATHMAX];
-    struct stat st;
-    snprintf(file, sizeof file, "%s%s", name, forms[k]);
-    if (out_join(r->o->path, r->o->dir, file, r->err, r->errsz)) return -1;
-    if (lstat(r->o->path, &st) || S_ISDIR(st.st_mode)) continue;
-    if (out_remove_path(r->o->path, r->err, r->errsz)) return -1;
-  }
+  struct stat st;
+  if (out_join(r->o->path, r->o->dir, file, r->err, r->errsz)) return -1;
+  if (lstat(r->o->path, &st) || S_ISDIR(st.st_mode)) return 0;
+  if (out_remove_path(r->o->path, r->err, r->errsz)) return -1;
   return 0;
 }
+
+/* NAME, NAME.tmp and NAME.part of a run that could not start. */
+static int remove_new(void *ctx, const char *name) { return out_name_forms(name, remove_form, ctx); }
 
 /* NAME, NAME.tmp and NAME.part of the earlier run can be moved and removed: none is a folder
  * (sinew writes files only) or immutable or append-only (chattr +i, +a: rename(2) and unlink(2)
  * then fail, whatever the folder's permissions). */
-static int check_old(void *ctx, const char *name) {
+static int check_form(void *ctx, const char *file) {
   removal *r = ctx;
-  static const char *const forms[] = {"", ".tmp", ".part"};
-  for (int k = 0; k < 3; k++) {
-    char file[SW_OUT_PATHMAX];
-    snprintf(file, sizeof file, "%s%s", name, forms[k]);
-    if (out_join(r->o->path, r->o->dir, file, r->err, r->errsz)) return -1;
-    struct stat st;
-    if (lstat(r->o->path, &st) == 0 && S_ISDIR(st.st_mode))
-      return sw_errf(r->err, r->errsz, "%s: a folder where the earlier run wrote a file; expected "
-                     "that file or nothing: move the folder or choose another output folder",
-                     r->o->path),
-             -1;
-    int fd = open(r->o->path, O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_NOCTTY | O_CLOEXEC);
-    if (fd < 0) continue; /* absent, or a link (moving a link needs only the folder) */
-    int flags = 0;
-    int fixed = !ioctl(fd, FS_IOC_GETFLAGS, &flags) &&
-                (flags & (FS_IMMUTABLE_FL | FS_APPEND_FL));
-    close(fd);
-    if (fixed)
-      return sw_errf(r->err, r->errsz, "%s: a file of an earlier run that cannot be removed "
-                     "(%s); expected files sinew may replace", r->o->path,
-                     flags & FS_IMMUTABLE_FL ? "immutable, chattr +i" : "append-only, chattr +a"),
-             -1;
-  }
+  if (out_join(r->o->path, r->o->dir, file, r->err, r->errsz)) return -1;
+  struct stat st;
+  if (lstat(r->o->path, &st) == 0 && S_ISDIR(st.st_mode))
+    return sw_errf(r->err, r->errsz, "%s: a folder where the earlier run wrote a file; expected "
+                   "that file or nothing: move the folder or choose another output folder",
+                   r->o->path),
+           -1;
+  int fd = open(r->o->path, O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_NOCTTY | O_CLOEXEC);
+  if (fd < 0) return 0; /* absent, or a link (moving a link needs only the folder) */
+  int flags = 0;
+  int fixed = !ioctl(fd, FS_IOC_GETFLAGS, &flags) &&
+              (flags & (FS_IMMUTABLE_FL | FS_APPEND_FL));
+  close(fd);
+  if (fixed)
+    return sw_errf(r->err, r->errsz, "%s: a file of an earlier run that cannot be removed "
+                   "(%s); expected files sinew may replace", r->o->path,
+                   flags & FS_IMMUTABLE_FL ? "immutable, chattr +i" : "append-only, chattr +a"),
+           -1;
   return 0;
 }
+
+static int check_old(void *ctx, const char *name) { return out_name_forms(name, check_form, ctx); }
 
 int out_manifest_commit(sw_output *o, char *err, size_t errsz) {
   removal r = {o, err, errsz};

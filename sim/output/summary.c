@@ -7,6 +7,7 @@
 
 #include "contact.h"
 #include "contact_geom.h"
+#include "terms.h"
 #include "writer.h"
 
 /* Length of the well-formed UTF-8 sequence (RFC 3629) at s, of at most rem bytes; 0 if none. */
@@ -58,6 +59,20 @@ static void w_json_num(out_file *w, const char *key, double v) {
 static void w_json_long(out_file *w, const char *key, long v) {
   w_key(w, key);
   out_printf(w, "%ld", v);
+}
+
+/* The fields the terms add (sw_term_ops.summary) at `at` (SW_SUMMARY_*). */
+static void summary_terms(out_file *w, const sw_model *m, const sw_data *d, int at) {
+  for (int k = 0; d && k < m->nterm; k++) {
+    const sw_term *t = &m->term[k];
+    sw_field f[8];
+    void *data = d->tdata ? d->tdata[k] : NULL; /* NULL before the run started */
+    int n = t->ops && t->ops->summary ? t->ops->summary(t, m, d, data, at, f, 8) : 0;
+    for (int q = 0; q < n && q < 8; q++) {
+      if (f[q].is_count) w_json_long(w, f[q].name, f[q].count);
+      else w_json_num(w, f[q].name, f[q].value);
+    }
+  }
 }
 
 static void summary_model(out_file *w, const sw_model *m) {
@@ -127,9 +142,8 @@ static void summary_counters(out_file *w, const sw_model *m, const sw_data *d, d
     w_json_num(w, "time_self_broadphase_s", d->time_broadphase);
     w_json_num(w, "time_pattern_s", d->time_pattern);
     w_json_long(w, "pattern_growths", d->npattern);
-    if (m->contact.kappa_mesh_auto) /* the adapted stiffness's factor at the end */
-      w_json_num(w, "self_stiffness_factor", sw_mcontact_kappa_scale(d->mc));
   }
+  summary_terms(w, m, d, SW_SUMMARY_RUN); /* the adapted contact stiffness's factor */
   w_json_num(w, "time_step_s", d->time_step);
   w_json_long(w, "factor_nnz", d->factor_nnz);
   if (d->factor_super >= 0) {
@@ -158,9 +172,7 @@ static void summary_intersections(out_file *w, const sw_model *m, const sw_data 
                                            m->sewn_idx);
   if (n >= 0) w_json_long(w, "self_intersections", n);
   /* the cloth's triangles against the mesh obstacles' (it cannot pass through them) */
-  n = d->mc && m->nmesh_obstacle ? sw_mcontact_obstacle_intersections(m, d->mc, d->x, d->t, NULL)
-                                 : -1;
-  if (n >= 0) w_json_long(w, "obstacle_intersections", n);
+  summary_terms(w, m, d, SW_SUMMARY_STATE);
 }
 
 /* The seams' largest gap at the state written (m) and the fit stage's end, steps and wall time

@@ -1,5 +1,6 @@
 /* writer.h — internal to sim/output/: the operations every output format implements, the run
- * folder they share (struct sw_output), and the file helpers below them (file.c).
+ * folder they share (struct sw_output), and the helpers below them (log.c, manifest.c, aside.c,
+ * file.c).
  *
  * Each format is one file holding one or more `const sw_out_ops` tables (SUNDIALS' table of
  * operations, dav1d's muxers): csv.c (tension.csv, energy.csv, tendons.csv), positions.c
@@ -8,7 +9,8 @@
  * (summary.json).  output.c lists them and drives them: it is the only caller of the
  * operations.  A new format is one new
  * file with its table, and its name in output.c's list.  Dependencies point down:
- * output.c -> the formats -> file.c -> util.h, sinew.h. */
+ * output.c -> the formats -> log.c (logs) -> manifest.c (the run's file list) -> aside.c (the
+ * earlier run's files) -> file.c -> util.h, sinew.h. */
 #ifndef SW_OUTPUT_WRITER_H
 #define SW_OUTPUT_WRITER_H
 
@@ -168,8 +170,13 @@ int out_make_dirs(const char *dir, char *scratch, char *err, size_t errsz);
 /* Remove path, or o->dir/name (absent is fine). */
 int out_remove_path(const char *path, char *err, size_t errsz);
 int out_remove(sw_output *o, const char *name, char *err, size_t errsz);
+/* The forms of a file name the manifest stands for: NAME, NAME.tmp and NAME.part in turn,
+ * each into fn(ctx, file) until it returns nonzero (then that value), else 0. */
+int out_name_forms(const char *name, int (*fn)(void *ctx, const char *file), void *ctx);
+/* The length of name without a .tmp or .part ending (the NAME it is a form of). */
+size_t out_name_base(const char *name);
 
-/* ------------------------------ file.c: logs, appended in whole lines or records */
+/* ------------------------------- log.c: logs, appended in whole lines or records */
 
 /* A log lives as NAME.part until closed.  A line (record) goes out in one write(2); a write
  * that fails part-way is cut back (ftruncate) to the whole lines. */

@@ -659,12 +659,16 @@ def _inherit(pieces):
 
 
 def _count(p):
-    """How many pieces a block makes: its `Quantity:`; for a Quantity 0 piece (imported only
-    when asked for), the N of an `Annotation: NX...` text (Gerber's "2XFABRIC"), else 1."""
-    if p.quantity is not None and p.quantity > 0:
+    """How many pieces a block makes: its `Quantity:`, or more when its cutting annotation
+    says so: the N of an `Annotation: NX<material>` text (Gerber's "2XFABRIC", cut two in the
+    fabric) when the Quantity is 1 (a sleeve marked `Quantity: 1` and "2XFABRIC" is a left and a
+    right) or 0 (a piece imported only when asked for); else 1.  An annotation such as "10X2"
+    (no material named) is not a count."""
+    m = re.match(r"\s*(\d+)\s*X\s*[A-Z]", p.texts.get("annotation", ""), re.I)
+    n = int(m.group(1)) if m else 0
+    if p.quantity is not None and p.quantity > 1:
         return p.quantity
-    m = re.match(r"\s*(\d+)\s*X", p.texts.get("annotation", ""), re.I)
-    return int(m.group(1)) if m and p.quantity == 0 and int(m.group(1)) > 0 else 1
+    return n if n > 0 and p.quantity in (0, 1) else (p.quantity or 1)
 
 
 def _copies(pieces):
