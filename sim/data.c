@@ -63,6 +63,7 @@ sw_data *sw_data_new(const sw_model *m) {
   }
   d->contact_min = d->self_min = INFINITY;
   d->factor_super = -1;
+  d->factor_ordering = -1;
   memcpy(d->x, m->x0, nd * sizeof(double));
   memcpy(d->v, m->v0, nd * sizeof(double));
   for (int i = 0; i < m->nv; i++)

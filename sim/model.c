@@ -20,6 +20,11 @@ const char *const *sw_factor_names(void) {
   return names;
 }
 
+const char *const *sw_ordering_names(void) {
+  static const char *const names[SW_ORDERING_N + 1] = {"auto", "amd", "metis", "nesdis", NULL};
+  return names;
+}
+
 const char *const *sw_norm_names(void) {
   static const char *const names[SW_NORM_N + 1] = {"rms", "max", NULL};
   return names;

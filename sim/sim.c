@@ -656,8 +656,8 @@ typedef struct kept_option {
 #define KEPT(f) {#f, offsetof(sw_options, f), sizeof(((sw_options *)0)->f)}
 static const kept_option kept_options[] = {
     KEPT(method), KEPT(dt), KEPT(newton_max), KEPT(newton_tol), KEPT(newton_norm),
-    KEPT(max_halvings), KEPT(hessian), KEPT(newton_reuse), KEPT(factorization), KEPT(rtol),
-    KEPT(atol), KEPT(max_order), KEPT(max_step), KEPT(setup_every), KEPT(energy_bound),
+    KEPT(max_halvings), KEPT(hessian), KEPT(newton_reuse), KEPT(factorization), KEPT(ordering),
+    KEPT(rtol), KEPT(atol), KEPT(max_order), KEPT(max_step), KEPT(setup_every), KEPT(energy_bound),
     KEPT(frames_every), KEPT(positions_every), KEPT(frames_format), KEPT(tx_clip),
     KEPT(tx_reference_uv), KEPT(tx_k_u), KEPT(tx_k_v), KEPT(tendon_dense_max)};
 

@@ -491,6 +491,14 @@ SW_API const char *const *sw_norm_names(void);
  * (simplicial below SW_FACTOR_SWITCH, supernodal with coarse supernodes above); or forced. */
 enum { SW_FACTOR_AUTO = 0, SW_FACTOR_SIMPLICIAL = 1, SW_FACTOR_SUPERNODAL = 2, SW_FACTOR_N = 3 };
 SW_API const char *const *sw_factor_names(void);
+/* The fill-reducing ordering of the sparse Cholesky factorisation (docs/performance.md,
+ * "Factorisation: ordering, kind and threads"): auto, the measured rule (solvers/cholmod.c); or
+ * forced: AMD (approximate minimum degree), METIS's nested dissection, or CHOLMOD's own nested
+ * dissection (METIS's separators with a constrained minimum degree). */
+enum { SW_ORDERING_AUTO = 0, SW_ORDERING_AMD = 1, SW_ORDERING_METIS = 2, SW_ORDERING_NESDIS = 3,
+       SW_ORDERING_N = 4 };
+/* Their names ("auto", "amd", "metis", "nesdis"), NULL-terminated. */
+SW_API const char *const *sw_ordering_names(void);
 /* Newton's linear solves (docs/integrators.md, "Newton-Krylov"): off, a factorisation per
  * iteration; on, conjugate gradients preconditioned by the last factorisation; auto, on when
  * the factorisation is simplicial (small systems, where a solve costs little against a
@@ -524,6 +532,7 @@ typedef struct sw_options {
                                   gradients preconditioned with the last factorisation, or a
                                   fresh factorisation per iteration */
   int factorization;           /* SW_FACTOR_* */
+  int ordering;                /* SW_ORDERING_*: the factorisation's fill-reducing ordering */
   int blas_threads;            /* OpenBLAS threads; 0: $OPENBLAS_NUM_THREADS if set, else 1 */
   double rtol, atol;           /* adaptive methods (CVODE, IDA): relative, absolute (m, m/s) */
   int max_order;               /* adaptive methods: largest BDF order (1..5); 0: automatic,
@@ -758,6 +767,7 @@ struct sw_data {
                                   (CHOLMOD's count for its ordering; 0: no factor yet, or a
                                   method without one) */
   int factor_super;            /* 1: the factor is supernodal, 0: simplicial (-1: none yet) */
+  int factor_ordering;         /* SW_ORDERING_* the analysis used (never auto; -1: none yet) */
   double energy[4];            /* J at the current state (the stepping API, after each step and
                                   change): kinetic, potential, their total, dissipated so far */
   char err[SW_ERRSZ];          /* why the last failing call failed */

@@ -54,7 +54,7 @@ typedef struct sw_io {
 
 /* restart.bin begins with this magic, whose last two characters are the format's version, and
  * ends with the FNV-1a 64 of all the bytes before it (restart.c). */
-#define SW_RESTART_MAGIC "SWREST04"
+#define SW_RESTART_MAGIC "SWREST05"
 
 /* n bytes at p into (saving) or out of (loading) io. */
 void sw_io_bytes(sw_io *io, void *p, size_t n);

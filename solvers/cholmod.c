@@ -24,6 +24,9 @@ static int chol_failed(const sw_chol *ch, const char *what, char *err, size_t er
   else snprintf(size, sizeof size, " (a %ld x %ld system)", n, n);
   if (ch->c.status == CHOLMOD_OUT_OF_MEMORY)
     sw_errf(err, errsz, "CHOLMOD ran out of memory in %s%s", what, size);
+  else if (ch->c.status == CHOLMOD_NOT_INSTALLED)
+    sw_errf(err, errsz, "CHOLMOD %s: the ordering %s is not available (this CHOLMOD was built "
+            "without METIS); use ordering: amd", what, sw_ordering_names()[ch->ordering]);
   else if (ch->c.status == CHOLMOD_TOO_LARGE)
     sw_errf(err, errsz, "CHOLMOD: the problem is too large for %s%s", what, size);
   else sw_errf(err, errsz, "CHOLMOD %s failed (status %d)%s", what, ch->c.status, size);
@@ -49,18 +52,62 @@ static int lowrank_init(sw_chol *ch, const sw_pattern *p) {
   return 0;
 }
 
+/* CHOLMOD's method for an SW_ORDERING_* (auto: AMD first, sw_chol_init). */
+static void chol_ordering(sw_chol *ch, int ordering) {
+  static const int method[SW_ORDERING_N] = {CHOLMOD_AMD, CHOLMOD_AMD, CHOLMOD_METIS,
+                                            CHOLMOD_NESDIS};
+  ch->ordering = ordering > 0 && ordering < SW_ORDERING_N ? ordering : SW_ORDERING_AUTO;
+  ch->c.postorder = 1; /* a weighted postorder of the elimination tree: larger supernodes */
+  ch->c.nmethods = 1;
+  ch->c.method[0].ordering = method[ch->ordering];
+}
+
+/* auto, after AMD's analysis: a system of at least SW_ORDERING_SWITCH unknowns is analysed
+ * again with NESDIS, and the ordering with fewer flops kept (AMD's too when this CHOLMOD has
+ * no METIS). */
+static int chol_auto(sw_chol *ch, char *err, size_t errsz) {
+  const double fl = ch->c.fl, lnz = ch->c.lnz;
+  if (ch->ordering != SW_ORDERING_AUTO || ch->A->nrow < SW_ORDERING_SWITCH) return SW_OK;
+  ch->c.method[0].ordering = CHOLMOD_NESDIS;
+  cholmod_factor *nd = cholmod_l_analyze(ch->A, &ch->c);
+  if (nd && ch->c.status >= CHOLMOD_OK && ch->c.fl < fl) {
+    cholmod_l_free_factor(&ch->L, &ch->c);
+    ch->L = nd;
+    return SW_OK;
+  }
+  if (!nd && ch->c.status != CHOLMOD_NOT_INSTALLED && ch->c.status != CHOLMOD_OUT_OF_MEMORY)
+    return chol_failed(ch, "analyze", err, errsz);
+  cholmod_l_free_factor(&nd, &ch->c);
+  ch->c.status = CHOLMOD_OK;
+  ch->c.fl = fl, ch->c.lnz = lnz; /* AMD's stays */
+  ch->c.method[0].ordering = CHOLMOD_AMD;
+  return SW_OK;
+}
+
 void sw_chol_mode(sw_chol *ch, int mode) {
   static const int kind[SW_FACTOR_N] = {CHOLMOD_AUTO, CHOLMOD_SIMPLICIAL, CHOLMOD_SUPERNODAL};
-  ch->c.supernodal = kind[mode >= 0 && mode < SW_FACTOR_N ? mode : SW_FACTOR_AUTO];
+  int k = mode >= 0 ? mode % SW_FACTOR_N : SW_FACTOR_AUTO;
+  ch->c.supernodal = kind[k];
   ch->c.supernodal_switch = SW_FACTOR_SWITCH;
   /* coarser supernodes than CHOLMOD's defaults ({4, 16, 48}, {0.8, 0.1, 0.05}): fewer,
    * larger dense blocks for the BLAS, at the cost of some explicit zeros */
   const size_t nrelax[3] = {16, 48, 128};
   const double zrelax[3] = {0.8, 0.3, 0.1};
-  for (int k = 0; k < 3; k++) ch->c.nrelax[k] = nrelax[k], ch->c.zrelax[k] = zrelax[k];
+  for (int j = 0; j < 3; j++) ch->c.nrelax[j] = nrelax[j], ch->c.zrelax[j] = zrelax[j];
+  chol_ordering(ch, mode >= 0 ? mode / SW_FACTOR_N : SW_ORDERING_AUTO);
 }
 
 int sw_chol_super(const sw_chol *ch) { return ch->started && ch->L ? ch->L->is_super : -1; }
+
+int sw_chol_ordering(const sw_chol *ch) {
+  if (!ch->started || !ch->L) return -1;
+  switch (ch->L->ordering) {
+  case CHOLMOD_AMD: return SW_ORDERING_AMD;
+  case CHOLMOD_METIS: return SW_ORDERING_METIS;
+  case CHOLMOD_NESDIS: return SW_ORDERING_NESDIS;
+  default: return -1;
+  }
+}
 
 int sw_chol_init(sw_chol *ch, const sw_pattern *p, int mode, char *err, size_t errsz) {
   memset(ch, 0, sizeof *ch);
@@ -85,7 +132,7 @@ int sw_chol_init(sw_chol *ch, const sw_pattern *p, int mode, char *err, size_t e
   sw_chol_mode(ch, mode);
   ch->L = cholmod_l_analyze(ch->A, &ch->c);
   if (!ch->L || ch->c.status < CHOLMOD_OK) return chol_failed(ch, "analyze", err, errsz);
-  return SW_OK;
+  return chol_auto(ch, err, errsz);
 }
 
 double *sw_chol_values(sw_chol *ch) { return ch->A->x; }

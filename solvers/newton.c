@@ -56,7 +56,7 @@ int sw_newton_init(sw_newton *nw, const sw_model *m, char *err, size_t errsz) {
   nw->nterm = m->nterm;
   int rc = sw_pattern_build(&nw->pat, m, err, errsz);
   if (rc) return rc;
-  nw->factor_mode = m->opt.factorization;
+  nw->factor_mode = SW_CHOL_MODE(m->opt.factorization, m->opt.ordering);
   if (nw->n > 0 && (rc = sw_chol_init(&nw->chol, &nw->pat, nw->factor_mode, err, errsz)))
     return rc;
   nw->g = sw_calloc((size_t)nw->n, sizeof(double));
@@ -557,6 +557,7 @@ static int factor(sw_newton *nw, sw_data *d) {
   d->nfactor++;
   d->factor_nnz = sw_chol_nnz(&nw->chol);
   d->factor_super = sw_chol_super(&nw->chol);
+  d->factor_ordering = sw_chol_ordering(&nw->chol);
   nw->fac_valid = rc == SW_OK;
   nw->fac_stale = 0;
   return rc;

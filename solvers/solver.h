@@ -87,6 +87,7 @@ typedef struct sw_chol {
   int started;
   cholmod_sparse *A;     /* symmetric, upper triangle stored (stype +1) */
   cholmod_factor *L;
+  int ordering;          /* SW_ORDERING_* asked for */
   cholmod_dense *b, *x, *Y, *E; /* persistent solve workspaces */
   int nlr;               /* low-rank vectors (0: S = A) */
   long *lrptr, *lrrow;   /* copies of the pattern's */
@@ -97,19 +98,29 @@ typedef struct sw_chol {
   double *z;             /* (nlr) */
 } sw_chol;
 
-/* Analyse the pattern for a factorisation of kind mode (SW_FACTOR_*). */
+/* Analyse the pattern for a factorisation of kind and ordering mode (SW_CHOL_MODE). */
 int sw_chol_init(sw_chol *ch, const sw_pattern *p, int mode, char *err, size_t errsz);
 /* CHOLMOD's parameters for mode: simplicial, supernodal, or (auto) CHOLMOD's own choice by
  * the flops of the factorisation per nonzero of L with the switch at SW_FACTOR_SWITCH; the
  * supernodes relaxed to nrelax {16, 48, 128}, zrelax {0.8, 0.3, 0.1}.  Measured on the
  * hanging cloth from 20 x 20 to 512 x 512 (docs/performance.md, "Simplicial or
- * supernodal"). */
+ * supernodal"); and the ordering (docs/performance.md, "Factorisation: ordering, kind and
+ * threads"). */
 void sw_chol_mode(sw_chol *ch, int mode);
 #define SW_FACTOR_SWITCH 100.0
+/* ordering auto: AMD, or NESDIS when it needs fewer flops and the system has at least
+ * SW_ORDERING_SWITCH unknowns (docs/performance.md, "Factorisation: ordering, kind and
+ * threads"). */
+#define SW_ORDERING_SWITCH 40000
+/* The mode of a factorisation of kind SW_FACTOR_* with the ordering SW_ORDERING_* (a plain
+ * SW_FACTOR_* is that kind with the automatic ordering). */
+#define SW_CHOL_MODE(kind, ordering) ((kind) + SW_FACTOR_N * (ordering))
 #define SW_BLOCK_MAXS (9 * SW_BLOCK_MAXV * SW_BLOCK_MAXV) /* slots of a term's largest extra
                                                        block, in 3D */
 /* 1: the analysis chose a supernodal factor, 0: simplicial, -1: not analysed. */
 int sw_chol_super(const sw_chol *ch);
+/* The SW_ORDERING_* the analysis used (never auto), -1 when not analysed. */
+int sw_chol_ordering(const sw_chol *ch);
 double *sw_chol_values(sw_chol *ch);
 /* V's entries (the pattern's lrptr/lrrow order) and the coefficient they enter S with. */
 double *sw_chol_lowrank(sw_chol *ch, double coef);
@@ -143,7 +154,7 @@ typedef struct sw_newton {
   double *g, *dx;        /* (n) gradient and step on the free DOFs */
   double *xtry;          /* (nv x dim) line-search trial */
   int nterm;
-  int factor_mode;       /* SW_FACTOR_* */
+  int factor_mode;       /* SW_CHOL_MODE of the options */
   double *dval;          /* (pat.nnz) D on the pattern, or NULL when the model has no damping */
   double *r, *dr;        /* (n) x - xd and D (x - xd) */
   double cd;             /* the current solve's damping coefficient, 1/s (0: none) */

@@ -142,6 +142,7 @@ static int static_iteration(sw_newton *nw, const sw_model *m, sw_data *d, double
   rc = sw_chol_factor(&nw->chol, d->err, sizeof d->err);
   d->factor_nnz = sw_chol_nnz(&nw->chol);
   d->factor_super = sw_chol_super(&nw->chol);
+  d->factor_ordering = sw_chol_ordering(&nw->chol);
   if (rc) return rc;
   for (int c = 0; c < nw->n; c++) nw->g[c] = -nw->g[c];
   rc = sw_chol_solve(&nw->chol, nw->g, nw->dx, d->err, sizeof d->err);

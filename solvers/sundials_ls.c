@@ -154,6 +154,7 @@ static int fill_factor(sw_sunls *sys) {
   d->nfactor++;
   d->factor_nnz = sw_chol_nnz(&sys->chol);
   d->factor_super = sw_chol_super(&sys->chol);
+  d->factor_ordering = sw_chol_ordering(&sys->chol);
   return rc;
 }
 
@@ -235,7 +236,8 @@ int sw_sunls_init(sw_sunls *sys, const sw_model *m, sw_data *d, sw_sunls_reduce_
   sys->cm = 1.0;
   int rc = sw_pattern_build(&sys->pat, m, err, errsz);
   if (rc) return rc;
-  if ((rc = sw_chol_init(&sys->chol, &sys->pat, m->opt.factorization, err, errsz))) return rc;
+  if ((rc = sw_chol_init(&sys->chol, &sys->pat,
+                         SW_CHOL_MODE(m->opt.factorization, m->opt.ordering), err, errsz))) return rc;
   size_t n = (size_t)sys->n, nd = (size_t)m->nv * (size_t)m->dim;
   sys->mdiag = sw_calloc(n, sizeof(double));
   sys->hval = sw_calloc((size_t)sys->pat.nnz, sizeof(double));

@@ -73,7 +73,7 @@ static const char good_scene[] =
     "  - {velocity: [1, 0, 0], select: {vertices: [44]}}\n"
     "integrator: {method: backward-euler, dt: 0.005, max_halvings: 4, hessian: projected,\n"
     "             newton: {max_iterations: 20, tol: 1e-8, force_tol: 1e-7, norm: max, reuse: step},\n"
-    "             setup_every: 50}\n"
+    "             setup_every: 50, ordering: nesdis}\n"
     "duration: 3\n"
     "output: {dir: out/here, frames_every: 0.1, positions_every: 0.25, frames_format: ascii}\n"
     "tension_xy: {clip: 1e4, reference: uv, k_v: 300}\n";
@@ -118,6 +118,7 @@ static void test_good_scene(void **state) {
   assert_int_equal(m->opt.newton_norm, SW_NORM_MAX);
   assert_int_equal(m->opt.newton_reuse, SW_REUSE_STEP);
   assert_int_equal(m->opt.setup_every, 50);
+  assert_int_equal(m->opt.ordering, SW_ORDERING_NESDIS);
   assert_float_equal(m->opt.duration, 3.0, 0.0);
   assert_string_equal(m->opt.out_dir, "out/here");
   assert_float_equal(m->opt.frames_every, 0.1, 0.0);
@@ -155,6 +156,7 @@ static void test_defaults(void **state) {
   assert_int_equal(m->opt.newton_norm, SW_NORM_RMS);
   assert_int_equal(m->opt.newton_reuse, SW_REUSE_OFF);
   assert_int_equal(m->opt.setup_every, 200);
+  assert_int_equal(m->opt.ordering, SW_ORDERING_AUTO);
   assert_int_equal(m->opt.max_order, 0); /* automatic */
   assert_float_equal(m->opt.tx_k_u, -1.0, 0.0);
   assert_float_equal(m->opt.tx_clip, 5e4, 0.0);
@@ -553,6 +555,9 @@ static const bad_case bad[] = {
     {"method.yaml", GRID MAT "integrator: {method: rk4}\n", 3, 22, "backward-euler"},
     {"halvings.yaml", GRID MAT "integrator: {max_halvings: 61}\n", 3, 28, "[0, 60]"},
     {"hessian.yaml", GRID MAT "integrator: {hessian: fancy}\n", 3, 23, "projected, exact, auto"},
+    {"ordering.yaml", GRID MAT "integrator: {ordering: colamd}\n", 3, 24,
+     "auto, amd, metis, nesdis"},
+    {"ordering_map.yaml", GRID MAT "integrator:\n  ordering: {method: amd}\n", 4, 13, "ordering"},
     {"setup_every.yaml", GRID MAT "integrator: {setup_every: 0}\n", 3, 27, "setup_every"},
     {"max_order.yaml", GRID MAT "integrator: {max_order: 6}\n", 3, 25, "[1, 5]"},
     {"max_order_word.yaml", GRID MAT "integrator: {max_order: high}\n", 3, 25,

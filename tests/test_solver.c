@@ -349,6 +349,57 @@ static void every_mode_descends(void **st) {
   }
 }
 
+/* The ordering rule (auto): AMD for a 40 x 40 cloth (fewer than SW_ORDERING_SWITCH
+ * unknowns), NESDIS for a 160 x 160 one, where it needs fewer flops; each forced ordering is the one the factor records; every ordering solves the same
+ * system to the same answer (docs/performance.md, "Factorisation: ordering, kind and
+ * threads"). */
+static void ordering_rule(void **st) {
+  (void)st;
+  const double g[3] = {0.0, 0.0, -9.81};
+  const int sizes[2] = {40, 160}, want[2] = {SW_ORDERING_AMD, SW_ORDERING_NESDIS};
+  char err[SW_ERRSZ];
+  for (int j = 0; j < 2; j++) {
+    sw_model *m = th_grid_model(3, sizes[j], sizes[j], 1.0, 1.0, 0.1, 5000.0, 100.0, g, 1);
+    assert_non_null(m);
+    sw_pattern p;
+    assert_int_equal(sw_pattern_build(&p, m, err, sizeof err), 0);
+    unsigned long rs = 11;
+    double *b = calloc((size_t)p.n, sizeof *b), *y[SW_ORDERING_N];
+    for (int c = 0; c < p.n; c++) b[c] = th_rand(&rs);
+    double fl[SW_ORDERING_N] = {0}, lnz[SW_ORDERING_N] = {0};
+    for (int o = 0; o < SW_ORDERING_N; o++) {
+      sw_chol ch;
+      assert_int_equal(sw_chol_init(&ch, &p, SW_CHOL_MODE(SW_FACTOR_AUTO, o), err, sizeof err),
+                       0);
+      fl[o] = ch.c.fl, lnz[o] = ch.c.lnz;
+      assert_int_equal(sw_chol_ordering(&ch), o ? o : want[j]);
+      assert_true(sw_chol_nnz(&ch) > 0); /* analysed */
+      double *v = sw_chol_values(&ch);
+      memset(v, 0, (size_t)p.nnz * sizeof *v);
+      for (int c = 0; c < p.n; c++) { /* a diagonally dominant S on the whole pattern */
+        for (long q = p.colptr[c]; q < p.colptr[c + 1]; q++) v[q] = -0.01;
+        v[p.diag[c]] = 1.0;
+      }
+      assert_int_equal(sw_chol_factor(&ch, err, sizeof err), 0);
+      y[o] = calloc((size_t)p.n, sizeof *y[o]);
+      assert_int_equal(sw_chol_solve(&ch, b, y[o], err, sizeof err), 0);
+      sw_chol_free(&ch);
+      if (o) assert_true(th_max_diff(y[0], y[o], p.n) < 1e-12);
+    }
+    print_message("%d x %d: %d DOFs, AMD %.0f flops per nonzero; auto %s\n", sizes[j],
+                  sizes[j], p.n, fl[SW_ORDERING_AMD] / lnz[SW_ORDERING_AMD],
+                  sw_ordering_names()[want[j]]);
+    /* auto is AMD below the switch; above it, NESDIS with fewer flops than AMD */
+    assert_true(j ? p.n >= SW_ORDERING_SWITCH : p.n < SW_ORDERING_SWITCH);
+    assert_true(fl[0] == fl[want[j]] && lnz[0] == lnz[want[j]]);
+    assert_true(!j || fl[SW_ORDERING_NESDIS] < fl[SW_ORDERING_AMD]);
+    for (int o = 0; o < SW_ORDERING_N; o++) free(y[o]);
+    free(b);
+    sw_pattern_free(&p, m->nterm);
+    sw_model_free(m);
+  }
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(fill_3d),
@@ -357,6 +408,7 @@ int main(void) {
       cmocka_unit_test(not_positive_definite), cmocka_unit_test(cholmod_out_of_memory),
       cmocka_unit_test(newton_minimises),
       cmocka_unit_test(every_mode_descends),
+      cmocka_unit_test(ordering_rule),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

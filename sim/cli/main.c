@@ -90,6 +90,7 @@ static void usage_run(FILE *fp) {
           "                 [--positions-every S] [--grid NXxNY] [--stiffness-scale S]\n"
           "                 [--newton-tol V] [--newton-norm rms|max] [--hessian MODE]\n"
           "                 [--factorization auto|simplicial|supernodal]\n"
+          "                 [--ordering auto|amd|metis|nesdis]\n"
           "                 [--newton-reuse on|off|auto|step]\n"
           "       sinew run --resume DIR [--duration T] [--threads N] [--force] [--quiet]\n"
           "\n"
@@ -134,6 +135,9 @@ static void usage_run(FILE *fp) {
           "  --factorization auto|simplicial|supernodal\n"
           "                  CHOLMOD's factorisation; auto: chosen from the matrix (overrides\n"
           "                  integrator.factorization)\n"
+          "  --ordering auto|amd|metis|nesdis\n"
+          "                  CHOLMOD's fill-reducing ordering; auto: the measured rule\n"
+          "                  (overrides integrator.ordering)\n"
           "  --threads N     OpenBLAS threads for CHOLMOD (default: $OPENBLAS_NUM_THREADS, else 1)\n"
           "  --quiet         nothing printed when the run succeeds (no progress line, no\n"
           "                  summary); warnings and errors still go to stderr\n"
@@ -196,7 +200,7 @@ typedef struct cli {
   int max_halvings;            /* < 0: not given */
   double newton_tol;           /* m/s; < 0: not given */
   int hessian, reuse, norm;    /* < 0: not given */
-  int factor;                  /* < 0: not given */
+  int factor, ordering;        /* < 0: not given */
   int frames_format;           /* SW_FRAMES_*; < 0: not given */
   int max_order;               /* -1: not given; 0: auto */
 } cli;
@@ -262,6 +266,8 @@ static int parse_run_args(int argc, char **argv, cli *c) {
       if (cli_choice(a, argv[++i], reuse, &c->reuse)) return -1;
     } else if (!strcmp(a, "--factorization") && has_val) {
       if (cli_choice(a, argv[++i], sw_factor_names(), &c->factor)) return -1;
+    } else if (!strcmp(a, "--ordering") && has_val) {
+      if (cli_choice(a, argv[++i], sw_ordering_names(), &c->ordering)) return -1;
     } else if (!strcmp(a, "--threads") && has_val) {
       if (cli_int(a, argv[++i], 1, 1024, &c->threads)) return -1;
     } else if (a[0] == '-' && a[1]) {
@@ -352,7 +358,7 @@ static int cmd_run(int argc, char **argv) {
   if (argc >= 4 && !strcmp(argv[2], "--resume")) return cmd_resume(argc, argv);
   cli c = {.dt = -1, .duration = -1, .frames_every = -1, .positions_every = -1,
            .max_halvings = -1, .newton_tol = -1, .hessian = -1, .reuse = -1, .norm = -1,
-           .factor = -1, .max_order = -1, .frames_format = -1};
+           .factor = -1, .ordering = -1, .max_order = -1, .frames_format = -1};
   if (parse_run_args(argc, argv, &c)) return 2;
   char err[SW_ERRSZ];
   catch_stop_signals(); /* loading a large mesh obstacle takes seconds */
@@ -371,6 +377,7 @@ static int cmd_run(int argc, char **argv) {
   if (c.norm >= 0) m->opt.newton_norm = c.norm;
   if (c.reuse >= 0) m->opt.newton_reuse = c.reuse;
   if (c.factor >= 0) m->opt.factorization = c.factor;
+  if (c.ordering >= 0) m->opt.ordering = c.ordering;
   if (c.atol > 0) m->opt.atol = c.atol;
   if (c.max_order >= 0) m->opt.max_order = c.max_order;
   if (c.frames_every >= 0) m->opt.frames_every = c.frames_every;

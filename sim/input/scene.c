@@ -403,7 +403,8 @@ static int load_gravity(const ctx *c, const ynode *y) {
 
 static const char *const int_keys[] = {"method", "dt", "max_halvings", "newton", "hessian",
                                        "rtol", "atol", "max_order", "max_step", "energy_bound",
-                                       "tendon_dense_max", "setup_every", "factorization"};
+                                       "tendon_dense_max", "setup_every", "factorization",
+                                       "ordering"};
 static const char *const newton_keys[] = {"max_iterations", "tol", "reuse", "force_tol", "norm"};
 static const char *const reuse_names[] = {"false", "true", "auto", "step"};
 
@@ -429,8 +430,10 @@ static int load_max_order(const ctx *c, const ynode *y, int *out) {
 
 static int load_integrator(const ctx *c, const ynode *y) {
   sw_options *o = &c->m->opt;
-  const ynode *v[13], *nv[5];
-  if (sy_map(c, y, "integrator", int_keys, 13, v)) return -1;
+  const ynode *v[14], *nv[5];
+  if (sy_map(c, y, "integrator", int_keys, 14, v)) return -1;
+  if (v[13] && sy_choice(c, v[13], "integrator ordering", sw_ordering_names(), SW_ORDERING_N,
+                         &o->ordering)) return -1;
   if (v[12] && sy_choice(c, v[12], "integrator factorization", sw_factor_names(), SW_FACTOR_N,
                          &o->factorization)) return -1;
   if (v[11] && sy_int(c, v[11], "integrator setup_every", 1, INT_MAX, &o->setup_every))

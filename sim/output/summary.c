@@ -150,6 +150,10 @@ static void summary_counters(out_file *w, const sw_model *m, const sw_data *d, d
     w_key(w, "factorization");
     out_json_str(w, d->factor_super ? "supernodal" : "simplicial", 16);
   }
+  if (d->factor_ordering > 0) { /* the fill-reducing ordering the analysis used */
+    w_key(w, "ordering");
+    out_json_str(w, sw_ordering_names()[d->factor_ordering], 16);
+  }
   w_json_num(w, "wall_time_s", wall); /* this part (since a --resume) */
   w_json_num(w, "wall_time_total_s", d->wall_before + wall); /* every part of the run */
   /* CPU time (user + system, every thread) of this part: what a busy machine's sharing
