@@ -16,25 +16,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
+#include "bench_rss.h"
 #include "solver.h"
-
-static double cpu_s(void) {
-  struct timespec ts;
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-static double peak_rss_mib(void) {
-  FILE *fp = fopen("/proc/self/status", "r");
-  char line[256];
-  long kib = -1;
-  while (fp && fgets(line, sizeof line, fp))
-    if (!strncmp(line, "VmHWM:", 6)) kib = strtol(line + 6, NULL, 10);
-  if (fp) fclose(fp);
-  return kib / 1024.0;
-}
+#include "util.h"
 
 int main(int argc, char **argv) {
   int a = 1;
@@ -59,19 +44,19 @@ int main(int argc, char **argv) {
   double *val = calloc((size_t)p.nnz + 1, sizeof *val), e, te = 0.0, tf = 0.0;
   if (!val) return 1;
   for (int r = 0; r < reps; r++) {
-    double t0 = cpu_s();
+    double t0 = sw_cpu_now();
     if (sw_eval_terms(m, d, d->x, 0.0, 1, 1, SW_FILTER_CLAMP, &e))
       return fprintf(stderr, "%s\n", d->err), 1;
-    double t1 = cpu_s();
+    double t1 = sw_cpu_now();
     sw_pattern_fill(&p, m, d, 1e4, 1.0, val);
-    tf += cpu_s() - t1, te += t1 - t0;
+    tf += sw_cpu_now() - t1, te += t1 - t0;
   }
   long nb = d->hoff[m->nterm];
   double mib = ((double)nb * (sizeof(double) + sizeof(int)) + (double)p.nnz * sizeof(double)) /
                (1024.0 * 1024.0);
   const char *base = strrchr(path, '/');
   printf("%s,%d,%ld,%ld,%.2f,%.4f,%.4f,%.1f\n", base ? base + 1 : path, m->ndof, p.nnz, nb, mib,
-         1e3 * te / reps, 1e3 * tf / reps, peak_rss_mib());
+         1e3 * te / reps, 1e3 * tf / reps, bench_peak_rss_mib());
   free(val);
   sw_pattern_free(&p, m->nterm);
   sw_data_free(d);

@@ -23,7 +23,7 @@
  *   N, dofs, nnz (lower triangle of the system), steps, newton_iterations, factorizations,
  *   step_s (mean wall s per step), assembly_s, factor_s, solve_s, rest_s (each per step;
  *   rest = step - assembly - factor - solve), nonfactor_share (1 - (factor + solve) / step),
- *   peak_rss_mib (the process's peak resident set, VmHWM; see peak_rss_mib()),
+ *   peak_rss_mib (the process's peak resident set, VmHWM; see bench_rss.h),
  *   assembly_per_iter_s, factor_per_iter_s (per Newton iteration).
  *
  * "assembly" is the solver's own timer (term gradients and Hessian blocks at each Newton
@@ -34,8 +34,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/resource.h>
 
+#include "bench_rss.h"
 #include "scene.h"
 #include "solver.h"
 #include "util.h"
@@ -105,29 +105,6 @@ static int step_with_retries(const sw_integrator_ops *ops, void *st, const sw_mo
     d->nretry++;
   }
   return rc;
-}
-
-/* Peak resident memory of this process, MiB: VmHWM of /proc/self/status.  getrusage's ru_maxrss
- * is the fallback only, because Linux carries it over execve: under `meson test` (a Python
- * parent) it reports the parent's peak, 28 MiB for a run that uses 8. */
-static double peak_rss_mib(void) {
-  FILE *fp = fopen("/proc/self/status", "r");
-  char line[256];
-  long kib = -1;
-  if (fp) {
-    while (fgets(line, sizeof line, fp))
-      if (!strncmp(line, "VmHWM:", 6)) {
-        kib = strtol(line + 6, NULL, 10);
-        break;
-      }
-    fclose(fp);
-  }
-  if (kib < 0) {
-    struct rusage ru;
-    getrusage(RUSAGE_SELF, &ru);
-    kib = ru.ru_maxrss;
-  }
-  return (double)kib / 1024.0;
 }
 
 static int usage(void) {
@@ -222,7 +199,7 @@ int main(int argc, char **argv) {
          so = d->time_solve / s;
   printf("%ld,%d,%ld,%ld,%ld,%ld,%.6g,%.6g,%.6g,%.6g,%.6g,%.4f,%.1f,%.6g,%.6g\n", n, m->ndof, nnz,
          steps, d->nnewton, d->nfactor, step, as, fa, so, step - as - fa - so,
-         step > 0 ? 1.0 - (fa + so) / step : 0.0, peak_rss_mib(),
+         step > 0 ? 1.0 - (fa + so) / step : 0.0, bench_peak_rss_mib(),
          d->time_assemble / it, d->time_factor / it);
   double sum = 0.0;
   for (int i = 0; i < m->nv * m->dim; i++) sum += d->x[i];
