@@ -104,6 +104,13 @@ void th_add_tendon(sw_model *m, const int *way, int nway, int law, double K, dou
   td->density = density;
 }
 
+void th_fill_dominant(const sw_pattern *p, double *v) {
+  for (int c = 0; c < p->n; c++) {
+    for (long q = p->colptr[c]; q < p->colptr[c + 1]; q++) v[q] = -0.01;
+    v[p->diag[c]] = 1.0;
+  }
+}
+
 void th_dense_hessian(const sw_model *m, int k, const double *blocks, double *H) {
   const int d = m->dim, n = m->nv * d;
   const sw_term *t = &m->term[k];

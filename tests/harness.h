@@ -63,6 +63,9 @@ double th_max_diff(const double *a, const double *b, int n);
 /* Least-squares slope of log(e) against log(h) over n points: an observed convergence order. */
 double th_slope(const double *h, const double *e, int n);
 /* The dense (nv*dim)^2 Hessian of term k from its blocks (all DOFs, pinned included). */
+/* v (p->nnz) = a diagonally dominant system on the whole pattern: 1 on the diagonal, -0.01 off
+ * it (positive definite for any pattern of fewer than 100 entries a column). */
+void th_fill_dominant(const sw_pattern *p, double *v);
 void th_dense_hessian(const sw_model *m, int k, const double *blocks, double *H);
 /* H += sum_r u_r u_r^T over term k's low-rank vectors (values as in d->lowrank + d->loff[k]). */
 void th_dense_lowrank(const sw_model *m, int k, const double *vecs, double *H);

@@ -188,12 +188,7 @@ static void size_rule(void **state) {
         y[f] = calloc((size_t)p.n, sizeof *y[f]);
         assert_int_equal(sw_chol_init(&ch, &p, mode, err, sizeof err), 0);
         assert_int_equal(sw_chol_super(&ch), f);
-        double *v = sw_chol_values(&ch);
-        memset(v, 0, (size_t)p.nnz * sizeof *v);
-        for (int c = 0; c < p.n; c++) { /* a diagonally dominant S on the whole pattern */
-          for (long q = p.colptr[c]; q < p.colptr[c + 1]; q++) v[q] = -0.01;
-          v[p.diag[c]] = 1.0;
-        }
+        th_fill_dominant(&p, sw_chol_values(&ch));
         assert_int_equal(sw_chol_factor(&ch, err, sizeof err), 0);
         assert_int_equal(sw_chol_solve(&ch, b, y[f], err, sizeof err), 0);
         sw_chol_free(&ch);

@@ -374,12 +374,7 @@ static void ordering_rule(void **st) {
       fl[o] = ch.c.fl, lnz[o] = ch.c.lnz;
       assert_int_equal(sw_chol_ordering(&ch), o ? o : want[j]);
       assert_true(sw_chol_nnz(&ch) > 0); /* analysed */
-      double *v = sw_chol_values(&ch);
-      memset(v, 0, (size_t)p.nnz * sizeof *v);
-      for (int c = 0; c < p.n; c++) { /* a diagonally dominant S on the whole pattern */
-        for (long q = p.colptr[c]; q < p.colptr[c + 1]; q++) v[q] = -0.01;
-        v[p.diag[c]] = 1.0;
-      }
+      th_fill_dominant(&p, sw_chol_values(&ch));
       assert_int_equal(sw_chol_factor(&ch, err, sizeof err), 0);
       y[o] = calloc((size_t)p.n, sizeof *y[o]);
       assert_int_equal(sw_chol_solve(&ch, b, y[o], err, sizeof err), 0);
