@@ -35,7 +35,7 @@ rows = list(csv.reader(open(sys.argv[1])))
 med = {}
 for b, r, scene, dofs, nnz, nb, mib, ev, fi, rss in rows:
     med.setdefault((scene, b), []).append((float(ev), float(fi), float(mib), float(rss), int(dofs)))
-print("\n| scene | DOFs | blocks+map+values MiB old / new | KiB/DOF of peak RSS old / new | eval ms old / new | fill ms old / new | eval ratio | fill ratio | eval+fill ratio |")
+print("\n| scene | DOFs | blocks+map+values MiB old / new | peak RSS of this program (no factor) KiB/DOF old / new | eval ms old / new | fill ms old / new | eval ratio | fill ratio | eval+fill ratio |")
 print("|---|--:|--:|--:|--:|--:|--:|--:|--:|")
 for scene in dict.fromkeys(s for s, _ in med):
     o, n = med[(scene, "old")], med[(scene, "new")]
