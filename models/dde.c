@@ -11,26 +11,39 @@
  *   c = c0 + s (c_dir(q) - c0),  s = t^2 (3 - 2 t),  t = clamp(6 (w - 1), 0, 1),
  * w = sqrt(1 + 2 lambda) the largest principal stretch (lambda the largest eigenvalue of the
  * Green strain), c0 the zero-strain row, c_dir the five rows measured at w = 7/6 along the
- * principal direction theta = 0, 22.5, 45, 67.5, 90 degrees from warp, interpolated linearly
- * between neighbouring directions; beyond w = 7/6 the stiffness stays that of w = 7/6.  In the
- * strain, s is the smoothstep of the paper's linear ramp t: equal to it at the samples (0, 1)
- * and half-way (1/2), and C1 where t reaches 0 and 1.  The linear ramp puts a kink into the
- * energy's gradient at w = 1, which a face crosses wherever stretch turns to compression, and
- * Newton does not converge on it: a 45 degree cantilever strip of gray-interlock stalled at a
- * free force of 2e-7 N after 1000 static iterations with the ramp (tests/test_dde.c's strip).
+ * principal direction theta = 0, 22.5, 45, 67.5, 90 degrees from warp, interpolated between
+ * the directions by a monotone cubic (below); beyond w = 7/6 the stiffness stays that of
+ * w = 7/6.  In the strain, s is the smoothstep of the paper's linear ramp t: equal to it at
+ * the samples (0, 1) and half-way (1/2), and C1 where t reaches 0 and 1.  The linear ramp puts
+ * a kink into the energy's gradient at w = 1, which a face crosses wherever stretch turns to
+ * compression, and Newton does not converge on it: a 45 degree cantilever strip of
+ * gray-interlock stalled at a free force of 2e-7 N after 1000 static iterations with the ramp
+ * (tests/test_dde.c's strip).
  * The direction coordinate is q = sin^2 theta = (1 - cos 2 theta)/2 = (1 - d/r)/2,
- * d = (a - b)/2, r = sqrt(d^2 + g^2/4): linear in q between the sample directions, equal to
- * the samples at them, monotone between them (a clamped sample's zero is never undershot), and
- * smooth at 0 and 90 degrees where linear interpolation in theta itself would put a kink into
- * the energy as the shear strain changes sign (the mirror symmetry of an orthotropic fabric).
- * At r = 0 (an isotropic strain) the direction is undefined; there q = 0 and its derivatives
- * are taken as 0.
+ * d = (a - b)/2, r = sqrt(d^2 + g^2/4), smooth at 0 and 90 degrees (the mirror symmetry of an
+ * orthotropic fabric).  In q, c_dir is the monotone piecewise cubic through the five samples
+ * (Fritsch and Carlson 1980; pchip_slopes): equal to the samples, C1 across them, monotone
+ * between them (a clamped sample's zero is never undershot).  Linear interpolation, as the
+ * paper's, puts a kink into the energy's gradient wherever a face's principal direction
+ * crosses 22.5, 45 or 67.5 degrees, and Newton then stalls short of a tight tolerance (the
+ * T-shirt in gray-interlock did: docs/bench/dde.md).
+ * At an isotropic strain (r = 0) the direction is undefined, and c_dir(q) would make the energy
+ * itself jump there; so below r = R0 = 0.01 the direction's part fades out,
+ *   c_dir -> cbar + phi (c_dir(q) - cbar),   phi = u^2 (3 - 2 u),  u = r^2 / R0^2,
+ * cbar the mean of the five rows over theta (trapezoidal), and lambda's cone at r = 0 is
+ * rounded, lambda = (a + b)/2 + p, p = (3/2) r^2/R0 - r^4/(2 R0^3) below R0 (p = r with its
+ * slope at R0, p = 0 at r = 0).  Both are polynomials in r^2, smooth in e, and phi vanishes as
+ * r^4, so the energy is twice differentiable at r = 0.  Every sample (a stretch along one
+ * direction, r >= 0.04) and the zero strain keep the data's numbers.
  *
  * The gradient and Hessian are exact, the derivatives of c included (within each cell of the
  * interpolation): with m = (a^2, 2ab, b^2, g^2/2), psi = c.m,
  *   dpsi = c.dm + m.dc,   d2psi = c.d2m + dc (x) dm + dm (x) dc + m.d2c,
- *   dc = (c_dir - c0) ds + s c_dir' dq,
- *   d2c = (c_dir - c0) d2s + c_dir' (ds (x) dq + dq (x) ds) + s c_dir' d2q,
+ *   c = c0 + s D,  D = cbar + phi (c_dir - cbar) - c0,
+ *   dc = D ds + s dD,   d2c = D d2s + ds (x) dD + dD (x) ds + s d2D,
+ *   dD = (c_dir - cbar) dphi + phi c_dir' dq,
+ *   d2D = (c_dir - cbar) d2phi + c_dir' (dphi (x) dq + dq (x) dphi)
+ *         + phi (c_dir'' dq (x) dq + c_dir' d2q),
  * ds = s'(t) dt, d2s = s'(t) d2t + s''(t) dt (x) dt, dt = (6/w) dlambda,
  * d2t = (6/w) d2lambda - (6/w^3) dlambda (x) dlambda inside 0 < t < 1.
  * With S = (dpsi/da, dpsi/db, dpsi/dg) the forces are those of stvk (models/stvk.c):
@@ -55,44 +68,111 @@ typedef struct dde_eval {
   double d2c[4][9]; /* d2c/de2, row-major 3 x 3 */
 } dde_eval;
 
-/* lambda (largest principal Green strain), q = sin^2 theta and their first and second
- * derivatives in e = (a, b, g). */
-static void principal(const double e[3], double *lam, double dl[3], double d2l[9], double *q,
-                      double dq[3], double d2q[9]) {
-  double d = 0.5 * (e[0] - e[1]), h = 0.5 * e[2], r = sqrt(d * d + h * h);
+/* The strain's principal quantities and their first and second derivatives in e = (a, b, g):
+ * lambda the largest principal Green strain, with its cone at isotropic strains rounded
+ * (mean + p(r) below R0), q = sin^2 theta of its direction, and phi the weight of the
+ * direction's part (1 from r = R0 on, 0 at r = 0).  r = sqrt(d^2 + h^2), d = (a - b)/2,
+ * h = g/2 is half the difference of the principal strains; below R0 lambda and phi are
+ * polynomials in rho = r^2, smooth in e: p = (3/2) rho/R0 - rho^2/(2 R0^3) (p(0) = 0, and
+ * p = r, p' = 1 at R0), phi = u^2 (3 - 2 u) with u = rho/R0^2 (phi = 1, phi' = 0 at R0;
+ * phi ~ r^4 at 0, so that phi times q's derivatives, which grow as 1/r and 1/r^2, vanishes
+ * there and the energy is twice differentiable at isotropic strains). */
+typedef struct dde_principal {
+  double lam, dl[3], d2l[9]; /* lambda (rounded), 1 */
+  double q, dq[3], d2q[9];   /* sin^2 theta; 0 with zero derivatives at r = 0 */
+  double phi, dp[3], d2p[9]; /* the direction's weight, 1 */
+} dde_principal;
+
+#define DDE_R0 0.01 /* 1: half the principal strain difference below which theta fades out */
+
+static void principal(const double e[3], dde_principal *pr) {
+  double d = 0.5 * (e[0] - e[1]), h = 0.5 * e[2], rho = d * d + h * h, r = sqrt(rho);
   double J[2][3] = {{0.5, -0.5, 0.0}, {0.0, 0.0, 0.5}}; /* d(d, h)/d(a, b, g) */
-  *lam = 0.5 * (e[0] + e[1]) + r;
-  memset(d2l, 0, 9 * sizeof *d2l);
-  memset(d2q, 0, 9 * sizeof *d2q);
-  if (!(r > 1e-14)) {
-    dl[0] = dl[1] = 0.5, dl[2] = 0.0;
-    *q = 0.0, dq[0] = dq[1] = dq[2] = 0.0;
-    return;
+  memset(pr, 0, sizeof *pr);
+  double drho[3], d2rho[9];
+  for (int i = 0; i < 3; i++) {
+    drho[i] = 2.0 * (d * J[0][i] + h * J[1][i]);
+    for (int j = 0; j < 3; j++) d2rho[3 * i + j] = 2.0 * (J[0][i] * J[0][j] + J[1][i] * J[1][j]);
   }
+  pr->lam = 0.5 * (e[0] + e[1]);
+  if (r < DDE_R0) { /* the polynomials in rho */
+    const double R3 = DDE_R0 * DDE_R0 * DDE_R0, R2 = DDE_R0 * DDE_R0, u = rho / R2;
+    double p1 = 1.5 / DDE_R0 - rho / R3, p2 = -1.0 / R3; /* dp/drho, d2p/drho2 */
+    double f1 = 6.0 * u * (1.0 - u) / R2, f2 = (6.0 - 12.0 * u) / (R2 * R2); /* dphi/drho.. */
+    pr->lam += 1.5 * rho / DDE_R0 - 0.5 * rho * rho / R3;
+    pr->phi = u * u * (3.0 - 2.0 * u);
+    for (int i = 0; i < 3; i++) {
+      pr->dl[i] = (i < 2 ? 0.5 : 0.0) + p1 * drho[i];
+      pr->dp[i] = f1 * drho[i];
+      for (int j = 0; j < 3; j++) {
+        pr->d2l[3 * i + j] = p1 * d2rho[3 * i + j] + p2 * drho[i] * drho[j];
+        pr->d2p[3 * i + j] = f1 * d2rho[3 * i + j] + f2 * drho[i] * drho[j];
+      }
+    }
+  } else {
+    pr->lam += r, pr->phi = 1.0;
+  }
+  if (!(r > 1e-14)) return; /* isotropic: no direction, phi = 0 */
   double r3 = r * r * r, r5 = r3 * r * r;
   double gr[2] = {d / r, h / r};                                     /* dr/d(d, h) */
   double Hr[2][2] = {{h * h / r3, -d * h / r3}, {-d * h / r3, d * d / r3}};
   double gp[2] = {h * h / r3, -d * h / r3};                          /* d(d/r)/d(d, h) */
   double pdh = h * (2.0 * d * d - h * h) / r5;
   double Hp[2][2] = {{-3.0 * h * h * d / r5, pdh}, {pdh, -d / r3 + 3.0 * d * h * h / r5}};
-  *q = 0.5 * (1.0 - d / r);
+  pr->q = 0.5 * (1.0 - d / r);
   for (int i = 0; i < 3; i++) {
-    dl[i] = (i < 2 ? 0.5 : 0.0) + gr[0] * J[0][i] + gr[1] * J[1][i];
-    dq[i] = -0.5 * (gp[0] * J[0][i] + gp[1] * J[1][i]);
+    if (r >= DDE_R0) pr->dl[i] = (i < 2 ? 0.5 : 0.0) + gr[0] * J[0][i] + gr[1] * J[1][i];
+    pr->dq[i] = -0.5 * (gp[0] * J[0][i] + gp[1] * J[1][i]);
     for (int j = 0; j < 3; j++)
       for (int u = 0; u < 2; u++)
         for (int v = 0; v < 2; v++) {
-          d2l[3 * i + j] += J[u][i] * Hr[u][v] * J[v][j];
-          d2q[3 * i + j] -= 0.5 * J[u][i] * Hp[u][v] * J[v][j];
+          if (r >= DDE_R0) pr->d2l[3 * i + j] += J[u][i] * Hr[u][v] * J[v][j];
+          pr->d2q[3 * i + j] -= 0.5 * J[u][i] * Hp[u][v] * J[v][j];
         }
   }
 }
 
+/* The slopes of the monotone cubic through the five direction samples y (in q): Fritsch and
+ * Carlson, "Monotone piecewise cubic interpolation", SIAM J. Numer. Anal. 17(2), 1980, with
+ * the weighted harmonic mean of Fritsch and Butland inside and the three-point end slopes
+ * limited as Moler's pchip does; 0 wherever the data turns, so a clamped 0 is never
+ * undershot. */
+static void pchip_slopes(const double y[5], double sl[5]) {
+  double hq[4], dl[4];
+  for (int k = 0; k < 4; k++) hq[k] = QNODE[k + 1] - QNODE[k], dl[k] = (y[k + 1] - y[k]) / hq[k];
+  for (int k = 1; k < 4; k++) {
+    double w1 = 2.0 * hq[k] + hq[k - 1], w2 = hq[k] + 2.0 * hq[k - 1];
+    sl[k] = dl[k - 1] * dl[k] > 0.0 ? (w1 + w2) / (w1 / dl[k - 1] + w2 / dl[k]) : 0.0;
+  }
+  for (int end = 0; end < 2; end++) { /* q = 0 (k = 0) and q = 1 (k = 4) */
+    int a = end ? 3 : 0, b = end ? 2 : 1;
+    double s = ((2.0 * hq[a] + hq[b]) * dl[a] - hq[a] * dl[b]) / (hq[a] + hq[b]);
+    if (s * dl[a] <= 0.0) s = 0.0;
+    else if (dl[a] * dl[b] <= 0.0 && fabs(s) > 3.0 * fabs(dl[a])) s = 3.0 * dl[a];
+    sl[end ? 4 : 0] = s;
+  }
+}
+
+/* c_dir(q) and its first two derivatives in q for stiffness l: the monotone cubic's piece on
+ * cell k, f = (q - q_k)/h_k. */
+static void dir_cubic(const sw_dde *dd, int l, int k, double f, double *c, double *cq,
+                      double *cqq) {
+  double y[5], sl[5], hq = QNODE[k + 1] - QNODE[k];
+  for (int j = 0; j < 5; j++) y[j] = dd->stretch[1 + j][l];
+  pchip_slopes(y, sl);
+  double f2 = f * f, f3 = f2 * f, y0 = y[k], y1 = y[k + 1], m0 = hq * sl[k], m1 = hq * sl[k + 1];
+  *c = (2 * f3 - 3 * f2 + 1) * y0 + (f3 - 2 * f2 + f) * m0 + (3 * f2 - 2 * f3) * y1 + (f3 - f2) * m1;
+  *cq = ((6 * f2 - 6 * f) * y0 + (3 * f2 - 4 * f + 1) * m0 + (6 * f - 6 * f2) * y1 +
+         (3 * f2 - 2 * f) * m1) / hq;
+  *cqq = ((12 * f - 6) * y0 + (6 * f - 4) * m0 + (6 - 12 * f) * y1 + (6 * f - 2) * m1) / (hq * hq);
+}
+
 /* c(e) and its derivatives (the model in the head comment). */
 static void dde_stiffness_eval(const sw_dde *dd, const double e[3], dde_eval *out) {
-  double lam, dl[3], d2l[9], q, dq[3], d2q[9];
-  principal(e, &lam, dl, d2l, &q, dq, d2q);
-  double w = sqrt(fmax(1.0 + 2.0 * lam, 1e-300)); /* principal stretch, 1 */
+  dde_principal pr;
+  principal(e, &pr);
+  const double *dl = pr.dl, *d2l = pr.d2l;
+  double w = sqrt(fmax(1.0 + 2.0 * pr.lam, 1e-300)); /* principal stretch, 1 */
   double t = 6.0 * (w - 1.0), s, ds[3] = {0}, d2s[9] = {0};
   if (t <= 0.0) s = 0.0;
   else if (t >= 1.0) s = 1.0;
@@ -108,17 +188,27 @@ static void dde_stiffness_eval(const sw_dde *dd, const double e[3], dde_eval *ou
     }
   }
   int k = 0;
-  while (k < 3 && q > QNODE[k + 1]) k++;
-  double dqn = QNODE[k + 1] - QNODE[k], f = (q - QNODE[k]) / dqn;
+  while (k < 3 && pr.q > QNODE[k + 1]) k++;
+  double f = (pr.q - QNODE[k]) / (QNODE[k + 1] - QNODE[k]);
   for (int l = 0; l < 4; l++) {
-    double c0 = dd->stretch[0][l], lo = dd->stretch[1 + k][l], hi = dd->stretch[2 + k][l];
-    double cd = lo + f * (hi - lo), cdq = (hi - lo) / dqn; /* c_dir and dc_dir/dq */
-    out->c[l] = c0 + s * (cd - c0);
+    double c0 = dd->stretch[0][l], cd, cq, cqq;
+    double cbar = (0.5 * dd->stretch[1][l] + dd->stretch[2][l] + dd->stretch[3][l] +
+                   dd->stretch[4][l] + 0.5 * dd->stretch[5][l]) / 4.0; /* mean over theta */
+    dir_cubic(dd, l, k, f, &cd, &cq, &cqq);
+    double D = cbar + pr.phi * (cd - cbar) - c0, dD[3], d2D[9]; /* c_dir - c0 with the fade */
     for (int i = 0; i < 3; i++) {
-      out->dc[l][i] = (cd - c0) * ds[i] + s * cdq * dq[i];
+      dD[i] = (cd - cbar) * pr.dp[i] + pr.phi * cq * pr.dq[i];
       for (int j = 0; j < 3; j++)
-        out->d2c[l][3 * i + j] = (cd - c0) * d2s[3 * i + j] +
-                                 cdq * (ds[i] * dq[j] + dq[i] * ds[j]) + s * cdq * d2q[3 * i + j];
+        d2D[3 * i + j] = (cd - cbar) * pr.d2p[3 * i + j] +
+                         cq * (pr.dp[i] * pr.dq[j] + pr.dq[i] * pr.dp[j]) +
+                         pr.phi * (cqq * pr.dq[i] * pr.dq[j] + cq * pr.d2q[3 * i + j]);
+    }
+    out->c[l] = c0 + s * D;
+    for (int i = 0; i < 3; i++) {
+      out->dc[l][i] = D * ds[i] + s * dD[i];
+      for (int j = 0; j < 3; j++)
+        out->d2c[l][3 * i + j] = D * d2s[3 * i + j] + ds[i] * dD[j] + dD[i] * ds[j] +
+                                 s * d2D[3 * i + j];
     }
   }
 }

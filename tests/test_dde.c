@@ -73,6 +73,72 @@ static void density_derivatives(void **st) {
   }
 }
 
+/* The same at strains where the model is joined from pieces: near isotropic strains (half the
+ * principal difference r below 0.02, around the fade's 0.01) and near the sample directions
+ * 22.5, 45 and 67.5 degrees (off them by more than the differences' step: the monotone
+ * cubic in direction is C1, its second derivative jumps there), stretched into the strain
+ * ramp and past it. */
+static void density_derivatives_joins(void **st) {
+  (void)st;
+  unsigned long seed = 41;
+  const double h = 1e-8, pi = 3.14159265358979323846;
+  for (int k = 0; k < sc_nfabric_presets; k++) {
+    sw_dde dd = preset(sc_fabric_presets[k].name);
+    for (int n = 0; n < 60; n++) {
+      double e[3], mean = 0.02 + 0.2 * urand(&seed), r, th;
+      if (n % 2) r = 0.02 * urand(&seed), th = pi * urand(&seed);
+      else { /* 1e-5..1e-4 rad off a sample direction, where the second derivative jumps */
+        double off = 1e-5 + 9e-5 * urand(&seed);
+        r = 0.02 + 0.1 * urand(&seed), th = (1 + n % 3) * pi / 8 + (urand(&seed) < 0.5 ? -off : off);
+      }
+      e[0] = mean + r * cos(2 * th), e[1] = mean - r * cos(2 * th), e[2] = 2 * r * sin(2 * th);
+      double S[3], H[9], Sp[3], Sm[3], scale = 1e-3;
+      sw_dde_energy(&dd, e, S, H);
+      for (int i = 0; i < 9; i++) scale = fmax(scale, fabs(H[i]));
+      for (int i = 0; i < 3; i++) {
+        double ep[3] = {e[0], e[1], e[2]}, em[3] = {e[0], e[1], e[2]};
+        ep[i] += h, em[i] -= h;
+        double fp = sw_dde_energy(&dd, ep, Sp, NULL), fm = sw_dde_energy(&dd, em, Sm, NULL);
+        near(S[i], (fp - fm) / (2 * h), 1e-6 * scale);
+        for (int j = 0; j < 3; j++) near(H[3 * j + i], (Sp[j] - Sm[j]) / (2 * h), 1e-4 * scale);
+      }
+    }
+  }
+}
+
+/* The energy is continuously differentiable where its pieces meet: its stress S is the same on
+ * both sides of each inner sample direction (a linear interpolation in direction jumps there),
+ * and at an isotropic stretch (no principal direction) psi and S are the same whichever way
+ * the strain approaches it (a direction-dependent stiffness would make psi itself jump). */
+static void density_smooth(void **st) {
+  (void)st;
+  const double pi = 3.14159265358979323846, dth = 1e-7;
+  for (int k = 0; k < sc_nfabric_presets; k++) {
+    sw_dde dd = preset(sc_fabric_presets[k].name);
+    for (int iw = 0; iw < 2; iw++) {
+      double w = iw ? 1.25 : 1.1, ea[3], eb[3], Sa[3], Sb[3];
+      for (int j = 1; j <= 3; j++) {
+        along(w, j * pi / 8 - dth, ea);
+        along(w, j * pi / 8 + dth, eb);
+        sw_dde_energy(&dd, ea, Sa, NULL);
+        sw_dde_energy(&dd, eb, Sb, NULL);
+        double sc = fabs(Sa[0]) + fabs(Sa[1]) + fabs(Sa[2]);
+        for (int i = 0; i < 3; i++) near(Sa[i], Sb[i], 1e-4 * sc);
+      }
+    }
+    const double iso = 0.08; /* both principal strains: a stretch of 1.077, in the ramp */
+    double e0[3] = {iso, iso, 0}, S0[3], psi0 = sw_dde_energy(&dd, e0, S0, NULL);
+    for (int j = 0; j < 8; j++) {
+      double th = j * pi / 8, r = 1e-9, S[3];
+      double e[3] = {iso + r * cos(2 * th), iso - r * cos(2 * th), 2 * r * sin(2 * th)};
+      double psi = sw_dde_energy(&dd, e, S, NULL), lin = 0.0;
+      for (int i = 0; i < 3; i++) lin += S0[i] * (e[i] - e0[i]); /* psi's first-order change */
+      near(psi, psi0 + lin, 1e-12 * psi0);
+      for (int i = 0; i < 3; i++) near(S[i], S0[i], 1e-6 * (fabs(S0[0]) + fabs(S0[1])));
+    }
+  }
+}
+
 /* The whole term (gradient, Hessian, symmetry, projection) through the harness, 2D and 3D. */
 static void term_conformance(void **st) {
   (void)st;
@@ -363,7 +429,8 @@ static void cantilever_cuts(void **st) {
 
 int main(void) {
   const struct CMUnitTest tests[] = {
-      cmocka_unit_test(density_derivatives), cmocka_unit_test(term_conformance),
+      cmocka_unit_test(density_derivatives), cmocka_unit_test(density_derivatives_joins),
+      cmocka_unit_test(density_smooth),      cmocka_unit_test(term_conformance),
       cmocka_unit_test(stiffness_at_samples), cmocka_unit_test(bending_at_samples),
       cmocka_unit_test(uniaxial_small),      cmocka_unit_test(reader_errors),
       cmocka_unit_test(presets_equal_files), cmocka_unit_test(preset_loads),
