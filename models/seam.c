@@ -295,10 +295,22 @@ int sw_seam_start(sw_model *m, char *err, size_t errsz) {
   return 0;
 }
 
+/* A material's tensile stiffness for the automatic seam stiffness, N/m: tension XY's (the
+ * small-strain one), or for a measured fabric (dde) the largest its data reaches, 2 c11 or
+ * 2 c22 of any row: a knit stiffens tenfold and more where it is stretched, as a garment's
+ * fabric is beside its seams (docs/garments.md, `sewing`). */
+static double seam_fabric_stiffness(const sw_material *mt) {
+  double k = fmax(mt->tx_k_u, mt->tx_k_v);
+  if (mt->membrane == SW_MEMBRANE_DDE)
+    for (int r = 0; r < 6; r++)
+      k = fmax(k, 2.0 * fmax(mt->dde.stretch[r][0], mt->dde.stretch[r][2]));
+  return k;
+}
+
 double sw_seam_auto_stiffness(const sw_model *m) {
   double kmax = 0.0, h = 0.0; /* N/m, m */
   int ne = 0;
-  for (int k = 0; k < m->nmat; k++) kmax = fmax(kmax, fmax(m->mat[k].tx_k_u, m->mat[k].tx_k_v));
+  for (int k = 0; k < m->nmat; k++) kmax = fmax(kmax, seam_fabric_stiffness(&m->mat[k]));
   for (int j = 0; j < m->nseam; j++)
     for (int k = 0; k < 2; k++) {
       h += m->seam[j].length[k];
