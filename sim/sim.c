@@ -411,7 +411,8 @@ static double fit_next(sw_sim *s) {
   double h = f->opt_dt, t_min = s->fit_t_min; /* s */
   int ramps = d->t < t_min - 1e-9 * f->dt;
   if (f->mode == SW_FIT_DYNAMIC || (f->mode == SW_FIT_SETTLE && ramps)) {
-    m->opt.newton_tol = fmin(s->kept_tol, f->newton_tol);
+    double tol = fmin(s->kept_tol, f->newton_tol); /* m/s */
+    m->opt.newton_tol = ramps ? tol : fmin(tol, f->speed);
     return tidy_time((double)(d->fit_steps + 1) * f->dt, f->dt);
   }
   if (d->fit_steps > 0) {
