@@ -293,6 +293,11 @@ int sw_dde_build(sw_term *t, const sw_model *m, char *err, size_t errsz) {
   return 0;
 }
 
+void sw_dde_strip_stiffness(const double c[4], double *ku, double *kv) {
+  *ku = 2.0 * (c[2] > 0.0 ? c[0] - c[1] * c[1] / c[2] : c[0]);
+  *kv = 2.0 * (c[0] > 0.0 ? c[2] - c[1] * c[1] / c[0] : c[2]);
+}
+
 /* ------------------------------------------------------------- what the numbers mean */
 
 /* Uniaxial pull along u (weft = 0) or v (weft = 1), the other direction free (S22 = 0, or

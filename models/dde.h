@@ -21,6 +21,9 @@ double sw_dde_energy(const sw_dde *dd, const double e[3], double S[3], double H[
 /* The stretch (1) of a strip pulled along u (weft 0) or v (weft 1) by the nominal tension T
  * (N per m of rest width), free across and unsheared; -1 past a stretch of sqrt(5). */
 int sw_dde_uniaxial(const sw_dde *dd, int weft, double T, double *stretch);
+/* The warp and weft stiffness (N/m) of a strip with stiffnesses c = (c11, c12, c22, c33), pulled
+ * along u (or v) and free across: 2 (c11 - c12^2/c22), 2 (c22 - c12^2/c11). */
+void sw_dde_strip_stiffness(const double c[4], double *ku, double *kv);
 /* The bending rigidity B (N m) of a hinge whose edge makes `angle` (rad) with u, at curvature
  * kappa (1/m): a quarter of the data's k_e (models/dde.c), linear in the angle between the 0,
  * 45 and 90 degree rows, linear in the curvature between the columns (kappa = 0, 10, 20, 30,

@@ -5,9 +5,13 @@
  * With F = [wu wv] (Optitex): lu = |wu|, lv = |wv|; ampU = max((lu - rlu) min(clip, k_u), 0),
  * ampV likewise; wu and wv are rescaled to lengths ampU and ampV and the face value is
  * |wu + wv|, or |wu - wv| when wu.wv < 0 (N/m).  rlu, rlv: the stretch in the initial
- * configuration, or 1 when the scene chooses the (u,v) layout as reference. */
+ * configuration, or 1 when the scene chooses the (u,v) layout as reference.  k_u, k_v are the
+ * panel's (the membrane's warp and weft stiffness); for a measured fabric (the dde membrane)
+ * they are its data's at the face's own strain, 2 (c11 - c12^2/c22) and 2 (c22 - c12^2/c11)
+ * of c(e) (models/dde.c), since a knit stiffens tenfold and more as it stretches. */
 #include <math.h>
 
+#include "dde.h"
 #include "terms.h"
 
 static double norm(const double *w, int d) {
@@ -49,10 +53,16 @@ void sw_tension_xy(const sw_model *m, sw_data *d) {
   const int dim = m->dim;
   for (int f = 0; f < m->nf; f++) {
     const sw_material *mt = &m->mat[m->face_mat[f]]; /* the panel's k_u, k_v (sw_model_finish) */
-    double ku = mt->tx_k_u > 0 ? fmin(m->opt.tx_clip, mt->tx_k_u) : 0.0; /* N/m */
-    double kv = mt->tx_k_v > 0 ? fmin(m->opt.tx_clip, mt->tx_k_v) : 0.0;
-    double wu[3], wv[3];
+    double wu[3], wv[3], ku = mt->tx_k_u, kv = mt->tx_k_v; /* N/m */
     sw_face_F(m, f, d->x, wu, wv);
+    if (mt->tx_dde) { /* a measured fabric: its stiffness at this face's strain */
+      double e[3], c[4];
+      sw_green_voigt(wu, wv, dim, e);
+      sw_dde_stiffness(&mt->dde, e, c);
+      sw_dde_strip_stiffness(c, &ku, &kv);
+    }
+    ku = ku > 0 ? fmin(m->opt.tx_clip, ku) : 0.0;
+    kv = kv > 0 ? fmin(m->opt.tx_clip, kv) : 0.0;
     double lu = norm(wu, dim), lv = norm(wv, dim), dot = 0.0;
     for (int a = 0; a < dim; a++) dot += wu[a] * wv[a];
     d->stretch_u[f] = lu;

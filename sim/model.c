@@ -313,14 +313,13 @@ static void tension_stiffness(sw_model *m) {
     case SW_MEMBRANE_STVK: ku = mt->e_u, kv = mt->e_v; break;
     case SW_MEMBRANE_COROTATED: ku = kv = mt->k_corot; break;
     case SW_MEMBRANE_SPRINGS: ku = kv = mt->ks_stretch; break;
-    case SW_MEMBRANE_DDE: { /* zero-strain strip, free across: 2 (c11 - c12^2/c22) (models/dde.c) */
-      const double *c = mt->dde.stretch[0];
-      ku = 2.0 * (c[2] > 0.0 ? c[0] - c[1] * c[1] / c[2] : c[0]);
-      kv = 2.0 * (c[0] > 0.0 ? c[2] - c[1] * c[1] / c[0] : c[2]);
+    case SW_MEMBRANE_DDE: /* zero-strain strip, free across (models/dde.c) */
+      sw_dde_strip_stiffness(mt->dde.stretch[0], &ku, &kv);
       break;
-    }
     default: break;
     }
+    mt->tx_dde = mt->membrane == SW_MEMBRANE_DDE && mt->tx_k_u < 0 && mt->tx_k_v < 0 &&
+                 m->opt.tx_k_u < 0 && m->opt.tx_k_v < 0;
     if (mt->tx_k_u < 0) mt->tx_k_u = m->opt.tx_k_u >= 0 ? m->opt.tx_k_u : ku;
     if (mt->tx_k_v < 0) mt->tx_k_v = m->opt.tx_k_v >= 0 ? m->opt.tx_k_v : kv;
   }

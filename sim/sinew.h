@@ -371,6 +371,8 @@ typedef struct sw_material {
   double bias;                 /* rad: the warp axis is the u axis rotated by bias */
   double tx_k_u, tx_k_v;       /* stiffness tension XY uses on this panel, N/m (set by
                                   sw_model_finish from the membrane unless the scene sets it) */
+  int tx_dde;                  /* 1: tension XY reads the dde data's stiffness at each face's
+                                  own strain (membrane dde, no tension_xy stiffness given) */
 } sw_material;
 
 /* Tendons (models/tendon.c, docs/tendons.md). */
