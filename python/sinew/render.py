@@ -852,6 +852,62 @@ def render(run_dir, out=None, every=1, last=False, kind="gif", dpi=100, quiet=Fa
     return written
 
 
+def shared_norm(clothes, spec):
+    """One colour range for several runs' last frames: --range's MIN:MAX, or 0 to the
+    percentile of all their free faces pooled."""
+    if spec[0] == "fixed":
+        return colors.Normalize(spec[1], spec[2])
+    top = percentile_top(clothes, spec[1])
+    return colors.Normalize(0.0, top if top > 0.0 else 1.0)
+
+
+def compare(run_dirs, png, titles=None, value_range=DEFAULT_RANGE, dpi=100, smooth=False,
+            quiet=False):
+    """The last frame of each run side by side at one tension XY colour scale: its 3D shape on
+    the body above, its flat pattern below (the scale: --range over all the runs' last frames,
+    the percentile of their free faces pooled).  Returns png."""
+    spec = parse_range(value_range) if isinstance(value_range, str) else value_range
+    titles = list(titles) if titles else [os.path.basename(os.path.normpath(d)) for d in run_dirs]
+    if len(titles) != len(run_dirs):
+        raise SystemExit("sinew render: --titles gives %d titles for %d runs"
+                         % (len(titles), len(run_dirs)))
+    lasts = []
+    for d in run_dirs:
+        run = list(frames.read_run(d))
+        if not run:
+            raise SystemExit("sinew render: %s/frames.pvd lists no frames" % d)
+        t, parts = run[-1]
+        c = parts["cloth"]
+        if smooth:
+            c.cell_data["tension_xy"] = smooth_faces(c, c.cell_data["tension_xy"])
+        lasts.append((t, parts, Scene(d)))
+    norm = shared_norm([p["cloth"] for _, p, _ in lasts], spec)
+    n = len(lasts)
+    fig = plt.figure(figsize=(4.2 * n + 0.4, 8.2))
+    w = 0.96 / n
+    for k, ((t, parts, sc), title) in enumerate(zip(lasts, titles)):
+        shape = fig.add_axes([0.02 + k * w, 0.44, w * 0.96, 0.48], projection="3d")
+        draw_shape(shape, parts["cloth"], None, norm, None, sc, t)
+        shape.set_title("")
+        flat = fig.add_axes([0.05 + k * w, 0.12, w * 0.86, 0.26])
+        draw_flat(flat, parts["cloth"], None, norm, None, sc)
+        flat.set_title("")
+        fig.text(0.02 + (k + 0.5) * w, 0.93, "%s\nt = %.2f s" % (title, t), ha="center",
+                 va="bottom", fontsize=11)
+    over = max(float(p["cloth"].cell_data["tension_xy"].max()) for _, p, _ in lasts) > norm.vmax
+    label = range_label(spec, smooth).replace("the last frame", "the runs' last frames")
+    fig.colorbar(cm.ScalarMappable(norm=norm, cmap="viridis"), orientation="horizontal",
+                 cax=fig.add_axes([0.2, 0.05, 0.6, 0.018]), extend="max" if over else "neither",
+                 label=label + ", one scale for all")
+    fig.axes[-1].xaxis.label.set_size(9)
+    os.makedirs(os.path.dirname(os.path.abspath(png)), exist_ok=True)
+    fig.savefig(png, dpi=dpi)
+    plt.close(fig)
+    if not quiet:
+        print("sinew render: %s (%d runs)" % (png, n), file=sys.stderr)
+    return png
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(
         prog="sinew render",
@@ -860,7 +916,13 @@ def main(argv=None):
                     "shape with the scene's obstacles in grey, tendons with their tension, as "
                     "PNG files, and an animation of the run (headless: matplotlib's Agg "
                     "backend).")
-    ap.add_argument("run_dir", metavar="RUN_DIR", help="a run folder (with frames.pvd)")
+    ap.add_argument("run_dir", metavar="RUN_DIR", nargs="+",
+                    help="a run folder (with frames.pvd); several with --compare")
+    ap.add_argument("--compare", metavar="FILE.png",
+                    help="the last frame of each RUN_DIR side by side at one tension XY scale "
+                         "(3D shape above, flat pattern below), into FILE.png")
+    ap.add_argument("--titles", metavar="A,B,..",
+                    help="--compare: a title per run (default: the folders' names)")
     ap.add_argument("--out", metavar="DIR", help="where the pictures go (default RUN_DIR/render)")
     ap.add_argument("--every", metavar="K", type=int, default=1,
                     help="every K-th frame (and the last; default 1: all)")
@@ -887,11 +949,24 @@ def main(argv=None):
         spec = parse_range(a.value_range)
     except ValueError as e:
         ap.error(str(e))
-    if not os.path.isfile(os.path.join(a.run_dir, "frames.pvd")):
-        ap.error("%s has no frames.pvd (a run with --no-frames?)" % a.run_dir)
+    for d in a.run_dir:
+        if not os.path.isfile(os.path.join(d, "frames.pvd")):
+            ap.error("%s has no frames.pvd (a run with --no-frames?)" % d)
+    if a.compare:
+        if a.scene or a.out:
+            ap.error("--compare takes each run's own scene and writes FILE.png: no --scene, --out")
+        titles = a.titles.split(",") if a.titles else None
+        if titles and len(titles) != len(a.run_dir):
+            ap.error("--titles gives %d titles for %d runs" % (len(titles), len(a.run_dir)))
+        compare(a.run_dir, a.compare, titles, spec, a.dpi, a.smooth, a.quiet)
+        return 0
+    if len(a.run_dir) > 1:
+        ap.error("several RUN_DIRs need --compare FILE.png")
+    if a.titles:
+        ap.error("--titles goes with --compare")
     if a.scene and not os.path.isfile(a.scene):
         ap.error("--scene %s: no such file" % a.scene)
-    render(a.run_dir, a.out, a.every, a.last, a.animation, a.dpi, a.quiet, spec, a.scene,
+    render(a.run_dir[0], a.out, a.every, a.last, a.animation, a.dpi, a.quiet, spec, a.scene,
            a.smooth)
     return 0
 

@@ -55,6 +55,28 @@ def test_help_and_errors(tmp_path):
     assert done.returncode == 2 and "has no frames.pvd" in done.stderr
 
 
+def test_compare_two_runs(run_dir, sphere_run, tmp_path):
+    """--compare: the last frames of two runs side by side in one PNG at one scale, the
+    percentile of both runs' free faces pooled."""
+    png = tmp_path / "both.png"
+    subprocess.run([SINEW, "render", str(run_dir), str(sphere_run), "--compare", str(png),
+                    "--titles", "drawstring,sphere", "--dpi", "50", "--quiet"], check=True)
+    check_png(png, (440, 409))  # 8.8 x 8.2 inches at 50 dpi
+    a = list(frames.read_run(str(run_dir)))[-1][1]["cloth"]
+    b = list(frames.read_run(str(sphere_run)))[-1][1]["cloth"]
+    norm = render.shared_norm([a, b], ("last", 98.0))
+    pooled = np.concatenate([a.cell_data["tension_xy"][render.free_faces(a)],
+                             b.cell_data["tension_xy"][render.free_faces(b)]])
+    assert norm.vmin == 0.0 and norm.vmax == pytest.approx(np.percentile(pooled, 98.0), rel=1e-12)
+    assert render.shared_norm([a], ("fixed", 1.0, 5.0)).vmax == 5.0
+    for args, what in ((["--compare", str(png), "--titles", "one"], "--titles gives 1 titles"),
+                       ([], "several RUN_DIRs need --compare"),
+                       (["--compare", str(png), "--out", str(tmp_path)], "no --scene, --out")):
+        done = subprocess.run([SINEW, "render", str(run_dir), str(sphere_run)] + args,
+                              capture_output=True, text=True)
+        assert done.returncode == 2 and what in done.stderr, done.stderr
+
+
 def test_overlapping_panels_are_laid_side_by_side():
     """Two unit-square panels on the same (u,v) square: the second is moved right of the
     first, with a gap of 5 % of the widest."""
