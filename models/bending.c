@@ -29,7 +29,11 @@
  * warp carries the moment M t t^T alone (free long edges) and reads the rigidity D(t),
  *   1 / D(t) = cos^4 t / D_u + sin^4 t / D_v + cos^2 t sin^2 t / G,
  * so D_u, D_v are the warp and weft strips' and the bias strip's D_45 gives
- *   1 / G = 4 / D_45 - 1 / D_u - 1 / D_v. */
+ *   1 / G = 4 / D_45 - 1 / D_u - 1 / D_v.
+ *
+ * The condensed curvature itself, II_T = sum_a M_a theta_a in (II_uu, II_vv, sqrt(2) II_uv)
+ * with the free edges' curvature at its minimiser (so W = A M^T D M), is kept in sw_bend_tri.M
+ * for the bending whose rigidity depends on the curvature (models/dde_bending.c). */
 #include <math.h>
 #include <string.h>
 

@@ -48,9 +48,11 @@
  *   d2psi/dX_c dX_e = 2 F_c delta_ce I + 4 F_ce X_c X_e^T,
  *   F_c = h_c + sum_k s_k h_k',   F_ce = h_c' + h_e' + sum_k s_k h_k''
  * (h' = dh/dq).  At small curvature E_T is exactly the quadratic model's (W = A M^T D M), and
- * its Hessian there the quadratic's.  The Hessian is A L^T H L, H = d2psi/dX2 (3d x 3d): H is
- * PSD when every F_c >= 0 and (F_ce) is; otherwise H is filtered (sw_psd_project, as ev->project
- * asks) before it is mapped, so the stencil's block is PSD, and |A L^T H L| = 2 (.)_+ - (.).
+ * its Hessian there the quadratic's.  The Hessian is A L^T H L, H = d2psi/dX2 (3d x 3d), whose
+ * eigen-system is known in closed form (hessian() below: 2 F_c on the directions perpendicular
+ * to each X_c, and a 3 x 3 on the span of the X_c): H is PSD when every F_c >= 0 and (F_ce) is;
+ * otherwise its eigenvalues are filtered as ev->project asks before it is mapped, so the
+ * stencil's block is PSD, and |A L^T H L| = 2 (.)_+ - (.).
  * The free edges are condensed with D at zero curvature, which is exact for free edges along
  * warp or weft (the condensation then only removes the curvature across them) and at small
  * curvature, and an approximation of the zero moment across other free edges when the data's
@@ -143,11 +145,43 @@ static void curve_h(const sw_dde_bend *b, int c, double q, double r, double h[3]
   h[2] = dD / (4.0 * q * r) - N / (q * q * q);
 }
 
-/* psi, g and H (when not NULL) of sw_dde_bend_density; *psd = 1 when H is PSD by a sufficient
- * condition: H = 2 diag(F) (x) I + 4 Y (F_ce) Y^T, Y = blockdiag(X_c), is PSD when every
- * F_c >= 0 and (F_ce) is PSD (its principal minors >= 0). */
+/* H = d2psi/dX2 (n = 3d square) from F, F_ce and X, its eigenvalues filtered by `mode`.  H acts
+ * on z = (z_c) as (H z)_c = 2 F_c z_c + 4 X_c sum_e F_ce X_e . z_e, so its eigen-system is known:
+ * each z_c perpendicular to X_c is an eigenvector of eigenvalue 2 F_c (d - 1 of them per c),
+ * and on the span of the Xh_c (x) e_c (Xh = X/|X|) H is the 3 x 3
+ *   S = 2 diag(F) + 4 diag(|X|) F_ce diag(|X|).
+ * So the filtered H = sum_c f(2 F_c) (I - Xh_c Xh_c^T) (x) e_c e_c^T + Yh f(S) Yh^T, Yh =
+ * blockdiag(Xh_c), f(S) by sw_psd_project (mode NONE: the exact H).  A zero X_c has Xh_c = 0:
+ * its block is f(2 F_c) I.  -1 when S is not finite. */
+static int hessian(const double F[3], const double Fe[3][3], const double *X, int d, int mode,
+                   double *H) {
+  const int n = 3 * d;
+  double nx[3], Xh[9], S[9], f[3];
+  for (int c = 0; c < 3; c++) {
+    double s = 0.0;
+    for (int a = 0; a < d; a++) s += X[c * d + a] * X[c * d + a];
+    nx[c] = sqrt(s);
+    for (int a = 0; a < d; a++) Xh[c * d + a] = nx[c] > 0.0 ? X[c * d + a] / nx[c] : 0.0;
+    f[c] = sw_filter_eigenvalue(2.0 * F[c], mode);
+  }
+  for (int c = 0; c < 3; c++)
+    for (int e = 0; e < 3; e++) S[3 * c + e] = 4.0 * nx[c] * Fe[c][e] * nx[e] + (c == e ? 2.0 * F[c] : 0.0);
+  if (mode != SW_FILTER_NONE && sw_psd_project(S, 3, mode)) return -1;
+  for (int i = 0; i < n; i++)
+    for (int j = 0; j < n; j++) {
+      const int c = i / d, e = j / d;
+      double v = S[3 * c + e] * Xh[i] * Xh[j];
+      if (c == e) v += f[c] * ((i == j) - Xh[i] * Xh[j]);
+      H[i * n + j] = v;
+    }
+  return 0;
+}
+
+/* psi, g and H (when not NULL; its eigenvalues filtered by `mode`) of sw_dde_bend_density.
+ * H = 2 diag(F) (x) I + 4 Yh S' Yh^T is PSD, and no filter is needed, when every F_c >= 0 and
+ * (F_ce) is PSD (its principal minors >= 0).  NaN when H is not finite. */
 static double density(const sw_dde_bend *b, const double *X, int d, double *g, double *H,
-                      int *psd) {
+                      int mode) {
   double s[3], q = 0.0, h[3][3], F[3], Fe[3][3], psi = 0.0, sh2 = 0.0;
   for (int c = 0; c < 3; c++) {
     s[c] = 0.0;
@@ -163,24 +197,21 @@ static double density(const sw_dde_bend *b, const double *X, int d, double *g, d
     for (int a = 0; a < d; a++) g[c * d + a] = 2.0 * F[c] * X[c * d + a];
   }
   if (!H) return psi;
-  const int n = 3 * d;
   for (int c = 0; c < 3; c++)
     for (int e = 0; e < 3; e++) Fe[c][e] = h[c][1] + h[e][1] + sh2;
-  for (int i = 0; i < n; i++)
-    for (int j = 0; j < n; j++)
-      H[i * n + j] = 4.0 * Fe[i / d][j / d] * X[i] * X[j] + (i == j ? 2.0 * F[i / d] : 0.0);
-  double m2[3] = {Fe[0][0] * Fe[1][1] - Fe[0][1] * Fe[0][1], Fe[0][0] * Fe[2][2] - Fe[0][2] * Fe[0][2],
+  double m2[3] = {Fe[0][0] * Fe[1][1] - Fe[0][1] * Fe[0][1],
+                  Fe[0][0] * Fe[2][2] - Fe[0][2] * Fe[0][2],
                   Fe[1][1] * Fe[2][2] - Fe[1][2] * Fe[1][2]};
   double m3 = Fe[0][0] * m2[2] - Fe[0][1] * (Fe[0][1] * Fe[2][2] - Fe[1][2] * Fe[0][2]) +
               Fe[0][2] * (Fe[0][1] * Fe[1][2] - Fe[1][1] * Fe[0][2]);
-  *psd = F[0] >= 0.0 && F[1] >= 0.0 && F[2] >= 0.0 && Fe[0][0] >= 0.0 && Fe[1][1] >= 0.0 &&
-         Fe[2][2] >= 0.0 && m2[0] >= 0.0 && m2[1] >= 0.0 && m2[2] >= 0.0 && m3 >= 0.0;
+  int psd = F[0] >= 0.0 && F[1] >= 0.0 && F[2] >= 0.0 && Fe[0][0] >= 0.0 && Fe[1][1] >= 0.0 &&
+            Fe[2][2] >= 0.0 && m2[0] >= 0.0 && m2[1] >= 0.0 && m2[2] >= 0.0 && m3 >= 0.0;
+  if (hessian(F, Fe, X, d, psd ? SW_FILTER_NONE : mode, H)) return NAN;
   return psi;
 }
 
 double sw_dde_bend_density(const sw_dde_bend *b, const double *X, int d, double *g, double *H) {
-  int psd;
-  return density(b, X, d, g, H, &psd);
+  return density(b, X, d, g, H, SW_FILTER_NONE);
 }
 
 /* ------------------------------------------------------------------ the term */
@@ -190,13 +221,14 @@ typedef struct dde_bending_param {
   double *L;          /* (n x 3 x 6) X_c = sum_i L[c][i] x_i, 1/m^2 */
   double *A;          /* (n) rest area, m^2 */
   int *mat;           /* (n) the face's material */
+  int *face;          /* (n) the face */
   sw_dde_bend *law;   /* (nmat) the curves of each material that bends with dde */
 } dde_bending_param;
 
 static void dde_bending_free(void *p) {
   dde_bending_param *bp = p;
   if (!bp) return;
-  sw_free(bp->L), sw_free(bp->A), sw_free(bp->mat), sw_free(bp->law);
+  sw_free(bp->L), sw_free(bp->A), sw_free(bp->mat), sw_free(bp->face), sw_free(bp->law);
   sw_free(bp);
 }
 
@@ -212,8 +244,13 @@ static int dde_bending_eval(const sw_term *t, const sw_model *m, const sw_eval *
     for (int c = 0; c < 3; c++)
       for (int i = 0; i < nv; i++)
         for (int a = 0; a < d; a++) X[c * d + a] += L[6 * c + i] * ev->x[(size_t)v[i] * d + a];
-    int psd = 1;
-    double psi = density(&bp->law[bp->mat[s]], X, d, g, ev->hess ? H : NULL, &psd);
+    double psi = density(&bp->law[bp->mat[s]], X, d, g, ev->hess ? H : NULL, ev->project);
+    if (!isfinite(psi)) {
+      sw_eval_why(ev, "dde_bending: triangle %d (face %d): energy or Hessian not finite", s,
+                  bp->face[s]);
+      *energy = NAN;
+      return SW_RECOVER;
+    }
     total += A * psi; /* J */
     if (ev->grad)
       for (int i = 0; i < nv; i++)
@@ -223,11 +260,6 @@ static int dde_bending_eval(const sw_term *t, const sw_model *m, const sw_eval *
           ev->grad[(size_t)v[i] * d + a] += A * f;
         }
     if (!ev->hess) continue;
-    if (ev->project && !psd && sw_psd_project(H, n9, ev->project)) {
-      sw_eval_why(ev, "dde_bending: triangle %d has a Hessian that is not finite", s);
-      *energy = NAN;
-      return SW_RECOVER;
-    }
     double T[9 * 18]; /* T = H (L (x) I) (n9 x w) */
     for (int p = 0; p < n9; p++)
       for (int j = 0; j < nv; j++)
@@ -241,6 +273,7 @@ static int dde_bending_eval(const sw_term *t, const sw_model *m, const sw_eval *
       for (int a = 0; a < d; a++)
         for (int j = 0; j < nv; j++)
           for (int b = 0; b < d; b++) {
+            if (i * d + a > j * d + b) continue; /* the upper triangle is stored */
             double acc = 0.0;
             for (int c = 0; c < 3; c++) acc += L[6 * c + i] * T[(c * d + a) * 18 + j * d + b];
             sw_hess_set(blk, w, i * d + a, j * d + b, A * acc);
@@ -275,7 +308,8 @@ int sw_dde_bending_build(sw_term *t, const sw_model *m, char *err, size_t errsz)
   bp->L = sw_calloc((size_t)bp->n + 1, 18 * sizeof(double));
   bp->A = sw_calloc((size_t)bp->n + 1, sizeof(double));
   bp->mat = sw_calloc((size_t)bp->n + 1, sizeof(int));
-  int rc = !bp->L || !bp->A || !bp->mat || sw_bend_alloc_stencils(t, tr, bp->n, m->dim);
+  bp->face = sw_calloc((size_t)bp->n + 1, sizeof(int));
+  int rc = !bp->L || !bp->A || !bp->mat || !bp->face || sw_bend_alloc_stencils(t, tr, bp->n, m->dim);
   if (rc) sw_errf(err, errsz, "out of memory for %d bending triangles", bp->n);
   for (int s = 0; !rc && s < bp->n; s++) {
     const sw_bend_tri *T = &tr[s];
@@ -287,6 +321,7 @@ int sw_dde_bending_build(sw_term *t, const sw_model *m, char *err, size_t errsz)
     }
     bp->A[s] = m->area[T->face];
     bp->mat[s] = m->face_mat[T->face];
+    bp->face[s] = T->face;
   }
   sw_free(tr);
   return rc ? -1 : 0;
