@@ -415,6 +415,36 @@ static void scene_refusals(void **st) {
   sw_model_free(m);
 }
 
+/* A panel inherits the material's fabric data: `bending: {model: dde}` in it takes that data
+ * (the other panel keeps the preset's quadratic bending); without data it is refused. */
+static void panels(void **st) {
+  (void)st;
+  char err[SW_ERRSZ];
+  const char *ok = "dimension: 3\nmesh: {obj: tube_pieces.obj}\n"
+                   "material: {fabric: {preset: gray-interlock}}\n"
+                   "panels:\n  front: {bending: {model: dde}}\n";
+  sw_model *m = sw_scene_parse("tests/data/p.yaml", ok, strlen(ok), err, sizeof err);
+  if (!m) fail_msg("%s", err);
+  int front = !strcmp(m->mat[1].group, "front") ? 1 : 2;
+  assert_int_equal(m->mat[front].bending, SW_BENDING_DDE);
+  assert_int_equal(m->mat[0].bending, SW_BENDING_QUADRATIC);
+  int found = 0;
+  for (int k = 0; k < m->nterm; k++)
+    found += !strcmp(m->term[k].name, "dde_bending") + !strcmp(m->term[k].name, "quadratic");
+  assert_int_equal(found, 2);
+  sw_model_free(m);
+  const char *bad = "dimension: 3\nmesh: {obj: tube_pieces.obj}\n"
+                    "material: {density: 0.2}\n"
+                    "panels:\n  front: {bending: {model: dde}}\n";
+  m = sw_scene_parse("tests/data/p.yaml", bad, strlen(bad), err, sizeof err);
+  if (m) {
+    sw_model_free(m);
+    fail_msg("a panel without data accepted model dde");
+  }
+  if (!strstr(err, "p.yaml:5:28: panel front bending model dde needs a measured fabric's data"))
+    fail_msg("error '%s'", err);
+}
+
 /* ------------------------------------------------------------ (e) the cantilever */
 
 /* The heavy elastica of a strip of weight w per area clamped level at s = 0 and free at s = L,
@@ -514,7 +544,8 @@ int main(void) {
       cmocka_unit_test(density_derivatives), cmocka_unit_test(term_conformance),
       cmocka_unit_test(term_conformance_cylinders), cmocka_unit_test(quadratic_limit),
       cmocka_unit_test(cylinders),           cmocka_unit_test(scene_key),
-      cmocka_unit_test(scene_refusals),      cmocka_unit_test(cantilever_elastica),
+      cmocka_unit_test(scene_refusals),      cmocka_unit_test(panels),
+      cmocka_unit_test(cantilever_elastica),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
