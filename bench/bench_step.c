@@ -9,9 +9,10 @@
  * poisson 0), corotated (k 5000), springs (stretch 5000, shear 100 per spring); --bending adds
  * that bending model with stiffness 1e-4 N m.  --fabric=PRESET makes the cloth the measured
  * fabric (docs/fabrics.md: its density, the dde membrane, and the bending model --bending names
- * with the fabric's rigidities, quadratic when not given; dde only so).  --obj=FILE takes the mesh from an OBJ of the unit
- * square in the xy plane (e.g. an unstructured one from tools/bending_study.py --square) instead
- * of the grid; N is then only printed, and the corners (0, 1) and (1, 1) are pinned by boxes.
+ * with the fabric's rigidities, quadratic when not given; --bending=dde needs --fabric).
+ * --obj=FILE takes the mesh from an OBJ of the unit square in the xy plane (e.g. an
+ * unstructured one from tools/bending_study.py --square) instead of the grid; N is then only
+ * printed, and the corners (0, 1) and (1, 1) are pinned by boxes.
  * Builds scenes/hanging_cloth.yaml in code with N x N vertices instead of 40 x 40 (1 m square
  * in the xy plane, 3D, density 0.1 kg/m^2, bw98 k_u = k_v = 5000, k_shear = 100 N/m, gravity
  * (0, 0, -9.81), the two corners of the edge y = 1 pinned; default options: Hessian "auto",
@@ -61,7 +62,8 @@ static sw_model *hanging_cloth(int n, const char *membrane, const char *bending,
                                const char *fabric, const char *obj, char *err, size_t errsz) {
   char yaml[4096], bend[128] = "", mesh[1200], pins[256], mat[256];
   if (bending && fabric) snprintf(bend, sizeof bend, "  bending: {model: %s}\n", bending);
-  else if (bending) snprintf(bend, sizeof bend, "  bending: {model: %s, stiffness: 1e-4}\n", bending);
+  else if (bending)
+    snprintf(bend, sizeof bend, "  bending: {model: %s, stiffness: 1e-4}\n", bending);
   if (fabric) snprintf(mat, sizeof mat, "  fabric: {preset: %s}\n", fabric);
   else snprintf(mat, sizeof mat, "  density: 0.1\n  membrane: %s\n", membrane);
   if (obj) {

@@ -104,8 +104,10 @@ static void curvature_map(const double n[3][2], const double C[3][3], const int 
     inv[0][0] = C[b[1]][b[1]] / det, inv[1][1] = C[b[0]][b[0]] / det;
     inv[0][1] = -C[b[0]][b[1]] / det, inv[1][0] = -C[b[1]][b[0]] / det;
   }
-  for (int k = 0; k < 3; k++)
-    N[k][0] = n[k][0] * n[k][0], N[k][1] = n[k][1] * n[k][1], N[k][2] = sqrt(2.0) * n[k][0] * n[k][1];
+  for (int k = 0; k < 3; k++) {
+    N[k][0] = n[k][0] * n[k][0], N[k][1] = n[k][1] * n[k][1];
+    N[k][2] = sqrt(2.0) * n[k][0] * n[k][1];
+  }
   memset(M, 0, 9 * sizeof(double));
   for (int a = 0; a < t->nh; a++) {
     int k = t->h[a].k;

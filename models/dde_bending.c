@@ -34,10 +34,11 @@
  * a strip cut along warp or weft (its moment across zero) has exactly M = D_u(kappa) kappa,
  * D_v(kappa) kappa.  The 45 degree strip reads D_45 at small curvature; beyond, it reads the
  * rigidities at |II|, about 1.1 times its curvature for gray-interlock (its bend-twist
- * coupling makes II not a multiple of t t^T).  Where the data's moment falls with the
- * curvature (8 of the 10 fabrics between 30 and 40 1/m), psi is not convex in the curvature:
- * the Hessian filter keeps Newton's matrix positive semi-definite, and a strip bent there may
- * localise its bend (as the data says a fold does).
+ * coupling makes II not a multiple of t t^T).  Where the moment falls as the curvature grows
+ * (dD/dr r < -D: in 9 of the 10 fabrics, all but royal-target, somewhere between 29 and 40 1/m
+ * for D_u and D_v, and for some twist curves from 5 or 12 1/m), psi is not convex in the
+ * curvature: the Hessian filter keeps Newton's matrix positive semi-definite, and a strip bent
+ * there may localise its bend (a softening moment law does so in any model).
  *
  * The discretisation.  II_T of triangle T is that of models/bending.c, its free edges'
  * curvature condensed with the zero-curvature rigidities (the matrix M of sw_bend_tri), and
@@ -109,7 +110,8 @@ int sw_dde_bend_setup(const sw_dde *dd, sw_dde_bend *b, char *err, size_t errsz)
       const double kj = SPACING * j, *a = b->a[c][j];
       double *p = b->p[c][j], tn = 1.0;
       p[0] = phi; /* + int_0^t (a0 + a1 t + a2 t^2 + a3 t^3)(kj + t) dt */
-      for (int n = 1; n <= 5; n++) p[n] = ((n <= 4 ? kj * a[n - 1] : 0.0) + (n >= 2 ? a[n - 2] : 0.0)) / n;
+      for (int n = 1; n <= 5; n++)
+        p[n] = ((n <= 4 ? kj * a[n - 1] : 0.0) + (n >= 2 ? a[n - 2] : 0.0)) / n;
       for (int n = 1; n <= 5; n++) tn *= SPACING, phi += p[n] * tn;
     }
   }
@@ -165,7 +167,8 @@ static int hessian(const double F[3], const double Fe[3][3], const double *X, in
     f[c] = sw_filter_eigenvalue(2.0 * F[c], mode);
   }
   for (int c = 0; c < 3; c++)
-    for (int e = 0; e < 3; e++) S[3 * c + e] = 4.0 * nx[c] * Fe[c][e] * nx[e] + (c == e ? 2.0 * F[c] : 0.0);
+    for (int e = 0; e < 3; e++)
+      S[3 * c + e] = 4.0 * nx[c] * Fe[c][e] * nx[e] + (c == e ? 2.0 * F[c] : 0.0);
   if (mode != SW_FILTER_NONE && sw_psd_project(S, 3, mode)) return -1;
   for (int i = 0; i < n; i++)
     for (int j = 0; j < n; j++) {
@@ -309,7 +312,8 @@ int sw_dde_bending_build(sw_term *t, const sw_model *m, char *err, size_t errsz)
   bp->A = sw_calloc((size_t)bp->n + 1, sizeof(double));
   bp->mat = sw_calloc((size_t)bp->n + 1, sizeof(int));
   bp->face = sw_calloc((size_t)bp->n + 1, sizeof(int));
-  int rc = !bp->L || !bp->A || !bp->mat || !bp->face || sw_bend_alloc_stencils(t, tr, bp->n, m->dim);
+  int rc = !bp->L || !bp->A || !bp->mat || !bp->face ||
+           sw_bend_alloc_stencils(t, tr, bp->n, m->dim);
   if (rc) sw_errf(err, errsz, "out of memory for %d bending triangles", bp->n);
   for (int s = 0; !rc && s < bp->n; s++) {
     const sw_bend_tri *T = &tr[s];

@@ -69,7 +69,8 @@ static sw_model *dde_bending_model(int dim) {
   const sc_fabric_preset *p = sc_fabric_preset_find("11oz-black-denim");
   sw_material mt = base_mat();
   assert_non_null(p);
-  if (sc_dde_parse(p->file, p->json, strlen(p->json), &mt.dde, err, sizeof err)) fail_msg("%s", err);
+  if (sc_dde_parse(p->file, p->json, strlen(p->json), &mt.dde, err, sizeof err))
+    fail_msg("%s", err);
   double kb[3];
   sc_dde_strips(&mt.dde, kb);
   mt.bending = SW_BENDING_DDE, mt.bend_rest = SW_BEND_REST_FLAT;
