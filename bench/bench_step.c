@@ -1,14 +1,18 @@
 /* bench_step.c — per-step wall time of an implicit integrator on the hanging cloth, N x N grid.
  *
  *   bench_step [--header] [--verbose] [--hessian=auto|exact|projected] [--model=M]
- *              [--bending=dihedral|quadratic|morley] [--obj=FILE] N [steps] [method]
+ *              [--bending=dihedral|quadratic|morley|dde] [--fabric=PRESET] [--obj=FILE]
+ *              N [steps] [method]
  *
  * --model picks the membrane with matched small-strain stiffness (docs/models.md): bw98
  * (default; k_u = k_v = 5000, k_shear = 100), stvk (e_u = e_v = 5000, shear_modulus 100,
  * poisson 0), corotated (k 5000), springs (stretch 5000, shear 100 per spring); --bending adds
- * that bending model with stiffness 1e-4 N m.  --obj=FILE takes the mesh from an OBJ of the unit
- * square in the xy plane (e.g. an unstructured one from tools/bending_study.py --square) instead
- * of the grid; N is then only printed, and the corners (0, 1) and (1, 1) are pinned by boxes.
+ * that bending model with stiffness 1e-4 N m.  --fabric=PRESET makes the cloth the measured
+ * fabric (docs/fabrics.md: its density, the dde membrane, and the bending model --bending names
+ * with the fabric's rigidities, quadratic when not given; --bending=dde needs --fabric).
+ * --obj=FILE takes the mesh from an OBJ of the unit square in the xy plane (e.g. an
+ * unstructured one from tools/bending_study.py --square) instead of the grid; N is then only
+ * printed, and the corners (0, 1) and (1, 1) are pinned by boxes.
  * Builds scenes/hanging_cloth.yaml in code with N x N vertices instead of 40 x 40 (1 m square
  * in the xy plane, 3D, density 0.1 kg/m^2, bw98 k_u = k_v = 5000, k_shear = 100 N/m, gravity
  * (0, 0, -9.81), the two corners of the edge y = 1 pinned; default options: Hessian "auto",
@@ -55,9 +59,13 @@ static const char *const models[][2] = {
 
 /* scenes/hanging_cloth.yaml with n x n vertices, through the scene loader itself. */
 static sw_model *hanging_cloth(int n, const char *membrane, const char *bending,
-                               const char *obj, char *err, size_t errsz) {
-  char yaml[4096], bend[128] = "", mesh[1200], pins[256];
-  if (bending) snprintf(bend, sizeof bend, "  bending: {model: %s, stiffness: 1e-4}\n", bending);
+                               const char *fabric, const char *obj, char *err, size_t errsz) {
+  char yaml[4096], bend[128] = "", mesh[1200], pins[256], mat[256];
+  if (bending && fabric) snprintf(bend, sizeof bend, "  bending: {model: %s}\n", bending);
+  else if (bending)
+    snprintf(bend, sizeof bend, "  bending: {model: %s, stiffness: 1e-4}\n", bending);
+  if (fabric) snprintf(mat, sizeof mat, "  fabric: {preset: %s}\n", fabric);
+  else snprintf(mat, sizeof mat, "  density: 0.1\n  membrane: %s\n", membrane);
   if (obj) {
     snprintf(mesh, sizeof mesh, "{obj: %s}", obj);
     snprintf(pins, sizeof pins, "[{select: {box: [[-1e-6, 0.999999, -1], [1e-6, 1.000001, 1]]}}, "
@@ -70,13 +78,12 @@ static sw_model *hanging_cloth(int n, const char *membrane, const char *bending,
            "name: hanging cloth %d x %d\n"
            "mesh: %s\n"
            "material:\n"
-           "  density: 0.1\n"
-           "  membrane: %s\n"
+           "%s"
            "%s"
            "gravity: [0, 0, -9.81]\n"
            "pins: %s   # the corners (0, 1) and (1, 1)\n"
            "integrator: {method: backward-euler, dt: 0.01}\n",
-           n, n, mesh, membrane, bend, pins);
+           n, n, mesh, mat, bend, pins);
   return sw_scene_parse("bench_step.yaml", yaml, strlen(yaml), err, errsz);
 }
 
@@ -110,8 +117,8 @@ static int step_with_retries(const sw_integrator_ops *ops, void *st, const sw_mo
 static int usage(void) {
   fprintf(stderr, "usage: bench_step [--header] [--verbose] [--hessian=auto|exact|projected]\n"
                   "                  [--model=bw98|stvk|corotated|springs]\n"
-                  "                  [--bending=dihedral|quadratic|morley] [--obj=FILE] N [steps] "
-                  "[method]\n"
+                  "                  [--bending=dihedral|quadratic|morley|dde] [--fabric=PRESET]\n"
+                  "                  [--obj=FILE] N [steps] [method]\n"
                   "  N >= 2 vertices per side, steps >= 1 (default 20), method (default "
                   "backward-euler)\n");
   return 2;
@@ -119,7 +126,7 @@ static int usage(void) {
 
 int main(int argc, char **argv) {
   int want_header = 0, verbose = 0, npos = 0, hessian = SW_HESSIAN_AUTO, model = 0;
-  const char *bending = NULL, *obj = NULL;
+  const char *bending = NULL, *obj = NULL, *fabric = NULL;
   const char *pos[3] = {NULL, NULL, NULL};
   for (int i = 1; i < argc; i++) {
     if (!strcmp(argv[i], "--header")) want_header = 1;
@@ -133,6 +140,8 @@ int main(int argc, char **argv) {
     } else if (!strcmp(argv[i], "--bending=dihedral")) bending = "dihedral";
     else if (!strcmp(argv[i], "--bending=quadratic")) bending = "quadratic";
     else if (!strcmp(argv[i], "--bending=morley")) bending = "morley";
+    else if (!strcmp(argv[i], "--bending=dde")) bending = "dde";
+    else if (!strncmp(argv[i], "--fabric=", 9)) fabric = argv[i] + 9;
     else if (!strncmp(argv[i], "--obj=", 6)) obj = argv[i] + 6;
     else if (argv[i][0] == '-' && argv[i][1] != '\0') return usage();
     else if (npos < 3) pos[npos++] = argv[i];
@@ -158,7 +167,7 @@ int main(int argc, char **argv) {
   sw_set_threads(0);
 
   char err[SW_ERRSZ];
-  sw_model *m = hanging_cloth((int)n, models[model][1], bending, obj, err, sizeof err);
+  sw_model *m = hanging_cloth((int)n, models[model][1], bending, fabric, obj, err, sizeof err);
   if (!m) {
     fprintf(stderr, "bench_step: %s\n", err);
     return 1;

@@ -29,7 +29,11 @@
  * warp carries the moment M t t^T alone (free long edges) and reads the rigidity D(t),
  *   1 / D(t) = cos^4 t / D_u + sin^4 t / D_v + cos^2 t sin^2 t / G,
  * so D_u, D_v are the warp and weft strips' and the bias strip's D_45 gives
- *   1 / G = 4 / D_45 - 1 / D_u - 1 / D_v. */
+ *   1 / G = 4 / D_45 - 1 / D_u - 1 / D_v.
+ *
+ * The condensed curvature itself, II_T = sum_a M_a theta_a in (II_uu, II_vv, sqrt(2) II_uv)
+ * with the free edges' curvature at its minimiser (so W = A M^T D M), is kept in sw_bend_tri.M
+ * for the bending whose rigidity depends on the curvature (models/dde_bending.c). */
 #include <math.h>
 #include <string.h>
 
@@ -84,6 +88,38 @@ static void condense(const double C[3][3], const int in[3], double S[3][3]) {
     }
 }
 
+/* M[.][a] = c_k (N_k - N_B C_BB^-1 C_Bk) for hinge a on edge k, N_k = (n_u^2, n_v^2,
+ * sqrt(2) n_u n_v) the curvature of edge k in the basis (II_uu, II_vv, sqrt(2) II_uv): the free
+ * edges B take the curvature that minimises the energy (the condensation of condense), so
+ * A M^T D M = W. */
+static void curvature_map(const double n[3][2], const double C[3][3], const int in[3],
+                          const double c[3], const sw_bend_tri *t, double M[3][3]) {
+  int b[3], nb = 0;
+  for (int k = 0; k < 3; k++)
+    if (!in[k]) b[nb++] = k;
+  double inv[2][2] = {{0}}, N[3][3];
+  if (nb == 1) inv[0][0] = 1.0 / C[b[0]][b[0]];
+  if (nb == 2) {
+    double det = C[b[0]][b[0]] * C[b[1]][b[1]] - C[b[0]][b[1]] * C[b[1]][b[0]];
+    inv[0][0] = C[b[1]][b[1]] / det, inv[1][1] = C[b[0]][b[0]] / det;
+    inv[0][1] = -C[b[0]][b[1]] / det, inv[1][0] = -C[b[1]][b[0]] / det;
+  }
+  for (int k = 0; k < 3; k++) {
+    N[k][0] = n[k][0] * n[k][0], N[k][1] = n[k][1] * n[k][1];
+    N[k][2] = sqrt(2.0) * n[k][0] * n[k][1];
+  }
+  memset(M, 0, 9 * sizeof(double));
+  for (int a = 0; a < t->nh; a++) {
+    int k = t->h[a].k;
+    for (int r = 0; r < 3; r++) {
+      double v = N[k][r];
+      for (int p = 0; p < nb && nb < 3; p++)
+        for (int q = 0; q < nb; q++) v -= N[b[p]][r] * inv[p][q] * C[b[q]][k];
+      M[r][a] = c[k] * v; /* 1/m */
+    }
+  }
+}
+
 void sw_plate_rigidity(const sw_material *mt, double D[3]) {
   if (!(mt->k_bend_u > 0.0)) {
     D[0] = D[1] = D[2] = mt->k_bend;
@@ -126,6 +162,7 @@ static int make_tri(const sw_model *m, const sw_topology *tp, const int *fe, int
                 2.0 * D[2] * n[i][0] * n[i][1] * n[j][0] * n[j][1]; /* N m */
     }
   condense(C, in, S);
+  curvature_map(n, C, in, c, t, t->M);
   for (int a = 0; a < t->nh; a++)
     for (int b = 0; b < t->nh; b++) {
       int i = t->h[a].k, j = t->h[b].k;

@@ -99,7 +99,8 @@ static const sw_term_ops quadratic_ops = {
     .kind = "quadratic", .eval = quadratic_eval, .free_param = quadratic_free};
 
 /* Bergou's K of hinge h of triangle tr, on the stencil's vertices (6). */
-static void hinge_K(const sw_model *m, const sw_bend_tri *tr, const sw_bend_hinge *h, double *K) {
+void sw_bend_hinge_K(const sw_model *m, const sw_bend_tri *tr, const sw_bend_hinge *h,
+                     double *K) {
   const int x0 = tr->v[h->v[0]], x1 = tr->v[h->v[1]], x2 = tr->v[h->v[2]], x3 = tr->v[h->v[3]];
   const int fa = tr->face, fb = h->far_face;
   double c01 = rest_cot(m, fa, x0, x1, x2), c03 = rest_cot(m, fa, x1, x0, x2);
@@ -117,7 +118,7 @@ static void tri_setup(const sw_model *m, const sw_bend_tri *tr, double *K, doubl
   memset(W, 0, 9 * sizeof(double));
   memset(Q, 0, 36 * sizeof(double));
   for (int a = 0; a < tr->nh; a++) {
-    hinge_K(m, tr, &tr->h[a], K + 6 * a);
+    sw_bend_hinge_K(m, tr, &tr->h[a], K + 6 * a);
     for (int i = 0; i < 6; i++) K[6 * a + i] /= tr->h[a].len;
   }
   for (int a = 0; a < tr->nh; a++)

@@ -125,6 +125,9 @@ void sw_springs_counts(const sw_term *t, int count[3]);
 int sw_dihedral_build(sw_term *t, const sw_model *m, char *err, size_t errsz);
 /* models/quadratic_bending.c: isometric bending (Bergou et al. 2006), constant Hessian. */
 int sw_quadratic_bending_build(sw_term *t, const sw_model *m, char *err, size_t errsz);
+/* models/dde_bending.c: the measured fabric's bending, its rigidities depending on the
+ * curvature (docs/fabrics.md, "Bending by the data"). */
+int sw_dde_bending_build(sw_term *t, const sw_model *m, char *err, size_t errsz);
 
 /* models/topology.c: the edges of the mesh, for the edge-based terms (built at set-up). */
 typedef struct sw_topology {
@@ -156,6 +159,9 @@ typedef struct sw_bend_tri {
   int v[6];               /* stencil: the face's 3 corners, then the far vertex of each hinge */
   sw_bend_hinge h[3];
   double W[3][3];         /* J/rad^2, positive semi-definite */
+  double M[3][3];         /* the triangle's curvature II_T = sum_a M[.][a] theta_a in the basis
+                             (II_uu, II_vv, sqrt(2) II_uv), its free edges' curvature condensed
+                             with the rigidities D (so W = A M^T diag(D) M), 1/m per rad */
   double kb;              /* the face material's bending stiffness, N m */
   int rest_flat;          /* 1: rest angles 0; 0: the angles in x0 */
 } sw_bend_tri;
@@ -164,6 +170,9 @@ typedef struct sw_bend_tri {
 sw_bend_tri *sw_bend_tris(const sw_model *m, int model, int *n, char *err, size_t errsz);
 /* Stencils of t: one per triangle, its nv vertices.  Nonzero when out of memory. */
 int sw_bend_alloc_stencils(sw_term *t, const sw_bend_tri *tri, int n, int dim);
+/* Bergou's K (6, on the stencil's local vertices) of hinge h of triangle tr: v_h = sum_i K_i x_i,
+ * of length ~ |e| theta for an isometric bending (models/quadratic_bending.c). */
+void sw_bend_hinge_K(const sw_model *m, const sw_bend_tri *tr, const sw_bend_hinge *h, double *K);
 /* Local corner (0..2) of vertex v in face f, or -1 (models/bending.c). */
 int sw_face_corner(const sw_model *m, int f, int v);
 /* For each face corner k, the edge of tp opposite it (-1: none recorded, a non-manifold

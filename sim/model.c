@@ -256,6 +256,7 @@ static int build_terms(sw_model *m, char *err, size_t errsz) {
       {SW_BENDING_DIHEDRAL, sw_dihedral_build},
       {SW_BENDING_QUADRATIC, sw_quadratic_bending_build},
       {SW_BENDING_MORLEY, sw_morley_bending_build},
+      {SW_BENDING_DDE, sw_dde_bending_build},
   };
   m->term = sw_calloc(SW_MAX_TERMS, sizeof *m->term);
   if (!m->term) return sw_errf(err, errsz, "out of memory"), -1;

@@ -325,10 +325,11 @@ typedef struct sw_contact_lag {
 /* ----------------------------------------------------------------- model */
 
 /* Membrane models (models/bw98.c, stvk.c, corotated.c, springs.c) and bending models
- * (models/dihedral.c, quadratic_bending.c, morley_bending.c; docs/models.md). */
+ * (models/dihedral.c, quadratic_bending.c, morley_bending.c, dde_bending.c; docs/models.md). */
 enum { SW_MEMBRANE_NONE = 0, SW_MEMBRANE_BW98, SW_MEMBRANE_STVK, SW_MEMBRANE_COROTATED,
        SW_MEMBRANE_SPRINGS, SW_MEMBRANE_DDE };
-enum { SW_BENDING_NONE = 0, SW_BENDING_DIHEDRAL, SW_BENDING_QUADRATIC, SW_BENDING_MORLEY };
+enum { SW_BENDING_NONE = 0, SW_BENDING_DIHEDRAL, SW_BENDING_QUADRATIC, SW_BENDING_MORLEY,
+       SW_BENDING_DDE };
 enum { SW_BEND_REST_INITIAL = 0, SW_BEND_REST_FLAT = 1 };
 
 /* A measured fabric in the format of Wang, Ramamoorthi and O'Brien's data set ("Data-Driven

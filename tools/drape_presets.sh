@@ -3,6 +3,8 @@
 # replaced by each measured preset (docs/fabrics.md), for docs/drape.md's table of predicted
 # drape coefficients: DC, nodes, Newton iterations and wall time of each run.
 # Usage: tools/drape_presets.sh [BUILD_DIR [PRESET...]]   (default: build, all ten)
+# BENDING=dde (or another model) puts `bending: {model: $BENDING}` beside the fabric (default:
+# the preset's quadratic bending).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${1:-build}
@@ -16,8 +18,10 @@ trap 'rm -rf "$tmp"' EXIT
 printf '| preset | DC | nodes | shadow radius, cm | Newton iterations | wall time, s |\n'
 printf '| --- | --- | --- | --- | --- | --- |\n'
 for p in "${presets[@]}"; do
+  line="  fabric: {preset: $p}"
+  [ -z "${BENDING:-}" ] || line="$line\n  bending: {model: $BENDING}"
   sed -e "s|obj: meshes/|obj: $PWD/scenes/meshes/|" \
-      -e "s|^  fabric: .*|  fabric: {preset: $p}|" scenes/cusick_drape.yaml >"$tmp/scene.yaml"
+      -e "s|^  fabric: .*|$line|" scenes/cusick_drape.yaml >"$tmp/scene.yaml"
   if ! "$build/sinew" run "$tmp/scene.yaml" --out "$tmp/out" --frames-every 3 >"$tmp/log" 2>&1; then
     printf '| `%s` | failed: %s | | | | |\n' "$p" "$(tail -1 "$tmp/log")"
     continue

@@ -132,7 +132,7 @@ static void fabric_dde(const sw_dde *dd, sw_material *mat, int *set) {
   mat->bend_rest = SW_BEND_REST_FLAT;
   mat->k_bend_u = kb[0], mat->k_bend_v = kb[1], mat->k_bend_bias = kb[2];
   mat->k_bend = fmax(fmax(kb[0], kb[1]), kb[2]);
-  *set = SC_FABRIC_BENDING | SC_FABRIC_MEMBRANE;
+  *set = SC_FABRIC_BENDING | SC_FABRIC_MEMBRANE | SC_FABRIC_DDE;
 }
 
 /* `data: FILE`: a fabric file in the data set's format, relative to the scene's folder, into dd. */

@@ -7,7 +7,7 @@
 #include "scene_yaml.h"
 
 /* What a fabric set (besides the density, which it always sets). */
-enum { SC_FABRIC_BENDING = 1, SC_FABRIC_MEMBRANE = 2 };
+enum { SC_FABRIC_BENDING = 1, SC_FABRIC_MEMBRANE = 2, SC_FABRIC_DDE = 4 /* preset or data */ };
 
 /* The ranges outside which a scene's number draws a warning (docs/fabrics.md, "Warnings"). */
 #define SC_PLAUSIBLE_SIZE 10.0          /* m: the largest extent of a cloth */

@@ -3,6 +3,7 @@
  * with the keys the panel gives.  A membrane or bending block replaces the whole block. */
 #include "scene_material.h"
 #include "scene_fabric.h"
+#include "dde.h"
 
 #include <math.h>
 #include <stddef.h>
@@ -123,7 +124,33 @@ static int load_membrane(const ctx *c, const ynode *y, const char *what, sw_mate
 static const char *const bend_keys[] = {"model", "stiffness", "rest", "stiffness_u",
                                         "stiffness_v", "stiffness_bias"};
 enum { BK_MODEL, BK_K, BK_REST, BK_KU, BK_KV, BK_KBIAS, BK_N };
-static const char *const bend_models[] = {"dihedral", "quadratic", "morley"};
+static const char *const bend_models[] = {"dihedral", "quadratic", "morley", "dde"};
+enum { N_BEND_MODELS = 4 };
+static const int bend_type[N_BEND_MODELS] = {SW_BENDING_DIHEDRAL, SW_BENDING_QUADRATIC,
+                                             SW_BENDING_MORLEY, SW_BENDING_DDE};
+
+/* `model: dde` (models/dde_bending.c): the rigidities of the measured fabric's data, which
+ * mat carries only from a fabric preset or data file (its own, or for a panel the material's);
+ * its strips' small-curvature rigidities condense the free edges.  0, or -1 at `at`. */
+static int bend_dde(const ctx *c, const ynode *at, const char *w, int has_data,
+                    sw_material *mat) {
+  if (!has_data)
+    return sy_fail(c, at, "%s model dde needs a measured fabric's data beside it; expected "
+                   "fabric: {preset: NAME} or fabric: {data: FILE} in the same material or "
+                   "panel (or in the material, for a panel), or another bending model", w);
+  char why[SW_ERRSZ];
+  sw_dde_bend law;
+  if (sw_dde_bend_setup(&mat->dde, &law, why, sizeof why))
+    return sy_fail(c, at, "%s model dde: %s; expected another bending model for this fabric", w,
+                   why);
+  double kb[3];
+  sc_dde_strips(&mat->dde, kb);
+  mat->bending = SW_BENDING_DDE;
+  mat->bend_rest = SW_BEND_REST_FLAT;
+  mat->k_bend_u = kb[0], mat->k_bend_v = kb[1], mat->k_bend_bias = kb[2];
+  mat->k_bend = fmax(fmax(kb[0], kb[1]), kb[2]);
+  return 0;
+}
 static const char *const bend_rests[] = {"initial", "flat"}; /* SW_BEND_REST_* order */
 
 /* A positive twisting rigidity needs 4/D_45 > 1/D_u + 1/D_v (models/bending.c).  0 or -1. */
@@ -173,12 +200,19 @@ static int load_bending(const ctx *c, const ynode *y, const char *what, sw_mater
   int model = 0;
   snprintf(w, sizeof w, "%s bending", what);
   if (sy_map(c, y, w, bend_keys, BK_N, v) ||
-      sy_need(c, y, v[BK_MODEL], w, "model", "model: dihedral, quadratic or morley"))
+      sy_need(c, y, v[BK_MODEL], w, "model", "model: dihedral, quadratic, morley or dde"))
     return -1;
   snprintf(lab, sizeof lab, "%s model", w);
-  if (sy_choice(c, v[BK_MODEL], lab, bend_models, 3, &model)) return -1;
-  mat->bending = model == 0 ? SW_BENDING_DIHEDRAL : model == 1 ? SW_BENDING_QUADRATIC
-                                                               : SW_BENDING_MORLEY;
+  if (sy_choice(c, v[BK_MODEL], lab, bend_models, N_BEND_MODELS, &model)) return -1;
+  if (bend_type[model] == SW_BENDING_DDE) {
+    for (int k = 0; k < BK_N; k++)
+      if (v[k] && k != BK_MODEL)
+        return sy_fail(c, v[k], "%s gives %s for model dde, whose rigidities are the measured "
+                       "fabric's; expected only model: dde", w, bend_keys[k]);
+    return bend_dde(c, v[BK_MODEL], w, mat->membrane == SW_MEMBRANE_DDE || mat->dde.density > 0.0,
+                    mat);
+  }
+  mat->bending = bend_type[model];
   if (model == 0 && c->m->dim == 2)
     return sy_fail(c, v[BK_MODEL], "%s model dihedral needs a 3D scene (a planar mesh cannot "
                    "fold); expected dimension: 3, or model quadratic", w);
@@ -212,7 +246,8 @@ enum { MK_DENSITY, MK_MEMB, MK_BEND, MK_BIAS, MK_FABRIC, MK_UVSCALE, MK_CORNERS,
 
 /* Beside a fabric with a bending rigidity, `bending: {model: M}` picks the model that rigidity
  * goes to (quadratic when not given); any other bending key is an error. */
-static int fabric_bending_model(const ctx *c, const ynode *y, const char *w, sw_material *mat) {
+static int fabric_bending_model(const ctx *c, const ynode *y, const char *w, int set,
+                                sw_material *mat) {
   const ynode *v[BK_N];
   char lab[160];
   int model = 0;
@@ -221,17 +256,19 @@ static int fabric_bending_model(const ctx *c, const ynode *y, const char *w, sw_
   for (int k = 0; k < BK_N; k++)
     if (v[k] && k != BK_MODEL)
       return sy_fail(c, v[k], "%s gives bending %s and a fabric with a bending rigidity; "
-                     "expected only bending: {model: dihedral, quadratic or morley} beside the "
-                     "fabric (the rigidity is the fabric's)", w, bend_keys[k]);
-  if (sy_need(c, y, v[BK_MODEL], lab, "model", "model: dihedral, quadratic or morley"))
+                     "expected only bending: {model: dihedral, quadratic, morley or dde} beside "
+                     "the fabric (the rigidity is the fabric's)", w, bend_keys[k]);
+  if (sy_need(c, y, v[BK_MODEL], lab, "model", "model: dihedral, quadratic, morley or dde"))
     return -1;
   snprintf(lab, sizeof lab, "%s bending model", w);
-  if (sy_choice(c, v[BK_MODEL], lab, bend_models, 3, &model)) return -1;
+  if (sy_choice(c, v[BK_MODEL], lab, bend_models, N_BEND_MODELS, &model)) return -1;
+  snprintf(lab, sizeof lab, "%s bending", w);
+  if (bend_type[model] == SW_BENDING_DDE)
+    return bend_dde(c, v[BK_MODEL], lab, set & SC_FABRIC_DDE, mat);
   if (model == 0 && c->m->dim == 2)
     return sy_fail(c, v[BK_MODEL], "%s bending model dihedral needs a 3D scene (a planar mesh "
                    "cannot fold); expected dimension: 3, or model quadratic", w);
-  mat->bending = model == 0 ? SW_BENDING_DIHEDRAL : model == 1 ? SW_BENDING_QUADRATIC
-                                                               : SW_BENDING_MORLEY;
+  mat->bending = bend_type[model];
   return 0;
 }
 
@@ -247,7 +284,7 @@ static int load_fabric(const ctx *c, const ynode *const *v, const char *w, sw_ma
     return sy_fail(c, v[MK_MEMB], "%s gives membrane and a fabric with kes_g and a tensile "
                    "stiffness; expected one of them", w);
   if ((set & SC_FABRIC_BENDING) && v[MK_BEND])
-    return fabric_bending_model(c, v[MK_BEND], w, mat) ? -1 : 1;
+    return fabric_bending_model(c, v[MK_BEND], w, set, mat) ? -1 : 1;
   return 0;
 }
 
