@@ -1548,7 +1548,7 @@ void sw_mcontact_set_kappa_scale(sw_mcontact *mc, double s) {
 double sw_kappa_growth(double gap, double dhat) {
   const double g0 = SW_KAPPA_GAP * dhat; /* m */
   if (!(gap < g0)) return 1.0;
-  return gap > 0.5 * g0 ? g0 / gap : 2.0;
+  return exp2(fmin(1.0, (1.0 - gap / g0) / SW_KAPPA_BAND));
 }
 
 int sw_mcontact_adapt(const sw_model *m, sw_mcontact *mc) {

@@ -417,8 +417,8 @@ static double factor_after(double gap) {
   return s;
 }
 
-/* The factor grows continuously with how far the smallest gap fell below SW_KAPPA_GAP dhat
- * (g0 / gap, doubled from g0 / 2 down): a gap a hair below g0, which round-off may put on
+/* The factor grows continuously with how far the smallest gap fell below g0 = SW_KAPPA_GAP
+ * dhat (doubled from (1 - SW_KAPPA_BAND) g0 down): a gap a hair below g0, which round-off may put on
  * either side, changes the stiffness by a hair (it used to double it: on a real tank top's fit
  * one vertex landing at 0.99 g0 in one build and not in the other made the self-contact twice
  * as stiff for the rest of the fit, and its steps twice as costly). */
@@ -426,14 +426,14 @@ static void stiffness_continuous(void **st) {
   (void)st;
   const double g0 = SW_KAPPA_GAP * 1e-3;
   double above = factor_after(1.01 * g0), hair = factor_after((1.0 - 1e-6) * g0);
-  double fifth = factor_after(0.8 * g0), deep = factor_after(0.3 * g0);
+  double mid = factor_after((1.0 - 0.5 * SW_KAPPA_BAND) * g0), deep = factor_after(0.3 * g0);
   print_message("stiffness factor after one step at a gap of 1.01 g0: %g; (1 - 1e-6) g0: %.9g; "
-                "0.8 g0: %g; 0.3 g0: %g\n", above, hair, fifth, deep);
+                "(1 - %g / 2) g0: %.9g; 0.3 g0: %g\n", above, hair, SW_KAPPA_BAND, mid, deep);
   assert_true(above == 1.0);
-  assert_true(hair > 1.0 && hair < 1.0 + 2e-6);
-  assert_true(fabs(fifth - 1.25) < 1e-9);
-  assert_true(deep == 2.0);
-  assert_true(factor_after(0.5 * g0) == 2.0 && factor_after(g0) == 1.0);
+  assert_true(hair > 1.0 && hair < 1.0 + 1e-4); /* 2^(1e-5) = 1 + 6.9e-6 */
+  assert_true(fabs(mid - sqrt(2.0)) < 1e-9);
+  assert_true(deep == 2.0); /* as before: a gap well below g0 doubles it */
+  assert_true(factor_after((1.0 - SW_KAPPA_BAND) * g0 * 0.999) == 2.0 && factor_after(g0) == 1.0);
 }
 
 /* ------------------------------------------------------------------ a flap on a sheet */
