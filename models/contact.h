@@ -135,11 +135,16 @@ typedef struct sw_mc_pair {
  * Hessian blocks): NULL for a model without the term mesh_contact. */
 /* The automatic stiffness adapts as in IPC (Li et al., "Incremental Potential Contact",
  * SIGGRAPH 2020, section 4.3): after each accepted step whose diagnostics found a pair's gap
- * (distance - thickness) below SW_KAPPA_GAP dhat, kappa_s doubles (at most SW_KAPPA_SCALE_MAX
- * times its start).  sw_mcontact_adapt returns 1 when it doubled; the factor so far is part of
- * the run's state (restart.bin).  A scene's own contact.self_stiffness is never changed. */
+ * (distance - thickness) g below g0 = SW_KAPPA_GAP dhat, kappa_s grows by sw_kappa_growth:
+ * 2^((1 - g / g0) / SW_KAPPA_BAND), at most 2 (doubled from (1 - SW_KAPPA_BAND) g0 down), so
+ * that the factor is continuous in the gap: a gap a hair below g0 (where round-off decides
+ * which side a run falls) raises it a hair, not twice (at most SW_KAPPA_SCALE_MAX times its
+ * start).  sw_mcontact_adapt returns 1 when it grew; the factor so far is part of the run's
+ * state (restart.bin).  A scene's own contact.self_stiffness is never changed. */
 #define SW_KAPPA_GAP 0.25 /* measured: docs/contact.md */
+#define SW_KAPPA_BAND 0.1 /* g from g0 down to 0.9 g0: the growth from 1 to 2 */
 #define SW_KAPPA_SCALE_MAX 65536.0
+double sw_kappa_growth(double gap, double dhat);
 int sw_mcontact_adapt(const sw_model *m, sw_mcontact *mc);
 double sw_mcontact_kappa_scale(const sw_mcontact *mc);
 void sw_mcontact_set_kappa_scale(sw_mcontact *mc, double s);

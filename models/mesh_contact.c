@@ -1545,10 +1545,17 @@ void sw_mcontact_set_kappa_scale(sw_mcontact *mc, double s) {
   if (mc && s >= 1.0 && isfinite(s)) mc->kscale = s;
 }
 
+double sw_kappa_growth(double gap, double dhat) {
+  const double g0 = SW_KAPPA_GAP * dhat; /* m */
+  if (!(gap < g0)) return 1.0;
+  return exp2(fmin(1.0, (1.0 - gap / g0) / SW_KAPPA_BAND));
+}
+
 int sw_mcontact_adapt(const sw_model *m, sw_mcontact *mc) {
   if (!mc || !m->contact.kappa_mesh_auto || mc->kscale >= SW_KAPPA_SCALE_MAX) return 0;
-  if (!(mc->gap_min < SW_KAPPA_GAP * m->contact.dhat)) return 0;
-  mc->kscale *= 2.0;
+  double f = sw_kappa_growth(mc->gap_min, m->contact.dhat);
+  if (f <= 1.0) return 0;
+  mc->kscale = fmin(mc->kscale * f, SW_KAPPA_SCALE_MAX);
   return 1;
 }
 

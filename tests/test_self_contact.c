@@ -386,6 +386,56 @@ static void derivatives(void **st) {
     }
 }
 
+/* ------------------------------------------------------------- adaptive stiffness */
+
+/* The automatic stiffness's factor after one adaptation at a state whose only close pair is
+ * configuration 0 (a point over a triangle's interior) `gap` beyond a thickness of zero. */
+static double factor_after(double gap) {
+  const double dhat = 1e-3;
+  double x[18] = {0, 0, 0, 0.1, 0, 0, 0, 0.1, 0};
+  memcpy(x + 9, configs[0].b, sizeof configs[0].b);
+  place(x, &configs[0], gap);
+  const int f[6] = {0, 1, 2, 3, 4, 5};
+  write_obj("adapt.obj", 6, x, 2, f, NULL);
+  char text[512];
+  snprintf(text, sizeof text, "mesh: {obj: adapt.obj}\nmaterial: {density: 0.1}\n"
+           "gravity: [0, 0, -9.81]\ncontact: {self: true, thickness: 0, distance: %g}\n", dhat);
+  sw_model *m = parse_ok(text);
+  assert_true(m->contact.kappa_mesh_auto);
+  sw_data *d = sw_data_new(m);
+  assert_non_null(d);
+  assert_non_null(d->mc);
+  memcpy(d->x, x, sizeof x);
+  sw_mcontact_state(m, d);
+  assert_true(fabs(d->self_min - gap) <= 1e-12 * dhat); /* that pair, and no closer one */
+  sw_mcontact_adapt(m, d->mc);
+  double s = sw_mcontact_kappa_scale(d->mc);
+  for (int k = 0; k < 40; k++) sw_mcontact_adapt(m, d->mc);
+  assert_true(sw_mcontact_kappa_scale(d->mc) <= SW_KAPPA_SCALE_MAX);
+  sw_data_free(d);
+  sw_model_free(m);
+  return s;
+}
+
+/* The factor grows continuously with how far the smallest gap fell below g0 = SW_KAPPA_GAP
+ * dhat (doubled from (1 - SW_KAPPA_BAND) g0 down): a gap a hair below g0, which round-off may put on
+ * either side, changes the stiffness by a hair (it used to double it: on a real tank top's fit
+ * one vertex landing at 0.99 g0 in one build and not in the other made the self-contact twice
+ * as stiff for the rest of the fit, and its steps twice as costly). */
+static void stiffness_continuous(void **st) {
+  (void)st;
+  const double g0 = SW_KAPPA_GAP * 1e-3;
+  double above = factor_after(1.01 * g0), hair = factor_after((1.0 - 1e-6) * g0);
+  double mid = factor_after((1.0 - 0.5 * SW_KAPPA_BAND) * g0), deep = factor_after(0.3 * g0);
+  print_message("stiffness factor after one step at a gap of 1.01 g0: %g; (1 - 1e-6) g0: %.9g; "
+                "(1 - %g / 2) g0: %.9g; 0.3 g0: %g\n", above, hair, SW_KAPPA_BAND, mid, deep);
+  assert_true(above == 1.0);
+  assert_true(hair > 1.0 && hair < 1.0 + 1e-4); /* 2^(1e-5) = 1 + 6.9e-6 */
+  assert_true(fabs(mid - sqrt(2.0)) < 1e-9);
+  assert_true(deep == 2.0); /* as before: a gap well below g0 doubles it */
+  assert_true(factor_after((1.0 - SW_KAPPA_BAND) * g0 * 0.999) == 2.0 && factor_after(g0) == 1.0);
+}
+
 /* ------------------------------------------------------------------ a flap on a sheet */
 
 /* Two 9 x 9 sheets in one OBJ: the lower one 12 cm square at z = 0 (vertices 0-80), the flap
@@ -559,6 +609,7 @@ static void scene_errors(void **st) {
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(derivatives),
+      cmocka_unit_test(stiffness_continuous),
       cmocka_unit_test(flap_on_sheet),
       cmocka_unit_test(scene_errors),
   };
