@@ -12,6 +12,7 @@
 #include <cmocka.h>
 
 #include "harness.h"
+#include "scene_fabric.h"
 
 extern void dsyev_(const char *jobz, const char *uplo, const int *n, double *a, const int *lda,
                    double *w, double *work, const int *lwork, int *info);
@@ -220,4 +221,17 @@ void th_conformance(const sw_model *m, const char *name, int flags, double size,
     }
   free(p.x);
   free(p.lr);
+}
+
+void th_near(double got, double want, double tol) {
+  if (!(fabs(got - want) <= tol)) fail_msg("got %.15g, expected %.15g (tol %g)", got, want, tol);
+}
+
+sw_dde th_dde_preset(const char *name) {
+  char err[SW_ERRSZ];
+  const sc_fabric_preset *p = sc_fabric_preset_find(name);
+  if (!p) fail_msg("no preset %s", name);
+  sw_dde dd;
+  if (sc_dde_parse(p->file, p->json, strlen(p->json), &dd, err, sizeof err)) fail_msg("%s", err);
+  return dd;
 }

@@ -36,6 +36,11 @@ void th_add_tendon(sw_model *m, const int *way, int nway, int law, double K, dou
                    double density);
 /* A scene from YAML text (the name is used in messages); NULL with the message printed. */
 sw_model *th_scene(const char *name, const char *text);
+/* Fails the test unless |got - want| <= tol, printing both. */
+void th_near(double got, double want, double tol);
+/* The measured fabric NAME of the shipped presets (docs/fabrics.md), read from its file's text;
+ * fails the test when it is unknown or does not parse. */
+sw_dde th_dde_preset(const char *name);
 /* A new state of m and ops started on it (*s); NULL with the message printed when either
  * fails (the state freed). */
 sw_data *th_start(const sw_integrator_ops *ops, const sw_model *m, void **s);

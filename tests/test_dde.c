@@ -22,18 +22,7 @@
 #include "scene_fabric.h"
 #include "sinew.h"
 
-static void near(double got, double want, double tol) {
-  if (!(fabs(got - want) <= tol)) fail_msg("got %.15g, expected %.15g (tol %g)", got, want, tol);
-}
 
-static sw_dde preset(const char *name) {
-  char err[SW_ERRSZ];
-  const sc_fabric_preset *p = sc_fabric_preset_find(name);
-  assert_non_null(p);
-  sw_dde dd;
-  if (sc_dde_parse(p->file, p->json, strlen(p->json), &dd, err, sizeof err)) fail_msg("%s", err);
-  return dd;
-}
 
 static double urand(unsigned long *s) {
   *s = *s * 6364136223846793005ul + 1442695040888963407ul;
@@ -48,27 +37,32 @@ static void along(double w, double theta, double e[3]) {
 
 /* -------------------------------------------------------- (a) derivatives */
 
+/* S against central differences of psi at e, H against those of S (step h), to 1e-6 and htol
+ * of H's largest entry. */
+static void check_derivatives(const sw_dde *dd, const double e[3], double h, double htol) {
+  double S[3], H[9], Sp[3], Sm[3], scale = 1e-3;
+  sw_dde_energy(dd, e, S, H);
+  for (int i = 0; i < 9; i++) scale = fmax(scale, fabs(H[i]));
+  for (int i = 0; i < 3; i++) {
+    double ep[3] = {e[0], e[1], e[2]}, em[3] = {e[0], e[1], e[2]};
+    ep[i] += h, em[i] -= h;
+    double fp = sw_dde_energy(dd, ep, Sp, NULL), fm = sw_dde_energy(dd, em, Sm, NULL);
+    th_near(S[i], (fp - fm) / (2 * h), 1e-6 * scale);
+    for (int j = 0; j < 3; j++) th_near(H[3 * j + i], (Sp[j] - Sm[j]) / (2 * h), htol * scale);
+  }
+}
+
 /* S against central differences of psi, H against those of S, at random strains (stretches
  * 0.8..1.35, every direction) of every preset. */
 static void density_derivatives(void **st) {
   (void)st;
   unsigned long seed = 37;
-  const double h = 1e-7;
   for (int k = 0; k < sc_nfabric_presets; k++) {
-    sw_dde dd = preset(sc_fabric_presets[k].name);
+    sw_dde dd = th_dde_preset(sc_fabric_presets[k].name);
     for (int n = 0; n < 40; n++) {
       double e[3] = {0.5 * (pow(0.8 + 0.55 * urand(&seed), 2) - 1.0),
                      0.5 * (pow(0.8 + 0.55 * urand(&seed), 2) - 1.0), 0.6 * (urand(&seed) - 0.5)};
-      double S[3], H[9], Sp[3], Sm[3], scale = 1e-3;
-      sw_dde_energy(&dd, e, S, H);
-      for (int i = 0; i < 9; i++) scale = fmax(scale, fabs(H[i]));
-      for (int i = 0; i < 3; i++) {
-        double ep[3] = {e[0], e[1], e[2]}, em[3] = {e[0], e[1], e[2]};
-        ep[i] += h, em[i] -= h;
-        double fp = sw_dde_energy(&dd, ep, Sp, NULL), fm = sw_dde_energy(&dd, em, Sm, NULL);
-        near(S[i], (fp - fm) / (2 * h), 1e-6 * scale);
-        for (int j = 0; j < 3; j++) near(H[3 * j + i], (Sp[j] - Sm[j]) / (2 * h), 1e-5 * scale);
-      }
+      check_derivatives(&dd, e, 1e-7, 1e-5);
     }
   }
 }
@@ -81,9 +75,9 @@ static void density_derivatives(void **st) {
 static void density_derivatives_joins(void **st) {
   (void)st;
   unsigned long seed = 41;
-  const double h = 1e-8, pi = 3.14159265358979323846;
+  const double pi = 3.14159265358979323846;
   for (int k = 0; k < sc_nfabric_presets; k++) {
-    sw_dde dd = preset(sc_fabric_presets[k].name);
+    sw_dde dd = th_dde_preset(sc_fabric_presets[k].name);
     for (int n = 0; n < 60; n++) {
       double e[3], mean = 0.02 + 0.2 * urand(&seed), r, th;
       if (n % 2) r = 0.02 * urand(&seed), th = pi * urand(&seed);
@@ -92,16 +86,7 @@ static void density_derivatives_joins(void **st) {
         r = 0.02 + 0.1 * urand(&seed), th = (1 + n % 3) * pi / 8 + (urand(&seed) < 0.5 ? -off : off);
       }
       e[0] = mean + r * cos(2 * th), e[1] = mean - r * cos(2 * th), e[2] = 2 * r * sin(2 * th);
-      double S[3], H[9], Sp[3], Sm[3], scale = 1e-3;
-      sw_dde_energy(&dd, e, S, H);
-      for (int i = 0; i < 9; i++) scale = fmax(scale, fabs(H[i]));
-      for (int i = 0; i < 3; i++) {
-        double ep[3] = {e[0], e[1], e[2]}, em[3] = {e[0], e[1], e[2]};
-        ep[i] += h, em[i] -= h;
-        double fp = sw_dde_energy(&dd, ep, Sp, NULL), fm = sw_dde_energy(&dd, em, Sm, NULL);
-        near(S[i], (fp - fm) / (2 * h), 1e-6 * scale);
-        for (int j = 0; j < 3; j++) near(H[3 * j + i], (Sp[j] - Sm[j]) / (2 * h), 1e-4 * scale);
-      }
+      check_derivatives(&dd, e, 1e-8, 1e-4);
     }
   }
 }
@@ -114,7 +99,7 @@ static void density_smooth(void **st) {
   (void)st;
   const double pi = 3.14159265358979323846, dth = 1e-7;
   for (int k = 0; k < sc_nfabric_presets; k++) {
-    sw_dde dd = preset(sc_fabric_presets[k].name);
+    sw_dde dd = th_dde_preset(sc_fabric_presets[k].name);
     for (int iw = 0; iw < 2; iw++) {
       double w = iw ? 1.25 : 1.1, ea[3], eb[3], Sa[3], Sb[3];
       for (int j = 1; j <= 3; j++) {
@@ -123,7 +108,7 @@ static void density_smooth(void **st) {
         sw_dde_energy(&dd, ea, Sa, NULL);
         sw_dde_energy(&dd, eb, Sb, NULL);
         double sc = fabs(Sa[0]) + fabs(Sa[1]) + fabs(Sa[2]);
-        for (int i = 0; i < 3; i++) near(Sa[i], Sb[i], 1e-4 * sc);
+        for (int i = 0; i < 3; i++) th_near(Sa[i], Sb[i], 1e-4 * sc);
       }
     }
     const double iso = 0.08; /* both principal strains: a stretch of 1.077, in the ramp */
@@ -133,8 +118,8 @@ static void density_smooth(void **st) {
       double e[3] = {iso + r * cos(2 * th), iso - r * cos(2 * th), 2 * r * sin(2 * th)};
       double psi = sw_dde_energy(&dd, e, S, NULL), lin = 0.0;
       for (int i = 0; i < 3; i++) lin += S0[i] * (e[i] - e0[i]); /* psi's first-order change */
-      near(psi, psi0 + lin, 1e-12 * psi0);
-      for (int i = 0; i < 3; i++) near(S[i], S0[i], 1e-6 * (fabs(S0[0]) + fabs(S0[1])));
+      th_near(psi, psi0 + lin, 1e-12 * psi0);
+      for (int i = 0; i < 3; i++) th_near(S[i], S0[i], 1e-6 * (fabs(S0[0]) + fabs(S0[1])));
     }
   }
 }
@@ -149,7 +134,7 @@ static void term_conformance(void **st) {
       assert_non_null(m);
       m->mat[0].density = 0.2;
       m->mat[0].membrane = SW_MEMBRANE_DDE;
-      m->mat[0].dde = preset(names[k]);
+      m->mat[0].dde = th_dde_preset(names[k]);
       char err[SW_ERRSZ];
       if (sw_model_finish(m, err, sizeof err)) fail_msg("%s", err);
       th_conformance(m, "dde", TH_INTERNAL | TH_REST_FREE, 0.15, 100u + (unsigned long)(3 * dim + k));
@@ -165,45 +150,45 @@ static void stiffness_at_samples(void **st) {
   (void)st;
   const double pi = 3.14159265358979323846;
   for (int k = 0; k < sc_nfabric_presets; k++) {
-    sw_dde dd = preset(sc_fabric_presets[k].name);
+    sw_dde dd = th_dde_preset(sc_fabric_presets[k].name);
     double c[4], e0[3] = {0, 0, 0}, e[3];
     sw_dde_stiffness(&dd, e0, c);
-    for (int l = 0; l < 4; l++) near(c[l], dd.stretch[0][l], 0.0);
+    for (int l = 0; l < 4; l++) th_near(c[l], dd.stretch[0][l], 0.0);
     for (int j = 0; j < 5; j++)
       for (int sign = -1; sign <= 1; sign += 2) { /* theta and -theta: the mirror image */
         along(7.0 / 6.0, sign * j * pi / 8.0, e);
         sw_dde_stiffness(&dd, e, c);
-        for (int l = 0; l < 4; l++) near(c[l], dd.stretch[1 + j][l], 1e-9 * (1 + dd.stretch[1 + j][l]));
+        for (int l = 0; l < 4; l++) th_near(c[l], dd.stretch[1 + j][l], 1e-9 * (1 + dd.stretch[1 + j][l]));
         along(1.0 + 1.0 / 12.0, sign * j * pi / 8.0, e);
         sw_dde_stiffness(&dd, e, c);
         for (int l = 0; l < 4; l++)
-          near(c[l], 0.5 * (dd.stretch[0][l] + dd.stretch[1 + j][l]), 1e-9 * (1 + c[l]));
+          th_near(c[l], 0.5 * (dd.stretch[0][l] + dd.stretch[1 + j][l]), 1e-9 * (1 + c[l]));
       }
   }
   /* the published numbers themselves (data/fabrics/gray-interlock.json, rows 0 and 3) */
-  sw_dde dd = preset("gray-interlock");
+  sw_dde dd = th_dde_preset("gray-interlock");
   double c[4], e[3];
   along(7.0 / 6.0, pi / 4.0, e);
   sw_dde_stiffness(&dd, e, c);
-  near(c[0], 123.989220, 1e-9), near(c[1], 105.181770, 1e-9), near(c[2], 365.966217, 1e-9);
-  near(c[3], 44.217571, 1e-9);
+  th_near(c[0], 123.989220, 1e-9), th_near(c[1], 105.181770, 1e-9), th_near(c[2], 365.966217, 1e-9);
+  th_near(c[3], 44.217571, 1e-9);
   const double zero[3] = {0, 0, 0};
   sw_dde_stiffness(&dd, zero, c);
-  near(c[0], 16.593832, 0), near(c[1], 0.0, 0), near(c[2], 34.477123, 0), near(c[3], 36.860302, 0);
+  th_near(c[0], 16.593832, 0), th_near(c[1], 0.0, 0), th_near(c[2], 34.477123, 0), th_near(c[3], 36.860302, 0);
   assert_int_equal(dd.nclamped, 3); /* -14.695990, -29.691301, -174.43853 */
 }
 
 static void bending_at_samples(void **st) {
   (void)st;
   const double pi = 3.14159265358979323846;
-  sw_dde dd = preset("11oz-black-denim");
+  sw_dde dd = th_dde_preset("11oz-black-denim");
   for (int i = 0; i < 3; i++)
     for (int j = 0; j < 5; j++) {
-      near(sw_dde_bend_rigidity(&dd, i * pi / 4.0, 10.0 * j), dd.bend[i][j] / 4, 1e-18);
-      near(sw_dde_bend_rigidity(&dd, pi - i * pi / 4.0, -10.0 * j), dd.bend[i][j] / 4, 1e-18);
+      th_near(sw_dde_bend_rigidity(&dd, i * pi / 4.0, 10.0 * j), dd.bend[i][j] / 4, 1e-18);
+      th_near(sw_dde_bend_rigidity(&dd, pi - i * pi / 4.0, -10.0 * j), dd.bend[i][j] / 4, 1e-18);
     }
-  near(sw_dde_bend_rigidity(&dd, 0.0, 100.0), 19.824701e-6 / 4, 1e-18); /* held past 40 1/m */
-  near(sw_dde_bend_rigidity(&dd, pi / 8.0, 5.0),
+  th_near(sw_dde_bend_rigidity(&dd, 0.0, 100.0), 19.824701e-6 / 4, 1e-18); /* held past 40 1/m */
+  th_near(sw_dde_bend_rigidity(&dd, pi / 8.0, 5.0),
        (64.196457e-6 + 60.286175e-6 + 73.384567e-6 + 59.671982e-6) / 16, 1e-18);
 }
 
@@ -211,13 +196,13 @@ static void bending_at_samples(void **st) {
  * with the weft free (S22 = 0), so a small tension T stretches it by T / (2 c11 - 2 c12^2/c22). */
 static void uniaxial_small(void **st) {
   (void)st;
-  sw_dde dd = preset("11oz-black-denim"); /* row 0: 205.352005, 10.234077, 1013.88629 */
+  sw_dde dd = th_dde_preset("11oz-black-denim"); /* row 0: 205.352005, 10.234077, 1013.88629 */
   double w;
   const double T = 1e-3, k = 2.0 * (205.352005 - 10.234077 * 10.234077 / 1013.88629);
   assert_int_equal(sw_dde_uniaxial(&dd, 0, T, &w), 0);
-  near(w - 1.0, T / k, 1e-3 * T / k);
+  th_near(w - 1.0, T / k, 1e-3 * T / k);
   assert_int_equal(sw_dde_uniaxial(&dd, 1, T, &w), 0);
-  near(w - 1.0, T / (2.0 * (1013.88629 - 10.234077 * 10.234077 / 205.352005)), 1e-3 * T / k);
+  th_near(w - 1.0, T / (2.0 * (1013.88629 - 10.234077 * 10.234077 / 205.352005)), 1e-3 * T / k);
 }
 
 /* ------------------------------------------------------------ (c) the reader */
@@ -240,7 +225,7 @@ static void reader_errors(void **st) {
   sw_dde dd;
   const char *good = "{\"density\": 0.2,\n \"stretching\": " STRETCH ",\n \"bending\": " BEND "}";
   if (sc_dde_parse("good.json", good, strlen(good), &dd, err, sizeof err)) fail_msg("%s", err);
-  near(dd.density, 0.2, 0), near(dd.stretch[5][3], 4, 0), near(dd.bend[2][4], 1e-6, 0);
+  th_near(dd.density, 0.2, 0), th_near(dd.stretch[5][3], 4, 0), th_near(dd.bend[2][4], 1e-6, 0);
   bad("{\"density\": -0.2,\n \"stretching\": " STRETCH ",\n \"bending\": " BEND "}",
       "bad.json:1:13: density is -0.2; expected a number > 0 (kg/m^2)");
   bad("{\"density\": 0.2,\n \"stretching\": [" ROW4 "," ROW4 "," ROW4 "," ROW4 "," ROW4 "],\n "
@@ -286,7 +271,7 @@ static void presets_equal_files(void **st) {
     buf[n] = '\0';
     assert_string_equal(buf, p->json);
     char err[SW_ERRSZ];
-    sw_dde a, b = preset(p->name);
+    sw_dde a, b = th_dde_preset(p->name);
     if (sc_dde_read(p->file, &a, err, sizeof err)) fail_msg("%s", err);
     assert_memory_equal(&a, &b, sizeof a);
   }
@@ -308,16 +293,16 @@ static void preset_loads(void **st) {
                       "material: {fabric: {preset: gray-interlock}}\n", err);
   if (!m) fail_msg("%s", err);
   const sw_material *mt = &m->mat[0];
-  near(mt->density, 0.187, 0);
+  th_near(mt->density, 0.187, 0);
   assert_int_equal(mt->membrane, SW_MEMBRANE_DDE);
   assert_int_equal(mt->bending, SW_BENDING_QUADRATIC);
-  near(mt->k_bend_u, 3.566906e-6, 1e-20);
-  near(mt->k_bend_v, 5.7979245e-6, 1e-20);
-  near(mt->k_bend_bias, 6.187491e-6, 1e-20);
+  th_near(mt->k_bend_u, 3.566906e-6, 1e-20);
+  th_near(mt->k_bend_v, 5.7979245e-6, 1e-20);
+  th_near(mt->k_bend_bias, 6.187491e-6, 1e-20);
   const double w = 0.187 * 9.80665; /* N/m^2 */
-  near(cbrt(mt->k_bend_u / w), 0.012483, 1e-6); /* hand: (3.566906e-6 / 1.833844)^(1/3) m */
-  near(cbrt(mt->k_bend_v / w), 0.014677, 1e-6);
-  near(cbrt(mt->k_bend_bias / w), 0.014999, 1e-6);
+  th_near(cbrt(mt->k_bend_u / w), 0.012483, 1e-6); /* hand: (3.566906e-6 / 1.833844)^(1/3) m */
+  th_near(cbrt(mt->k_bend_v / w), 0.014677, 1e-6);
+  th_near(cbrt(mt->k_bend_bias / w), 0.014999, 1e-6);
   assert_string_equal(m->warning, "");
   int found = 0;
   for (int k = 0; k < m->nterm; k++) found += !strcmp(m->term[k].name, "dde");
@@ -346,8 +331,8 @@ static void data_file(void **st) {
                       "material: {fabric: {preset: 11oz-black-denim}}\n", err);
   if (!b) fail_msg("%s", err);
   assert_memory_equal(&a->mat[0].dde, &b->mat[0].dde, sizeof(sw_dde));
-  near(a->mat[0].k_bend_u, b->mat[0].k_bend_u, 0);
-  near(a->mat[0].density, 0.324, 0);
+  th_near(a->mat[0].k_bend_u, b->mat[0].k_bend_u, 0);
+  th_near(a->mat[0].density, 0.324, 0);
   sw_model_free(a), sw_model_free(b);
   char path[] = "/tmp/sinew_dde_XXXXXX";
   int fd = mkstemp(path);
@@ -396,7 +381,7 @@ static void cantilever_cut(const char *name) {
   const double elastica = 41.487;                 /* degrees (tests/test_cantilever.c) */
   const double bias[3] = {0.0, 45.0, 90.0};       /* degrees: warp, bias and weft strips */
   const int nx = 162, ny = 3;
-  sw_dde dd = preset(name);
+  sw_dde dd = th_dde_preset(name);
   double kb[3];
   sc_dde_strips(&dd, kb);
   const double B[3] = {kb[0], kb[2], kb[1]};      /* N m: warp, bias, weft */

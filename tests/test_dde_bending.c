@@ -26,18 +26,7 @@
 
 static const double PI = 3.14159265358979323846;
 
-static void near(double got, double want, double tol) {
-  if (!(fabs(got - want) <= tol)) fail_msg("got %.15g, expected %.15g (tol %g)", got, want, tol);
-}
 
-static sw_dde preset(const char *name) {
-  char err[SW_ERRSZ];
-  const sc_fabric_preset *p = sc_fabric_preset_find(name);
-  assert_non_null(p);
-  sw_dde dd;
-  if (sc_dde_parse(p->file, p->json, strlen(p->json), &dd, err, sizeof err)) fail_msg("%s", err);
-  return dd;
-}
 
 static sw_dde_bend law_of(const sw_dde *dd) {
   sw_dde_bend b;
@@ -89,30 +78,30 @@ static void wrap(const sw_model *m, double kappa, double *x) {
 static void curves_at_samples(void **st) {
   (void)st;
   for (int f = 0; f < sc_nfabric_presets; f++) {
-    sw_dde dd = preset(sc_fabric_presets[f].name);
+    sw_dde dd = th_dde_preset(sc_fabric_presets[f].name);
     sw_dde_bend b = law_of(&dd);
     for (int k = 0; k < 5; k++) {
       double D[3], dD, Phi;
       for (int c = 0; c < 3; c++) sw_dde_bend_curve(&b, c, 10.0 * k, &D[c], &dD, &Phi);
-      near(D[0], dd.bend[2][k] / 4, 1e-15 * D[0]);
-      near(D[1], dd.bend[0][k] / 4, 1e-15 * D[1]);
+      th_near(D[0], dd.bend[2][k] / 4, 1e-15 * D[0]);
+      th_near(D[1], dd.bend[0][k] / 4, 1e-15 * D[1]);
       /* the bias strip (1/G cancels: round-off of 1e-11) */
-      near(4.0 / (1.0 / D[0] + 1.0 / D[1] + 2.0 / D[2]), dd.bend[1][k] / 4, 1e-10 * D[0]);
+      th_near(4.0 / (1.0 / D[0] + 1.0 / D[1] + 2.0 / D[2]), dd.bend[1][k] / 4, 1e-10 * D[0]);
       for (int c = 0; c < 3; c++) { /* C1: value and slope the same on both sides */
         double Dl, dl, Pl, Dr, dr, Pr, e = 1e-9;
         sw_dde_bend_curve(&b, c, 10.0 * k - e, &Dl, &dl, &Pl);
         sw_dde_bend_curve(&b, c, 10.0 * k + e, &Dr, &dr, &Pr);
-        near(Dl, Dr, 1e-9 * D[c]); /* D moves by its slope x 2e-9 */
-        near(dl, dr, 1e-6 * D[c]);
-        if (k == 0 || k == 4) near(dr, 0.0, 1e-6 * D[c]); /* flat at 0 and where it is held */
+        th_near(Dl, Dr, 1e-9 * D[c]); /* D moves by its slope x 2e-9 */
+        th_near(dl, dr, 1e-6 * D[c]);
+        if (k == 0 || k == 4) th_near(dr, 0.0, 1e-6 * D[c]); /* flat at 0 and where it is held */
       }
     }
     for (int c = 0; c < 3; c++) {
       double D40, dD, P40, D, P;
       sw_dde_bend_curve(&b, c, 40.0, &D40, &dD, &P40);
       sw_dde_bend_curve(&b, c, 75.0, &D, &dD, &P);
-      near(D, D40, 0), near(dD, 0.0, 0);
-      near(P, P40 + 0.5 * D40 * (75.0 * 75.0 - 1600.0), 1e-13 * P);
+      th_near(D, D40, 0), th_near(dD, 0.0, 0);
+      th_near(P, P40 + 0.5 * D40 * (75.0 * 75.0 - 1600.0), 1e-13 * P);
       double sum = 0.0, hq = 10.0 / 2000.0; /* Simpson on each 10 1/m */
       for (int j = 0; j < 6; j++) {
         for (int i = 0; i <= 2000; i++) {
@@ -122,7 +111,7 @@ static void curves_at_samples(void **st) {
         }
         double Dr, dr, Pr;
         sw_dde_bend_curve(&b, c, 10.0 * (j + 1), &Dr, &dr, &Pr);
-        near(Pr, sum, 1e-11 * Pr);
+        th_near(Pr, sum, 1e-11 * Pr);
       }
       for (int i = 1; i < 60; i++) { /* between samples never beyond them: positive */
         double Dr, dr, Pr;
@@ -138,7 +127,7 @@ static void curves_at_samples(void **st) {
  * (dpsi/dX) along the curvature is that moment everywhere. */
 static void moment_law(void **st) {
   (void)st;
-  sw_dde dd = preset("ivory-rib-knit");
+  sw_dde dd = th_dde_preset("ivory-rib-knit");
   sw_dde_bend b = law_of(&dd);
   for (int k = 0; k < 8; k++) {
     double kappa = 10.0 * k, g[9], D, dD, Phi;
@@ -147,10 +136,10 @@ static void moment_law(void **st) {
       X[3 * c + 2] = kappa; /* along the normal */
       double psi = sw_dde_bend_density(&b, X, 3, g, NULL);
       sw_dde_bend_curve(&b, c, kappa, &D, &dD, &Phi);
-      near(psi, Phi, 1e-14 * fmax(Phi, 1e-30));
-      near(g[3 * c + 2], D * kappa, 1e-13 * D * fmax(kappa, 1.0));
+      th_near(psi, Phi, 1e-14 * fmax(Phi, 1e-30));
+      th_near(g[3 * c + 2], D * kappa, 1e-13 * D * fmax(kappa, 1.0));
       if (k <= 4)
-        near(g[3 * c + 2], dd.bend[c ? 0 : 2][k] / 4 * kappa, 1e-13 * D * fmax(kappa, 1.0));
+        th_near(g[3 * c + 2], dd.bend[c ? 0 : 2][k] / 4 * kappa, 1e-13 * D * fmax(kappa, 1.0));
     }
   }
 }
@@ -168,7 +157,7 @@ static void density_derivatives(void **st) {
   (void)st;
   unsigned long seed = 11;
   for (int f = 0; f < sc_nfabric_presets; f++) {
-    sw_dde dd = preset(sc_fabric_presets[f].name);
+    sw_dde dd = th_dde_preset(sc_fabric_presets[f].name);
     sw_dde_bend b = law_of(&dd);
     for (int d = 2; d <= 3; d++)
       for (int n = 0; n < 60; n++) {
@@ -185,9 +174,9 @@ static void density_derivatives(void **st) {
           xp[i] += hs, xm[i] -= hs;
           double fp = sw_dde_bend_density(&b, xp, d, gp, NULL);
           double fm = sw_dde_bend_density(&b, xm, d, gm, NULL);
-          near(g[i], (fp - fm) / (2 * hs), 1e-6 * scale * fmax(mag, 1.0));
+          th_near(g[i], (fp - fm) / (2 * hs), 1e-6 * scale * fmax(mag, 1.0));
           for (int j = 0; j < 3 * d; j++)
-            near(H[j * 3 * d + i], (gp[j] - gm[j]) / (2 * hs), 1e-6 * scale);
+            th_near(H[j * 3 * d + i], (gp[j] - gm[j]) / (2 * hs), 1e-6 * scale);
         }
       }
   }
@@ -197,7 +186,7 @@ static void density_derivatives(void **st) {
  * own dde membrane is replaced by none (the harness checks one term at a time anyway). */
 static sw_model *grid(int dim, int nx, int ny, double sx, double sy, const char *name,
                       double bias) {
-  sw_dde dd = preset(name);
+  sw_dde dd = th_dde_preset(name);
   sw_model *m = th_grid_unfinished(dim, nx, ny, sx, sy);
   m->mat[0] = dde_mat(&dd, bias);
   return th_finish(m);
@@ -241,7 +230,7 @@ static void term_conformance_cylinders(void **st) {
  * energy to O(kappa) and the same Hessian at the flat state. */
 static void quadratic_limit(void **st) {
   (void)st;
-  sw_dde dd = preset("gray-interlock");
+  sw_dde dd = th_dde_preset("gray-interlock");
   sw_material a = dde_mat(&dd, 20.0), q = a;
   q.bending = SW_BENDING_QUADRATIC;
   sw_model *ma = th_grid_unfinished(3, 6, 5, 0.05, 0.04);
@@ -258,7 +247,7 @@ static void quadratic_limit(void **st) {
   }
   double ea = term_eval(ma, "dde_bending", x, NULL), eq = term_eval(mq, "quadratic", x, NULL);
   print_message("small curvature: dde_bending %.12e J, quadratic %.12e J\n", ea, eq);
-  near(ea, eq, 1e-8 * eq);
+  th_near(ea, eq, 1e-8 * eq);
   free(x);
   sw_model_free(ma), sw_model_free(mq);
 }
@@ -297,7 +286,7 @@ static void cylinders(void **st) {
   const double kappa[] = {2.0, 10.0, 15.0, 20.0, 30.0, 35.0, 40.0, 60.0}, h = 5e-4; /* 1/m, m */
   const char *names[] = {"gray-interlock", "11oz-black-denim"};
   for (int f = 0; f < 2; f++) {
-    sw_dde dd = preset(names[f]);
+    sw_dde dd = th_dde_preset(names[f]);
     sw_dde_bend b = law_of(&dd);
     for (int a = 0; a < 3; a++) { /* warp, bias, weft */
       double bias = 45.0 * a, worst = 0.0;
@@ -311,7 +300,7 @@ static void cylinders(void **st) {
         if (a != 1) { /* along warp or weft: the row's own integral */
           double D, dD, P;
           sw_dde_bend_curve(&b, a ? 1 : 0, kappa[k], &D, &dD, &P);
-          near(want, P, 1e-14 * P);
+          th_near(want, P, 1e-14 * P);
         }
         if (!(rel < 2e-4))
           fail_msg("%s, bending at %g deg to warp, kappa %g 1/m: %.9e J/m^2, expected %.9e",
@@ -346,7 +335,7 @@ static void scene_key(void **st) {
   if (!m) fail_msg("%s", err);
   assert_int_equal(m->mat[0].bending, SW_BENDING_DDE);
   assert_int_equal(m->mat[0].membrane, SW_MEMBRANE_DDE);
-  near(m->mat[0].k_bend_u, 3.566906e-6, 1e-20);
+  th_near(m->mat[0].k_bend_u, 3.566906e-6, 1e-20);
   int found = 0;
   for (int k = 0; k < m->nterm; k++) found += !strcmp(m->term[k].name, "dde_bending");
   assert_int_equal(found, 1);
@@ -530,7 +519,7 @@ static void cantilever_elastica(void **st) {
   const char *name = "royal-target";
   const double bias[3] = {0.0, 90.0, 45.0}, tol[3] = {0.1, 0.1, 1.0}; /* degrees */
   const int law[3] = {0, 1, 3};
-  sw_dde dd = preset(name);
+  sw_dde dd = th_dde_preset(name);
   sw_dde_bend b = law_of(&dd);
   const double g = 9.81, w = dd.density * g;
   for (int k = 0; k < 3; k++) {

@@ -10,8 +10,9 @@
 
 #include "harness.h"
 
-/* Optitex's worked example triangle: uv (0,0), (1,0), (0,1); positions the same in the plane z = 0. */
-static sw_model *seed_triangle(double ku, double kv, int reference_uv) {
+/* Optitex's worked example triangle: uv (0,0), (1,0), (0,1); positions the same in the plane
+ * z = 0; its material still to be set, the model not finished. */
+static sw_model *unit_triangle(void) {
   sw_model *m = sw_model_new();
   m->dim = 3;
   m->nv = 3;
@@ -28,6 +29,11 @@ static sw_model *seed_triangle(double ku, double kv, int reference_uv) {
     m->x0[3 * i + 1] = uv[2 * i + 1];
   }
   memcpy(m->uv, uv, sizeof uv);
+  return m;
+}
+
+static sw_model *seed_triangle(double ku, double kv, int reference_uv) {
+  sw_model *m = unit_triangle();
   m->mat[0].density = 0.1;
   m->mat[0].membrane = SW_MEMBRANE_BW98;
   m->mat[0].k_u = ku;
@@ -80,19 +86,7 @@ static void measured_fabric(void **st) {
       {49.285110, 87.596100, 206.373993, 22.768457}, {123.989220, 105.181770, 365.966217, 44.217571},
       {139.686325, 73.592560, 413.553162, 0.0},  {127.443810, 85.848587, 405.872833, 32.238411}};
   for (int given = 0; given < 2; given++) {
-    sw_model *m = sw_model_new();
-    m->dim = 3, m->nv = 3, m->nf = 1;
-    m->x0 = calloc(9, sizeof(double));
-    m->v0 = calloc(9, sizeof(double));
-    m->pinned = calloc(3, 1);
-    m->face = calloc(3, sizeof(int));
-    m->uv = calloc(6, sizeof(double));
-    const double uv[6] = {0, 0, 1, 0, 0, 1};
-    for (int i = 0; i < 3; i++) {
-      m->face[i] = i;
-      m->x0[3 * i] = uv[2 * i], m->x0[3 * i + 1] = uv[2 * i + 1];
-    }
-    memcpy(m->uv, uv, sizeof uv);
+    sw_model *m = unit_triangle();
     m->mat[0].density = 0.187;
     m->mat[0].membrane = SW_MEMBRANE_DDE;
     memcpy(m->mat[0].dde.stretch, rows, sizeof rows);
