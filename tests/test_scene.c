@@ -729,7 +729,8 @@ static int elastic(const char *term) { return strcmp(term, "gravity") && strcmp(
 /* With stiffness_scale s every elastic term's energy at a deformed state is s times the
  * unscaled one (s = 4 exactly: a power of two commutes with rounding); gravity and loads are
  * unchanged; so are masses, damping, rest lengths, the tension XY clip.  Every membrane model,
- * every bending model, tendons, derived and explicit tension XY stiffness. */
+ * every bending model, tendons, derived and explicit tension XY stiffness; a measured fabric's
+ * data (the dde membrane and bending). */
 static void test_stiffness_scale(void **state) {
   (void)state;
   static const char *const memb[] = {
@@ -788,6 +789,34 @@ static void test_stiffness_scale(void **state) {
     }
     sw_model_free(m0);
   }
+  /* a measured fabric: the dde membrane and the data's curvature-dependent bending */
+  snprintf(text, sizeof text,
+           "mesh: {grid: {size: [1, 0.8], vertices: [6, 5]}}\n"
+           "material: {fabric: {preset: gray-interlock}, bending: {model: dde}}\n"
+           "gravity: [0, 0, -9.81]\n"
+           "pins: [{select: {box: [[-0.01, 0.79, -1], [1.01, 0.81, 1]]}}]\n");
+  char err[SW_ERRSZ];
+  sw_model *m0 = sw_scene_parse("scale.yaml", text, strlen(text), err, sizeof err);
+  if (!m0) fail_msg("%s", err);
+  double x[90], e0[16], e1[16];
+  for (int i = 0; i < 90; i++) x[i] = m0->x0[i] + 0.05 * sin(1.3 * i + 0.7) + 0.02 * (i % 3 == 2);
+  term_energies(m0, x, e0);
+  for (int q = 0; q < 2; q++) {
+    sw_scene_overrides ov = {{0, 0}, scales[q]};
+    sw_model *m1 = sw_scene_parse_ex("scale.yaml", text, strlen(text), &ov, err, sizeof err);
+    if (!m1) fail_msg("%s", err);
+    term_energies(m1, x, e1);
+    for (int t = 0; t < m1->nterm; t++) {
+      double want = elastic(m0->term[t].name) ? scales[q] * e0[t] : e0[t];
+      if (!(fabs(e0[t]) > 0)) fail_msg("%s: energy 0 at the deformed state", m0->term[t].name);
+      if (!(fabs(e1[t] - want) <= 1e-13 * fabs(want)))
+        fail_msg("dde, s = %g, term %s: %.17g, expected %.17g", scales[q], m0->term[t].name,
+                 e1[t], want);
+    }
+    if (scales[q] == 4.0) assert_true(m1->mat[0].tx_k_u == 4.0 * m0->mat[0].tx_k_u);
+    sw_model_free(m1);
+  }
+  sw_model_free(m0);
 }
 
 /* The grid override: vertices replaced, boxes on the new grid, indices kept as indices (out of

@@ -439,6 +439,10 @@ static void scale_material(sw_material *mt, double s) {
                  &mt->ks_stretch, &mt->ks_shear, &mt->ks_bend, &mt->k_bend,
                  &mt->k_bend_u, &mt->k_bend_v, &mt->k_bend_bias};
   for (size_t i = 0; i < sizeof k / sizeof k[0]; i++) *k[i] *= s;
+  for (int r = 0; r < 6; r++) /* a measured fabric's data: its stretching and bending, N/m, N m */
+    for (int c = 0; c < 4; c++) mt->dde.stretch[r][c] *= s;
+  for (int r = 0; r < 3; r++)
+    for (int c = 0; c < 5; c++) mt->dde.bend[r][c] *= s;
   if (mt->tx_k_u >= 0) mt->tx_k_u *= s; /* < 0: derived from the (scaled) membrane */
   if (mt->tx_k_v >= 0) mt->tx_k_v *= s;
 }
