@@ -47,6 +47,7 @@ typedef struct morley_param {
   double *L; /* (n x 3 x NV) II_T = sum_v L_v x_v in (uu, vv, sqrt(2) uv), 1/m^2 */
   double *D; /* (n x 9) A times the condensed rigidity, N m^3 */
   double *Q; /* (n x NV x NV) Q = L^T D L of each stencil, nv x nv used, N/m */
+  sw_compact cm; /* the compact Newton matrix (cm.C != NULL): the stencils are there */
 } morley_param;
 
 static void morley_free(void *p) {
@@ -55,6 +56,7 @@ static void morley_free(void *p) {
   sw_free(mp->L);
   sw_free(mp->D);
   sw_free(mp->Q);
+  sw_compact_free(&mp->cm);
   sw_free(mp);
 }
 
@@ -322,10 +324,12 @@ static int tri_setup(const sw_model *m, const sw_topology *tp, const int *fe, in
 
 static int morley_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, double *energy) {
   const morley_param *mp = t->param;
-  const int d = m->dim;
+  const int d = m->dim, compact = mp->cm.C != NULL;
+  const int *sptr = compact ? mp->cm.sptr : t->sptr, *sidx = compact ? mp->cm.sidx : t->sidx;
   double total = 0.0;
+  if (ev->hess && compact) sw_compact_hess(t, m, &mp->cm, ev->hess);
   for (int s = 0; s < mp->n; s++) {
-    const int *v = t->sidx + t->sptr[s], nv = t->sptr[s + 1] - t->sptr[s], bw = nv * d;
+    const int *v = sidx + sptr[s], nv = sptr[s + 1] - sptr[s], bw = nv * d;
     const double *Q = mp->Q + NV * NV * s, *L = mp->L + 3 * NV * s, *D = mp->D + 9 * s;
     double II[3][3] = {{0}}, mu[3][3] = {{0}}; /* II_T (1/m), A D : II_T (N m^2) */
     for (int r = 0; r < 3; r++)
@@ -340,7 +344,7 @@ static int morley_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, d
       for (int i = 0; i < nv; i++)
         for (int c = 0; c < d; c++)
           for (int r = 0; r < 3; r++) ev->grad[(size_t)v[i] * d + c] += L[NV * r + i] * mu[r][c];
-    if (!ev->hess) continue;
+    if (!ev->hess || compact) continue;
     double *blk = ev->hess + t->hptr[s];
     for (int i = 0; i < nv; i++)
       for (int j = 0; j < nv; j++)
@@ -388,5 +392,7 @@ int sw_morley_bending_build(sw_term *t, const sw_model *m, char *err, size_t err
   sw_free(fe);
   sw_topology_free(&tp);
   if (rc) return sw_errf(err, errsz, "out of memory for the bending of %d faces", m->nf), -1;
+  if (m->opt.bending_matrix == SW_BMATRIX_COMPACT && mp->n > 0)
+    return sw_compact_stencils(t, m, mp->Q, NV, &mp->cm, err, errsz);
   return 0;
 }

@@ -31,6 +31,7 @@ typedef struct quadratic_param {
   double *K;   /* (n x 3 x 6) K_a / |e_a| of each hinge on the stencil, 1/m */
   double *W;   /* (n x 9) the triangle's W (models/bending.c), J */
   double *Q;   /* (n x 36) Q of each stencil, nv x nv used, N/m */
+  sw_compact cm; /* the compact Newton matrix (cm.C != NULL): the stencils are there */
 } quadratic_param;
 
 static void quadratic_free(void *p) {
@@ -39,6 +40,7 @@ static void quadratic_free(void *p) {
   sw_free(qp->K);
   sw_free(qp->W);
   sw_free(qp->Q);
+  sw_compact_free(&qp->cm);
   sw_free(qp);
 }
 
@@ -79,12 +81,14 @@ static double tri_energy(const quadratic_param *qp, int s, const int *v, int nv,
 
 static int quadratic_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, double *energy) {
   const quadratic_param *qp = t->param;
-  const int d = m->dim;
+  const int d = m->dim, compact = qp->cm.C != NULL;
+  const int *sptr = compact ? qp->cm.sptr : t->sptr, *sidx = compact ? qp->cm.sidx : t->sidx;
   double total = 0.0;
+  if (ev->hess && compact) sw_compact_hess(t, m, &qp->cm, ev->hess);
   for (int s = 0; s < qp->n; s++) {
-    const int *v = t->sidx + t->sptr[s], nv = t->sptr[s + 1] - t->sptr[s], bw = nv * d;
+    const int *v = sidx + sptr[s], nv = sptr[s + 1] - sptr[s], bw = nv * d;
     total += tri_energy(qp, s, v, nv, d, ev);
-    if (!ev->hess) continue;
+    if (!ev->hess || compact) continue;
     const double *Q = qp->Q + 36 * s;
     double *blk = ev->hess + t->hptr[s];
     for (int i = 0; i < nv; i++)
@@ -145,5 +149,8 @@ int sw_quadratic_bending_build(sw_term *t, const sw_model *m, char *err, size_t 
   for (int s = 0; !rc && s < qp->n; s++)
     tri_setup(m, &tr[s], qp->K + 18 * s, qp->W + 9 * s, qp->Q + 36 * s);
   sw_free(tr);
-  return rc ? -1 : 0;
+  if (rc) return -1;
+  if (m->opt.bending_matrix == SW_BMATRIX_COMPACT && qp->n > 0)
+    return sw_compact_stencils(t, m, qp->Q, 6, &qp->cm, err, errsz);
+  return 0;
 }

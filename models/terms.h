@@ -184,6 +184,22 @@ void sw_plate_rigidity(const sw_material *mt, double D[3]);
 /* models/morley_bending.c: Morley's constant-curvature triangle with mid-edge slopes from a
  * quadratic fitted around each edge; constant Hessian (docs/models.md "morley"). */
 int sw_morley_bending_build(sw_term *t, const sw_model *m, char *err, size_t errsz);
+/* models/compact.c: the compact Newton matrix of a bending term with a constant Hessian
+ * Q (x) I, Q = sum_s Q_s on the term's stencils (Q_s at Q + s ldq^2, row-major, ldq wide):
+ * the entries between vertices that share no face moved onto the diagonal as their absolute
+ * values (C >= Q), C split onto the faces.  sw_compact_stencils keeps t's stencils in c (for
+ * the term's energy and gradient) and makes t's stencils the mesh's faces; sw_compact_hess
+ * adds C (x) I into their blocks. */
+typedef struct sw_compact {
+  int n;             /* the term's own stencils */
+  int *sptr, *sidx;  /* their vertices (as sw_term's) */
+  double *C;         /* (nf x 9) each face's share of C on its corners, N/m */
+  long ndropped;     /* vertex pairs moved onto the diagonal */
+} sw_compact;
+int sw_compact_stencils(sw_term *t, const sw_model *m, const double *Q, int ldq,
+                        sw_compact *c, char *err, size_t errsz);
+void sw_compact_hess(const sw_term *t, const sw_model *m, const sw_compact *c, double *hess);
+void sw_compact_free(sw_compact *c);
 /* models/point_load.c: E = -sum_i f_i . x_i with f = m->load (no Hessian, no stencils). */
 int sw_point_load_build(sw_term *t, const sw_model *m, char *err, size_t errsz);
 

@@ -25,6 +25,11 @@ const char *const *sw_ordering_names(void) {
   return names;
 }
 
+const char *const *sw_bending_matrix_names(void) {
+  static const char *const names[SW_BMATRIX_N + 1] = {"exact", "compact", NULL};
+  return names;
+}
+
 const char *const *sw_norm_names(void) {
   static const char *const names[SW_NORM_N + 1] = {"rms", "max", NULL};
   return names;

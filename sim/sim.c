@@ -658,6 +658,7 @@ typedef struct kept_option {
 static const kept_option kept_options[] = {
     KEPT(method), KEPT(dt), KEPT(newton_max), KEPT(newton_tol), KEPT(newton_norm),
     KEPT(max_halvings), KEPT(hessian), KEPT(newton_reuse), KEPT(factorization), KEPT(ordering),
+    KEPT(bending_matrix),
     KEPT(rtol), KEPT(atol), KEPT(max_order), KEPT(max_step), KEPT(setup_every), KEPT(energy_bound),
     KEPT(frames_every), KEPT(positions_every), KEPT(frames_format), KEPT(tx_clip),
     KEPT(tx_reference_uv), KEPT(tx_k_u), KEPT(tx_k_v), KEPT(tendon_dense_max)};
@@ -749,6 +750,7 @@ int sw_restart_options_ex(const char *dir, char *scene, size_t scenesz, sw_optio
   memset(ov, 0, sizeof *ov);
   memcpy(ov->grid, h.grid, sizeof ov->grid);
   ov->stiffness_scale = h.stiffness_scale;
+  ov->bending_matrix = h.opt.bending_matrix + 1; /* the terms are built with it */
   return SW_OK;
 }
 

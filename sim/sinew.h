@@ -517,6 +517,11 @@ enum { SW_FRAMES_BINARY = 0, SW_FRAMES_BINARY32 = 1, SW_FRAMES_ASCII = 2, SW_FRA
 /* Their names ("binary", "binary32", "ascii"), NULL-terminated. */
 SW_API const char *const *sw_frames_format_names(void);
 
+/* The bending's part of Newton's matrix, for the bending models with a constant Hessian
+ * (quadratic, morley; docs/integrators.md, "The bending matrix"): exact, or compact (the
+ * couplings of vertices that share no face moved onto the diagonal, models/compact.c). */
+enum { SW_BMATRIX_EXACT = 0, SW_BMATRIX_COMPACT = 1, SW_BMATRIX_N = 2 };
+SW_API const char *const *sw_bending_matrix_names(void);
 typedef struct sw_options {
   char method[SW_NAMESZ];      /* integrator name, see sw_method_names() */
   double dt;                   /* step, s */
@@ -536,6 +541,7 @@ typedef struct sw_options {
                                   fresh factorisation per iteration */
   int factorization;           /* SW_FACTOR_* */
   int ordering;                /* SW_ORDERING_*: the factorisation's fill-reducing ordering */
+  int bending_matrix;          /* SW_BMATRIX_*: set before sw_model_finish builds the terms */
   int blas_threads;            /* OpenBLAS threads; 0: $OPENBLAS_NUM_THREADS if set, else 1 */
   double rtol, atol;           /* adaptive methods (CVODE, IDA): relative, absolute (m, m/s) */
   int max_order;               /* adaptive methods: largest BDF order (1..5); 0: automatic,
@@ -667,6 +673,7 @@ SW_API sw_model *sw_scene_load(const char *path, char *err, size_t errsz);
 typedef struct sw_scene_overrides {
   int grid[2];                 /* vertices nx, ny; 0: the scene's */
   double stiffness_scale;      /* > 0; 0 or 1: none */
+  int bending_matrix;          /* SW_BMATRIX_* + 1; 0: the scene's */
 } sw_scene_overrides;
 
 /* sw_scene_load with overrides (ov NULL: none).  A bad override is an error naming the scene

@@ -91,6 +91,7 @@ static void usage_run(FILE *fp) {
           "                 [--newton-tol V] [--newton-norm rms|max] [--hessian MODE]\n"
           "                 [--factorization auto|simplicial|supernodal]\n"
           "                 [--ordering auto|amd|metis|nesdis]\n"
+          "                 [--bending-matrix exact|compact]\n"
           "                 [--newton-reuse on|off|auto|step]\n"
           "       sinew run --resume DIR [--duration T] [--threads N] [--force] [--quiet]\n"
           "\n"
@@ -138,6 +139,10 @@ static void usage_run(FILE *fp) {
           "  --ordering auto|amd|metis|nesdis\n"
           "                  CHOLMOD's fill-reducing ordering; auto: the measured rule\n"
           "                  (overrides integrator.ordering)\n"
+          "  --bending-matrix exact|compact\n"
+          "                  the quadratic and morley bending's part of Newton's matrix:\n"
+          "                  exact, or compact (couplings beyond a face moved onto the\n"
+          "                  diagonal; overrides integrator.bending_matrix)\n"
           "  --threads N     OpenBLAS threads for CHOLMOD (default: $OPENBLAS_NUM_THREADS, else 1)\n"
           "  --quiet         nothing printed when the run succeeds (no progress line, no\n"
           "                  summary); warnings and errors still go to stderr\n"
@@ -182,12 +187,20 @@ static int parse_grid(const char *s, int grid[2]) {
 
 /* --grid and --stiffness-scale (run and check): 1 if argv[*i] was one (*i moved past its value),
  * 0 if not, -1 on a bad value. */
+static int cli_choice(const char *opt, const char *s, const char *const *names, int *out);
+
 static int parse_override(int argc, char **argv, int *i, sw_scene_overrides *ov) {
   const char *a = argv[*i];
   if (*i + 1 >= argc) return 0;
   if (!strcmp(a, "--grid")) return parse_grid(argv[++*i], ov->grid) ? -1 : 1;
   if (!strcmp(a, "--stiffness-scale"))
     return cli_number(a, argv[++*i], 0, &ov->stiffness_scale) ? -1 : 1;
+  if (!strcmp(a, "--bending-matrix")) {
+    int k = 0;
+    if (cli_choice(a, argv[++*i], sw_bending_matrix_names(), &k)) return -1;
+    ov->bending_matrix = k + 1;
+    return 1;
+  }
   return 0;
 }
 
@@ -412,7 +425,7 @@ static int finish_run(sw_model *m, int rc, const char *err, int quiet, int resum
 }
 
 static int cmd_check(int argc, char **argv) {
-  sw_scene_overrides ov = {{0, 0}, 0.0};
+  sw_scene_overrides ov = {{0, 0}, 0.0, 0};
   if (argc < 3 || argv[2][0] == '-') return usage_check(stderr), 2;
   for (int i = 3; i < argc; i++) {
     int rc = parse_override(argc, argv, &i, &ov);

@@ -404,7 +404,7 @@ static int load_gravity(const ctx *c, const ynode *y) {
 static const char *const int_keys[] = {"method", "dt", "max_halvings", "newton", "hessian",
                                        "rtol", "atol", "max_order", "max_step", "energy_bound",
                                        "tendon_dense_max", "setup_every", "factorization",
-                                       "ordering"};
+                                       "ordering", "bending_matrix"};
 static const char *const newton_keys[] = {"max_iterations", "tol", "reuse", "force_tol", "norm"};
 static const char *const reuse_names[] = {"false", "true", "auto", "step"};
 
@@ -430,8 +430,10 @@ static int load_max_order(const ctx *c, const ynode *y, int *out) {
 
 static int load_integrator(const ctx *c, const ynode *y) {
   sw_options *o = &c->m->opt;
-  const ynode *v[14], *nv[5];
-  if (sy_map(c, y, "integrator", int_keys, 14, v)) return -1;
+  const ynode *v[15], *nv[5];
+  if (sy_map(c, y, "integrator", int_keys, 15, v)) return -1;
+  if (v[14] && sy_choice(c, v[14], "integrator bending_matrix", sw_bending_matrix_names(),
+                         SW_BMATRIX_N, &o->bending_matrix)) return -1;
   if (v[13] && sy_choice(c, v[13], "integrator ordering", sw_ordering_names(), SW_ORDERING_N,
                          &o->ordering)) return -1;
   if (v[12] && sy_choice(c, v[12], "integrator factorization", sw_factor_names(), SW_FACTOR_N,
@@ -557,6 +559,9 @@ static int check_overrides(const char *name, const sw_scene_overrides *ov, char 
   if (!isfinite(s) || s < 0.0)
     return sw_errf(err, errsz, "%s: the stiffness scale (--stiffness-scale) is %g; "
                    "expected a number > 0", name, s), -1;
+  if (ov->bending_matrix < 0 || ov->bending_matrix > SW_BMATRIX_N)
+    return sw_errf(err, errsz, "%s: the bending matrix override is %d; expected 0 to %d", name,
+                   ov->bending_matrix, SW_BMATRIX_N), -1;
   return 0;
 }
 
@@ -607,6 +612,7 @@ sw_model *sw_scene_parse_ex(const char *name, const char *buf, size_t len,
   sw_free(c.fgroup);
   sy_free(root);
   if (!rc && ov && ov->stiffness_scale > 0.0) sc_scale_stiffness(c.m, ov->stiffness_scale);
+  if (!rc && ov && ov->bending_matrix > 0) c.m->opt.bending_matrix = ov->bending_matrix - 1;
   if (rc) {
     sw_model_free(c.m);
     return NULL;
