@@ -26,7 +26,7 @@ const char *const *sw_ordering_names(void) {
 }
 
 const char *const *sw_bending_matrix_names(void) {
-  static const char *const names[SW_BMATRIX_N + 1] = {"exact", "compact", NULL};
+  static const char *const names[SW_BMATRIX_N + 1] = {"exact", "compact", "auto", NULL};
   return names;
 }
 
@@ -55,6 +55,8 @@ sw_model *sw_model_new(void) {
   o->newton_force_tol = 1e-10;
   o->max_halvings = 8;
   o->hessian = SW_HESSIAN_DEFAULT; /* abs in 3D, projected in 2D (sw_model_finish) */
+  o->bending_matrix = SW_BMATRIX_EXACT; /* a model built in code: its terms' own Hessians;
+                                            a scene's default is auto (sw_scene_parse_ex) */
   o->newton_reuse = SW_REUSE_OFF;
   o->rtol = 1e-6;
   o->atol = 1e-8;
@@ -465,6 +467,11 @@ int sw_model_finish(sw_model *m, char *err, size_t errsz) {
   if (m->opt.hessian == SW_HESSIAN_DEFAULT)
     m->opt.hessian = m->dim == 3 ? SW_HESSIAN_ABS : SW_HESSIAN_PROJECTED;
   if (m->opt.tx_reference_uv < 0) m->opt.tx_reference_uv = m->nseam > 0;
+  /* measured (docs/performance.md, "The bending matrix"): compact wherever inertia sits
+   * beside the bending; a static solve with it did not converge on a cantilever */
+  if (m->opt.bending_matrix == SW_BMATRIX_AUTO)
+    m->opt.bending_matrix = strcmp(m->opt.method, "static") && m->fit.mode == SW_FIT_DYNAMIC
+                                ? SW_BMATRIX_COMPACT : SW_BMATRIX_EXACT;
   apply_bias(m);
   size_t nd = (size_t)m->nv * (size_t)m->dim;
   m->dminv = sw_calloc((size_t)m->nf, 4 * sizeof(double));

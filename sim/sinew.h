@@ -518,9 +518,12 @@ enum { SW_FRAMES_BINARY = 0, SW_FRAMES_BINARY32 = 1, SW_FRAMES_ASCII = 2, SW_FRA
 SW_API const char *const *sw_frames_format_names(void);
 
 /* The bending's part of Newton's matrix, for the bending models with a constant Hessian
- * (quadratic, morley; docs/integrators.md, "The bending matrix"): exact, or compact (the
- * couplings of vertices that share no face moved onto the diagonal, models/compact.c). */
-enum { SW_BMATRIX_EXACT = 0, SW_BMATRIX_COMPACT = 1, SW_BMATRIX_N = 2 };
+ * (quadratic, morley; docs/integrators.md, "The bending matrix"): exact, compact (the
+ * couplings of vertices that share no face moved onto the diagonal, models/compact.c), or
+ * auto: compact for the time-stepping methods, exact for the static method and the fit modes
+ * optimize and settle, whose large steps leave bending without inertia beside it (resolved by
+ * sw_model_finish). */
+enum { SW_BMATRIX_EXACT = 0, SW_BMATRIX_COMPACT = 1, SW_BMATRIX_AUTO = 2, SW_BMATRIX_N = 3 };
 SW_API const char *const *sw_bending_matrix_names(void);
 typedef struct sw_options {
   char method[SW_NAMESZ];      /* integrator name, see sw_method_names() */
@@ -674,6 +677,9 @@ typedef struct sw_scene_overrides {
   int grid[2];                 /* vertices nx, ny; 0: the scene's */
   double stiffness_scale;      /* > 0; 0 or 1: none */
   int bending_matrix;          /* SW_BMATRIX_* + 1; 0: the scene's */
+  const char *method;          /* the integrator (sinew run --method), or NULL: the scene's;
+                                  applied before the terms are built (the bending matrix's
+                                  auto depends on it) */
 } sw_scene_overrides;
 
 /* sw_scene_load with overrides (ov NULL: none).  A bad override is an error naming the scene

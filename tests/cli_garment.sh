@@ -118,16 +118,16 @@ for sig in TERM KILL; do
 done
 
 # The fit's end is the garment's rest, not Newton's error: the shipped tank, as shipped and with
-# every stiffness scaled by 1 +- 1e-12 (round-off only), ends its fit within 0.1 s of the
-# earliest end possible (2 s, twice the ramp).  With the fit's Newton tolerance 1e-2 m/s after
+# every stiffness scaled by 1 +- 1e-12 (round-off only), ends its fit within 0.2 s of the
+# earliest end possible (2 s, twice the ramp; 2.07 to 2.13 s with the compact bending matrix).  With the fit's Newton tolerance 1e-2 m/s after
 # the ramps (ten times the speed threshold) two of the three ended at 3.56 and 3.59 s.
 for sc in 1 1.000000000001 0.999999999999; do
   d=$tmp/tank_$sc
   "$sinew" run scenes/garment_tank.yaml --out "$d" --duration 0 --no-frames --quiet \
     --stiffness-scale $sc 2>"$tmp/err" >/dev/null || fail "tank x $sc: $(cat "$tmp/err")"
   end=$(summary "$d" fit_end_s)
-  awk -v e="$end" 'BEGIN { exit !(e >= 2 && e <= 2.1) }' ||
-    fail "tank x $sc: the fit ended at $end s, expected 2 to 2.1 s"
+  awk -v e="$end" 'BEGIN { exit !(e >= 2 && e <= 2.2) }' ||
+    fail "tank x $sc: the fit ended at $end s, expected 2 to 2.2 s"
 done
 
 [ $fails -eq 0 ] && echo "cli_garment: all passed"

@@ -275,7 +275,7 @@ static void test_panels(void **state) {
   assert_int_equal(m->mat[0].membrane, SW_MEMBRANE_BW98);
   sw_model_free(m);
   /* --stiffness-scale 3: every panel's stiffness, nothing else */
-  sw_scene_overrides ov = {{0, 0}, 3.0, 0};
+  sw_scene_overrides ov = {{0, 0}, 3.0, 0, NULL};
   snprintf(path, sizeof path, "%s/panels.yaml", tmpdir);
   m = sw_scene_load_ex(path, &ov, err, sizeof err);
   if (!m) fail_msg("%s", err);
@@ -757,7 +757,7 @@ static void test_stiffness_scale(void **state) {
     term_energies(m0, x, e0);
     for (int q = 0; q < 2; q++) {
       const double sc = scales[q];
-      sw_scene_overrides ov = {{0, 0}, sc, 0};
+      sw_scene_overrides ov = {{0, 0}, sc, 0, NULL};
       sw_model *m1 = sw_scene_parse_ex("scale.yaml", text, strlen(text), &ov, err, sizeof err);
       if (!m1) fail_msg("%s", err);
       assert_true(m1->stiffness_scale == sc);
@@ -802,7 +802,7 @@ static void test_stiffness_scale(void **state) {
   for (int i = 0; i < 90; i++) x[i] = m0->x0[i] + 0.05 * sin(1.3 * i + 0.7) + 0.02 * (i % 3 == 2);
   term_energies(m0, x, e0);
   for (int q = 0; q < 2; q++) {
-    sw_scene_overrides ov = {{0, 0}, scales[q], 0};
+    sw_scene_overrides ov = {{0, 0}, scales[q], 0, NULL};
     sw_model *m1 = sw_scene_parse_ex("scale.yaml", text, strlen(text), &ov, err, sizeof err);
     if (!m1) fail_msg("%s", err);
     term_energies(m1, x, e1);
@@ -826,7 +826,7 @@ static void test_grid_override(void **state) {
   char err[SW_ERRSZ];
   const char *text = "mesh: {grid: {size: [1, 1], vertices: [3, 3]}}\n" MAT
                      "pins: [{select: {box: [[-0.01, 0.99, -1], [1.01, 1.01, 1]]}}]\n";
-  sw_scene_overrides ov = {{7, 5}, 0.0, 0};
+  sw_scene_overrides ov = {{7, 5}, 0.0, 0, NULL};
   sw_model *m = sw_scene_parse_ex("grid.yaml", text, strlen(text), &ov, err, sizeof err);
   if (!m) fail_msg("%s", err);
   assert_int_equal(m->nv, 35);
@@ -839,11 +839,11 @@ static void test_grid_override(void **state) {
   sw_model_free(m);
   /* index 8 exists in 3 x 3, not in 2 x 2 */
   const char *idx = GRID MAT "pins: [{select: {vertices: [0, 8]}}]\n";
-  ov = (sw_scene_overrides){{2, 2}, 0.0, 0};
+  ov = (sw_scene_overrides){{2, 2}, 0.0, 0, NULL};
   assert_null(sw_scene_parse_ex("idx.yaml", idx, strlen(idx), &ov, err, sizeof err));
   assert_non_null(strstr(err, "idx.yaml:3:"));
   assert_non_null(strstr(err, "vertices[1] is 8; expected an integer in [0, 3]"));
-  ov = (sw_scene_overrides){{4, 4}, 0.0, 0};
+  ov = (sw_scene_overrides){{4, 4}, 0.0, 0, NULL};
   m = sw_scene_parse_ex("idx.yaml", idx, strlen(idx), &ov, err, sizeof err);
   if (!m) fail_msg("%s", err);
   assert_true(m->nv == 16 && m->pinned[0] && m->pinned[8] && count_pinned(m) == 2);
@@ -853,7 +853,7 @@ static void test_grid_override(void **state) {
   /* the same pins by grid position: the far corner on every grid, and no warning */
   const char *gp = GRID MAT "pins: [{select: {grid: [[0, 0], [-1, -1]]}}]\n";
   for (int n = 2; n <= 5; n++) {
-    ov = (sw_scene_overrides){{n, n + 1}, 0.0, 0};
+    ov = (sw_scene_overrides){{n, n + 1}, 0.0, 0, NULL};
     m = sw_scene_parse_ex("gp.yaml", gp, strlen(gp), &ov, err, sizeof err);
     if (!m) fail_msg("%s", err);
     assert_true(m->pinned[0] && m->pinned[n * (n + 1) - 1] && count_pinned(m) == 2);
@@ -871,8 +871,8 @@ static void test_grid_override(void **state) {
   assert_null(sw_scene_parse_ex("pts.yaml", pts, strlen(pts), &ov, err, sizeof err));
   assert_non_null(strstr(err, "pts.yaml:1:7: mesh is a list of points"));
   /* bad overrides: named, before the scene is read */
-  const sw_scene_overrides bad[] = {{{1, 5}, 0.0, 0}, {{5, 0}, 0.0, 0}, {{2000, 2000}, 0.0, 0},
-                                    {{0, 0}, -1.0, 0}, {{0, 0}, NAN, 0}};
+  const sw_scene_overrides bad[] = {{{1, 5}, 0.0, 0, NULL}, {{5, 0}, 0.0, 0, NULL}, {{2000, 2000}, 0.0, 0, NULL},
+                                    {{0, 0}, -1.0, 0, NULL}, {{0, 0}, NAN, 0, NULL}};
   const char *want[] = {"grid override (--grid) is 1 x 5 vertices; expected at least 2",
                         "is 5 x 0 vertices", "expected at most 1000000 vertices in all",
                         "stiffness scale (--stiffness-scale) is -1; expected a number > 0",
@@ -883,7 +883,7 @@ static void test_grid_override(void **state) {
       fail_msg("override %d: \"%s\", expected \"%s\"", k, err, want[k]);
   }
   /* NULL and zero overrides are none */
-  ov = (sw_scene_overrides){{0, 0}, 0.0, 0};
+  ov = (sw_scene_overrides){{0, 0}, 0.0, 0, NULL};
   m = sw_scene_parse_ex("g.yaml", text, strlen(text), &ov, err, sizeof err);
   assert_non_null(m);
   assert_true(m->nv == 9 && m->stiffness_scale == 1.0);

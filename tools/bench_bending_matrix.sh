@@ -6,7 +6,7 @@
 # scene and repetition (REPS=, default 1), one BLAS thread, CPU = the process's user time.
 # Compared per scene: status, fit end, Newton iterations, factor nonzeros, the factorisation's
 # and assembly's time, seam gap, intersections, tension XY p95 of the last state and the RMS
-# and largest distance between the two modes' last positions.  Writes
+# and largest distance between the two modes' last frames' positions.  Writes
 # docs/bench/bending_matrix/bending_matrix.csv (OUT= another folder) and prints a Markdown
 # table (docs/performance.md, "The bending matrix").
 set -euo pipefail
@@ -28,21 +28,17 @@ for rep in $(seq 1 "${REPS:-1}"); do
       d=$work/$s-$mx
       rm -rf "$d"
       /usr/bin/time -f %U -o "$d.cpu" "$bin" run "scenes/$s.yaml" --out "$d" "${dur[@]}" \
-        --bending-matrix "$mx" --no-frames --positions-every 1000 --threads 1 --quiet \
+        --bending-matrix "$mx" --frames-every 0 --frames-format binary --threads 1 --quiet \
         >/dev/null 2>&1 || true
     done
-    /usr/bin/python3 - "$work/$s" "$s" "$rep" >>"$csv" <<'PY'
+    PYTHONPATH=python /usr/bin/python3 - "$work/$s" "$s" "$rep" >>"$csv" <<'PY'
 import csv, json, sys
 import numpy as np
+from sinew import frames
 base, scene, rep = sys.argv[1:4]
 
-def last_positions(d):
-    raw = open(d + "/positions.bin", "rb").read()
-    nv, dim = np.frombuffer(raw[8:16], dtype=np.int32)
-    rec = 1 + int(nv) * int(dim)
-    data = np.frombuffer(raw[16:], dtype=np.float64)
-    data = data[: len(data) // rec * rec].reshape(-1, rec)
-    return data[-1, 1:].reshape(int(nv), int(dim))
+def last_positions(d):  # the last frame's cloth (float64 frames)
+    return frames.read(frames.index(d)[-1][1]["cloth"]).points
 
 ref = last_positions(base + "-exact")
 for mx in ("exact", "compact"):

@@ -31,7 +31,8 @@ class SinewError(RuntimeError):
 
 
 class _Overrides(ctypes.Structure):
-    _fields_ = [("grid", ctypes.c_int * 2), ("stiffness_scale", ctypes.c_double)]
+    _fields_ = [("grid", ctypes.c_int * 2), ("stiffness_scale", ctypes.c_double),
+                ("bending_matrix", ctypes.c_int), ("method", ctypes.c_char_p)]
 
 
 def _find_library():
@@ -601,12 +602,14 @@ class _Held:
         self._sim._lock.release()
 
 
-def load(scene, method=None, dt=None, out=None, grid=None, stiffness_scale=None, **options):
+def load(scene, method=None, dt=None, out=None, grid=None, stiffness_scale=None,
+         bending_matrix=None, **options):
     """Load a scene file and start a simulation of it at t = 0.
 
     method, dt: the integrator and its step (s), overriding the scene's; out: a folder to
     write the usual run folder to (True: the scene's output.dir; None: none); grid (nx, ny) and
-    stiffness_scale as `sinew run --grid/--stiffness-scale`; any other option of the scene's
+    stiffness_scale as `sinew run --grid/--stiffness-scale`; bending_matrix ("exact", "compact"
+    or "auto") as `--bending-matrix`; any other option of the scene's
     integrator by name (duration, rtol, atol, max_order, max_step, newton_tol, newton_max,
     max_halvings, frames_every, positions_every, hessian).  Raises SinewError with sinew's
     message (file:line:column for a bad scene)."""
@@ -616,6 +619,14 @@ def load(scene, method=None, dt=None, out=None, grid=None, stiffness_scale=None,
         ov.grid[0], ov.grid[1] = int(grid[0]), int(grid[1])
     if stiffness_scale is not None:
         ov.stiffness_scale = float(stiffness_scale)
+    if bending_matrix is not None:
+        names = ("exact", "compact", "auto")
+        if bending_matrix not in names:
+            raise SinewError("bending_matrix is %r; expected one of: %s"
+                             % (bending_matrix, ", ".join(names)))
+        ov.bending_matrix = names.index(bending_matrix) + 1
+    if method is not None:  # before the terms are built: the bending matrix's auto reads it
+        ov.method = str(method).encode()
     err = ctypes.create_string_buffer(_ERRSZ)
     model = lib.sw_scene_load_ex(_path(scene, "scene"), ctypes.byref(ov), err, _ERRSZ)
     if not model:

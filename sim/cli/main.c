@@ -91,7 +91,7 @@ static void usage_run(FILE *fp) {
           "                 [--newton-tol V] [--newton-norm rms|max] [--hessian MODE]\n"
           "                 [--factorization auto|simplicial|supernodal]\n"
           "                 [--ordering auto|amd|metis|nesdis]\n"
-          "                 [--bending-matrix exact|compact]\n"
+          "                 [--bending-matrix exact|compact|auto]\n"
           "                 [--newton-reuse on|off|auto|step]\n"
           "       sinew run --resume DIR [--duration T] [--threads N] [--force] [--quiet]\n"
           "\n"
@@ -139,10 +139,12 @@ static void usage_run(FILE *fp) {
           "  --ordering auto|amd|metis|nesdis\n"
           "                  CHOLMOD's fill-reducing ordering; auto: the measured rule\n"
           "                  (overrides integrator.ordering)\n"
-          "  --bending-matrix exact|compact\n"
+          "  --bending-matrix exact|compact|auto\n"
           "                  the quadratic and morley bending's part of Newton's matrix:\n"
           "                  exact, or compact (couplings beyond a face moved onto the\n"
-          "                  diagonal; overrides integrator.bending_matrix)\n"
+          "                  diagonal; auto, the default: compact but for the static\n"
+          "                  method and the optimisation fits; overrides\n"
+          "                  integrator.bending_matrix)\n"
           "  --threads N     OpenBLAS threads for CHOLMOD (default: $OPENBLAS_NUM_THREADS, else 1)\n"
           "  --quiet         nothing printed when the run succeeds (no progress line, no\n"
           "                  summary); warnings and errors still go to stderr\n"
@@ -373,6 +375,7 @@ static int cmd_run(int argc, char **argv) {
            .max_halvings = -1, .newton_tol = -1, .hessian = -1, .reuse = -1, .norm = -1,
            .factor = -1, .ordering = -1, .max_order = -1, .frames_format = -1};
   if (parse_run_args(argc, argv, &c)) return 2;
+  c.ov.method = c.method; /* before the terms are built: the bending matrix's auto reads it */
   char err[SW_ERRSZ];
   catch_stop_signals(); /* loading a large mesh obstacle takes seconds */
   sw_model *m = sw_scene_load_ex(c.scene, &c.ov, err, sizeof err);
@@ -425,7 +428,7 @@ static int finish_run(sw_model *m, int rc, const char *err, int quiet, int resum
 }
 
 static int cmd_check(int argc, char **argv) {
-  sw_scene_overrides ov = {{0, 0}, 0.0, 0};
+  sw_scene_overrides ov = {{0, 0}, 0.0, 0, NULL};
   if (argc < 3 || argv[2][0] == '-') return usage_check(stderr), 2;
   for (int i = 3; i < argc; i++) {
     int rc = parse_override(argc, argv, &i, &ov);

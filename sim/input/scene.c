@@ -592,6 +592,9 @@ sw_model *sw_scene_parse_ex(const char *name, const char *buf, size_t len,
   ctx c = {.name = name, .err = err, .errsz = errsz, .root = root, .ov = ov,
            .by_index = &by_index, .gnames = &gnames};
   c.m = sw_model_new();
+  /* measured (docs/performance.md, "The bending matrix"): compact where inertia sits beside
+   * the bending, exact for the static method and the optimisation fits */
+  if (c.m) c.m->opt.bending_matrix = SW_BMATRIX_AUTO;
   int rc = c.m ? sc_note_input(&c, root, name, buf, len) : sy_oom(&c, root);
   if (!rc && ov) memcpy(c.m->grid_override, ov->grid, sizeof ov->grid);
   if (!rc) rc = load_scene(&c);
@@ -613,6 +616,8 @@ sw_model *sw_scene_parse_ex(const char *name, const char *buf, size_t len,
   sy_free(root);
   if (!rc && ov && ov->stiffness_scale > 0.0) sc_scale_stiffness(c.m, ov->stiffness_scale);
   if (!rc && ov && ov->bending_matrix > 0) c.m->opt.bending_matrix = ov->bending_matrix - 1;
+  if (!rc && ov && ov->method && ov->method[0])
+    snprintf(c.m->opt.method, sizeof c.m->opt.method, "%s", ov->method);
   if (rc) {
     sw_model_free(c.m);
     return NULL;
