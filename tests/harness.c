@@ -43,6 +43,21 @@ sw_model *th_grid_unfinished(int dim, int nx, int ny, double sx, double sy) {
   return m;
 }
 
+sw_model *th_jittered_unfinished(int dim, int nx, int ny, unsigned long seed) {
+  sw_model *m = th_grid_unfinished(dim, nx, ny, 0.3, 0.25);
+  if (!m) return NULL;
+  const double hx = 0.3 / (nx - 1), hy = 0.25 / (ny - 1);
+  for (int j = 1; j < ny - 1; j++)
+    for (int i = 1; i < nx - 1; i++) {
+      double *x = m->x0 + (size_t)dim * (j * nx + i);
+      x[0] += 0.2 * hx * th_rand(&seed), x[1] += 0.2 * hy * th_rand(&seed);
+    }
+  for (int f = 0; f < m->nf; f++)
+    for (int c = 0; c < 3; c++)
+      memcpy(m->uv + 6 * f + 2 * c, m->x0 + (size_t)dim * m->face[3 * f + c], 2 * sizeof(double));
+  return m;
+}
+
 sw_model *th_finish(sw_model *m) {
   char err[SW_ERRSZ];
   if (sw_model_finish(m, err, sizeof err)) {

@@ -23,6 +23,10 @@ sw_model *th_grid_model(int dim, int nx, int ny, double sx, double sy, double rh
  * x0, uv), then th_finish (sw_model_finish; frees the model and returns NULL on error). */
 sw_model *th_grid_unfinished(int dim, int nx, int ny, double sx, double sy);
 sw_model *th_finish(sw_model *m);
+/* th_grid_unfinished over 0.3 x 0.25 m with its interior vertices jittered by up to 20 % of a
+ * spacing each way (seeded) and the (u,v) layout following them: an unstructured-looking mesh
+ * for the bending models' tests. */
+sw_model *th_jittered_unfinished(int dim, int nx, int ny, unsigned long seed);
 /* The same grid (with its source quads in face_poly) whose material mat[0] is *mat (set
  * every field: density, membrane, springs, bending), finished. */
 sw_model *th_grid_model_mat(int dim, int nx, int ny, double sx, double sy,

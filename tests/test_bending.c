@@ -100,16 +100,7 @@ static void fold(const sw_model *m, double u0, double phi, double amp, double *x
  * in each direction, in x0 and in the (u,v) layout alike (flat rest): no two triangles across
  * an edge form a parallelogram, so morley fits its slopes on every edge that has the vertices. */
 static sw_model *jittered_grid(int dim, int nx, int ny, const sw_material *mt, unsigned long seed) {
-  sw_model *m = th_grid_unfinished(dim, nx, ny, 0.3, 0.25);
-  const double hx = 0.3 / (nx - 1), hy = 0.25 / (ny - 1);
-  for (int j = 1; j < ny - 1; j++)
-    for (int i = 1; i < nx - 1; i++) {
-      double *x = m->x0 + (size_t)dim * (j * nx + i);
-      x[0] += 0.2 * hx * th_rand(&seed), x[1] += 0.2 * hy * th_rand(&seed);
-    }
-  for (int f = 0; f < m->nf; f++)
-    for (int c = 0; c < 3; c++)
-      memcpy(m->uv + 6 * f + 2 * c, m->x0 + (size_t)dim * m->face[3 * f + c], 2 * sizeof(double));
+  sw_model *m = th_jittered_unfinished(dim, nx, ny, seed);
   m->mat[0] = *mt;
   return th_finish(m);
 }

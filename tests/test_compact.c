@@ -24,16 +24,7 @@ extern void dsyev_(const char *jobz, const char *uplo, const int *n, double *a, 
 /* A grid of nx x ny vertices over 0.3 x 0.25 m, its interior jittered by 20 % of a spacing,
  * bending with `model` (k_b 2e-3 N m), its Newton matrix `bmatrix` (SW_BMATRIX_*). */
 static sw_model *grid(int dim, int nx, int ny, int model, int bmatrix, unsigned long seed) {
-  sw_model *m = th_grid_unfinished(dim, nx, ny, 0.3, 0.25);
-  const double hx = 0.3 / (nx - 1), hy = 0.25 / (ny - 1);
-  for (int j = 1; j < ny - 1; j++)
-    for (int i = 1; i < nx - 1; i++) {
-      double *x = m->x0 + (size_t)dim * (j * nx + i);
-      x[0] += 0.2 * hx * th_rand(&seed), x[1] += 0.2 * hy * th_rand(&seed);
-    }
-  for (int f = 0; f < m->nf; f++)
-    for (int c = 0; c < 3; c++)
-      memcpy(m->uv + 6 * f + 2 * c, m->x0 + (size_t)dim * m->face[3 * f + c], 2 * sizeof(double));
+  sw_model *m = th_jittered_unfinished(dim, nx, ny, seed);
   sw_material mt = {.density = 0.2, .bending = model, .k_bend = 2e-3,
                     .bend_rest = SW_BEND_REST_FLAT, .b_u = 1.0, .b_v = 1.0, .tx_k_u = -1.0,
                     .tx_k_v = -1.0};
