@@ -73,8 +73,8 @@ static int add_pair(const sw_model *m, const int *vfp, const int *vfi, double *C
 }
 
 /* The entries of the stencils' Q into C (kept) and diag (the exact diagonal), the others into
- * out (*nout of them, unmerged); nonzero when out of memory. */
-static int split_entries(const sw_term *t, const sw_model *m, const double *Q, int ldq,
+ * out (*nout of them, unmerged). */
+static void split_entries(const sw_term *t, const sw_model *m, const double *Q, int ldq,
                          const int *vfp, const int *vfi, double *C, double *diag, dropped *out,
                          long *nout) {
   for (int s = 0; s < t->nstencil; s++) {
@@ -88,7 +88,6 @@ static int split_entries(const sw_term *t, const sw_model *m, const double *Q, i
           out[(*nout)++] = (dropped){v[i], v[j], q};
       }
   }
-  return 0;
 }
 
 int sw_compact_stencils(sw_term *t, const sw_model *m, const double *Q, int ldq,
@@ -104,7 +103,7 @@ int sw_compact_stencils(sw_term *t, const sw_model *m, const double *Q, int ldq,
   dropped *out = sw_calloc((size_t)nentry + 1, sizeof(dropped));
   c->C = sw_calloc(9 * (size_t)m->nf + 1, sizeof(double));
   int rc = !diag || !out || !c->C || vertex_faces(m, &vfp, &vfi);
-  if (!rc) rc = split_entries(t, m, Q, ldq, vfp, vfi, c->C, diag, out, &nout);
+  if (!rc) split_entries(t, m, Q, ldq, vfp, vfi, c->C, diag, out, &nout);
   /* each dropped pair's total q, |q| onto both diagonals (each order adds to its row's) */
   if (!rc) qsort(out, (size_t)nout, sizeof *out, cmp_dropped);
   for (long k = 0; !rc && k < nout;) {
@@ -112,7 +111,6 @@ int sw_compact_stencils(sw_term *t, const sw_model *m, const double *Q, int ldq,
     double q = 0.0;
     while (e < nout && out[e].a == out[k].a && out[e].b == out[k].b) q += out[e++].q;
     diag[out[k].a] += fabs(q);
-    c->ndropped += out[k].a < out[k].b;
     k = e;
   }
   for (int v = 0; !rc && v < m->nv; v++) {
@@ -128,7 +126,6 @@ int sw_compact_stencils(sw_term *t, const sw_model *m, const double *Q, int ldq,
   sw_free(vfi);
   if (rc) return sw_errf(err, errsz, "out of memory for the compact bending matrix"), -1;
   /* the wide stencils stay the term's own (energy, gradient); the faces become its stencils */
-  c->n = t->nstencil;
   c->sptr = t->sptr;
   c->sidx = t->sidx;
   sw_free(t->hptr);

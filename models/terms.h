@@ -191,10 +191,8 @@ int sw_morley_bending_build(sw_term *t, const sw_model *m, char *err, size_t err
  * the term's energy and gradient) and makes t's stencils the mesh's faces; sw_compact_hess
  * adds C (x) I into their blocks. */
 typedef struct sw_compact {
-  int n;             /* the term's own stencils */
-  int *sptr, *sidx;  /* their vertices (as sw_term's) */
+  int *sptr, *sidx;  /* the term's own stencils' vertices (as sw_term's) */
   double *C;         /* (nf x 9) each face's share of C on its corners, N/m */
-  long ndropped;     /* vertex pairs moved onto the diagonal */
 } sw_compact;
 int sw_compact_stencils(sw_term *t, const sw_model *m, const double *Q, int ldq,
                         sw_compact *c, char *err, size_t errsz);
