@@ -491,7 +491,7 @@ enum { SW_NORM_RMS = 0, SW_NORM_MAX = 1, SW_NORM_N = 2 };
 SW_API const char *const *sw_norm_names(void);
 /* The sparse Cholesky factorisation (docs/performance.md, "Simplicial or supernodal"): auto
  * picks from the matrix, by the flops its factorisation takes per nonzero of its factor
- * (simplicial below SW_FACTOR_SWITCH, supernodal with coarse supernodes above); or forced. */
+ * (simplicial below SW_FACTOR_SWITCH, supernodal above); or forced. */
 enum { SW_FACTOR_AUTO = 0, SW_FACTOR_SIMPLICIAL = 1, SW_FACTOR_SUPERNODAL = 2, SW_FACTOR_N = 3 };
 SW_API const char *const *sw_factor_names(void);
 /* The fill-reducing ordering of the sparse Cholesky factorisation (docs/performance.md,

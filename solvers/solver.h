@@ -102,12 +102,13 @@ typedef struct sw_chol {
 int sw_chol_init(sw_chol *ch, const sw_pattern *p, int mode, char *err, size_t errsz);
 /* CHOLMOD's parameters for mode: simplicial, supernodal, or (auto) CHOLMOD's own choice by
  * the flops of the factorisation per nonzero of L with the switch at SW_FACTOR_SWITCH; the
- * supernodes relaxed to nrelax {16, 48, 128}, zrelax {0.8, 0.3, 0.1}.  Measured on the
- * hanging cloth from 20 x 20 to 512 x 512 (docs/performance.md, "Simplicial or
- * supernodal"); and the ordering (docs/performance.md, "Factorisation: ordering, kind and
- * threads"). */
+ * supernodes relaxed to nrelax {16, 48, 128}, zrelax {0.8, 0.3, 0.1} below SW_RELAX_SWITCH
+ * unknowns, CHOLMOD's defaults from there.  Measured on the hanging cloth from 6 x 6 to
+ * 120 x 120 and a garment (docs/performance.md, "Simplicial or supernodal"); and the
+ * ordering (docs/performance.md, "Factorisation: ordering, kind and threads"). */
 void sw_chol_mode(sw_chol *ch, int mode);
-#define SW_FACTOR_SWITCH 100.0
+#define SW_FACTOR_SWITCH 30.0
+#define SW_RELAX_SWITCH 10000
 /* ordering auto: AMD, or NESDIS when it needs fewer flops and the system has at least
  * SW_ORDERING_SWITCH unknowns (docs/performance.md, "Factorisation: ordering, kind and
  * threads"). */

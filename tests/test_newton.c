@@ -159,13 +159,14 @@ static void reuse_matches(void **state) {
   sw_model_free(m);
 }
 
-/* The size rule (auto): simplicial for the 20 x 20 and 40 x 40 cloths, whose factorisations
- * take fewer than SW_FACTOR_SWITCH flops per nonzero of L, supernodal for the 80 x 80 one
+/* The size rule (auto): simplicial for the 10 x 10 cloth, whose factorisation takes fewer
+ * than SW_FACTOR_SWITCH flops per nonzero of L, supernodal for the 20 x 20 and 80 x 80 ones,
+ * with coarse supernodes below SW_RELAX_SWITCH unknowns and CHOLMOD's own above
  * (docs/performance.md, "Simplicial or supernodal"); the forced modes are obeyed, and every
  * mode solves the same system to the same answer. */
 static void size_rule(void **state) {
   (void)state;
-  const int sizes[3] = {20, 40, 80}, want[3] = {0, 0, 1};
+  const int sizes[3] = {10, 20, 80}, want[3] = {0, 1, 1};
   char err[SW_ERRSZ];
   for (int j = 0; j < 3; j++) {
     sw_model *m = cloth(sizes[j]);
@@ -178,6 +179,8 @@ static void size_rule(void **state) {
                   p.n, per, sw_chol_super(&ch) ? "supernodal" : "simplicial");
     assert_int_equal(sw_chol_super(&ch), want[j]);
     assert_true(want[j] ? per >= SW_FACTOR_SWITCH : per < SW_FACTOR_SWITCH);
+    assert_int_equal(ch.c.nrelax[0], p.n < SW_RELAX_SWITCH ? 16 : 4);
+    assert_true(p.n < SW_RELAX_SWITCH ? j < 2 : j == 2); /* both sides of the switch */
     sw_chol_free(&ch);
     if (j == 0) { /* forced modes, and the same answer from each */
       unsigned long rs = 7;
