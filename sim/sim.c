@@ -398,12 +398,6 @@ static int fit_enter(sw_sim *s, char *err, size_t errsz) {
   return rc;
 }
 
-/* The end of the fit's next step, s.  Dynamic: the grid of fit.dt.  Optimisation: a step
- * chosen from the last one by its Newton iterations (grown by opt_growth after at most
- * FIT_EASY, halved after more than FIT_HARD; a step halved on failure goes on from its halved
- * size), at least fit.dt, at most opt_dt until the ramps are over (gravity in full, at twice the
- * seams' ramp time, where a step ends), unbounded after; its Newton tolerance the dynamic
- * fit's in metres, newton_tol x dt, whatever the step. */
 /* The dynamic fit's Newton tolerance once it may end, as a fraction of fit.speed (m/s per
  * m/s): Newton's stop leaves an error in a step's velocity of up to about its tolerance (more
  * with an approximate matrix, integrator.bending_matrix compact, whose convergence is linear),
@@ -412,6 +406,12 @@ static int fit_enter(sw_sim *s, char *err, size_t errsz) {
  * 2.91 s for 1.00 times (docs/garments.md, "fit"). */
 #define FIT_TOL_SPEED 0.3
 
+/* The end of the fit's next step, s.  Dynamic: the grid of fit.dt.  Optimisation: a step
+ * chosen from the last one by its Newton iterations (grown by opt_growth after at most
+ * FIT_EASY, halved after more than FIT_HARD; a step halved on failure goes on from its halved
+ * size), at least fit.dt, at most opt_dt until the ramps are over (gravity in full, at twice the
+ * seams' ramp time, where a step ends), unbounded after; its Newton tolerance the dynamic
+ * fit's in metres, newton_tol x dt, whatever the step. */
 static double fit_next(sw_sim *s) {
   sw_model *m = s->m;
   const sw_data *d = s->d;

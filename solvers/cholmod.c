@@ -94,13 +94,10 @@ void sw_chol_mode(sw_chol *ch, int mode) {
    * (a factor 2.1-2.6 times its nonzeros against 1.4-1.5).  From there on CHOLMOD's own:
    * as fast or faster, and a third less memory (docs/performance.md, "Simplicial or
    * supernodal"). */
-  static const size_t coarse_n[3] = {16, 48, 128}, fine_n[3] = {4, 16, 48};
-  static const double coarse_z[3] = {0.8, 0.3, 0.1}, fine_z[3] = {0.8, 0.1, 0.05};
-  int coarse = !ch->A || ch->A->nrow < SW_RELAX_SWITCH;
-  for (int j = 0; j < 3; j++) {
-    ch->c.nrelax[j] = coarse ? coarse_n[j] : fine_n[j];
-    ch->c.zrelax[j] = coarse ? coarse_z[j] : fine_z[j];
-  }
+  static const size_t coarse_n[3] = {16, 48, 128};
+  static const double coarse_z[3] = {0.8, 0.3, 0.1};
+  if (!ch->A || ch->A->nrow < SW_RELAX_SWITCH) /* else cholmod_l_start's own stay */
+    for (int j = 0; j < 3; j++) ch->c.nrelax[j] = coarse_n[j], ch->c.zrelax[j] = coarse_z[j];
   chol_ordering(ch, mode >= 0 ? mode / SW_FACTOR_N : SW_ORDERING_AUTO);
 }
 
