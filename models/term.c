@@ -162,48 +162,6 @@ int sw_membrane_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, dou
   return isfinite(total) ? SW_OK : SW_RECOVER;
 }
 
-extern void dsyev_(const char *jobz, const char *uplo, const int *n, double *a, const int *lda,
-                   double *w, double *work, const int *lwork, int *info);
-
-/* A = V diag(w) V^T for a symmetric n x n matrix (n <= 12) by cyclic Jacobi rotations (Golub and
- * Van Loan, "Matrix Computations", 4th ed., alg. 8.5.3): A is destroyed, row k of V is the
- * eigenvector of w[k].  Converges quadratically; a fixed-size problem with no allocation and no
- * BLAS threads (dsyev costs ~2.5 us on a 6 x 6 matrix, 10x that with OpenBLAS threads).  From
- * 9 x 9 up (self-contact's pair blocks) LAPACK's dsyev is faster, even with two threads. */
-static void jacobi_eigen(double *A, int n, double *w, double *V) {
-  for (int i = 0; i < n * n; i++) V[i] = (i % (n + 1)) == 0;
-  for (int sweep = 0; sweep < 30; sweep++) {
-    double off = 0.0, diag = 0.0;
-    for (int p = 0; p < n; p++) {
-      diag += A[p * n + p] * A[p * n + p];
-      for (int q = p + 1; q < n; q++) off += A[p * n + q] * A[p * n + q];
-    }
-    if (!(off > 1e-30 * diag)) break; /* off-diagonal at rounding level (or NaN) */
-    for (int p = 0; p < n; p++)
-      for (int q = p + 1; q < n; q++) {
-        double apq = A[p * n + q];
-        if (apq == 0.0) continue;
-        double th = (A[q * n + q] - A[p * n + p]) / (2.0 * apq), at = fabs(th);
-        double t = (th >= 0.0 ? 1.0 : -1.0) / (at + (at < 1e150 ? sqrt(th * th + 1.0) : at));
-        double c = 1.0 / sqrt(t * t + 1.0), s = t * c;
-        for (int k = 0; k < n; k++) { /* A <- A J (columns p, q) */
-          double akp = A[k * n + p], akq = A[k * n + q];
-          A[k * n + p] = c * akp - s * akq;
-          A[k * n + q] = s * akp + c * akq;
-        }
-        for (int k = 0; k < n; k++) { /* A <- J^T A (rows p, q); V likewise */
-          double apk = A[p * n + k], aqk = A[q * n + k];
-          A[p * n + k] = c * apk - s * aqk;
-          A[q * n + k] = s * apk + c * aqk;
-          double vpk = V[p * n + k], vqk = V[q * n + k];
-          V[p * n + k] = c * vpk - s * vqk;
-          V[q * n + k] = s * vpk + c * vqk;
-        }
-      }
-  }
-  for (int k = 0; k < n; k++) w[k] = A[k * n + k];
-}
-
 /* The rows of the symmetric n x n matrix A that are not all zero, into keep; their count.  A
  * zero row (and column) is an eigenvector of eigenvalue 0, which no filter changes. */
 static int nonzero_rows(const double *A, int n, int *keep) {
@@ -220,7 +178,7 @@ static int nonzero_rows(const double *A, int n, int *keep) {
  * contact pair whose closest features are a vertex and an edge has 9 of its 12 rows nonzero,
  * two vertices 6, and an eigen-decomposition of 9 x 9 costs about half of one of 12 x 12. */
 static int project_rows(double *A, int n, const int *keep, int nk, int mode) {
-  double S[144];
+  double S[SW_EIGEN_NMAX * SW_EIGEN_NMAX];
   for (int a = 0; a < nk; a++)
     for (int b = 0; b < nk; b++) S[a * nk + b] = A[keep[a] * n + keep[b]];
   if (sw_psd_project(S, nk, mode)) return -1;
@@ -234,35 +192,29 @@ int sw_psd_project(double *A, int n, int mode) {
    * matrix in the Frobenius norm (Higham 1988, "Computing a nearest symmetric positive
    * semidefinite matrix"); their absolute values give V |Lambda| V^T, which keeps the curvature
    * of the negative directions (Chen, Liu, Levin, Zheng, Jacobson, "Stabler Neo-Hookean
-   * Simulation: Absolute Eigenvalue Filtering for Projected Newton", SIGGRAPH 2024).
+   * Simulation: Absolute Eigenvalue Filtering for Projected Newton", SIGGRAPH 2024).  A
+   * Cholesky factorisation first (sw_sym_is_pd, n^3/6 multiplications against some 10 n^3 for
+   * the eigensystem) proves the many blocks that are positive definite already so.
    * Fixed-size workspace: no allocation. */
-  double B[144], V[144], w[12], wmin = 0.0;
-  if (n < 1 || n > 12) return -1;
+  double V[SW_EIGEN_NMAX * SW_EIGEN_NMAX], w[SW_EIGEN_NMAX], wmin = 0.0;
+  if (n < 1 || n > SW_EIGEN_NMAX) return -1;
   if (mode == SW_FILTER_NONE) return 0;
-  int keep[12], nk = nonzero_rows(A, n, keep);
+  for (int i = 0; i < n * n; i++)
+    if (!isfinite(A[i])) return -1;
+  if (sw_sym_is_pd(A, n)) return 0;
+  int keep[SW_EIGEN_NMAX], nk = nonzero_rows(A, n, keep);
   if (nk == 0) return 0;
   if (nk < n) return project_rows(A, n, keep, nk, mode);
-  memcpy(B, A, sizeof(double) * (size_t)(n * n));
-  if (n < 9) {
-    jacobi_eigen(B, n, w, V);
-  } else { /* LAPACK: 5.5 and 10 us for 9 x 9 and 12 x 12, Jacobi 11 and 23 us (one thread) */
-    double work[12 * 64];
-    int lwork = 12 * 64, info = 0;
-    dsyev_("V", "U", &n, B, &n, w, work, &lwork, &info);
-    if (info) return -1;
-    memcpy(V, B, sizeof(double) * (size_t)(n * n)); /* column k (contiguous): vector k */
-  }
-  for (int k = 0; k < n; k++) {
-    if (!isfinite(w[k])) return -1;
-    wmin = fmin(wmin, w[k]);
-  }
+  memcpy(V, A, sizeof(double) * (size_t)(n * n));
+  if (sw_sym_eigen(V, n, w)) return -1; /* column k of V: the eigenvector of w[k] */
+  for (int k = 0; k < n; k++) wmin = fmin(wmin, w[k]);
   if (wmin >= 0.0) return 0; /* already PSD: A unchanged */
   for (int k = 0; k < n; k++) w[k] = sw_filter_eigenvalue(w[k], mode);
   for (int i = 0; i < n; i++)
     for (int j = i; j < n; j++) {
       double s = 0.0;
       for (int k = 0; k < n; k++)
-        if (w[k] > 0.0) s += w[k] * V[k * n + i] * V[k * n + j];
+        if (w[k] > 0.0) s += w[k] * V[i * n + k] * V[j * n + k];
       A[i * n + j] = A[j * n + i] = s;
     }
   return 0;

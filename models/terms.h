@@ -72,12 +72,23 @@ sw_membrane *sw_membrane_new(sw_term *t, const sw_model *m, const sw_term_ops *o
 void sw_eval_why(const sw_eval *ev, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 int sw_membrane_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, double *energy);
 void sw_membrane_free(void *param);
-/* Filter the eigenvalues of the symmetric n x n matrix A (row-major, n <= 12) by `mode`
- * (SW_FILTER_*): SW_FILTER_CLAMP gives its nearest positive semi-definite matrix, SW_FILTER_ABS
- * V |Lambda| V^T; A is unchanged when it is PSD already, or for SW_FILTER_NONE.  Only the rows
- * and columns that are not all zero are decomposed (by Jacobi rotations below 9 of them, LAPACK
- * dsyev from 9 up); the zero ones stay zero.  0, or -1 when n is out of range or A is not
- * finite. */
+/* Small symmetric matrices (models/eigen.c), n <= SW_EIGEN_NMAX, row-major.  sw_sym_eigen:
+ * A = V diag(w) V^T, A becomes V (column k: the eigenvector of w[k]); 0, or -1 when n is out of
+ * range or the iteration does not converge.  sw_sym_is_pd: 1 when A is positive definite to
+ * floating point (its Cholesky factorisation completes).  sw_contrast_reduce/lift, for a block
+ * H (3 nv x 3 nv) of an energy of nv vertices in 3D that a translation leaves unchanged:
+ * M = Q^T H Q (3 nv - 3 square) on the orthonormal differences Q of the vertices' motions
+ * (Helmert's contrasts), and H = Q M Q^T back. */
+#define SW_EIGEN_NMAX 18
+int sw_sym_eigen(double *A, int n, double *w);
+int sw_sym_is_pd(const double *A, int n);
+void sw_contrast_reduce(const double *H, int nv, double *M);
+void sw_contrast_lift(const double *M, int nv, double *H);
+/* Filter the eigenvalues of the symmetric n x n matrix A (row-major, n <= SW_EIGEN_NMAX) by
+ * `mode` (SW_FILTER_*): SW_FILTER_CLAMP gives its nearest positive semi-definite matrix,
+ * SW_FILTER_ABS V |Lambda| V^T; A is unchanged when it is PSD already, or for SW_FILTER_NONE.
+ * Only the rows and columns that are not all zero are decomposed (sw_sym_eigen); the zero
+ * ones stay zero.  0, or -1 when n is out of range or A is not finite. */
 int sw_psd_project(double *A, int n, int mode);
 /* The Voigt Green strain e = ((|wu|^2 - 1)/2, (|wv|^2 - 1)/2, wu.wv) of F = [wu wv] (d each),
  * and the columns of F S, gu = S11 wu + S12 wv, gv = S12 wu + S22 wv, of a stress s = (S11, S22,

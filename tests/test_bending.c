@@ -188,8 +188,8 @@ static void dihedral_states(void **st) {
 
 /* The filtered block of one triangle (a 2 x 2 grid: two triangles, one hinge each) against
  * LAPACK: folded by 1.2 rad with a rest angle of 0 (indefinite), and at rest (W g g^T, PSD):
- * the filter's V f(Lambda) V^T (f: max(., 0) or |.|) plus 1e-10 x its largest eigenvalue on
- * the diagonal, while energy and gradient are the exact ones whatever the filter.  Also with the
+ * the filter's V f(Lambda) V^T (f: max(., 0) or |.|) plus 1e-10 x its Frobenius norm on the
+ * diagonal, while energy and gradient are the exact ones whatever the filter.  Also with the
  * triangle squashed to 1e-12 of its area, where the block's eigenvalues reach ~1e20 N/m. */
 static void dihedral_filtered_block(void **st) {
   (void)st;
@@ -248,14 +248,14 @@ static void dihedral_filtered_block(void **st) {
       dsyev_("V", "U", &n, V, &n, lam, work, &lwork, &info);
       assert_int_equal(info, 0);
       if (state >= 1) assert_true(lam[0] < -1e-6 * lam[11]); /* the exact block is indefinite */
-      double top = 0.0;
+      double top = 0.0, fro = 0.0;
       for (int k = 0; k < 12; k++) {
         double l = mode == SW_FILTER_ABS ? fabs(lam[k]) : fmax(lam[k], 0.0);
-        top = fmax(top, l);
+        top = fmax(top, l), fro += l * l;
         for (int i = 0; i < 12; i++)
           for (int j = 0; j < 12; j++) R[i * 12 + j] += l * V[k * 12 + i] * V[k * 12 + j];
       }
-      for (int i = 0; i < 12; i++) R[i * 13] += 1e-10 * top;
+      for (int i = 0; i < 12; i++) R[i * 13] += 1e-10 * sqrt(fro);
       double err = 0.0;
       for (int i = 0; i < 144; i++) err = fmax(err, fabs(sw_hess_get(B, i / 12, i % 12, 12) - R[i]));
       if (state == 2) assert_true(top > 1e18);
