@@ -95,12 +95,14 @@ struct sw_mcontact {
   /* the candidates: every wanted pair whose boxes, swept over a motion x0 -> x1 and padded by
      (xi + dhat)/2 + slack, overlap; they hold every pair within reach at any positions whose
      vertices each lie within `slack` of their swept box (`covered`) */
-  sw_mc_pair *cand;     /* (ncand) kind, vertices and their distance at xref (m, in gap) */
+  sw_mc_pair *cand;     /* (ncand) kind, vertices and their distance at xref less the pair's
+                           thickness (m, in gap) */
   int ncand, capcand, cand_ok;
   double *cbox;         /* (nv x 6) each cloth vertex's box over x0 -> x1, m */
   double *xref;         /* (nv x 3) x0 of the candidates' motion, m */
   double *umove;        /* (nv + nobst) how far each cloth vertex, and each obstacle's
                            vertices at most, are from the candidates' x0, m */
+  double umax;          /* the largest of umove, m */
   double slack;         /* m */
   sw_mfriction *fr;     /* the step's lagged friction (contact.friction > 0), or NULL */
   int nsewn;            /* the seams' sewn vertices (sw_model.sewn_ptr): pairs skipped */
@@ -694,8 +696,8 @@ static int covered(const sw_model *m, const sw_mcontact *mc, const mc_place *x) 
   return 1;
 }
 
-/* Append the pair to the candidates with its distance at arg (an mc_place); -1 when out of
- * memory. */
+/* Append the pair to the candidates with its distance at arg (an mc_place) less its
+ * thickness; -1 when out of memory. */
 static int add_candidate(const sw_model *m, sw_mcontact *mc, int kind, const int *v, void *arg) {
   if (mc->ncand == mc->capcand) {
     int cap = mc->capcand + mc->capcand / 2 + 256;
@@ -709,7 +711,8 @@ static int add_candidate(const sw_model *m, sw_mcontact *mc, int kind, const int
   memcpy(c->v, v, sizeof c->v);
   gather(m, mc, arg, v, p);
   c->gap = sqrt(kind == SW_MC_PT ? sw_d2_point_triangle(p, p + 3, p + 6, p + 9, NULL, NULL)
-                                 : sw_d2_edge_edge(p, p + 3, p + 6, p + 9, NULL, NULL));
+                                 : sw_d2_edge_edge(p, p + 3, p + 6, p + 9, NULL, NULL)) -
+           pair_xi(m, mc->p, v);
   return 0;
 }
 
@@ -748,11 +751,13 @@ static void moves(const sw_model *m, sw_mcontact *mc, const mc_place *x0, const 
   for (int k = 0; k < mc->p->nobst; k++) /* static obstacles' stay 0 */
     mc->umove[m->nv + k] = !x0->pose ? 0.0 : fmax(pose_gap(mc->p, k, x0->pose, a),
                                                   pose_gap(mc->p, k, x1->pose, a));
+  mc->umax = 0.0;
+  for (int i = 0; i < m->nv + mc->p->nobst; i++) mc->umax = fmax(mc->umax, mc->umove[i]);
 }
 
-/* Whether candidate c stays farther apart than `reach` (m) on the motion mc->umove was made
- * for: a point of a primitive moves at most as far as its farthest vertex, so the distance
- * falls by at most the two primitives' largest moves. */
+/* Whether candidate c stays farther apart than its thickness plus `reach` (m) on the motion
+ * mc->umove was made for: a point of a primitive moves at most as far as its farthest vertex,
+ * so the distance falls by at most the two primitives' largest moves. */
 static int stays_beyond(const sw_model *m, const sw_mcontact *mc, const sw_mc_pair *c,
                         double reach) {
   int na = c->kind == SW_MC_PT ? 1 : 2;
@@ -775,13 +780,16 @@ static int candidates(const sw_model *m, sw_mcontact *mc, const mc_place *x0,
 }
 
 /* Call visit on every candidate that may come within its thickness plus `dhat` (m) on the
- * motion x0 -> x1, as each_pair does. */
+ * motion x0 -> x1, as each_pair does.  No pair moves closer by more than twice the largest
+ * move, so a gap beyond dhat + 2 umax rules a candidate out before its vertices' moves are
+ * read: late Newton iterates and short line-search steps look closer at the near pairs only. */
 static int each_candidate(const sw_model *m, sw_mcontact *mc, const mc_place *x0,
                           const mc_place *x1, double dhat, pair_visit visit, void *arg) {
   moves(m, mc, x0, x1);
+  const double cut = dhat + 2.0 * mc->umax; /* m */
   for (int k = 0; k < mc->ncand; k++) {
     const sw_mc_pair *c = &mc->cand[k];
-    if (stays_beyond(m, mc, c, pair_xi(m, mc->p, c->v) + dhat)) continue;
+    if (c->gap > cut || stays_beyond(m, mc, c, dhat)) continue;
     int rc = visit(m, mc, c->kind, c->v, arg);
     if (rc) return rc;
   }
