@@ -1,6 +1,6 @@
 /* bench_step.c — per-step wall time of an implicit integrator on the hanging cloth, N x N grid.
  *
- *   bench_step [--header] [--verbose] [--hessian=auto|exact|projected] [--model=M]
+ *   bench_step [--header] [--verbose] [--hessian=MODE] [--model=M]
  *              [--bending=dihedral|quadratic|morley|dde] [--fabric=PRESET] [--obj=FILE]
  *              N [steps] [method]
  *
@@ -15,13 +15,14 @@
  * printed, and the corners (0, 1) and (1, 1) are pinned by boxes.
  * Builds scenes/hanging_cloth.yaml in code with N x N vertices instead of 40 x 40 (1 m square
  * in the xy plane, 3D, density 0.1 kg/m^2, bw98 k_u = k_v = 5000, k_shear = 100 N/m, gravity
- * (0, 0, -9.81), the two corners of the edge y = 1 pinned; default options: Hessian "auto",
- * Newton tol 1e-6, at most 50 iterations), then takes `steps` (default 20) steps of dt = 0.01 s
+ * (0, 0, -9.81), the two corners of the edge y = 1 pinned; the scene loader's default options:
+ * Hessian "abs" in 3D, Newton tol 1e-2 m/s, at most 50 iterations), then takes `steps`
+ * (default 20) steps of dt = 0.01 s
  * of `method` (default backward-euler) through the integrator's operations directly: no scene
  * file, no output, no diagnostics.  A step that fails recoverably is retried with dt/2, dt/4, ...
  * exactly as sim/run.c does, and the failed attempts count in its time (--verbose: one line per
  * step on stderr with its Newton iterations and retries; --hessian: Newton's matrix, default
- * auto as in the scene).  Prints one CSV line on stdout (--header: the header line first;
+ * the scene's, abs in 3D).  Prints one CSV line on stdout (--header: the header line first;
  * --header alone: only the header):
  *
  *   N, dofs, nnz (lower triangle of the system), steps, newton_iterations, factorizations,
@@ -115,7 +116,8 @@ static int step_with_retries(const sw_integrator_ops *ops, void *st, const sw_mo
 }
 
 static int usage(void) {
-  fprintf(stderr, "usage: bench_step [--header] [--verbose] [--hessian=auto|exact|projected]\n"
+  fprintf(stderr, "usage: bench_step [--header] [--verbose]\n"
+                  "                  [--hessian=abs|projected|progressive|auto|exact]\n"
                   "                  [--model=bw98|stvk|corotated|springs]\n"
                   "                  [--bending=dihedral|quadratic|morley|dde] [--fabric=PRESET]\n"
                   "                  [--obj=FILE] N [steps] [method]\n"
@@ -125,16 +127,17 @@ static int usage(void) {
 }
 
 int main(int argc, char **argv) {
-  int want_header = 0, verbose = 0, npos = 0, hessian = SW_HESSIAN_AUTO, model = 0;
+  int want_header = 0, verbose = 0, npos = 0, hessian = SW_HESSIAN_DEFAULT, model = 0;
   const char *bending = NULL, *obj = NULL, *fabric = NULL;
   const char *pos[3] = {NULL, NULL, NULL};
   for (int i = 1; i < argc; i++) {
     if (!strcmp(argv[i], "--header")) want_header = 1;
     else if (!strcmp(argv[i], "--verbose")) verbose = 1;
-    else if (!strcmp(argv[i], "--hessian=auto")) hessian = SW_HESSIAN_AUTO;
-    else if (!strcmp(argv[i], "--hessian=exact")) hessian = SW_HESSIAN_EXACT;
-    else if (!strcmp(argv[i], "--hessian=projected")) hessian = SW_HESSIAN_PROJECTED;
-    else if (!strncmp(argv[i], "--model=", 8)) {
+    else if (!strncmp(argv[i], "--hessian=", 10)) {
+      const char *const *names = sw_hessian_names();
+      for (hessian = 0; names[hessian] && strcmp(argv[i] + 10, names[hessian]); hessian++) continue;
+      if (!names[hessian]) return usage();
+    }    else if (!strncmp(argv[i], "--model=", 8)) {
       for (model = 0; model < 4 && strcmp(argv[i] + 8, models[model][0]); model++) continue;
       if (model == 4) return usage();
     } else if (!strcmp(argv[i], "--bending=dihedral")) bending = "dihedral";
@@ -175,7 +178,7 @@ int main(int argc, char **argv) {
   const double dt = m->opt.dt;
   m->opt.duration = (double)steps * dt;
   snprintf(m->opt.method, sizeof m->opt.method, "%s", method);
-  m->opt.hessian = hessian;
+  if (hessian != SW_HESSIAN_DEFAULT) m->opt.hessian = hessian; /* else the scene's */
   long nnz = sw_system_nnz(m);
   sw_data *d = sw_data_new(m);
   if (!d || nnz < 0) {
