@@ -252,21 +252,25 @@ static void plane_frame(const double *wu, const double *wv, double *E) {
   E[8] = e1[0] * e2[1] - e1[1] * e2[0];
 }
 
-/* P <- blockdiag(E, E)^T P blockdiag(E, E) (fwd) or blockdiag(E, E) P blockdiag(E, E)^T. */
+/* P <- blockdiag(E, E)^T P blockdiag(E, E) (fwd) or blockdiag(E, E) P blockdiag(E, E)^T: each
+ * 3 x 3 block P_XY becomes G^T P_XY G (G = E, or E^T), as two 3 x 3 products. */
 static void frame_congruence(double *P, const double *E, int fwd) {
-  double Q[36];
+  double G[9];
+  for (int a = 0; a < 3; a++)
+    for (int k = 0; k < 3; k++) G[a * 3 + k] = fwd ? E[a * 3 + k] : E[k * 3 + a];
   for (int X = 0; X < 2; X++)
-    for (int Y = 0; Y < 2; Y++)
-      for (int k = 0; k < 3; k++)
+    for (int Y = 0; Y < 2; Y++) {
+      double T[9]; /* P_XY G */
+      for (int a = 0; a < 3; a++)
         for (int l = 0; l < 3; l++) {
-          double s = 0.0;
-          for (int a = 0; a < 3; a++)
-            for (int b = 0; b < 3; b++)
-              s += (fwd ? E[a * 3 + k] * E[b * 3 + l] : E[k * 3 + a] * E[l * 3 + b]) *
-                   P[(3 * X + a) * 6 + 3 * Y + b];
-          Q[(3 * X + k) * 6 + 3 * Y + l] = s;
+          const double *r = P + (3 * X + a) * 6 + 3 * Y;
+          T[a * 3 + l] = r[0] * G[l] + r[1] * G[3 + l] + r[2] * G[6 + l];
         }
-  memcpy(P, Q, sizeof Q);
+      for (int k = 0; k < 3; k++)
+        for (int l = 0; l < 3; l++)
+          P[(3 * X + k) * 6 + 3 * Y + l] =
+              G[k] * T[l] + G[3 + k] * T[3 + l] + G[6 + k] * T[6 + l];
+    }
 }
 
 int sw_membrane_project(double *P, const double *wu, const double *wv, int d, int mode) {
