@@ -113,6 +113,25 @@ int sw_chol_ordering(const sw_chol *ch) {
   }
 }
 
+/* The system as CHOLMOD sees it: the pattern's column pointers and row indices themselves (a
+ * copy would cost 8 bytes a nonzero; CHOLMOD reads them only), values of its own. */
+static cholmod_sparse *system_view(sw_chol *ch, const sw_pattern *p) {
+  cholmod_sparse *A = &ch->Ahead;
+  memset(A, 0, sizeof *A);
+  A->nrow = A->ncol = (size_t)p->n;
+  A->nzmax = (size_t)p->nnz;
+  A->p = (void *)p->colptr;
+  A->i = (void *)p->rowind;
+  A->x = sw_calloc((size_t)p->nnz + 1, sizeof(double));
+  A->stype = 1; /* the upper triangle */
+  A->itype = CHOLMOD_LONG;
+  A->xtype = CHOLMOD_REAL;
+  A->dtype = CHOLMOD_DOUBLE;
+  A->sorted = 1;
+  A->packed = 1;
+  return A;
+}
+
 int sw_chol_init(sw_chol *ch, const sw_pattern *p, int mode, char *err, size_t errsz) {
   memset(ch, 0, sizeof *ch);
   cholmod_l_start(&ch->c);
@@ -121,14 +140,12 @@ int sw_chol_init(sw_chol *ch, const sw_pattern *p, int mode, char *err, size_t e
   ch->c.error_handler = NULL;
   ch->c.final_ll = 1; /* simplicial factors as LL^T too, so an indefinite S is detected */
   size_t n = (size_t)p->n;
-  ch->A = cholmod_l_allocate_sparse(n, n, (size_t)p->nnz, 1, 1, 1, CHOLMOD_REAL, &ch->c);
+  ch->A = system_view(ch, p);
   ch->b = cholmod_l_zeros(n, 1, CHOLMOD_REAL, &ch->c);
-  if (!ch->A || !ch->b || lowrank_init(ch, p)) {
+  if (!ch->A->x || !ch->b || lowrank_init(ch, p)) {
     sw_errf(err, errsz, "CHOLMOD: out of memory allocating a %zu x %zu system", n, n);
     return SW_FATAL;
   }
-  memcpy(ch->A->p, p->colptr, (n + 1) * sizeof(long));
-  memcpy(ch->A->i, p->rowind, (size_t)p->nnz * sizeof(long));
   /* The symbolic analysis needs only the pattern: put something positive definite in. */
   double *v = ch->A->x;
   memset(v, 0, (size_t)p->nnz * sizeof(double));
@@ -218,7 +235,8 @@ int sw_chol_solve(sw_chol *ch, const double *rhs, double *sol, char *err, size_t
 
 void sw_chol_free(sw_chol *ch) {
   if (!ch->started) return;
-  cholmod_l_free_sparse(&ch->A, &ch->c);
+  if (ch->A) sw_free(ch->A->x); /* the index arrays are the pattern's */
+  ch->A = NULL;
   cholmod_l_free_factor(&ch->L, &ch->c);
   cholmod_l_free_dense(&ch->b, &ch->c);
   cholmod_l_free_dense(&ch->x, &ch->c);

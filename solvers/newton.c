@@ -75,7 +75,8 @@ int sw_newton_init(sw_newton *nw, const sw_model *m, char *err, size_t errsz) {
     return SW_FATAL;
   }
   size_t nlrent = (size_t)nw->pat.lrptr[nw->pat.nlr];
-  nw->sval = sw_calloc((size_t)nw->pat.nnz + 1, sizeof(double));
+  if (nw->n > 0) nw->sval = sw_chol_values(&nw->chol); /* sval_for sets it per solve */
+  else nw->sval = nw->sown = sw_calloc(1, sizeof(double));
   nw->lrcur = sw_calloc(nlrent + 1, sizeof(double));
   double **cg[4] = {&nw->cr, &nw->cz, &nw->cp, &nw->cq};
   int nocg = !nw->sval || !nw->lrcur;
@@ -115,7 +116,7 @@ void sw_newton_free(sw_newton *nw) {
   sw_free(nw->ktab);
   sw_free(nw->kv);
   sw_free(nw->kslot);
-  sw_free(nw->sval);
+  sw_free(nw->sown);
   sw_free(nw->lrcur);
   sw_free(nw->cr);
   sw_free(nw->cz);
@@ -435,9 +436,9 @@ static int regrow(sw_newton *nw, const sw_model *m, sw_data *d) {
   sw_pattern np;
   int rc = sw_pattern_build_ex(&np, m, nw->xpair, nw->nxpair, d->err, sizeof d->err);
   if (rc) return rc;
-  double *sv = sw_realloc(nw->sval, (size_t)np.nnz + 1, sizeof(double));
-  if (sv) nw->sval = sv;
-  if (!sv) {
+  double *sv = nw->sown ? sw_realloc(nw->sown, (size_t)np.nnz + 1, sizeof(double)) : NULL;
+  if (sv) nw->sown = sv;
+  if (nw->sown && !sv) {
     sw_pattern_free(&np, m->nterm);
     sw_errf(d->err, sizeof d->err, "out of memory growing the sparsity pattern");
     return SW_FATAL;
@@ -459,7 +460,9 @@ static int regrow(sw_newton *nw, const sw_model *m, sw_data *d) {
   nw->fac_valid = 0;
   forget_slots(nw); /* the kept slots were the old pattern's */
   d->npattern++;
-  return sw_chol_init(&nw->chol, &nw->pat, nw->factor_mode, d->err, sizeof d->err);
+  int rc2 = sw_chol_init(&nw->chol, &nw->pat, nw->factor_mode, d->err, sizeof d->err);
+  nw->sval = nw->sown ? nw->sown : sw_chol_values(&nw->chol);
+  return rc2;
 }
 
 /* When the last evaluation's extra blocks (sw_term_ops blocks: self-contact's pairs, say)
@@ -548,7 +551,8 @@ int sw_newton_hessian(sw_newton *nw, const sw_model *m, sw_data *d, double a) {
 /* Factorise the assembled S; on success it is the kept factorisation. */
 static int factor(sw_newton *nw, sw_data *d) {
   double t0 = sw_now();
-  memcpy(sw_chol_values(&nw->chol), nw->sval, (size_t)nw->pat.nnz * sizeof(double));
+  double *val = sw_chol_values(&nw->chol);
+  if (val != nw->sval) memcpy(val, nw->sval, (size_t)nw->pat.nnz * sizeof(double));
   if (nw->pat.nlr) /* the low-rank vectors (CHOLMOD's copy is NULL without them) */
     memcpy(sw_chol_lowrank(&nw->chol, 1.0), nw->lrcur,
            (size_t)nw->pat.lrptr[nw->pat.nlr] * sizeof(double));
@@ -731,6 +735,27 @@ int sw_newton_factor(sw_newton *nw, sw_data *d) { return factor(nw, d); }
 
 int sw_newton_pcg(sw_newton *nw, sw_data *d, const sw_newton_opts *o) { return pcg(nw, d, o, 0.0); }
 
+/* Whether a solve with options o may solve by CG with an earlier factorisation (auto: when it
+ * is simplicial). */
+static int reuses(const sw_newton *nw, const sw_newton_opts *o) {
+  return o->reuse == SW_REUSE_AUTO ? sw_chol_super(&nw->chol) == 0 : o->reuse != SW_REUSE_OFF;
+}
+
+/* Where the solve assembles S: a solve that may reuse a factorisation keeps S apart from the
+ * factorised values (sown, allocated at the first such solve); one that never does writes S
+ * into them, and sown is freed.  -1 when out of memory. */
+static int sval_for(sw_newton *nw, int reuse) {
+  if (!reuse) {
+    sw_free(nw->sown);
+    nw->sown = NULL;
+    nw->sval = sw_chol_values(&nw->chol);
+    return 0;
+  }
+  if (!nw->sown && !(nw->sown = sw_calloc((size_t)nw->pat.nnz + 1, sizeof(double)))) return -1;
+  nw->sval = nw->sown;
+  return 0;
+}
+
 /* Newton's direction dx = S^-1 b, b = -grad Phi in nw->g: with reuse and a kept
  * factorisation, by conjugate gradients (the factorisation marked stale when they needed more
  * than SW_CG_KEEP iterations); otherwise, or when they do not converge, by a fresh
@@ -739,7 +764,7 @@ int sw_newton_pcg(sw_newton *nw, sw_data *d, const sw_newton_opts *o) { return p
 static int direction(sw_newton *nw, const sw_model *m, sw_data *d, const double *x,
                      const sw_newton_opts *o, int *fresh) {
   *fresh = 0;
-  int reuse = o->reuse == SW_REUSE_AUTO ? sw_chol_super(&nw->chol) == 0 : o->reuse;
+  int reuse = reuses(nw, o);
   if (reuse && nw->fac_valid && !nw->fac_stale) {
     int k = pcg(nw, d, o, 0.0);
     if (k < 0) return k;
@@ -870,6 +895,10 @@ int sw_newton_solve(sw_newton *nw, const sw_model *m, sw_data *d, double *x, con
                     const sw_newton_opts *o) {
   d->last_newton = 0;
   if (nw->n == 0) return SW_OK;
+  if (sval_for(nw, reuses(nw, o))) {
+    sw_errf(d->err, sizeof d->err, "out of memory for Newton's system (%ld nonzeros)", nw->pat.nnz);
+    return SW_FATAL;
+  }
   nw->cd = o->xd ? o->cd : 0.0;
   nw->xd = o->xd;
   if (nw->flag) memset(nw->flag, 0, (size_t)nw->soff[m->nterm]);

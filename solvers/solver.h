@@ -85,7 +85,11 @@ void sw_pattern_fill_lowrank(const sw_pattern *p, const sw_data *d, double *lrva
 typedef struct sw_chol {
   cholmod_common c;
   int started;
-  cholmod_sparse *A;     /* symmetric, upper triangle stored (stype +1) */
+  cholmod_sparse *A;     /* symmetric, upper triangle stored (stype +1): &Ahead, so an
+                            sw_chol is not to be copied */
+  cholmod_sparse Ahead;  /* its column pointers and row indices are the pattern's own (which
+                            CHOLMOD only reads: the pattern must outlive the factorisation);
+                            its values its own */
   cholmod_factor *L;
   int ordering;          /* SW_ORDERING_* asked for */
   cholmod_dense *b, *x, *Y, *E; /* persistent solve workspaces */
@@ -166,8 +170,12 @@ typedef struct sw_newton {
   double *hfilt;         /* (d->hess's size) the terms' clamped blocks, or NULL */
   double *vres;          /* (nv) each vertex's mass-scaled residual |g_i| / (a m_i), m */
   /* S of the current iterate (the factorisation may be of an earlier one): its values on the
-   * pattern and its low-rank vectors' entries (pattern order), coefficient 1 */
+   * pattern and its low-rank vectors' entries (pattern order), coefficient 1.  A solve that
+   * never reuses a factorisation assembles S straight into the factorisation's own values
+   * (sval = sw_chol_values: one copy of the system, not two); one that may reuse keeps S
+   * apart, in sown (sval_for). */
   double *sval;          /* (pat.nnz) */
+  double *sown;          /* (pat.nnz) or NULL */
   double *lrcur;         /* (pat.lrptr[pat.nlr]) */
   /* preconditioned conjugate gradients (reuse): workspaces and what the last solve took */
   double *cr, *cz, *cp, *cq; /* (n) residual, preconditioned residual, direction, S p */
