@@ -205,13 +205,11 @@ static void gather(const sw_term *t, int s, const sw_bend_hinge *hg, const doubl
   hinge_setup(h);
 }
 
-/* blk (w x w, w = 3 nv) += c u v^T for hinge vectors u, v (12, on the hinges' stencil-local
- * vertices pu, pv). */
-static void add_outer(double *blk, int w, double c, const double *u, const int *pu,
-                      const double *v, const int *pv) {
-  for (int i = 0; i < 12; i++)
-    for (int j = 0; j < 12; j++)
-      blk[(3 * pu[i / 3] + i % 3) * w + 3 * pv[j / 3] + j % 3] += c * u[i] * v[j];
+/* The hinge vector u (12, on the hinge's stencil-local vertices pu) as a stencil vector U
+ * (w = 3 nv). */
+static void spread(const double *u, const int *pu, int w, double *U) {
+  memset(U, 0, (size_t)w * sizeof(double));
+  for (int i = 0; i < 12; i++) U[3 * pu[i / 3] + i % 3] = u[i];
 }
 
 /* Energy of triangle stencil s; its gradient and (filtered) Hessian block as ev asks. */
@@ -239,13 +237,24 @@ static double tri_eval(const sw_term *t, int s, const sw_eval *ev) {
     for (int a = 0; a < nh; a++)
       for (int i = 0; i < 12; i++) ev->grad[3 * v[tr->h[a].v[i / 3]] + i % 3] += mu[a] * g[a][i];
   if (!ev->hess) return e;
-  double B[18 * 18] = {0}, Ht[144];
+  /* B = G^T W G + sum_a mu_a d2theta_a, G's rows the hinges' gradients on the stencil */
+  double B[18 * 18] = {0}, Ht[144], G[3][18], WG[3][18] = {{0}};
+  for (int a = 0; a < nh; a++) spread(g[a], tr->h[a].v, w, G[a]);
+  for (int a = 0; a < nh; a++)
+    for (int b = 0; b < nh; b++)
+      for (int c = 0; c < w; c++) WG[a][c] += tr->W[a][b] * G[b][c];
+  for (int r = 0; r < w; r++)
+    for (int c = 0; c < w; c++) {
+      double sum = 0.0;
+      for (int a = 0; a < nh; a++) sum += G[a][r] * WG[a][c];
+      B[r * w + c] = sum;
+    }
   for (int a = 0; a < nh; a++) {
-    for (int b = 0; b < nh; b++) add_outer(B, w, tr->W[a][b], g[a], tr->h[a].v, g[b], tr->h[b].v);
+    int at[12]; /* the hinge's coordinates among the stencil's */
+    for (int i = 0; i < 12; i++) at[i] = 3 * tr->h[a].v[i / 3] + i % 3;
     theta_hessian(&h[a], Ht);
     for (int i = 0; i < 12; i++)
-      for (int j = 0; j < 12; j++)
-        B[(3 * tr->h[a].v[i / 3] + i % 3) * w + 3 * tr->h[a].v[j / 3] + j % 3] += mu[a] * Ht[i * 12 + j];
+      for (int j = 0; j < 12; j++) B[at[i] * w + at[j]] += mu[a] * Ht[i * 12 + j];
   }
   if (ev->project) project_psd(B, tr->nv, ev->project);
   double *blk = ev->hess + t->hptr[s];
