@@ -14,8 +14,36 @@ void openblas_set_num_threads(int num_threads); /* OpenBLAS' cblas.h */
  * OMP_THREAD_LIMIT (looked up at run time: no dependency on libgomp, nothing if it is absent).
  * Then one BLAS thread unless asked: with the OpenMP fix two threads gave no gain per
  * factorisation at 77k DOFs for twice the CPU, and were slower on small systems. */
+/* Whether the user asked for OpenMP threads (then libgomp runs CHOLMOD's regions as it will);
+ * looked up once. */
+static int omp_wanted(void) {
+  static int wanted = -1;
+  if (wanted < 0) wanted = getenv("OMP_MAX_ACTIVE_LEVELS") || getenv("OMP_THREAD_LIMIT");
+  return wanted;
+}
+
+/* CHOLMOD's OpenMP regions (the only OpenMP entry point it calls, with omp_get_num_threads and
+ * omp_get_thread_num: plain `parallel for` loops with a static schedule), run here on the
+ * calling thread unless the user asked for OpenMP threads.  With nested parallelism off
+ * (below) libgomp runs each region on one thread too, but its team's start and end make a
+ * futex system call every time: about 16 000 per factorisation of the 80 x 80 cloth, a third
+ * of that factorisation's time (docs/performance.md, "CHOLMOD's OpenMP regions without
+ * libgomp").  Called outside any team, the loop body sees one thread, thread 0, and does every
+ * iteration: the same arithmetic in the same order.  This definition comes before libgomp's
+ * in the dynamic linker's search from libcholmod (libsinew, or a program linking sinew's
+ * objects, loads it); where another object's libgomp is found first, libgomp's runs, and only
+ * the speed differs. */
+void GOMP_parallel(void (*fn)(void *), void *data, unsigned num_threads, unsigned flags)
+    __attribute__((visibility("default")));
+void GOMP_parallel(void (*fn)(void *), void *data, unsigned num_threads, unsigned flags) {
+  static void (*next)(void (*)(void *), void *, unsigned, unsigned);
+  if (omp_wanted() && !next) *(void **)&next = dlsym(RTLD_NEXT, "GOMP_parallel");
+  if (omp_wanted() && next) next(fn, data, num_threads, flags);
+  else fn(data);
+}
+
 void sw_set_threads(int blas_threads) {
-  if (!getenv("OMP_MAX_ACTIVE_LEVELS") && !getenv("OMP_THREAD_LIMIT")) {
+  if (!omp_wanted()) {
     void (*set_levels)(int);
     *(void **)&set_levels = dlsym(RTLD_DEFAULT, "omp_set_max_active_levels");
     if (set_levels) set_levels(0);
