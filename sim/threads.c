@@ -1,6 +1,6 @@
 /* threads.c — the thread settings of the linear algebra (sw_set_threads, sinew.h), which the
  * run loop (sim.c) applies at a sim's start. */
-#define _GNU_SOURCE /* dlsym(RTLD_DEFAULT) */
+#define _GNU_SOURCE /* dlsym(RTLD_DEFAULT), RTLD_NEXT */
 #include <dlfcn.h>
 #include <stdlib.h>
 
@@ -8,12 +8,6 @@
 
 void openblas_set_num_threads(int num_threads); /* OpenBLAS' cblas.h */
 
-/* Threads (docs/performance.md).  Debian's CHOLMOD runs small loops of its factorisation on 4
- * OpenMP threads, compiled in; on 2 cores they fight and a step got 2.3x slower, so nested
- * OpenMP parallelism is switched off unless the user sets OMP_MAX_ACTIVE_LEVELS or
- * OMP_THREAD_LIMIT (looked up at run time: no dependency on libgomp, nothing if it is absent).
- * Then one BLAS thread unless asked: with the OpenMP fix two threads gave no gain per
- * factorisation at 77k DOFs for twice the CPU, and were slower on small systems. */
 /* Whether the user asked for OpenMP threads (then libgomp runs CHOLMOD's regions as it will);
  * looked up once. */
 static int omp_wanted(void) {
@@ -42,6 +36,12 @@ void GOMP_parallel(void (*fn)(void *), void *data, unsigned num_threads, unsigne
   else fn(data);
 }
 
+/* Threads (docs/performance.md).  Debian's CHOLMOD runs small loops of its factorisation on 4
+ * OpenMP threads, compiled in; on 2 cores they fight and a step got 2.3x slower, so nested
+ * OpenMP parallelism is switched off unless the user sets OMP_MAX_ACTIVE_LEVELS or
+ * OMP_THREAD_LIMIT (looked up at run time: no dependency on libgomp, nothing if it is absent).
+ * Then one BLAS thread unless asked: with the OpenMP fix two threads gave no gain per
+ * factorisation at 77k DOFs for twice the CPU, and were slower on small systems. */
 void sw_set_threads(int blas_threads) {
   if (!omp_wanted()) {
     void (*set_levels)(int);
