@@ -1,6 +1,8 @@
 /* test_newton.c — Newton-Krylov on a lagged factorisation (the direction conjugate gradients
  * give against a fresh factorisation's, runs with and without reuse), the factorisation chosen
- * by size, and the gathered garment that used to fail. */
+ * by size, one copy of the system without reuse, CHOLMOD's OpenMP regions run serially, and
+ * the gathered garment that used to fail. */
+#define _GNU_SOURCE /* dlsym(RTLD_DEFAULT) */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -9,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <cmocka.h>
+#include <dlfcn.h>
 
 #include "harness.h"
 #include "solver.h"
@@ -204,6 +207,68 @@ static void size_rule(void **state) {
   }
 }
 
+/* One backward-Euler step of the 20 x 20 cloth (supernodal) through sw_ipstep, with Newton
+ * reuse off and on: off, Newton assembles S into the factorised values themselves (one copy
+ * of the system); on, it keeps S apart (CG needs the current S beside an older factor).  The
+ * two runs agree to Newton's tolerance in its RMS norm. */
+static void one_copy_of_system(void **state) {
+  (void)state;
+  char err[SW_ERRSZ];
+  double *x[2];
+  long n = 0;
+  for (int reuse = 0; reuse < 2; reuse++) {
+    sw_model *m = cloth(20);
+    m->opt.newton_reuse = reuse ? SW_REUSE_ON : SW_REUSE_OFF;
+    sw_data *d = sw_data_new(m);
+    sw_ipstep ip;
+    assert_int_equal(sw_ipstep_init(&ip, m, err, sizeof err), 0);
+    assert_int_equal(sw_chol_super(&ip.nw.chol), 1);
+    const double h = m->opt.dt;
+    n = (long)m->nv * m->dim;
+    for (int k = 0; k < 2; k++) { /* two steps: the second may reuse the first's factor */
+      for (long i = 0; i < n; i++) ip.xhat[i] = d->x[i] + h * d->v[i], ip.xd[i] = d->x[i];
+      sw_newton_opts o = sw_ipstep_opts(m, &ip, 1.0 / (h * h), d->t + h, 1.0 / h, h, 1.0);
+      assert_int_equal(sw_ipstep_solve(&ip, m, d, &o, NULL), 0);
+      for (long i = 0; i < n; i++) ip.vnew[i] = m->dof[i] < 0 ? 0.0 : (ip.xnew[i] - d->x[i]) / h;
+      assert_int_equal(sw_ipstep_commit(&ip, m, d, h, 0), 0);
+    }
+    if (reuse) assert_ptr_not_equal(ip.nw.sval, sw_chol_values(&ip.nw.chol));
+    else assert_ptr_equal(ip.nw.sval, sw_chol_values(&ip.nw.chol));
+    assert_true(reuse ? ip.nw.sown != NULL : ip.nw.sown == NULL);
+    x[reuse] = malloc((size_t)n * sizeof(double));
+    memcpy(x[reuse], d->x, (size_t)n * sizeof(double));
+    sw_ipstep_free(&ip);
+    sw_data_free(d);
+    sw_model_free(m);
+  }
+  double ss = 0.0;
+  for (long i = 0; i < n; i++) ss += (x[0][i] - x[1][i]) * (x[0][i] - x[1][i]);
+  double rms = sqrt(ss / (double)n), diff = th_max_diff(x[0], x[1], (int)n);
+  print_message("reuse off vs on after two steps: RMS %.3g m, max %.3g m\n", rms, diff);
+  /* Newton's tolerance: the RMS of the update below 1e-2 m/s x 0.01 s */
+  assert_true(rms < 1e-4);
+  assert_true(rms > 0.0); /* CG's direction is not the factorisation's: the runs differ */
+  free(x[0]), free(x[1]);
+}
+
+/* CHOLMOD's OpenMP regions (sim/threads.c): GOMP_parallel runs the body once, on the calling
+ * thread, which libgomp's omp_get_num_threads then calls a team of one. */
+void GOMP_parallel(void (*fn)(void *), void *data, unsigned num_threads, unsigned flags);
+static void count_region(void *data) {
+  int *c = data;
+  int (*nthreads)(void);
+  *(void **)&nthreads = dlsym(RTLD_DEFAULT, "omp_get_num_threads");
+  c[0]++;
+  c[1] = nthreads ? nthreads() : 1;
+}
+static void openmp_regions_serial(void **state) {
+  (void)state;
+  int c[2] = {0, 0};
+  GOMP_parallel(count_region, c, 4, 0);
+  assert_int_equal(c[0], 1);
+  assert_int_equal(c[1], 1);
+}
+
 /* scenes/garment_gather.yaml (StVK and bw98 panels, quadratic bending, a cable drawstring
  * gathering the hem to 60 %): every step of 10 ms converges without halving, and the hem is
  * gathered (the drawstring's length below 70 % of its initial length at the end). */
@@ -235,6 +300,8 @@ int main(void) {
       cmocka_unit_test(lagged_direction),
       cmocka_unit_test(reuse_matches),
       cmocka_unit_test(size_rule),
+      cmocka_unit_test(one_copy_of_system),
+      cmocka_unit_test(openmp_regions_serial),
       cmocka_unit_test(garment_gather),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

@@ -9,7 +9,9 @@
  *  - exact values: a spring compressed to half its rest length has the clamped block k n n^T
  *    and the absolute one k I;
  *  - a hinge next to a collapsed face (a drawstring gathering a hem can crush one) does not put
- *    an unbounded stiffness into Newton's system: S = a M + H (clamped) is still factorised. */
+ *    an unbounded stiffness into Newton's system: S = a M + H (clamped) is still factorised;
+ *  - the small eigensolver behind every filter (models/eigen.c) against LAPACK from 1 x 1 to
+ *    18 x 18, its positive-definiteness test, and the translation-free reduction round trip. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -537,6 +539,91 @@ static void filter_by_dsyev(const double *A, int n, int mode, double *F) {
     }
 }
 
+/* ------------------------------------------------------------ models/eigen.c */
+
+/* A random symmetric n x n matrix with entries in [-1, 1] (scale s), row-major. */
+static void random_sym(double *A, int n, double s, unsigned *seed) {
+  for (int i = 0; i < n; i++)
+    for (int j = 0; j <= i; j++) {
+      *seed = *seed * 1103515245u + 12345u;
+      A[i * n + j] = A[j * n + i] = s * ((double)(*seed >> 8) / (double)(1u << 24) * 2.0 - 1.0);
+    }
+}
+
+/* sw_sym_eigen from 1 x 1 to 18 x 18, random matrices at scales 1e-12 to 1e12 and one with a
+ * repeated eigenvalue: A V = V diag(w) and V^T V = I to 1e-13 of |A|, the eigenvalues those of
+ * LAPACK's dsyev; sw_sym_is_pd says 1 exactly when the smallest eigenvalue is clearly positive,
+ * 0 when clearly negative. */
+static void sym_eigen_matches_lapack(void **st) {
+  (void)st;
+  unsigned seed = 7;
+  const double scales[3] = {1e-12, 1.0, 1e12};
+  for (int n = 1; n <= SW_EIGEN_NMAX; n++)
+    for (int k = 0; k < 4; k++) {
+      double A[SW_EIGEN_NMAX * SW_EIGEN_NMAX], V[SW_EIGEN_NMAX * SW_EIGEN_NMAX];
+      double L[SW_EIGEN_NMAX * SW_EIGEN_NMAX], w[SW_EIGEN_NMAX], lw[SW_EIGEN_NMAX], work[18 * 34];
+      double s = k < 3 ? scales[k] : 1.0;
+      random_sym(A, n, s, &seed);
+      if (k == 3) /* I + e e^T: eigenvalue 1 n - 1 times */
+        for (int i = 0; i < n; i++)
+          for (int j = 0; j < n; j++) A[i * n + j] = (i == j) + 0.5;
+      memcpy(V, A, sizeof(double) * (size_t)(n * n));
+      assert_int_equal(sw_sym_eigen(V, n, w), 0);
+      double norm = 0.0;
+      for (int i = 0; i < n * n; i++) norm = fmax(norm, fabs(A[i]));
+      for (int i = 0; i < n; i++)
+        for (int c = 0; c < n; c++) {
+          double av = 0.0, vv = 0.0;
+          for (int j = 0; j < n; j++) av += A[i * n + j] * V[j * n + c], vv += V[j * n + i] * V[j * n + c];
+          assert_true(fabs(av - w[c] * V[i * n + c]) <= 1e-13 * n * norm);
+          assert_true(fabs(vv - (i == c)) <= 1e-13 * n);
+        }
+      int lwork = 18 * 34, info = 0;
+      memcpy(L, A, sizeof(double) * (size_t)(n * n));
+      dsyev_("N", "U", &n, L, &n, lw, work, &lwork, &info);
+      assert_int_equal(info, 0);
+      double ws[SW_EIGEN_NMAX];
+      memcpy(ws, w, sizeof ws);
+      for (int i = 1; i < n; i++) /* ascending, as LAPACK's */
+        for (int j = i; j > 0 && ws[j] < ws[j - 1]; j--) {
+          double t = ws[j];
+          ws[j] = ws[j - 1], ws[j - 1] = t;
+        }
+      for (int i = 0; i < n; i++) assert_true(fabs(ws[i] - lw[i]) <= 1e-13 * n * norm);
+      if (lw[0] > 1e-8 * norm) assert_int_equal(sw_sym_is_pd(A, n), 1);
+      if (lw[0] < -1e-8 * norm) assert_int_equal(sw_sym_is_pd(A, n), 0);
+    }
+  double A[4] = {1.0, NAN, NAN, 1.0}, w[2];
+  assert_int_equal(sw_sym_eigen(A, 2, w), -1); /* not finite */
+  assert_int_equal(sw_sym_eigen(A, SW_EIGEN_NMAX + 1, w), -1);
+  assert_int_equal(sw_sym_is_pd(A, 2), 0);
+}
+
+/* Helmert's contrasts, 2 to 6 vertices: Q^T Q = I (the reduction of the identity is the
+ * identity), a block H = Q M Q^T of a translation-free energy comes back as M and goes back to
+ * H, and such an H has the translations in its null space. */
+static void contrasts_round_trip(void **st) {
+  (void)st;
+  unsigned seed = 11;
+  for (int nv = 2; nv <= 6; nv++) {
+    const int w = 3 * nv, r = w - 3;
+    double I[18 * 18] = {0}, M[18 * 18], M2[18 * 18], H[18 * 18];
+    for (int i = 0; i < w; i++) I[i * (w + 1)] = 1.0;
+    sw_contrast_reduce(I, nv, M);
+    for (int i = 0; i < r * r; i++) assert_true(fabs(M[i] - (i % (r + 1) == 0)) <= 1e-15);
+    random_sym(M, r, 1.0, &seed);
+    sw_contrast_lift(M, nv, H);
+    for (int i = 0; i < w; i++)
+      for (int a = 0; a < 3; a++) { /* H (1 (x) e_a) = 0 */
+        double t = 0.0;
+        for (int v = 0; v < nv; v++) t += H[i * w + 3 * v + a];
+        assert_true(fabs(t) <= 1e-14);
+      }
+    sw_contrast_reduce(H, nv, M2);
+    for (int i = 0; i < r * r; i++) assert_true(fabs(M2[i] - M[i]) <= 1e-14);
+  }
+}
+
 /* A block with zero rows (a contact pair whose closest features involve 2 or 3 of its 4
  * vertices): sw_psd_project filters only its nonzero rows and columns, and the result is the
  * filter of the whole 12 x 12 block by a full eigen-decomposition, to 1e-12 of its largest
@@ -569,6 +656,8 @@ static void zero_rows_block(void **st) {
 
 int main(void) {
   const struct CMUnitTest tests[] = {
+      cmocka_unit_test(sym_eigen_matches_lapack),
+      cmocka_unit_test(contrasts_round_trip),
       cmocka_unit_test(zero_rows_block),
       cmocka_unit_test(bw98_2d),
       cmocka_unit_test(bw98_3d),
