@@ -209,12 +209,21 @@ int sw_psd_project(double *A, int n, int mode) {
   if (sw_sym_eigen(V, n, w)) return -1; /* column k of V: the eigenvector of w[k] */
   for (int k = 0; k < n; k++) wmin = fmin(wmin, w[k]);
   if (wmin >= 0.0) return 0; /* already PSD: A unchanged */
-  for (int k = 0; k < n; k++) w[k] = sw_filter_eigenvalue(w[k], mode);
+  /* A = U U^T, U's columns the eigenvectors of positive filtered eigenvalue l scaled by
+   * sqrt(l), its rows contiguous */
+  double U[SW_EIGEN_NMAX * SW_EIGEN_NMAX];
+  int np = 0;
+  for (int k = 0; k < n; k++) {
+    double l = sw_filter_eigenvalue(w[k], mode);
+    if (!(l > 0.0)) continue;
+    double r = sqrt(l);
+    for (int i = 0; i < n; i++) U[i * n + np] = r * V[i * n + k];
+    np++;
+  }
   for (int i = 0; i < n; i++)
     for (int j = i; j < n; j++) {
       double s = 0.0;
-      for (int k = 0; k < n; k++)
-        if (w[k] > 0.0) s += w[k] * V[i * n + k] * V[j * n + k];
+      for (int p = 0; p < np; p++) s += U[i * n + p] * U[j * n + p];
       A[i * n + j] = A[j * n + i] = s;
     }
   return 0;
