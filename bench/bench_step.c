@@ -137,7 +137,7 @@ int main(int argc, char **argv) {
       const char *const *names = sw_hessian_names();
       for (hessian = 0; names[hessian] && strcmp(argv[i] + 10, names[hessian]); hessian++) continue;
       if (!names[hessian]) return usage();
-    }    else if (!strncmp(argv[i], "--model=", 8)) {
+    } else if (!strncmp(argv[i], "--model=", 8)) {
       for (model = 0; model < 4 && strcmp(argv[i] + 8, models[model][0]); model++) continue;
       if (model == 4) return usage();
     } else if (!strcmp(argv[i], "--bending=dihedral")) bending = "dihedral";

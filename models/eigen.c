@@ -7,11 +7,11 @@
 
 #include "terms.h"
 
-/* The eigensystem of the symmetric n x n A (n <= SW_EIGEN_NMAX, row-major): Householder's reduction to a
- * tridiagonal matrix, then the QL iteration with implicit Wilkinson shifts (Wilkinson and
- * Reinsch, "Handbook for Automatic Computation II: Linear Algebra", 1971, procedures tred2 and
- * tql2, as in Press et al., "Numerical Recipes", sec. 11.2-11.3).  A becomes the eigenvectors
- * (column k: that of w[k]).  -1 when the iteration does not converge (not finite).  The same
+/* The eigensystem of the symmetric n x n A (n <= SW_EIGEN_NMAX, row-major): Householder's
+ * reduction to a tridiagonal matrix, then the QL iteration with implicit Wilkinson shifts
+ * (Wilkinson and Reinsch, "Handbook for Automatic Computation II: Linear Algebra", 1971,
+ * procedures tred2 and tql2, as in Press et al., "Numerical Recipes", sec. 11.2-11.3).  A becomes
+ * the eigenvectors (column k: that of w[k]).  -1 when the iteration does not converge (not finite).  The same
  * algorithm as LAPACK's dsyev (dsytrd, dorgtr, dsteqr), written for small sizes, where dsyev's
  * calls of its level-2 kernels cost more than their arithmetic: sw_pair_clamp_free takes 2.9 us
  * with it against 6.1 us with dsyev (bench/bench_blocks, one thread); a random 18 x 18 matrix
@@ -186,16 +186,19 @@ void sw_contrast_reduce(const double *H, int nv, double *M) {
   transpose(T, r, w, U);      /* H Q: w x r */
   contrast_rows(U, nv, r, M); /* Q^T H Q: r x r */
   for (int i = 0; i < r; i++) /* symmetric to round-off: make it exactly so */
-    for (int j = i + 1; j < r; j++) M[i * r + j] = M[j * r + i] = 0.5 * (M[i * r + j] + M[j * r + i]);
+    for (int j = i + 1; j < r; j++)
+      M[i * r + j] = M[j * r + i] = 0.5 * (M[i * r + j] + M[j * r + i]);
 }
 
 void sw_contrast_lift(const double *M, int nv, double *H) {
-  double T[SW_EIGEN_NMAX * SW_EIGEN_NMAX], U[SW_EIGEN_NMAX * SW_EIGEN_NMAX] = {0}; /* {0}: gcc -Wmaybe-uninitialized */
+  double T[SW_EIGEN_NMAX * SW_EIGEN_NMAX];
+  double U[SW_EIGEN_NMAX * SW_EIGEN_NMAX] = {0}; /* {0}: else gcc -Wmaybe-uninitialized */
   const int w = 3 * nv, r = w - 3;
   if (nv < 2 || w > SW_EIGEN_NMAX) return;
   uncontrast_rows(M, nv, r, T); /* Q M: w x r */
   transpose(T, w, r, U);        /* M Q^T: r x w */
   uncontrast_rows(U, nv, w, H); /* Q M Q^T: w x w */
   for (int i = 0; i < w; i++)
-    for (int j = i + 1; j < w; j++) H[i * w + j] = H[j * w + i] = 0.5 * (H[i * w + j] + H[j * w + i]);
+    for (int j = i + 1; j < w; j++)
+      H[i * w + j] = H[j * w + i] = 0.5 * (H[i * w + j] + H[j * w + i]);
 }

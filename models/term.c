@@ -194,7 +194,7 @@ int sw_psd_project(double *A, int n, int mode) {
    * of the negative directions (Chen, Liu, Levin, Zheng, Jacobson, "Stabler Neo-Hookean
    * Simulation: Absolute Eigenvalue Filtering for Projected Newton", SIGGRAPH 2024).  A
    * Cholesky factorisation first (sw_sym_is_pd, n^3/6 multiplications against some 10 n^3 for
-   * the eigensystem) proves the many blocks that are positive definite already so.
+   * the eigensystem) proves a block that is positive definite already so.
    * Fixed-size workspace: no allocation. */
   double V[SW_EIGEN_NMAX * SW_EIGEN_NMAX], w[SW_EIGEN_NMAX], wmin = 0.0;
   if (n < 1 || n > SW_EIGEN_NMAX) return -1;

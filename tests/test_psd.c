@@ -574,7 +574,8 @@ static void sym_eigen_matches_lapack(void **st) {
       for (int i = 0; i < n; i++)
         for (int c = 0; c < n; c++) {
           double av = 0.0, vv = 0.0;
-          for (int j = 0; j < n; j++) av += A[i * n + j] * V[j * n + c], vv += V[j * n + i] * V[j * n + c];
+          for (int j = 0; j < n; j++)
+            av += A[i * n + j] * V[j * n + c], vv += V[j * n + i] * V[j * n + c];
           assert_true(fabs(av - w[c] * V[i * n + c]) <= 1e-13 * n * norm);
           assert_true(fabs(vv - (i == c)) <= 1e-13 * n);
         }
