@@ -10,12 +10,13 @@
 /* The eigensystem of the symmetric n x n A (n <= SW_EIGEN_NMAX, row-major): Householder's
  * reduction to a tridiagonal matrix, then the QL iteration with implicit Wilkinson shifts
  * (Wilkinson and Reinsch, "Handbook for Automatic Computation II: Linear Algebra", 1971,
- * procedures tred2 and tql2, as in Press et al., "Numerical Recipes", sec. 11.2-11.3).  A becomes
- * the eigenvectors (column k: that of w[k]).  -1 when the iteration does not converge (not
- * finite).  The same algorithm as LAPACK's dsyev (dsytrd, dorgtr, dsteqr), written for small sizes, where dsyev's
- * calls of its level-2 kernels cost more than their arithmetic: sw_pair_clamp_free takes 2.9 us
- * with it against 6.1 us with dsyev (bench/bench_blocks, one thread); a random 18 x 18 matrix
- * 13.6 us against 23.8, 15 x 15 8.6 against 16.4, 9 x 9 2.6 against 6.6 (one thread). */
+ * procedures tred2 and tql2, as in Press et al., "Numerical Recipes", sec. 11.2-11.3).  A
+ * becomes the eigenvectors (column k: that of w[k]).  -1 when the iteration does not converge
+ * (not finite).  The same algorithm as LAPACK's dsyev (dsytrd, dorgtr, dsteqr), written for
+ * small sizes, where dsyev's calls of its level-2 kernels cost more than their arithmetic:
+ * sw_pair_clamp_free takes 2.9 us with it against 6.1 us with dsyev (bench/bench_blocks, one
+ * thread); a random 18 x 18 matrix 13.6 us against 23.8, 15 x 15 8.6 against 16.4, 9 x 9 2.6
+ * against 6.6 (one thread). */
 int sw_sym_eigen(double *A, int n, double *w) {
   double e[SW_EIGEN_NMAX];
   if (n < 1 || n > SW_EIGEN_NMAX) return -1;
