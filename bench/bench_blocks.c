@@ -8,8 +8,10 @@
  * cases are the distance form alone (form, by k: 0 two points, 1 a point and a line, 2
  * interiors), the form and its clamped block (block, by k: the closed form where the closest
  * points slide), the mollified edge-edge pairs' 9 x 9 clamp (clamp_free, on the exact
- * mollified Hessians of nearly parallel pairs) and, for reference, LAPACK's 12 x 12 clamp
- * (sw_psd_project) of the same Hessians.  Run with OPENBLAS_NUM_THREADS=1. */
+ * mollified Hessians of nearly parallel pairs) and, for reference, the 12 x 12 clamp
+ * (sw_psd_project) of the same Hessians; then the small symmetric eigensolver of
+ * models/eigen.c against LAPACK's dsyev (eigen_N, dsyev_N: us per random N x N matrix, N = 3
+ * ... 18).  Run with OPENBLAS_NUM_THREADS=1. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -19,6 +21,9 @@
 #include "contact_geom.h"
 #include "harness.h"
 #include "terms.h"
+
+extern void dsyev_(const char *jobz, const char *uplo, const int *n, double *a, const int *lda,
+                   double *w, double *work, const int *lwork, int *info);
 
 enum { NPAIR = 4000 };
 
@@ -101,8 +106,25 @@ int main(int argc, char **argv) {
         else sw_pair_clamp_free(H);
         sink += H[0];
       }
-    printf("%s,%d,%.4f\n", lapack ? "lapack_clamp_12" : "clamp_free", nm,
+    printf("%s,%d,%.4f\n", lapack ? "psd_project_12" : "clamp_free", nm,
            1e6 * (cpu_now() - t0) / ((double)nm * reps));
   }
+  for (int n = 3; n <= SW_EIGEN_NMAX; n += 3) /* one random symmetric matrix per size */
+    for (int lapack = 0; lapack < 2; lapack++) {
+      double A0[SW_EIGEN_NMAX * SW_EIGEN_NMAX], A[SW_EIGEN_NMAX * SW_EIGEN_NMAX];
+      double w[SW_EIGEN_NMAX], work[SW_EIGEN_NMAX * 34];
+      int lwork = SW_EIGEN_NMAX * 34, info = 0, calls = 200 * reps;
+      for (int i = 0; i < n; i++)
+        for (int j = 0; j <= i; j++) A0[i * n + j] = A0[j * n + i] = th_rand(&rs);
+      double t0 = cpu_now();
+      for (int r = 0; r < calls; r++) {
+        memcpy(A, A0, sizeof(double) * (size_t)(n * n));
+        if (lapack) dsyev_("V", "U", &n, A, &n, w, work, &lwork, &info);
+        else sw_sym_eigen(A, n, w);
+        sink += w[0];
+      }
+      printf("%s_%d,%d,%.4f\n", lapack ? "dsyev" : "eigen", n, calls,
+             1e6 * (cpu_now() - t0) / (double)calls);
+    }
   return isfinite(sink) ? 0 : 1;
 }

@@ -38,6 +38,21 @@ static void eig_range(const double *H, double *lo, double *hi) {
   *lo = w[0], *hi = w[11];
 }
 
+/* The reference clamp, independent of sinew's eigensolver: H's nearest PSD matrix by LAPACK's
+ * dsyev, sum over positive eigenvalues of l v v^T. */
+static void lapack_clamp(double *H) {
+  double A[144], w[12], work[12 * 64];
+  int n = 12, lwork = 12 * 64, info;
+  memcpy(A, H, sizeof A);
+  dsyev_("V", "U", &n, A, &n, w, work, &lwork, &info);
+  assert_int_equal(info, 0);
+  memset(H, 0, 144 * sizeof(double));
+  for (int k = 0; k < 12; k++)
+    if (w[k] > 0.0)
+      for (int i = 0; i < 12; i++)
+        for (int j = 0; j < 12; j++) H[i * 12 + j] += w[k] * A[k * 12 + i] * A[k * 12 + j];
+}
+
 static double max_abs(const double *a, int n) {
   double s = 0.0;
   for (int i = 0; i < n; i++) s = fmax(s, fabs(a[i]));
@@ -109,7 +124,7 @@ static void block_is_clamp(void **st) {
     eig_range(E, &elo, &ehi);
     indefinite += elo < -1e-8 * ehi;
     assert_int_equal(sw_pair_barrier_block(&pf, db, d2b, w, B), 0);
-    assert_int_equal(sw_psd_project(E, 12, SW_FILTER_CLAMP), 0);
+    lapack_clamp(E);
     double err = 0.0;
     for (int i = 0; i < 144; i++) err = fmax(err, fabs(B[i] - E[i]));
     if (!(err <= 1e-10 * max_abs(E, 144)))
@@ -160,7 +175,7 @@ static void clamp_free_is_clamp(void **st) {
     double E[144], lo, hi, err = 0.0;
     memcpy(E, H, sizeof E);
     assert_int_equal(sw_pair_clamp_free(H), 0);
-    assert_int_equal(sw_psd_project(E, 12, SW_FILTER_CLAMP), 0);
+    lapack_clamp(E);
     for (int i = 0; i < 144; i++) err = fmax(err, fabs(H[i] - E[i]));
     assert_true(err <= 1e-10 * max_abs(E, 144));
     eig_range(H, &lo, &hi);

@@ -317,8 +317,8 @@ static void lapack_psd(double *A, int n, int mode) {
   memcpy(A, R, sizeof(double) * (size_t)(n * n));
 }
 
-/* sw_psd_project (Jacobi) and sw_membrane_project (in-plane and normal blocks) against LAPACK,
- * on random P = J M J^T + S (x) I, the form of the Hessian of any density of C (stvk.c), with
+/* sw_psd_project (models/eigen.c's solver) and sw_membrane_project (in-plane and normal
+ * blocks) against LAPACK, on random P = J M J^T + S (x) I, the form of the Hessian of any density of C (stvk.c), with
  * both filters: clamped eigenvalues (the nearest PSD matrix) and absolute ones. */
 static void psd_projection(void **st) {
   (void)st;
