@@ -57,12 +57,17 @@ struct sw_sim {
 static int write_restart(sw_sim *s, char *err, size_t errsz);
 static void fit_restore(sw_sim *s);
 
-/* The power damping dissipates at the current state (d->grad as scratch for D v) and its
- * integral by the trapezoid rule between log lines. */
+/* The power damping dissipates at the current state and its integral by the trapezoid rule
+ * between log lines.  After a step of a method that froze D for it (the Newton methods), v.D v
+ * with that D: the power of the damping force the step applied, at the velocity it accepted,
+ * and no Hessian to evaluate; else D at the state (d->grad as scratch for D v). */
 static int damping_power(sw_sim *s) {
   sw_data *d = s->d;
   double p = 0.0;
-  int rc = sw_damped(s->m) ? sw_damping_force(s->m, d, d->x, d->t, d->v, d->grad, &p) : SW_OK;
+  int rc = SW_OK;
+  if (sw_damped(s->m) &&
+      !(s->ops && s->ops->damping_power && s->ops->damping_power(s->st, s->m, d, &p) == SW_OK))
+    rc = sw_damping_force(s->m, d, d->x, d->t, d->v, d->grad, &p);
   if (rc) return rc;
   p += d->friction_power; /* W: contact friction (the terms' state, sw_terms_state) */
   if (s->logged) d->dissipated += 0.5 * (d->damp_power + p) * (d->t - s->t_logged); /* J */

@@ -93,6 +93,11 @@ static int be_step(void *p, const sw_model *m, sw_data *d, double h) {
   return sw_ipstep_commit(ip, m, d, h, 0);
 }
 
+/* The power of the damping the last step applied, at the state it accepted. */
+static int be_damping_power(void *p, const sw_model *m, const sw_data *d, double *power) {
+  return sw_ipstep_damping_power(&((be_state *)p)->ip, m, d, power);
+}
+
 const sw_integrator_ops sw_backward_euler_ops = {
     .name = "backward-euler",
     .summary = "backward Euler, Newton with line search to tolerance (order 1, L-stable, damps)",
@@ -101,6 +106,7 @@ const sw_integrator_ops sw_backward_euler_ops = {
     .free = be_free,
     .reset = be_reset,
     .history = be_history,
+    .damping_power = be_damping_power,
 };
 
 const sw_integrator_ops sw_baraff_witkin_ops = {
@@ -111,6 +117,7 @@ const sw_integrator_ops sw_baraff_witkin_ops = {
     .free = be_free,
     .reset = be_reset,
     .history = be_history,
+    .damping_power = be_damping_power,
 };
 
 /* Not a scene method: the optimisation fit's step (docs/garments.md, `fit.mode: optimize`). */
@@ -122,4 +129,5 @@ const sw_integrator_ops sw_proximal_ops = {
     .free = be_free,
     .reset = be_reset,
     .history = be_history,
+    .damping_power = be_damping_power,
 };

@@ -116,6 +116,11 @@ static void bdf2_history(void *p, const sw_model *m, sw_io *io) {
   sw_ipstep_history(&s->ip, io);
 }
 
+/* The power of the damping the last step applied, at the state it accepted. */
+static int bdf2_damping_power(void *p, const sw_model *m, const sw_data *d, double *power) {
+  return sw_ipstep_damping_power(&((bdf2_state *)p)->ip, m, d, power);
+}
+
 const sw_integrator_ops sw_bdf2_ops = {
     .history = bdf2_history,
     .name = "bdf2",
@@ -124,4 +129,5 @@ const sw_integrator_ops sw_bdf2_ops = {
     .step = bdf2_step,
     .free = bdf2_free,
     .reset = bdf2_reset,
+    .damping_power = bdf2_damping_power,
 };

@@ -77,6 +77,11 @@ static int mid_step(void *p, const sw_model *m, sw_data *d, double h) {
   return sw_ipstep_commit(ip, m, d, h, 1);
 }
 
+/* The power of the damping the last step applied, at the state it accepted. */
+static int mid_damping_power(void *p, const sw_model *m, const sw_data *d, double *power) {
+  return sw_ipstep_damping_power(&((mid_state *)p)->ip, m, d, power);
+}
+
 const sw_integrator_ops sw_implicit_midpoint_ops = {
     .name = "implicit-midpoint",
     .summary = "implicit midpoint, Newton (order 2, symplectic, no damping)",
@@ -85,4 +90,5 @@ const sw_integrator_ops sw_implicit_midpoint_ops = {
     .free = mid_free,
     .reset = mid_reset,
     .history = mid_history,
+    .damping_power = mid_damping_power,
 };

@@ -33,7 +33,10 @@ void sw_ipstep_free(sw_ipstep *s) {
   memset(s, 0, sizeof *s);
 }
 
-void sw_ipstep_reset(sw_ipstep *s) { sw_newton_forget(&s->nw); }
+void sw_ipstep_reset(sw_ipstep *s) {
+  sw_newton_forget(&s->nw);
+  s->committed = 0;
+}
 
 void sw_ipstep_history(sw_ipstep *s, sw_io *io) { sw_newton_history(&s->nw, io); }
 
@@ -59,6 +62,7 @@ sw_newton_opts sw_ipstep_opts(const sw_model *m, const sw_ipstep *s, double a, d
 int sw_ipstep_solve(sw_ipstep *s, const sw_model *m, sw_data *d, const sw_newton_opts *o,
                     const double *y0) {
   const int nd = m->nv * m->dim;
+  s->committed = 0; /* nw.dval is about to be this step's */
   if (!y0) y0 = s->xhat;
   for (int i = 0; i < nd; i++) s->xnew[i] = m->dof[i] < 0 ? d->x[i] : y0[i];
   /* each term's start of the step (contact: friction lagged at d->x, the guess made
@@ -96,5 +100,18 @@ int sw_ipstep_commit(sw_ipstep *s, const sw_model *m, sw_data *d, double h, int 
   d->t += h;
   d->last_dt = h;
   d->nstep++;
+  s->committed = 1;
+  return SW_OK;
+}
+
+int sw_ipstep_damping_power(sw_ipstep *s, const sw_model *m, const sw_data *d, double *power) {
+  sw_newton *nw = &s->nw;
+  if (!s->committed || !nw->dval) return -1;
+  for (int i = 0; i < m->nv * m->dim; i++) /* nw->r, nw->dr: the damping's scratch */
+    if (m->dof[i] >= 0) nw->r[m->dof[i]] = d->v[i];
+  sw_pattern_symv(&nw->pat, nw->dval, nw->r, nw->dr);
+  double p = 0.0;
+  for (int c = 0; c < nw->n; c++) p += nw->r[c] * nw->dr[c];
+  *power = p; /* W */
   return SW_OK;
 }

@@ -126,6 +126,11 @@ static void nm_history(void *p, const sw_model *m, sw_io *io) {
   sw_ipstep_history(&s->ip, io);
 }
 
+/* The power of the damping the last step applied, at the state it accepted. */
+static int nm_damping_power(void *p, const sw_model *m, const sw_data *d, double *power) {
+  return sw_ipstep_damping_power(&((nm_state *)p)->ip, m, d, power);
+}
+
 const sw_integrator_ops sw_newmark_ops = {
     .history = nm_history,
     .name = "newmark",
@@ -134,4 +139,5 @@ const sw_integrator_ops sw_newmark_ops = {
     .step = nm_step,
     .free = nm_free,
     .reset = nm_reset,
+    .damping_power = nm_damping_power,
 };

@@ -309,6 +309,7 @@ int sw_newton_line_search(sw_newton *nw, const sw_model *m, sw_data *d, double *
 typedef struct sw_ipstep {
   sw_newton nw;
   double *xhat, *xd, *xnew, *vnew; /* (nv x dim) */
+  int committed; /* d holds the state the last step accepted, and D (nw.dval) is that step's */
 } sw_ipstep;
 
 int sw_ipstep_init(sw_ipstep *s, const sw_model *m, char *err, size_t errsz);
@@ -329,6 +330,10 @@ void sw_ipstep_reset(sw_ipstep *s);
 void sw_ipstep_history(sw_ipstep *s, sw_io *io);
 /* Accept xnew, vnew as the state at d->t + h, after the energy check when check_energy. */
 int sw_ipstep_commit(sw_ipstep *s, const sw_model *m, sw_data *d, double h, int check_energy);
+/* *power = v.D v, W, over the free DOFs at d->v, with the D the last step froze at its
+ * predictor: the power of the damping force that step applied, at the velocity it accepted.
+ * Nonzero (and *power untouched) when there is no such step: none yet, or a reset since. */
+int sw_ipstep_damping_power(sw_ipstep *s, const sw_model *m, const sw_data *d, double *power);
 
 /* ------------------------------------------------------------ integrators.c */
 typedef struct sw_integrator_ops {
@@ -348,6 +353,11 @@ typedef struct sw_integrator_ops {
    * --resume`), so that a resumed run takes the same steps.  NULL: a method with none, or
    * one that is restarted at the resumed state with reset(SW_CHANGED_STATE) (CVODE, IDA). */
   void (*history)(void *state, const sw_model *m, sw_io *io);
+  /* The power, W, of the damping the last step applied, v.D v at d's state with the D that
+   * step used (the Newton methods freeze D per step: sw_ipstep_damping_power).  Nonzero when
+   * there is none (no step yet, or a reset since).  NULL, or nonzero: sim.c evaluates D at
+   * the state (sw_damping_force). */
+  int (*damping_power)(void *state, const sw_model *m, const sw_data *d, double *power);
 } sw_integrator_ops;
 
 /* What changed between two steps: the state (d->t, d->x, d->v: a history of past states no

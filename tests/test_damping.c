@@ -7,7 +7,9 @@
  *     with Newton-Krylov (newton_reuse on) too;
  *   - the damping force dissipates (v.D v >= 0) and energy + dissipated work is conserved by
  *     the implicit midpoint rule to its order;
- *   - a mass on a tendon with mass, stiffness and tendon damping: the damped oscillator. */
+ *   - a mass on a tendon with mass, stiffness and tendon damping: the damped oscillator;
+ *   - the damping power a Newton method reports after a step is v.D v with the D it froze at
+ *     its predictor, none before a step or after a reset; the sim logs it. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -192,12 +194,85 @@ static void tendon_oscillator(void **st) {
   sw_model_free(m);
 }
 
+/* v_{n+1}.D v_{n+1} with D at the step's predictor xhat (a fresh evaluation, sw_damping_force). */
+static double frozen_power(const sw_model *m, const double *xhat, double t, const double *v) {
+  size_t nd = (size_t)m->nv * (size_t)m->dim;
+  sw_data *d = sw_data_new(m);
+  double *out = calloc(nd, sizeof(double)), p = -1.0;
+  assert_int_equal(sw_damping_force(m, d, xhat, t, v, out, &p), 0);
+  free(out);
+  sw_data_free(d);
+  return p;
+}
+
+/* After each of three steps of backward Euler, BDF2's start and the implicit midpoint rule on
+ * a swinging cloth with mass and stiffness damping: ops->damping_power is v.D v at the
+ * accepted velocity with D at the step's predictor (x_n + h v_n; midpoint x_n + h/2 v_n), to
+ * round-off, and differs from D at the new state; none before a step and after a reset. */
+static void frozen_damping_power(void **st) {
+  (void)st;
+  const double g[3] = {0.0, -9.81, -3.0}, h = 0.02; /* m/s^2, s */
+  sw_model *m = th_grid_model(3, 4, 3, 0.3, 0.2, 0.2, 60.0, 5.0, g, 1);
+  assert_non_null(m);
+  m->damp_mass = 0.5;       /* 1/s */
+  m->damp_stiffness = 0.01; /* s */
+  size_t nd = (size_t)m->nv * (size_t)m->dim;
+  double *xhat = calloc(nd, sizeof(double));
+  const sw_integrator_ops *ops[3] = {&sw_backward_euler_ops, &sw_bdf2_ops,
+                                     &sw_implicit_midpoint_ops};
+  const double frac[3] = {1.0, 1.0, 0.5}; /* predictor x_n + frac h v_n */
+  for (int k = 0; k < 3; k++) {
+    void *s;
+    sw_data *d = th_start(ops[k], m, &s);
+    assert_non_null(d);
+    double p;
+    assert_int_not_equal(ops[k]->damping_power(s, m, d, &p), 0); /* no step yet */
+    for (int n = 0; n < 3; n++) {
+      for (size_t i = 0; i < nd; i++) xhat[i] = d->x[i] + frac[k] * h * d->v[i];
+      double tstage = d->t + frac[k] * h;
+      assert_int_equal(ops[k]->step(s, m, d, h), 0);
+      if (ops[k] == &sw_bdf2_ops && n > 0) break; /* BDF2 proper: another predictor */
+      assert_int_equal(ops[k]->damping_power(s, m, d, &p), 0);
+      double ref = frozen_power(m, xhat, tstage, d->v), now = frozen_power(m, d->x, d->t, d->v);
+      print_message("%-18s step %d: v.D v %.12g W, D at the predictor %.12g, at x_{n+1} %.12g\n",
+                    ops[k]->name, n + 1, p, ref, now);
+      assert_true(ref > 0.0);
+      assert_true(fabs(p - ref) < 1e-12 * ref);
+      assert_true(fabs(now - ref) > 1e-9 * ref); /* the check can tell the two apart */
+    }
+    ops[k]->reset(s, m, d, SW_CHANGED_MODEL);
+    assert_int_not_equal(ops[k]->damping_power(s, m, d, &p), 0);
+    ops[k]->free(s);
+    sw_data_free(d);
+  }
+  /* the sim logs it: D at the state for the first state, the step's frozen D after a step */
+  snprintf(m->opt.method, sizeof m->opt.method, "backward-euler");
+  m->opt.dt = h;
+  for (size_t i = 0; i < nd; i++) m->v0[i] = 0.1 * sin((double)i); /* m/s: p0 > 0 */
+  char err[SW_ERRSZ];
+  sw_sim *sim = sw_sim_new(m, 0, err, sizeof err);
+  assert_non_null(sim);
+  const sw_data *d = sw_sim_data(sim);
+  double p0 = frozen_power(m, d->x, d->t, d->v);
+  assert_true(p0 > 0.0);
+  assert_true(fabs(d->damp_power - p0) < 1e-12 * p0);
+  for (size_t i = 0; i < nd; i++) xhat[i] = d->x[i] + h * d->v[i];
+  assert_int_equal(sw_sim_step(sim, err, sizeof err), 0);
+  double p1 = frozen_power(m, xhat, d->t, d->v);
+  assert_true(fabs(d->damp_power - p1) < 1e-12 * p1);
+  assert_true(fabs(d->dissipated - 0.5 * (p0 + p1) * h) < 1e-12 * p1 * h); /* trapezoid, J */
+  sw_sim_free(sim);
+  free(xhat);
+  sw_model_free(m);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(free_fall_mass_damping),
       cmocka_unit_test(cloth_stiffness_damping),
       cmocka_unit_test(energy_balance),
       cmocka_unit_test(tendon_oscillator),
+      cmocka_unit_test(frozen_damping_power),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
