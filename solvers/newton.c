@@ -443,24 +443,25 @@ static int regrow(sw_newton *nw, const sw_model *m, sw_data *d) {
     sw_errf(d->err, sizeof d->err, "out of memory growing the sparsity pattern");
     return SW_FATAL;
   }
-  if (nw->dval) {
-    double *dv = sw_calloc((size_t)np.nnz + 1, sizeof(double));
-    if (!dv) {
-      sw_pattern_free(&np, m->nterm);
-      sw_errf(d->err, sizeof d->err, "out of memory growing the sparsity pattern");
-      return SW_FATAL;
-    }
+  double *dv = nw->dval ? sw_calloc((size_t)np.nnz + 1, sizeof(double)) : NULL;
+  if (nw->dval && !dv) {
+    sw_pattern_free(&np, m->nterm);
+    sw_errf(d->err, sizeof d->err, "out of memory growing the sparsity pattern");
+    return SW_FATAL;
+  }
+  sw_chol_free(&nw->chol);
+  /* analysed first: that stores np in its factorisation's order, which D is carried into */
+  int rc2 = sw_chol_init(&nw->chol, &np, nw->factor_mode, d->err, sizeof d->err);
+  if (dv) {
     sw_pattern_remap(&nw->pat, nw->dval, &np, dv);
     sw_free(nw->dval);
     nw->dval = dv;
   }
-  sw_chol_free(&nw->chol);
   sw_pattern_free(&nw->pat, m->nterm);
-  nw->pat = np;
+  nw->pat = np; /* the factorisation holds np's arrays, not its struct */
   nw->fac_valid = 0;
   forget_slots(nw); /* the kept slots were the old pattern's */
   d->npattern++;
-  int rc2 = sw_chol_init(&nw->chol, &nw->pat, nw->factor_mode, d->err, sizeof d->err);
   nw->sval = nw->sown ? nw->sown : sw_chol_values(&nw->chol);
   return rc2;
 }

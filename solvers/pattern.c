@@ -1,7 +1,8 @@
 /* pattern.c — the fixed sparsity pattern of S = c^2 M + c D + H on the free DOFs.
  * Built once per run from the terms' stencils: vertex adjacency -> upper-triangle CSC with
  * sorted rows -> for every entry of the upper triangle of every term's Hessian blocks (the
- * half they store), the slot it adds into. */
+ * half they store), the slot it adds into.  The factorisation then stores it in its
+ * elimination order (sw_pattern_order), the triangle CHOLMOD factorises without a copy. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -93,7 +94,14 @@ static int build_csc(sw_pattern *p, const sw_model *m, const long *vptr, const i
   return 0;
 }
 
+/* The slot of the entry of DOFs r and c (either order), or -1: a search down the column of
+ * its stored triangle. */
 static long find_slot(const sw_pattern *p, int r, int c) {
+  if (p->pos) r = p->pos[r], c = p->pos[c];
+  if (p->lower ? r < c : r > c) {
+    int t = r;
+    r = c, c = t;
+  }
   long lo = p->colptr[c], hi = p->colptr[c + 1] - 1;
   while (lo <= hi) {
     long mid = (lo + hi) / 2;
@@ -122,7 +130,7 @@ static void term_map(sw_pattern *p, const sw_model *m, int k, long hoff, long *n
           *mp = -1;
           continue;
         }
-        *mp = (int)find_slot(p, r < c ? r : c, r < c ? c : r);
+        *mp = (int)find_slot(p, r, c);
         if (r != c || i == j) continue;
         if (fill) p->dupsrc[*ndup] = hoff + (mp - p->map[k]), p->dupslot[*ndup] = *mp;
         ++*ndup;
@@ -132,10 +140,13 @@ static void term_map(sw_pattern *p, const sw_model *m, int k, long hoff, long *n
 
 static int build_maps(sw_pattern *p, const sw_model *m) {
   p->map = sw_calloc((size_t)m->nterm + 1, sizeof(int *));
-  if (!p->map) return -1;
+  p->maplen = sw_calloc((size_t)m->nterm + 1, sizeof(long));
+  if (!p->map || !p->maplen) return -1;
+  p->nterm = m->nterm;
   long hoff = 0;
   for (int k = 0; k < m->nterm; k++) {
     const sw_term *t = &m->term[k];
+    p->maplen[k] = t->hptr[t->nstencil];
     p->map[k] = sw_calloc((size_t)t->hptr[t->nstencil] + 1, sizeof(int));
     if (!p->map[k]) return -1;
     term_map(p, m, k, hoff, &p->ndup, 0);
@@ -211,6 +222,9 @@ void sw_pattern_free(sw_pattern *p, int nterm) {
   if (p->map)
     for (int k = 0; k < nterm; k++) sw_free(p->map[k]);
   sw_free(p->map);
+  sw_free(p->maplen);
+  sw_free(p->pos);
+  sw_free(p->dofat);
   sw_free(p->colptr);
   sw_free(p->rowind);
   sw_free(p->diag);
@@ -249,7 +263,7 @@ int sw_pattern_has_pair(const sw_pattern *p, const sw_model *m, int i, int j) {
   for (int a = 0; a < m->dim; a++)
     for (int b = 0; b < m->dim; b++) {
       int r = m->dof[i * m->dim + a], c = m->dof[j * m->dim + b];
-      if (r >= 0 && c >= 0) return find_slot(p, r < c ? r : c, r < c ? c : r) >= 0;
+      if (r >= 0 && c >= 0) return find_slot(p, r, c) >= 0;
     }
   return 1; /* a pinned vertex: no entry needed */
 }
@@ -257,15 +271,16 @@ int sw_pattern_has_pair(const sw_pattern *p, const sw_model *m, int i, int j) {
 void sw_pattern_remap(const sw_pattern *from, const double *vfrom, const sw_pattern *to,
                       double *vto) {
   memset(vto, 0, (size_t)to->nnz * sizeof(double));
-  for (int c = 0; c < from->n; c++)
-    for (long k = from->colptr[c]; k < from->colptr[c + 1]; k++) {
-      long q = find_slot(to, (int)from->rowind[k], c);
+  for (int j = 0; j < from->n; j++)
+    for (long k = from->colptr[j]; k < from->colptr[j + 1]; k++) {
+      long q = find_slot(to, sw_pattern_dof(from, from->rowind[k]), sw_pattern_dof(from, j));
       if (q >= 0) vto[q] = vfrom[k];
     }
 }
 
 /* The slot of (r, c) when slot q of the same column holds a row above r: a short scan down the
- * column instead of a search (the rows of one vertex are consecutive DOFs).  -1 if absent. */
+ * column instead of a search (the rows of one vertex are consecutive DOFs; so in DOF order,
+ * upper, only).  -1 if absent. */
 static long next_slot(const sw_pattern *p, long q, int r, int c) {
   long end = p->colptr[c + 1];
   while (++q < end && p->rowind[q] < r) {}
@@ -287,7 +302,7 @@ void sw_pattern_block_slots(const sw_pattern *p, const sw_model *m, const int *v
       for (int i = a * d; i < (a + 1) * d; i++) {
         int r = dof[i];
         if (r < 0 || r > c) continue;
-        q = q >= 0 && r > rq ? next_slot(p, q, r, c) : find_slot(p, r, c);
+        q = q >= 0 && r > rq && !p->pos ? next_slot(p, q, r, c) : find_slot(p, r, c);
         rq = r;
         slot[i * w + j] = (int)q;
       }
@@ -311,12 +326,78 @@ void sw_pattern_add_block(const sw_pattern *p, const sw_model *m, const int *v, 
 
 void sw_pattern_symv(const sw_pattern *p, const double *values, const double *x, double *y) {
   memset(y, 0, (size_t)p->n * sizeof(double));
-  for (int c = 0; c < p->n; c++)
-    for (long k = p->colptr[c]; k < p->colptr[c + 1]; k++) {
-      long r = p->rowind[k];
+  for (int j = 0; j < p->n; j++) {
+    const int c = sw_pattern_dof(p, j);
+    for (long k = p->colptr[j]; k < p->colptr[j + 1]; k++) {
+      const int r = sw_pattern_dof(p, p->rowind[k]);
       y[r] += values[k] * x[c];
       if (r != c) y[c] += values[k] * x[r];
     }
+  }
+}
+
+/* An entry of a column being rebuilt: its new row and its old slot. */
+typedef struct moved {
+  int row, from;
+} moved;
+
+/* The entries e[0..n) in increasing row: insertion for the short columns of a mesh. */
+static void sort_moved(moved *e, long n) {
+  for (long i = 1; i < n; i++) {
+    moved t = e[i];
+    long j = i;
+    for (; j > 0 && e[j - 1].row > t.row; j--) e[j] = e[j - 1];
+    e[j] = t;
+  }
+}
+
+int sw_pattern_order(sw_pattern *p, const long *perm, int lower) {
+  const int n = p->n;
+  int *inv = sw_calloc((size_t)n + 1, sizeof(int)), *pos = sw_calloc((size_t)n + 1, sizeof(int));
+  int *dofat = sw_calloc((size_t)n + 1, sizeof(int));
+  long *colptr = sw_calloc((size_t)n + 2, sizeof(long)), *rowind = NULL, *slot = NULL;
+  moved *e = NULL;
+  if (inv && pos && dofat && colptr) {
+    rowind = sw_calloc((size_t)p->nnz + 1, sizeof(long));
+    slot = sw_calloc((size_t)p->nnz + 1, sizeof(long));
+    e = sw_calloc((size_t)p->nnz + 1, sizeof(moved));
+  }
+  if (!rowind || !slot || !e) {
+    sw_free(inv), sw_free(pos), sw_free(dofat), sw_free(colptr), sw_free(rowind), sw_free(slot);
+    sw_free(e);
+    return -1;
+  }
+  for (int k = 0; k < n; k++) inv[perm[k]] = k; /* old position -> new */
+  for (int pass = 0; pass < 2; pass++) { /* count the new columns, then place the entries */
+    for (int j = 0; j < n; j++)
+      for (long q = p->colptr[j]; q < p->colptr[j + 1]; q++) {
+        int a = inv[p->rowind[q]], b = inv[j];
+        int col = lower == (a > b) ? b : a, row = col == a ? b : a;
+        if (pass == 0) colptr[col + 2]++;
+        else e[colptr[col + 1]++] = (moved){row, (int)q};
+      }
+    if (pass == 0)
+      for (int j = 0; j < n; j++) colptr[j + 2] += colptr[j + 1];
+  }
+  for (int j = 0; j < n; j++) { /* colptr[j + 1] is now column j's end */
+    sort_moved(e + colptr[j], colptr[j + 1] - colptr[j]);
+    for (long q = colptr[j]; q < colptr[j + 1]; q++) rowind[q] = e[q].row, slot[e[q].from] = q;
+  }
+  sw_free(e);
+  for (int c = 0; c < n; c++) {
+    pos[c] = inv[p->pos ? p->pos[c] : c];
+    dofat[pos[c]] = c;
+    p->diag[c] = slot[p->diag[c]];
+  }
+  for (int k = 0; k < p->nterm; k++)
+    for (long q = 0; q < p->maplen[k]; q++)
+      if (p->map[k][q] >= 0) p->map[k][q] = (int)slot[p->map[k][q]];
+  for (long q = 0; q < p->ndup; q++) p->dupslot[q] = slot[p->dupslot[q]];
+  sw_free(slot), sw_free(inv);
+  sw_free(p->colptr), sw_free(p->rowind), sw_free(p->pos), sw_free(p->dofat);
+  p->colptr = colptr, p->rowind = rowind, p->pos = pos, p->dofat = dofat;
+  p->lower = lower;
+  return 0;
 }
 
 void sw_pattern_fill_lowrank(const sw_pattern *p, const sw_data *d, double *lrval) {

@@ -11,12 +11,22 @@
 #include "util.h"
 
 /* ---------------------------------------------------------------- pattern.c */
+/* The entries are stored by position: DOF c sits at position pos[c] (NULL: at c), and
+ * column j of the CSC holds the rows i >= j (lower) or i <= j of the positions' triangle.
+ * Built in DOF order, upper (sw_pattern_build); sw_chol_init stores it in its factorisation's
+ * elimination order (sw_pattern_order), so that CHOLMOD factorises it as it stands.  The
+ * functions below take and give DOFs and slots; only the index arrays are in positions. */
 typedef struct sw_pattern {
   int n;                 /* free DOFs */
-  long nnz;              /* stored entries (upper triangle) */
-  long *colptr;          /* (n + 1) */
-  long *rowind;          /* (nnz), sorted within each column */
-  long *diag;            /* (n) slot of each diagonal entry */
+  long nnz;              /* stored entries (one triangle) */
+  long *colptr;          /* (n + 1) by position */
+  long *rowind;          /* (nnz) positions, sorted within each column */
+  long *diag;            /* (n) slot of each DOF's diagonal entry */
+  int lower;             /* 1: column j holds rows i >= j; 0: i <= j */
+  int *pos, *dofat;      /* (n) position of each DOF and DOF at each position, or NULL (the
+                            identity) */
+  long *maplen;          /* (nterm) entries of map[k] */
+  int nterm;
   int **map;             /* (nterm) for term k: the slot of each entry of its blocks' upper
                             triangles (sw_hess_upper), or -1 (a pinned component) */
   long ndup;             /* entries off a block's diagonal that land on the matrix's diagonal
@@ -58,9 +68,17 @@ void sw_pattern_free(sw_pattern *p, int nterm);
 /* values = mass_coef * M + hess_coef * (sum of the terms' blocks in d->hess), on the pattern. */
 void sw_pattern_fill(const sw_pattern *p, const sw_model *m, const sw_data *d, double mass_coef,
                      double hess_coef, double *values);
-/* The slot of entry (r, c), r <= c, of the upper triangle, or -1 if not in the pattern. */
+/* The slot of entry (r, c) = (c, r) of DOFs r and c, or -1 if not in the pattern. */
 long sw_pattern_slot(const sw_pattern *p, int r, int c);
-/* y = A x for the symmetric A whose upper triangle is values on the pattern (n each). */
+/* The DOF at position i (the index arrays hold positions). */
+static inline int sw_pattern_dof(const sw_pattern *p, long i) {
+  return p->dofat ? p->dofat[i] : (int)i;
+}
+/* Store the pattern in a new order: position k holds what position perm[k] held (CHOLMOD's
+ * Perm), and the triangle of the new positions that lower says; the slots of the maps, the
+ * diagonal and the duplicates follow.  -1 when out of memory (p unchanged). */
+int sw_pattern_order(sw_pattern *p, const long *perm, int lower);
+/* y = A x for the symmetric A whose triangle is values on the pattern (n each, DOFs). */
 void sw_pattern_symv(const sw_pattern *p, const double *values, const double *x, double *y);
 
 /* ---------------------------------------------------------------- damping.c */
@@ -85,13 +103,15 @@ void sw_pattern_fill_lowrank(const sw_pattern *p, const sw_data *d, double *lrva
 typedef struct sw_chol {
   cholmod_common c;
   int started;
-  cholmod_sparse *A;     /* symmetric, upper triangle stored (stype +1): &Ahead, so an
-                            sw_chol is not to be copied */
+  cholmod_sparse *A;     /* symmetric, the pattern's triangle (stype -1 lower, +1 upper):
+                            &Ahead, so an sw_chol is not to be copied */
   cholmod_sparse Ahead;  /* its column pointers and row indices are the pattern's own (which
                             CHOLMOD only reads: the pattern must outlive the factorisation);
                             its values its own */
   cholmod_factor *L;
   int ordering;          /* SW_ORDERING_* asked for */
+  int used;              /* SW_ORDERING_* the analysis chose (L's own order is natural) */
+  const int *pos;        /* the pattern's positions of the DOFs (CHOLMOD's rows), or NULL */
   cholmod_dense *b, *x, *Y, *E; /* persistent solve workspaces */
   int nlr;               /* low-rank vectors (0: S = A) */
   long *lrptr, *lrrow;   /* copies of the pattern's */
@@ -103,7 +123,7 @@ typedef struct sw_chol {
 } sw_chol;
 
 /* Analyse the pattern for a factorisation of kind and ordering mode (SW_CHOL_MODE). */
-int sw_chol_init(sw_chol *ch, const sw_pattern *p, int mode, char *err, size_t errsz);
+int sw_chol_init(sw_chol *ch, sw_pattern *p, int mode, char *err, size_t errsz);
 /* CHOLMOD's parameters for mode: simplicial, supernodal, or (auto) CHOLMOD's own choice by
  * the flops of the factorisation per nonzero of L with the switch at SW_FACTOR_SWITCH; the
  * supernodes relaxed to nrelax {16, 48, 128}, zrelax {0.8, 0.3, 0.1} below SW_RELAX_SWITCH

@@ -82,12 +82,14 @@ static void roundoff_floor(sw_newton *nw, const sw_model *m, sw_data *d, const d
   const double *val = sw_chol_values(&nw->chol);
   for (int i = 0; i < m->nv * m->dim; i++) X = fmax(X, fabs(x[i]));
   memset(rho, 0, (size_t)p->n * sizeof(double));
-  for (int c = 0; c < p->n; c++) /* row sums of |H| from the upper triangle */
-    for (long k = p->colptr[c]; k < p->colptr[c + 1]; k++) {
-      long r = p->rowind[k];
+  for (int j = 0; j < p->n; j++) { /* row sums of |H| from the stored triangle */
+    const int c = sw_pattern_dof(p, j);
+    for (long k = p->colptr[j]; k < p->colptr[j + 1]; k++) {
+      const int r = sw_pattern_dof(p, p->rowind[k]);
       rho[r] += fabs(val[k]);
       if (r != c) rho[c] += fabs(val[k]);
     }
+  }
   for (int r = 0; r < p->nlr; r++) { /* |u u^T| row sums: |u_i| sum_j |u_j| */
     double sum = 0.0;
     for (long k = p->lrptr[r]; k < p->lrptr[r + 1]; k++) sum += fabs(d->lowrank[p->lrsrc[k]]);

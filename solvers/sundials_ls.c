@@ -110,14 +110,7 @@ int sw_sunls_hessian(sw_sunls *sys, const double *xf, double t) {
 
 void sw_sunls_hmul(const sw_sunls *sys, const double *x, double *y) {
   const sw_pattern *p = &sys->pat;
-  memset(y, 0, (size_t)sys->n * sizeof(double));
-  for (int c = 0; c < sys->n; c++)
-    for (long k = p->colptr[c]; k < p->colptr[c + 1]; k++) {
-      long r = p->rowind[k];
-      double h = sys->hval[k];
-      y[r] += h * x[c];
-      if (r != c) y[c] += h * x[r];
-    }
+  sw_pattern_symv(p, sys->hval, x, y);
   for (int v = 0; v < p->nlr; v++) { /* + v_r (v_r . x) */
     double s = 0.0;
     for (long q = p->lrptr[v]; q < p->lrptr[v + 1]; q++) s += sys->hlr[q] * x[p->lrrow[q]];

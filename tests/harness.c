@@ -120,10 +120,8 @@ void th_add_tendon(sw_model *m, const int *way, int nway, int law, double K, dou
 }
 
 void th_fill_dominant(const sw_pattern *p, double *v) {
-  for (int c = 0; c < p->n; c++) {
-    for (long q = p->colptr[c]; q < p->colptr[c + 1]; q++) v[q] = -0.01;
-    v[p->diag[c]] = 1.0;
-  }
+  for (long q = 0; q < p->nnz; q++) v[q] = -0.01;
+  for (int c = 0; c < p->n; c++) v[p->diag[c]] = 1.0; /* DOF c's, in whichever column */
 }
 
 void th_dense_hessian(const sw_model *m, int k, const double *blocks, double *H) {

@@ -1,6 +1,7 @@
 /* test_solver.c — the shared linear-algebra path: the fixed pattern and its fill equal the
  * dense a M + H on the free DOFs (every term's blocks, stored as upper triangles), CHOLMOD solves it, and Newton's minimiser of the incremental
- * potential has zero gradient. */
+ * potential has zero gradient; the pattern stored in the elimination order holds the same
+ * matrix, which CHOLMOD factorises without a permuted copy. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -53,7 +54,8 @@ static void fill_matches_dense(int dim) {
   /* CHOLMOD: solve S y = b and check the residual with the dense matrix. */
   sw_chol ch;
   assert_int_equal(sw_chol_init(&ch, &p, SW_FACTOR_AUTO, err, sizeof err), 0);
-  memcpy(sw_chol_values(&ch), val, sizeof(double) * (size_t)p.nnz);
+  /* the pattern is now stored in the factorisation's order: filled again through its maps */
+  sw_pattern_fill(&p, m, d, a, 1.0, sw_chol_values(&ch));
   assert_int_equal(sw_chol_factor(&ch, err, sizeof err), 0);
   double *b = calloc((size_t)p.n, sizeof *b), *y = calloc((size_t)p.n, sizeof *y);
   for (int c = 0; c < p.n; c++) b[c] = th_rand(&rs);
@@ -395,6 +397,107 @@ static void ordering_rule(void **st) {
   }
 }
 
+/* The peak of CHOLMOD's allocations during one factorisation beyond what it keeps (bytes):
+ * the transient copies and workspaces. */
+static double factor_transient(cholmod_sparse *A, cholmod_factor *L, cholmod_common *c) {
+  c->memory_usage = c->memory_inuse; /* the peak from here */
+  assert_true(cholmod_l_factorize(A, L, c));
+  assert_true(L->minor == L->n);
+  return (double)c->memory_usage - (double)c->memory_inuse;
+}
+
+/* sw_chol_init stores the pattern in its factorisation's elimination order (lower for a
+ * supernodal factor, upper for a simplicial one) and analyses it in that natural order: the
+ * same matrix entry for entry (bitwise), the same product, the same solution as CHOLMOD's own
+ * permuted path on the pattern as built, the same factor size, and 16 bytes a nonzero less
+ * of transient memory during a factorisation (CHOLMOD's own path permutes a copy). */
+static void elimination_order(void **st) {
+  (void)st;
+  const double g[3] = {0.0, 0.0, -9.81};
+  const int sizes[2] = {10, 24};
+  char err[SW_ERRSZ];
+  for (int j = 0; j < 2; j++) {
+    sw_model *m = th_grid_model(3, sizes[j], sizes[j], 1.0, 1.0, 0.1, 5000.0, 100.0, g, 1);
+    sw_data *d = sw_data_new(m);
+    unsigned long rs = 3;
+    for (int i = 0; i < m->nv * 3; i++) d->x[i] += 0.01 * th_rand(&rs);
+    double e, a = 1e4;
+    assert_int_equal(sw_eval_terms(m, d, d->x, 0.0, 0, 1, SW_FILTER_CLAMP, &e), 0);
+    sw_pattern p0, p1;
+    assert_int_equal(sw_pattern_build(&p0, m, err, sizeof err), 0);
+    assert_int_equal(sw_pattern_build(&p1, m, err, sizeof err), 0);
+    double *v0 = calloc((size_t)p0.nnz, sizeof *v0);
+    sw_pattern_fill(&p0, m, d, a, 1.0, v0);
+    sw_chol ch;
+    assert_int_equal(sw_chol_init(&ch, &p1, SW_FACTOR_AUTO, err, sizeof err), 0);
+    const int super = sw_chol_super(&ch);
+    assert_int_equal(super, j); /* both kinds */
+    assert_int_equal(p1.lower, super);
+    assert_int_equal(ch.L->ordering, CHOLMOD_NATURAL);
+    assert_int_equal(sw_chol_ordering(&ch), SW_ORDERING_AMD);
+    double *v1 = sw_chol_values(&ch);
+    sw_pattern_fill(&p1, m, d, a, 1.0, v1);
+    assert_int_equal(p1.nnz, p0.nnz);
+    for (int c = 0; c < p0.n; c++) /* every entry where the DOFs say, bit for bit */
+      for (long q = p0.colptr[c]; q < p0.colptr[c + 1]; q++) {
+        long q1 = sw_pattern_slot(&p1, (int)p0.rowind[q], c);
+        assert_true(q1 >= 0);
+        assert_memory_equal(&v1[q1], &v0[q], sizeof(double));
+      }
+    for (int i = 0; i < p1.n; i++) /* its triangle, rows sorted */
+      for (long q = p1.colptr[i]; q < p1.colptr[i + 1]; q++) {
+        assert_true(p1.lower ? p1.rowind[q] >= i : p1.rowind[q] <= i);
+        assert_true(q == p1.colptr[i] || p1.rowind[q] > p1.rowind[q - 1]);
+      }
+    const int n = p0.n;
+    double *b = calloc((size_t)n, sizeof *b), *y0 = calloc((size_t)n, sizeof *y0);
+    double *y1 = calloc((size_t)n, sizeof *y1);
+    for (int c = 0; c < n; c++) b[c] = th_rand(&rs);
+    sw_pattern_symv(&p0, v0, b, y0);
+    sw_pattern_symv(&p1, v1, b, y1);
+    assert_true(th_max_diff(y0, y1, n) < 1e-12 * a);
+    /* CHOLMOD's own path on the pattern as built: upper, permuted at each factorisation */
+    cholmod_common c;
+    cholmod_l_start(&c);
+    c.final_ll = 1;
+    c.supernodal = super ? CHOLMOD_SUPERNODAL : CHOLMOD_SIMPLICIAL;
+    c.nmethods = 1, c.method[0].ordering = CHOLMOD_AMD, c.postorder = 1;
+    for (int k = 0; k < 3; k++) c.nrelax[k] = ch.c.nrelax[k], c.zrelax[k] = ch.c.zrelax[k];
+    cholmod_sparse A0 = {.nrow = (size_t)n, .ncol = (size_t)n, .nzmax = (size_t)p0.nnz,
+                         .p = p0.colptr, .i = p0.rowind, .x = v0, .stype = 1,
+                         .itype = CHOLMOD_LONG, .xtype = CHOLMOD_REAL, .dtype = CHOLMOD_DOUBLE,
+                         .sorted = 1, .packed = 1};
+    cholmod_factor *L0 = cholmod_l_analyze(&A0, &c);
+    assert_non_null(L0);
+    assert_true(c.lnz == ch.c.lnz && c.fl == ch.c.fl); /* the same factor */
+    double copy0 = factor_transient(&A0, L0, &c), copy1 = factor_transient(ch.A, ch.L, &ch.c);
+    print_message("%d x %d, %s: %ld nonzeros; transient bytes per nonzero during a "
+                  "factorisation: %.1f in CHOLMOD's own path, %.1f stored in order\n",
+                  sizes[j], sizes[j], super ? "supernodal" : "simplicial", p0.nnz,
+                  copy0 / p0.nnz, copy1 / p0.nnz);
+    assert_true(copy0 >= 16.0 * p0.nnz);
+    assert_true(copy1 <= copy0 - 16.0 * p0.nnz);
+    cholmod_dense B = {.nrow = (size_t)n, .ncol = 1, .nzmax = (size_t)n, .d = (size_t)n,
+                       .x = b, .xtype = CHOLMOD_REAL, .dtype = CHOLMOD_DOUBLE};
+    cholmod_dense *X0 = cholmod_l_solve(CHOLMOD_A, L0, &B, &c);
+    assert_non_null(X0);
+    assert_int_equal(sw_chol_solve(&ch, b, y1, err, sizeof err), 0);
+    double ymax = 0.0;
+    for (int k = 0; k < n; k++) ymax = fmax(ymax, fabs(y1[k]));
+    assert_true(ymax > 0.0);
+    assert_true(th_max_diff(X0->x, y1, n) <= 1e-12 * ymax);
+    cholmod_l_free_dense(&X0, &c);
+    cholmod_l_free_factor(&L0, &c);
+    cholmod_l_finish(&c);
+    sw_chol_free(&ch);
+    free(b), free(y0), free(y1), free(v0);
+    sw_pattern_free(&p0, m->nterm);
+    sw_pattern_free(&p1, m->nterm);
+    sw_data_free(d);
+    sw_model_free(m);
+  }
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(fill_3d),
@@ -404,6 +507,7 @@ int main(void) {
       cmocka_unit_test(newton_minimises),
       cmocka_unit_test(every_mode_descends),
       cmocka_unit_test(ordering_rule),
+      cmocka_unit_test(elimination_order),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
