@@ -218,7 +218,7 @@ int sw_chol_init(sw_chol *ch, sw_pattern *p, int mode, char *err, size_t errsz) 
   /* The set-up's scratch (the vertex graph, the old order, the analysis's workspaces) is
    * freed by now; glibc keeps such memory for reuse (its mmap threshold grows with each large
    * block freed), and the factor, allocated at the first factorisation, would be placed beside
-   * it: peak RSS 152 against 133 MiB on the 160 x 160 cloth.  Returned to the system here. */
+   * it: peak RSS 152 against 135 MiB on the 160 x 160 cloth.  Returned to the system here. */
   malloc_trim(0);
 #endif
   return rc;

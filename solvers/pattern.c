@@ -59,9 +59,10 @@ static int vertex_graph(const sw_model *m, const int *extra, long nextra, long *
   return 0;
 }
 
-/* Upper-triangle CSC: column c (vertex b, component beta) holds rows r <= c of the free
- * components of b's neighbours.  DOFs are numbered vertex-major, so rows come out sorted.
- * (Upper, not lower: CHOLMOD then makes one transpose per factorisation instead of two.) */
+/* Upper-triangle CSC in DOF order: column c (vertex b, component beta) holds rows r <= c of
+ * the free components of b's neighbours.  DOFs are numbered vertex-major, so rows come out
+ * sorted.  (The order the fill-reducing analysis reads; sw_pattern_order then stores it in
+ * the elimination order.) */
 static int build_csc(sw_pattern *p, const sw_model *m, const long *vptr, const int *adj) {
   const int d = m->dim;
   p->colptr = sw_calloc((size_t)p->n + 1, sizeof(long));
