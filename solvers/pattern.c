@@ -342,8 +342,18 @@ typedef struct moved {
   int row, from;
 } moved;
 
-/* The entries e[0..n) in increasing row: insertion for the short columns of a mesh. */
+static int cmp_moved(const void *a, const void *b) {
+  int x = ((const moved *)a)->row, y = ((const moved *)b)->row;
+  return (x > y) - (x < y);
+}
+
+/* The entries e[0..n) in increasing row: insertion for the short columns of a mesh, qsort for
+ * the long ones (a dense tendon's). */
 static void sort_moved(moved *e, long n) {
+  if (n > 64) {
+    qsort(e, (size_t)n, sizeof *e, cmp_moved);
+    return;
+  }
   for (long i = 1; i < n; i++) {
     moved t = e[i];
     long j = i;

@@ -410,14 +410,20 @@ static double factor_transient(cholmod_sparse *A, cholmod_factor *L, cholmod_com
  * supernodal factor, upper for a simplicial one) and analyses it in that natural order: the
  * same matrix entry for entry (bitwise), the same product, the same solution as CHOLMOD's own
  * permuted path on the pattern as built, the same factor size, and 16 bytes a nonzero less
- * of transient memory during a factorisation (CHOLMOD's own path permutes a copy). */
+ * of transient memory during a factorisation (CHOLMOD's own path permutes a copy).  The
+ * larger cloth has a tendon along its diagonal whose dense block gives columns of more than
+ * 64 entries (sorted another way). */
 static void elimination_order(void **st) {
   (void)st;
   const double g[3] = {0.0, 0.0, -9.81};
   const int sizes[2] = {10, 24};
   char err[SW_ERRSZ];
   for (int j = 0; j < 2; j++) {
-    sw_model *m = th_grid_model(3, sizes[j], sizes[j], 1.0, 1.0, 0.1, 5000.0, 100.0, g, 1);
+    sw_model *m = th_grid_start(3, sizes[j], sizes[j], 1.0, 1.0, 0.1, 5000.0, 100.0, g, 1);
+    int way[24];
+    for (int k = 0; k < sizes[j]; k++) way[k] = k * sizes[j] + k;
+    if (j) th_add_tendon(m, way, sizes[j], SW_LAW_SPRING, 200.0, 1.2, 0.0);
+    assert_non_null(m = th_finish(m));
     sw_data *d = sw_data_new(m);
     unsigned long rs = 3;
     for (int i = 0; i < m->nv * 3; i++) d->x[i] += 0.01 * th_rand(&rs);
@@ -444,11 +450,15 @@ static void elimination_order(void **st) {
         assert_true(q1 >= 0);
         assert_memory_equal(&v1[q1], &v0[q], sizeof(double));
       }
-    for (int i = 0; i < p1.n; i++) /* its triangle, rows sorted */
+    long longest = 0;
+    for (int i = 0; i < p1.n; i++) { /* its triangle, rows sorted */
+      if (p1.colptr[i + 1] - p1.colptr[i] > longest) longest = p1.colptr[i + 1] - p1.colptr[i];
       for (long q = p1.colptr[i]; q < p1.colptr[i + 1]; q++) {
         assert_true(p1.lower ? p1.rowind[q] >= i : p1.rowind[q] <= i);
         assert_true(q == p1.colptr[i] || p1.rowind[q] > p1.rowind[q - 1]);
       }
+    }
+    assert_true(j ? longest > 64 : longest <= 64);
     const int n = p0.n;
     double *b = calloc((size_t)n, sizeof *b), *y0 = calloc((size_t)n, sizeof *y0);
     double *y1 = calloc((size_t)n, sizeof *y1);
