@@ -279,36 +279,17 @@ void sw_pattern_remap(const sw_pattern *from, const double *vfrom, const sw_patt
     }
 }
 
-/* The slot of (r, c) when slot q of the same column holds a row above r: a short scan down the
- * column instead of a search (the rows of one vertex are consecutive DOFs; so in DOF order,
- * upper, only).  -1 if absent. */
-static long next_slot(const sw_pattern *p, long q, int r, int c) {
-  long end = p->colptr[c + 1];
-  while (++q < end && p->rowind[q] < r) {}
-  return q < end && p->rowind[q] == r ? q : -1;
-}
-
 void sw_pattern_block_slots(const sw_pattern *p, const sw_model *m, const int *v, int nvert,
                             int *slot) {
   const int d = m->dim, w = nvert * d;
   int dof[12]; /* an index >= nv (a mesh obstacle's vertex) has no DOF */
   if (w > 12) return; /* at most 4 vertices in 3D (solver.h) */
   for (int i = 0; i < w; i++) dof[i] = v[i / d] < m->nv ? m->dof[v[i / d] * d + i % d] : -1;
-  for (int q = 0; q < w * w; q++) slot[q] = -1;
-  for (int j = 0; j < w; j++) { /* column c: per vertex, one search and then a scan */
-    int c = dof[j];
-    for (int a = 0; c >= 0 && a < nvert; a++) {
-      long q = -1;
-      int rq = -1; /* the row at slot q */
-      for (int i = a * d; i < (a + 1) * d; i++) {
-        int r = dof[i];
-        if (r < 0 || r > c) continue;
-        q = q >= 0 && r > rq && !p->pos ? next_slot(p, q, r, c) : find_slot(p, r, c);
-        rq = r;
-        slot[i * w + j] = (int)q;
-      }
+  for (int i = 0; i < w; i++) /* the upper triangle by DOF: each pair of DOFs once */
+    for (int j = 0; j < w; j++) {
+      int r = dof[i], c = dof[j];
+      slot[i * w + j] = r < 0 || c < 0 || r > c ? -1 : (int)find_slot(p, r, c);
     }
-  }
 }
 
 void sw_pattern_add_slots(const int *slot, int w, const double *block, double coef,

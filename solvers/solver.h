@@ -122,7 +122,9 @@ typedef struct sw_chol {
   double *z;             /* (nlr) */
 } sw_chol;
 
-/* Analyse the pattern for a factorisation of kind and ordering mode (SW_CHOL_MODE). */
+/* Analyse the pattern for a factorisation of kind and ordering mode (SW_CHOL_MODE), and store
+ * it in that factorisation's elimination order (sw_pattern_order): values filled on p before
+ * are in its old order, so fill it (through its maps and slots) after.  p must outlive ch. */
 int sw_chol_init(sw_chol *ch, sw_pattern *p, int mode, char *err, size_t errsz);
 /* CHOLMOD's parameters for mode: simplicial, supernodal, or (auto) CHOLMOD's own choice by
  * the flops of the factorisation per nonzero of L with the switch at SW_FACTOR_SWITCH; the
