@@ -170,7 +170,7 @@ static double density(const void *law, const double *wu, const double *wv, int d
 
 static const sw_term_ops bw98_ops = {
     .kind = "bw98", .eval = sw_membrane_eval, .free_param = sw_membrane_free,
-    .sets_blocks = 1};
+    .sets_blocks = 1, .sink_ok = 1};
 
 int sw_bw98_build(sw_term *t, const sw_model *m, char *err, size_t errsz) {
   sw_membrane *mb =

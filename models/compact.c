@@ -137,13 +137,15 @@ int sw_compact_stencils(sw_term *t, const sw_model *m, const double *Q, int ldq,
   return 0;
 }
 
-void sw_compact_hess(const sw_term *t, const sw_model *m, const sw_compact *c, double *hess) {
+void sw_compact_hess(const sw_term *t, const sw_model *m, const sw_compact *c,
+                     const sw_eval *ev) {
   const int d = m->dim, bw = 3 * d;
   for (int f = 0; f < t->nstencil; f++) {
-    double *blk = hess + t->hptr[f];
+    double *blk = sw_ev_block(ev, t, f);
     const double *Cf = c->C + 9 * f;
     for (int i = 0; i < 3; i++)
       for (int j = i; j < 3; j++)
         for (int a = 0; a < d; a++) sw_hess_add(blk, bw, i * d + a, j * d + a, Cf[3 * i + j]);
+    sw_ev_block_done(ev, t, f, blk);
   }
 }

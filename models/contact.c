@@ -162,12 +162,13 @@ static int contact_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, 
   double e = 0.0;
   for (int s = 0; s < t->nstencil; s++) {
     int i = t->sidx[s];
-    double g[3] = {0.0, 0.0, 0.0}, *H = ev->hess ? ev->hess + t->hptr[s] : NULL;
+    double g[3] = {0.0, 0.0, 0.0}, *H = ev->hess ? sw_ev_block(ev, t, s) : NULL;
     for (int o = 0; o < m->nobstacle; o++) {
       int rc = barrier_add(m, ev, i, o, &e, g, H);
       if (rc) return rc;
       if (lag) e += friction_add(m, lag, i, o, ev->x, ev->t, g, H);
     }
+    if (H) sw_ev_block_done(ev, t, s, H);
     if (ev->grad)
       for (int a = 0; a < dim; a++) ev->grad[i * dim + a] += g[a];
   }
@@ -208,7 +209,7 @@ static int contact_check_start(const sw_term *t, const sw_model *m, const double
 }
 
 static const sw_term_ops contact_ops = {
-    .kind = "contact", .eval = contact_eval,
+    .kind = "contact", .eval = contact_eval, .sink_ok = 1,
     .data_new = contact_data_new, .data_free = contact_data_free,
     .begin = contact_begin_op, .bound = contact_bound, .clip = contact_clip_op,
     .settled = contact_settled_op, .swept = contact_swept_op, .held = contact_held,

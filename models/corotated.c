@@ -181,7 +181,7 @@ static double corot_density(const void *law, const double *wu, const double *wv,
 
 static const sw_term_ops corot_ops = {
     .kind = "corotated", .eval = sw_membrane_eval, .free_param = sw_membrane_free,
-    .sets_blocks = 1};
+    .sets_blocks = 1, .sink_ok = 1};
 
 int sw_corotated_build(sw_term *t, const sw_model *m, char *err, size_t errsz) {
   sw_membrane *mb = sw_membrane_new(t, m, &corot_ops, SW_MEMBRANE_COROTATED, sizeof(corot_law),

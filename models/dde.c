@@ -281,7 +281,7 @@ static double dde_density(const void *law, const double *wu, const double *wv, i
 /* Designated initializers only: optional fields of the ops table may be added elsewhere. */
 static const sw_term_ops dde_ops = {
     .kind = "dde", .eval = sw_membrane_eval, .free_param = sw_membrane_free,
-    .sets_blocks = 1};
+    .sets_blocks = 1, .sink_ok = 1};
 
 int sw_dde_build(sw_term *t, const sw_model *m, char *err, size_t errsz) {
   sw_membrane *mb = sw_membrane_new(t, m, &dde_ops, SW_MEMBRANE_DDE, sizeof(sw_dde),

@@ -271,7 +271,7 @@ static int dde_bending_eval(const sw_term *t, const sw_model *m, const sw_eval *
           for (int e = 0; e < 3; e++) acc += H[p * n9 + e * d + b] * L[6 * e + j];
           T[p * 18 + j * d + b] = acc;
         }
-    double *blk = ev->hess + t->hptr[s];
+    double *blk = sw_ev_block(ev, t, s);
     for (int i = 0; i < nv; i++)
       for (int a = 0; a < d; a++)
         for (int j = 0; j < nv; j++)
@@ -281,6 +281,7 @@ static int dde_bending_eval(const sw_term *t, const sw_model *m, const sw_eval *
             for (int c = 0; c < 3; c++) acc += L[6 * c + i] * T[(c * d + a) * 18 + j * d + b];
             sw_hess_set(blk, w, i * d + a, j * d + b, A * acc);
           }
+    sw_ev_block_done(ev, t, s, blk);
   }
   *energy = total;
   return isfinite(total) ? SW_OK : SW_RECOVER;
@@ -289,7 +290,8 @@ static int dde_bending_eval(const sw_term *t, const sw_model *m, const sw_eval *
 static const sw_term_ops dde_bending_ops = {.kind = "dde_bending",
                                             .eval = dde_bending_eval,
                                             .free_param = dde_bending_free,
-                                            .sets_blocks = 1};
+                                            .sets_blocks = 1,
+                                            .sink_ok = 1};
 
 int sw_dde_bending_build(sw_term *t, const sw_model *m, char *err, size_t errsz) {
   dde_bending_param *bp = sw_calloc(1, sizeof *bp);

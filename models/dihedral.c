@@ -229,7 +229,8 @@ static double tri_eval(const sw_term *t, int s, const sw_eval *ev) {
     for (int b = 0; b < nh; b++) mu[a] += tr->W[a][b] * dth[b]; /* J/rad */
     e += 0.5 * mu[a] * dth[a];
   }
-  if (!ok && ev->hess) memset(ev->hess + t->hptr[s], 0, sizeof(double) * (size_t)sw_hess_size(w));
+  if (!ok && ev->hess && !ev->sink) /* a sink adds nothing for it */
+    memset(ev->hess + t->hptr[s], 0, sizeof(double) * (size_t)sw_hess_size(w));
   if (!ok || (!ev->grad && !ev->hess)) return e;
   const int *v = t->sidx + t->sptr[s];
   for (int a = 0; a < nh; a++) theta_gradient(&h[a], g[a]);
@@ -257,8 +258,9 @@ static double tri_eval(const sw_term *t, int s, const sw_eval *ev) {
       for (int j = 0; j < 12; j++) B[at[i] * w + at[j]] += mu[a] * Ht[i * 12 + j];
   }
   if (ev->project) project_psd(B, tr->nv, ev->project);
-  double *blk = ev->hess + t->hptr[s];
+  double *blk = sw_ev_block(ev, t, s);
   sw_hess_set_full(blk, w, B); /* every block set: sets_blocks */
+  sw_ev_block_done(ev, t, s, blk);
   return e;
 }
 
@@ -272,7 +274,8 @@ static int dihedral_eval(const sw_term *t, const sw_model *m, const sw_eval *ev,
 }
 
 static const sw_term_ops dihedral_ops = {
-    .kind = "dihedral", .eval = dihedral_eval, .free_param = dihedral_free, .sets_blocks = 1};
+    .kind = "dihedral", .eval = dihedral_eval, .free_param = dihedral_free, .sets_blocks = 1,
+    .sink_ok = 1};
 
 int sw_dihedral_build(sw_term *t, const sw_model *m, char *err, size_t errsz) {
   dihedral_param *dp = sw_calloc(1, sizeof *dp);

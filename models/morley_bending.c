@@ -327,7 +327,7 @@ static int morley_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, d
   const int d = m->dim, compact = mp->cm.C != NULL;
   const int *sptr = compact ? mp->cm.sptr : t->sptr, *sidx = compact ? mp->cm.sidx : t->sidx;
   double total = 0.0;
-  if (ev->hess && compact) sw_compact_hess(t, m, &mp->cm, ev->hess);
+  if (ev->hess && compact) sw_compact_hess(t, m, &mp->cm, ev);
   for (int s = 0; s < mp->n; s++) {
     const int *v = sidx + sptr[s], nv = sptr[s + 1] - sptr[s], bw = nv * d;
     const double *Q = mp->Q + NV * NV * s, *L = mp->L + 3 * NV * s, *D = mp->D + 9 * s;
@@ -345,17 +345,18 @@ static int morley_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, d
         for (int c = 0; c < d; c++)
           for (int r = 0; r < 3; r++) ev->grad[(size_t)v[i] * d + c] += L[NV * r + i] * mu[r][c];
     if (!ev->hess || compact) continue;
-    double *blk = ev->hess + t->hptr[s];
+    double *blk = sw_ev_block(ev, t, s);
     for (int i = 0; i < nv; i++)
       for (int j = 0; j < nv; j++)
         for (int a = 0; a < d; a++) sw_hess_add(blk, bw, i * d + a, j * d + a, Q[NV * i + j]);
+    sw_ev_block_done(ev, t, s, blk);
   }
   *energy = total;
   return isfinite(total) ? SW_OK : SW_RECOVER;
 }
 
 static const sw_term_ops morley_ops = {
-    .kind = "morley", .eval = morley_eval, .free_param = morley_free};
+    .kind = "morley", .eval = morley_eval, .free_param = morley_free, .sink_ok = 1};
 
 static int bends(const sw_model *m, int f) {
   const sw_material *mt = &m->mat[m->face_mat[f]];

@@ -84,23 +84,25 @@ static int quadratic_eval(const sw_term *t, const sw_model *m, const sw_eval *ev
   const int d = m->dim, compact = qp->cm.C != NULL;
   const int *sptr = compact ? qp->cm.sptr : t->sptr, *sidx = compact ? qp->cm.sidx : t->sidx;
   double total = 0.0;
-  if (ev->hess && compact) sw_compact_hess(t, m, &qp->cm, ev->hess);
+  if (ev->hess && compact) sw_compact_hess(t, m, &qp->cm, ev);
   for (int s = 0; s < qp->n; s++) {
     const int *v = sidx + sptr[s], nv = sptr[s + 1] - sptr[s], bw = nv * d;
     total += tri_energy(qp, s, v, nv, d, ev);
     if (!ev->hess || compact) continue;
     const double *Q = qp->Q + 36 * s;
-    double *blk = ev->hess + t->hptr[s];
+    double *blk = sw_ev_block(ev, t, s);
     for (int i = 0; i < nv; i++)
       for (int j = 0; j < nv; j++)
         for (int a = 0; a < d; a++) sw_hess_add(blk, bw, i * d + a, j * d + a, Q[6 * i + j]);
+    sw_ev_block_done(ev, t, s, blk);
   }
   *energy = total;
   return isfinite(total) ? SW_OK : SW_RECOVER;
 }
 
 static const sw_term_ops quadratic_ops = {
-    .kind = "quadratic", .eval = quadratic_eval, .free_param = quadratic_free};
+    .kind = "quadratic", .eval = quadratic_eval, .free_param = quadratic_free,
+    .sink_ok = 1};
 
 /* Bergou's K of hinge h of triangle tr, on the stencil's vertices (6). */
 void sw_bend_hinge_K(const sw_model *m, const sw_bend_tri *tr, const sw_bend_hinge *h,

@@ -139,14 +139,18 @@ static int seam_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, dou
       const double f = len > 0.0 ? kp * (len - r) / len : kp; /* N/m: dE/dg = f g */
       for (int i = 0; ev->grad && i < 3; i++)
         for (int a = 0; a < d; a++) ev->grad[(size_t)q[i] * d + a] += f * c[i] * g[a]; /* N */
-      if (ev->hess) pair_block(kp, c, g, len, r, d, ev->project, ev->hess + t->hptr[s]);
+      if (!ev->hess) continue;
+      double *blk = sw_ev_block(ev, t, s);
+      pair_block(kp, c, g, len, r, d, ev->project, blk);
+      sw_ev_block_done(ev, t, s, blk);
     }
   }
   *energy = e;
   return SW_OK;
 }
 
-static const sw_term_ops seam_ops = {.kind = "seams", .eval = seam_eval, .sets_blocks = 1};
+static const sw_term_ops seam_ops = {.kind = "seams", .eval = seam_eval, .sets_blocks = 1,
+                                     .sink_ok = 1};
 
 int sw_seam_build(sw_term *t, const sw_model *m, char *err, size_t errsz) {
   t->ops = &seam_ops;

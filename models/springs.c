@@ -146,20 +146,22 @@ static int springs_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, 
         ev->grad[j * d + a] -= g[a];
       }
     if (!ev->hess) continue;
-    double *blk = ev->hess + t->hptr[s];
+    double *blk = sw_ev_block(ev, t, s);
     for (int a = 0; a < d; a++)
       for (int c = 0; c < d; c++) {
         sw_hess_set(blk, w, a, c, H[a * d + c]); /* every stored entry, once */
         sw_hess_set(blk, w, d + a, d + c, H[a * d + c]);
         sw_hess_set(blk, w, a, d + c, -H[a * d + c]);
       }
+    sw_ev_block_done(ev, t, s, blk);
   }
   *energy = total;
   return isfinite(total) ? SW_OK : SW_RECOVER;
 }
 
 static const sw_term_ops springs_ops = {
-    .kind = "springs", .eval = springs_eval, .free_param = springs_free, .sets_blocks = 1};
+    .kind = "springs", .eval = springs_eval, .free_param = springs_free, .sets_blocks = 1,
+    .sink_ok = 1};
 
 void sw_springs_counts(const sw_term *t, int count[3]) {
   const springs_param *sp = t->param;

@@ -58,7 +58,7 @@ static double stvk_density(const void *law, const double *wu, const double *wv, 
 
 static const sw_term_ops stvk_ops = {
     .kind = "stvk", .eval = sw_membrane_eval, .free_param = sw_membrane_free,
-    .sets_blocks = 1};
+    .sets_blocks = 1, .sink_ok = 1};
 
 /* Q of one material, or nonzero with err naming the panel when it is not positive definite. */
 static int stvk_law_of(const sw_material *mt, stvk_law *q, char *err, size_t errsz) {

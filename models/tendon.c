@@ -161,10 +161,13 @@ static void dense_block(const sw_tendon *td, const double *x, int d, double e2, 
 
 /* A long tendon: cb zeta_k per segment stencil, u = sqrt(E'') grad Delta as its vector. */
 static void banded_lowrank(const sw_term *t, const sw_tendon *td, const double *x, int d,
-                           int s0, double e2, double cb, double *hess, double *u) {
+                           int s0, double e2, double cb, const sw_eval *ev, double *u) {
   if (cb != 0.0)
-    for (int k = 0; k + 1 < td->nway; k++)
-      add_segment_band(td, x, d, k, cb, hess + t->hptr[s0 + k], 2 * d, 0, 1);
+    for (int k = 0; k + 1 < td->nway; k++) {
+      double *blk = sw_ev_block(ev, t, s0 + k);
+      add_segment_band(td, x, d, k, cb, blk, 2 * d, 0, 1);
+      sw_ev_block_done(ev, t, s0 + k, blk);
+    }
   double r = sqrt(e2);
   for (int a = 0; a < td->nway; a++) {
     sw_tendon_grad(td, x, d, a, u + a * d);
@@ -193,10 +196,14 @@ static double eval_one(const sw_term *t, const sw_model *m, const sw_eval *ev, i
   if (ev->hess) {
     double cb = ev->project ? sw_filter_eigenvalue(e1, ev->project) : e1; /* the PSD rule */
     int s0 = tp->first[k];
-    if (tp->rank[k] < 0) dense_block(td, ev->x, d, e2, cb, ev->hess + t->hptr[s0]);
-    else
-      banded_lowrank(t, td, ev->x, d, s0, e2, cb, ev->hess,
-                     ev->lowrank + (size_t)t->lptr[tp->rank[k]] * d);
+    if (tp->rank[k] < 0) {
+      double *blk = sw_ev_block(ev, t, s0);
+      dense_block(td, ev->x, d, e2, cb, blk);
+      sw_ev_block_done(ev, t, s0, blk);
+    } else {
+      double *u = ev->lowrank + (size_t)t->lptr[tp->rank[k]] * d;
+      banded_lowrank(t, td, ev->x, d, s0, e2, cb, ev, u);
+    }
   }
   return e;
 }
@@ -217,7 +224,7 @@ static void tendon_free(void *p) {
 }
 
 static const sw_term_ops tendon_ops = {.kind = "tendons", .eval = tendon_eval,
-                                       .free_param = tendon_free};
+                                       .free_param = tendon_free, .sink_ok = 1};
 
 /* Count stencils, their vertices and doubles, and the low-rank vectors and their vertices. */
 static void count(const sw_model *m, tendon_param *tp, int *ns, int *nidx, int *nlr, int *nlidx) {

@@ -156,7 +156,10 @@ int sw_membrane_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, dou
       for (int i = 0; i < 3; i++)
         for (int a = 0; a < d; a++)
           ev->grad[c[i] * d + a] += area * (cu[i] * gu[a] + cv[i] * gv[a]);
-    if (ev->hess) membrane_block(cu, cv, area, P, d, ev->hess + t->hptr[s]);
+    if (!ev->hess) continue;
+    double *blk = sw_ev_block(ev, t, s);
+    membrane_block(cu, cv, area, P, d, blk);
+    sw_ev_block_done(ev, t, s, blk);
   }
   *energy = total;
   return isfinite(total) ? SW_OK : SW_RECOVER;

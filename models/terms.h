@@ -5,6 +5,7 @@
 
 #include <math.h>
 #include <stddef.h>
+#include <string.h>
 
 #include "sinew.h"
 
@@ -25,6 +26,30 @@ static inline void sw_hess_add_full(double *blk, int w, const double *A) {
 static inline void sw_hess_set_full(double *blk, int w, const double *A) {
   for (int r = 0; r < w; r++)
     for (int c = r; c < w; c++) *blk++ = A[r * w + c];
+}
+
+/* Where stencil s's block is written: its place in ev->hess, or with a sink (sw_hsink) the
+ * sink's scratch block, zeroed unless the term sets every entry (sets_blocks).  Hand the block
+ * over with sw_ev_block_done once it is written. */
+static inline double *sw_ev_block(const sw_eval *ev, const sw_term *t, long s) {
+  if (!ev->sink) return ev->hess + t->hptr[s];
+  if (!t->ops->sets_blocks)
+    memset(ev->sink->blk, 0, (size_t)(t->hptr[s + 1] - t->hptr[s]) * sizeof(double));
+  return ev->sink->blk;
+}
+/* With a sink, block s (at blk, from sw_ev_block) added into its system: values[map[q]] +=
+ * blk[q] in entry order (twice for map[q] <= -2, none for -1); nothing without one. */
+static inline void sw_ev_block_done(const sw_eval *ev, const sw_term *t, long s,
+                                    const double *blk) {
+  if (!ev->sink) return;
+  const int *mp = ev->sink->map + t->hptr[s];
+  double *val = ev->sink->values;
+  const long len = t->hptr[s + 1] - t->hptr[s];
+  for (long q = 0; q < len; q++) {
+    int sl = mp[q];
+    if (sl >= 0) val[sl] += blk[q];
+    else if (sl < -1) val[-2 - sl] += 2.0 * blk[q];
+  }
 }
 
 /* Allocate nstencil stencils of `per` vertices each (sidx left for the caller to fill) and
@@ -200,14 +225,15 @@ int sw_morley_bending_build(sw_term *t, const sw_model *m, char *err, size_t err
  * the entries between vertices that share no face moved onto the diagonal as their absolute
  * values (C >= Q), C split onto the faces.  sw_compact_stencils keeps t's stencils in c (for
  * the term's energy and gradient) and makes t's stencils the mesh's faces; sw_compact_hess
- * adds C (x) I into their blocks. */
+ * adds C (x) I into their blocks (sw_ev_block of ev). */
 typedef struct sw_compact {
   int *sptr, *sidx;  /* the term's own stencils' vertices (as sw_term's) */
   double *C;         /* (nf x 9) each face's share of C on its corners, N/m */
 } sw_compact;
 int sw_compact_stencils(sw_term *t, const sw_model *m, const double *Q, int ldq,
                         sw_compact *c, char *err, size_t errsz);
-void sw_compact_hess(const sw_term *t, const sw_model *m, const sw_compact *c, double *hess);
+void sw_compact_hess(const sw_term *t, const sw_model *m, const sw_compact *c,
+                     const sw_eval *ev);
 void sw_compact_free(sw_compact *c);
 /* models/point_load.c: E = -sum_i f_i . x_i with f = m->load (no Hessian, no stencils). */
 int sw_point_load_build(sw_term *t, const sw_model *m, char *err, size_t errsz);

@@ -21,7 +21,12 @@ sw_data *sw_data_new(const sw_model *m) {
   d->x = sw_calloc(nd, sizeof(double));
   d->v = sw_calloc(nd, sizeof(double));
   d->grad = sw_calloc(nd, sizeof(double));
-  d->hess = sw_calloc((size_t)d->hoff[m->nterm], sizeof(double));
+  long blk = 1; /* the largest block, doubles */
+  for (int k = 0; k < m->nterm; k++)
+    for (int s = 0; s < m->term[k].nstencil; s++)
+      if (m->term[k].hptr[s + 1] - m->term[k].hptr[s] > blk)
+        blk = m->term[k].hptr[s + 1] - m->term[k].hptr[s];
+  d->hblk = sw_calloc((size_t)blk, sizeof(double));
   d->term_energy = sw_calloc((size_t)m->nterm, sizeof(double));
   d->term_time = sw_calloc((size_t)m->nterm + 1, sizeof(double));
   d->txy = sw_calloc(nf, sizeof(double));
@@ -38,7 +43,8 @@ sw_data *sw_data_new(const sw_model *m) {
   d->seam_state = sw_calloc(4 * (size_t)m->nseam + 1, sizeof(double));
   if (!d->tendon_length || !d->tendon_delta || !d->tendon_tension || !d->seam_state)
     return sw_data_free(d), NULL;
-  if (!d->x || !d->v || !d->grad || !d->hess || !d->lowrank || !d->term_energy || !d->term_time || !d->txy ||
+  if (!d->x || !d->v || !d->grad || !d->hblk ||
+      !d->lowrank || !d->term_energy || !d->term_time || !d->txy ||
       !d->stretch_u || !d->stretch_v || !d->shear || !d->rlu || !d->rlv || !d->scratch)
     return sw_data_free(d), NULL;
   /* each term's workspace (the model and the terms' param stay immutable) */
@@ -79,6 +85,7 @@ void sw_data_free(sw_data *d) {
   sw_free(d->v);
   sw_free(d->grad);
   sw_free(d->hess);
+  sw_free(d->hblk);
   sw_free(d->hoff);
   sw_free(d->lowrank);
   sw_free(d->loff);
@@ -104,28 +111,68 @@ void sw_data_free(sw_data *d) {
   sw_free(d);
 }
 
-int sw_eval_terms(const sw_model *m, sw_data *d, const double *x, double t, int want_grad,
-                  int want_hess, int project, double *energy) {
+/* d->hess, allocated at its first use; SW_FATAL when out of memory. */
+static int hess_room(const sw_model *m, sw_data *d) {
+  if (d->hess) return SW_OK;
+  d->hess = sw_calloc((size_t)d->hoff[m->nterm] + 1, sizeof(double));
+  if (d->hess) return SW_OK;
+  sw_errf(d->err, sizeof d->err, "out of memory for the terms' Hessian blocks (%ld doubles)",
+          d->hoff[m->nterm]);
+  return SW_FATAL;
+}
+
+/* Term k's blocks in d->hess, zeroed unless it sets every entry. */
+static void zero_blocks(const sw_model *m, sw_data *d, int k) {
+  if (!m->term[k].ops->sets_blocks)
+    memset(d->hess + d->hoff[k], 0, (size_t)(d->hoff[k + 1] - d->hoff[k]) * sizeof(double));
+}
+
+/* For a term that writes its blocks in place (not sink_ok), into a system: its blocks kept in
+ * d->hess first. */
+static int kept_blocks(const sw_model *m, sw_data *d, int k) {
+  int rc = hess_room(m, d);
+  if (!rc) zero_blocks(m, d, k);
+  return rc;
+}
+
+/* ... then added through its map as sw_ev_block_done adds (sw_hsink). */
+static void add_kept(const sw_data *d, int k, double *values, const int *mp) {
+  const double *h = d->hess + d->hoff[k];
+  for (long q = 0, len = d->hoff[k + 1] - d->hoff[k]; q < len; q++) {
+    int sl = mp[q];
+    if (sl >= 0) values[sl] += h[q];
+    else if (sl < -1) values[-2 - sl] += 2.0 * h[q];
+  }
+}
+
+/* The terms' energies (and gradient, Hessian as asked) at x, t: the blocks into d->hess, or
+ * with values into that system through map (sw_hsink). */
+static int eval_all(const sw_model *m, sw_data *d, const double *x, double t, int want_grad,
+                    int want_hess, int project, double *values, int *const *map,
+                    double *energy) {
   size_t nd = (size_t)m->nv * (size_t)m->dim;
   if (want_grad) memset(d->grad, 0, nd * sizeof(double));
-  if (want_hess) { /* blocks zeroed only where a term adds into them */
-    for (int k = 0; k < m->nterm; k++)
-      if (!m->term[k].ops->sets_blocks)
-        memset(d->hess + d->hoff[k], 0, (size_t)(d->hoff[k + 1] - d->hoff[k]) * sizeof(double));
-    memset(d->lowrank, 0, (size_t)d->loff[m->nterm] * sizeof(double));
-  }
+  if (want_hess) memset(d->lowrank, 0, (size_t)d->loff[m->nterm] * sizeof(double));
+  int rc;
   double total = 0.0;
   for (int k = 0; k < m->nterm; k++) {
+    const sw_term *tm = &m->term[k];
+    sw_hsink sink = {.values = values, .map = map ? map[k] : NULL, .blk = d->hblk};
+    int into = want_hess && values;
+    int kept = into && !tm->ops->sink_ok && d->hoff[k + 1] > d->hoff[k];
+    if (kept && (rc = kept_blocks(m, d, k))) return rc;
     sw_eval ev = {.t = t, .x = x, .grad = want_grad ? d->grad : NULL,
-                  .hess = want_hess ? d->hess + d->hoff[k] : NULL,
+                  .hess = !want_hess ? NULL : into && !kept ? d->hblk : d->hess + d->hoff[k],
+                  .sink = into && !kept ? &sink : NULL,
                   .lowrank = want_hess ? d->lowrank + d->loff[k] : NULL, .project = project,
                   .data = d->tdata[k]};
     double e = 0.0;
     char why[192] = "";
     ev.why = why, ev.whysz = sizeof why;
     double t0 = sw_now();
-    int rc = m->term[k].ops->eval(&m->term[k], m, &ev, &e);
+    rc = tm->ops->eval(tm, m, &ev, &e);
     d->term_time[k] += sw_now() - t0;
+    if (kept) add_kept(d, k, values, map[k]);
     if (rc) {
       sw_errf(d->err, sizeof d->err, "term %s failed at t = %g s: %s", m->term[k].name, t,
               why[0] ? why : "its energy is not finite (no element named)");
@@ -142,6 +189,19 @@ int sw_eval_terms(const sw_model *m, sw_data *d, const double *x, double t, int 
   if (want_hess) d->nassemble++;
   *energy = total;
   return SW_OK;
+}
+
+int sw_eval_terms(const sw_model *m, sw_data *d, const double *x, double t, int want_grad,
+                  int want_hess, int project, double *energy) {
+  int rc = want_hess ? hess_room(m, d) : SW_OK;
+  if (rc) return rc;
+  for (int k = 0; want_hess && k < m->nterm; k++) zero_blocks(m, d, k);
+  return eval_all(m, d, x, t, want_grad, want_hess, project, NULL, NULL, energy);
+}
+
+int sw_eval_terms_into(const sw_model *m, sw_data *d, const double *x, double t, int want_grad,
+                       int project, double *values, int *const *map, double *energy) {
+  return eval_all(m, d, x, t, want_grad, 1, project, values, map, energy);
 }
 
 double sw_kinetic(const sw_model *m, const double *v) {

@@ -74,12 +74,29 @@ SW_API int sw_mesh_grid(sw_mesh *mesh, const double size[2], int nx, int ny, con
 enum { SW_FILTER_NONE = 0, SW_FILTER_CLAMP = 1, SW_FILTER_ABS = 2 };
 
 /* What a term is asked to evaluate.  grad and hess are accumulated into (+=), not overwritten. */
+/* Where an evaluation puts the Hessian blocks instead of d->hess (sw_eval_terms_into): straight
+ * into the values of a sparse system.  Entry q of a term's blocks (laid out as in d->hess,
+ * sw_term.hptr) is added to values[map[q]]; map[q] = -1 drops it (a pinned component) and
+ * map[q] <= -2 adds it twice to values[-2 - map[q]] (an off-diagonal entry whose two DOFs are
+ * one: a vertex twice in a stencil).  A term writes each block through sw_ev_block and hands
+ * it over with sw_ev_block_done (models/terms.h), into blk, a scratch block as large as the
+ * term's largest. */
+typedef struct sw_hsink {
+  double *values;
+  const int *map;              /* this term's */
+  double *blk;
+} sw_hsink;
+
 typedef struct sw_eval {
   double t;                    /* time, s */
   const double *x;             /* (nv x dim) positions, m (pinned ones included) */
   double *grad;                /* (nv x dim) += dE/dx, N; or NULL */
   double *hess;                /* += d2E/dx2 per stencil block (see sw_term.hptr), N/m, or set
-                                  (=) by a term with sets_blocks; or NULL */
+                                  (=) by a term with sets_blocks; or NULL.  Not NULL means the
+                                  Hessian is wanted: a term finds block s's place with
+                                  sw_ev_block (models/terms.h), never as hess + hptr[s] */
+  const sw_hsink *sink;        /* or NULL: the blocks go into this system (hess is then its
+                                  scratch block) */
   double *lowrank;             /* the low-rank vectors u_r of the Hessian (see sw_term.lptr),
                                   sqrt(N/m), written (not accumulated) whenever hess is asked
                                   for; never NULL then for a term with nlowrank > 0 */
@@ -139,6 +156,10 @@ typedef struct sw_term_ops {
   /* 1: whenever hess is asked for, eval sets (=, not +=) every stored entry of every one of its
    * blocks, so they are not zeroed before it (a term that may skip a block leaves this 0). */
   int sets_blocks;
+  /* 1: eval writes each block through sw_ev_block and sw_ev_block_done (models/terms.h), so
+   * its blocks may go straight into a system (sw_hsink); 0: they are kept in d->hess and added
+   * from there, the same sum */
+  int sink_ok;
 
   /* --- workspace */
   /* the term's workspace for d (sw_data_new, after d's own arrays), or NULL when out of
@@ -708,8 +729,11 @@ struct sw_data {
   double t;                    /* s */
   double *x, *v;               /* (nv x dim) positions m, velocities m/s */
   double *grad;                /* (nv x dim) gradient workspace */
-  double *hess;                /* Hessian blocks of every term; term k starts at hoff[k] */
+  double *hess;                /* Hessian blocks of every term; term k starts at hoff[k]:
+                                  allocated at the first sw_eval_terms that asks for them (an
+                                  evaluation into a system, sw_eval_terms_into, needs none) */
   long *hoff;                  /* (nterm + 1) */
+  double *hblk;                /* (the largest block) sw_eval_terms_into's scratch block */
   double *lowrank;             /* low-rank Hessian vectors of every term; term k at loff[k] */
   long *loff;                  /* (nterm + 1) */
   double *term_energy;         /* (nterm) J, at the last evaluation */
@@ -791,9 +815,16 @@ struct sw_data {
 
 SW_API sw_data *sw_data_new(const sw_model *m);
 SW_API void sw_data_free(sw_data *d);
-/* Evaluate every term at d->x, time d->t: d->term_energy, and (when asked) d->grad, d->hess. */
+/* Evaluate every term at x, time t: d->term_energy, and (when asked) d->grad, d->hess (SW_FATAL
+ * when d->hess cannot be allocated). */
 SW_API int sw_eval_terms(const sw_model *m, sw_data *d, const double *x, double t, int want_grad,
                          int want_hess, int project, double *energy);
+/* The same with the Hessian added straight into a system's values instead of d->hess: term
+ * k's blocks through map[k] (sw_hsink), the arithmetic of adding d->hess's blocks through the
+ * same maps in term and entry order. */
+SW_API int sw_eval_terms_into(const sw_model *m, sw_data *d, const double *x, double t,
+                              int want_grad, int project, double *values, int *const *map,
+                              double *energy);
 SW_API double sw_kinetic(const sw_model *m, const double *v);
 /* Nonzero when the model has Rayleigh damping (damping: {mass, stiffness}). */
 SW_API int sw_damped(const sw_model *m);

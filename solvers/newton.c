@@ -154,10 +154,11 @@ void sw_newton_history(sw_newton *nw, sw_io *io) {
 int sw_newton_damping(sw_newton *nw, const sw_model *m, sw_data *d, const double *x, double t) {
   if (!nw->dval) return SW_OK;
   double u, beta = m->damp_stiffness, t0 = sw_now();
-  int rc = beta > 0.0 ? sw_eval_terms(m, d, x, t, 0, 1, 1, &u) : SW_OK;
-  if (rc) return rc;
-  if (beta > 0.0) {
-    sw_pattern_fill(&nw->pat, m, d, m->damp_mass, beta, nw->dval);
+  if (beta > 0.0) { /* the clamped blocks straight into D */
+    memset(nw->dval, 0, (size_t)nw->pat.nnz * sizeof(double));
+    int rc = sw_eval_terms_into(m, d, x, t, 0, 1, nw->dval, nw->pat.map, &u);
+    if (rc) return rc;
+    sw_pattern_finish(&nw->pat, m, m->damp_mass, beta, nw->dval);
   } else { /* alpha M alone: no Hessian needed */
     memset(nw->dval, 0, (size_t)nw->pat.nnz * sizeof(double));
     for (int i = 0; i < m->nv * m->dim; i++)
@@ -181,11 +182,21 @@ static double damping_phi(sw_newton *nw, const sw_model *m, const double *x) {
   return e;
 }
 
-int sw_newton_phi(sw_newton *nw, const sw_model *m, sw_data *d, const double *x,
-                  const double *xhat, double a, double t, int want_grad, int want_hess,
-                  int project, double *phi) {
+/* The terms at x, their Hessian (when asked) into d->hess, or with into straight into nw->sval
+ * from zero (sw_eval_terms_into through the pattern's maps). */
+static int eval_terms(sw_newton *nw, const sw_model *m, sw_data *d, const double *x, double t,
+                      int want_grad, int want_hess, int project, int into, double *u) {
+  if (!want_hess || !into) return sw_eval_terms(m, d, x, t, want_grad, want_hess, project, u);
+  memset(nw->sval, 0, (size_t)nw->pat.nnz * sizeof(double));
+  return sw_eval_terms_into(m, d, x, t, want_grad, project, nw->sval, nw->pat.map, u);
+}
+
+/* sw_newton_phi, the Hessian into nw->sval with into. */
+static int phi_eval(sw_newton *nw, const sw_model *m, sw_data *d, const double *x,
+                    const double *xhat, double a, double t, int want_grad, int want_hess,
+                    int project, int into, double *phi) {
   double u;
-  int rc = sw_eval_terms(m, d, x, t, want_grad, want_hess, project, &u);
+  int rc = eval_terms(nw, m, d, x, t, want_grad, want_hess, project, into, &u);
   if (rc) return rc;
   double inertia = 0.0;
   const int dim = m->dim;
@@ -208,6 +219,12 @@ int sw_newton_phi(sw_newton *nw, const sw_model *m, sw_data *d, const double *x,
     return SW_RECOVER;
   }
   return SW_OK;
+}
+
+int sw_newton_phi(sw_newton *nw, const sw_model *m, sw_data *d, const double *x,
+                  const double *xhat, double a, double t, int want_grad, int want_hess,
+                  int project, double *phi) {
+  return phi_eval(nw, m, d, x, xhat, a, t, want_grad, want_hess, project, 0, phi);
 }
 
 static void add_step(const sw_model *m, const double *x, const double *dx, double alpha,
@@ -431,20 +448,25 @@ static sw_blocks term_blocks(const sw_model *m, const sw_data *d, int k) {
   return b;
 }
 
-/* Rebuild the pattern with nw->xpair and analyse it again (the damping matrix carried over). */
-static int regrow(sw_newton *nw, const sw_model *m, sw_data *d) {
+/* Rebuild the pattern with nw->xpair and analyse it again (the damping matrix carried over,
+ * and with carry the values in nw->sval). */
+static int regrow(sw_newton *nw, const sw_model *m, sw_data *d, int carry) {
   sw_pattern np;
   int rc = sw_pattern_build_ex(&np, m, nw->xpair, nw->nxpair, d->err, sizeof d->err);
   if (rc) return rc;
-  double *sv = nw->sown ? sw_realloc(nw->sown, (size_t)np.nnz + 1, sizeof(double)) : NULL;
-  if (sv) nw->sown = sv;
-  if (nw->sown && !sv) {
+  double *kept = carry ? sw_calloc((size_t)nw->pat.nnz + 1, sizeof(double)) : NULL;
+  if (carry && !kept) {
     sw_pattern_free(&np, m->nterm);
     sw_errf(d->err, sizeof d->err, "out of memory growing the sparsity pattern");
     return SW_FATAL;
   }
+  if (kept) memcpy(kept, nw->sval, (size_t)nw->pat.nnz * sizeof(double));
+  double *sv = nw->sown ? sw_realloc(nw->sown, (size_t)np.nnz + 1, sizeof(double)) : NULL;
+  if (sv) nw->sown = sv;
   double *dv = nw->dval ? sw_calloc((size_t)np.nnz + 1, sizeof(double)) : NULL;
-  if (nw->dval && !dv) {
+  if ((nw->sown && !sv) || (nw->dval && !dv)) {
+    sw_free(dv);
+    sw_free(kept);
     sw_pattern_free(&np, m->nterm);
     sw_errf(d->err, sizeof d->err, "out of memory growing the sparsity pattern");
     return SW_FATAL;
@@ -457,12 +479,14 @@ static int regrow(sw_newton *nw, const sw_model *m, sw_data *d) {
     sw_free(nw->dval);
     nw->dval = dv;
   }
+  nw->sval = nw->sown ? nw->sown : sw_chol_values(&nw->chol);
+  if (kept && !rc2) sw_pattern_remap(&nw->pat, kept, &np, nw->sval);
+  sw_free(kept);
   sw_pattern_free(&nw->pat, m->nterm);
   nw->pat = np; /* the factorisation holds np's arrays, not its struct */
   nw->fac_valid = 0;
   forget_slots(nw); /* the kept slots were the old pattern's */
   d->npattern++;
-  nw->sval = nw->sown ? nw->sown : sw_chol_values(&nw->chol);
   return rc2;
 }
 
@@ -471,7 +495,7 @@ static int regrow(sw_newton *nw, const sw_model *m, sw_data *d) {
  * analysis).  The pattern only grows: a pair that left contact keeps its (zero) entries, so a
  * contact that comes and goes costs one analysis, not one per change (docs/contact.md, "The
  * sparsity pattern"). */
-static int grow_pattern(sw_newton *nw, const sw_model *m, sw_data *d) {
+static int grow_pattern(sw_newton *nw, const sw_model *m, sw_data *d, int carry) {
   long before = nw->nxpair;
   for (int t = 0; t < m->nterm; t++) {
     sw_blocks b = term_blocks(m, d, t);
@@ -499,7 +523,7 @@ static int grow_pattern(sw_newton *nw, const sw_model *m, sw_data *d) {
     if (u == 0 || cmp_pair(nw->xpair + 2 * q, nw->xpair + 2 * (u - 1)))
       memmove(nw->xpair + 2 * u++, nw->xpair + 2 * q, 2 * sizeof(int));
   nw->nxpair = u;
-  int rc = regrow(nw, m, d);
+  int rc = regrow(nw, m, d, carry);
   d->time_pattern += sw_now() - t0;
   return rc;
 }
@@ -525,13 +549,15 @@ static void add_extra_blocks(sw_newton *nw, const sw_model *m, const sw_data *d,
 }
 
 /* S = a M + H (H from the last evaluation: blocks, self-contact pairs and low-rank vectors)
- * + cd D into nw->sval and nw->lrcur (the pattern grown first for new self-contact pairs). */
-static int assemble(sw_newton *nw, const sw_model *m, sw_data *d, double a) {
-  int rc = nw->nblock_terms ? grow_pattern(nw, m, d) : SW_OK;
+ * + cd D into nw->sval and nw->lrcur (the pattern grown first for new self-contact pairs);
+ * with into, the blocks are in nw->sval already (eval_terms). */
+static int assemble(sw_newton *nw, const sw_model *m, sw_data *d, double a, int into) {
+  int rc = nw->nblock_terms ? grow_pattern(nw, m, d, into) : SW_OK;
   if (rc) return rc;
   double t0 = sw_now();
   double *val = nw->sval;
-  sw_pattern_fill(&nw->pat, m, d, a, 1.0, val);
+  if (into) sw_pattern_finish(&nw->pat, m, a, 1.0, val);
+  else sw_pattern_fill(&nw->pat, m, d, a, 1.0, val);
   if (nw->nblock_terms) add_extra_blocks(nw, m, d, val);
   sw_pattern_fill_lowrank(&nw->pat, d, nw->lrcur);
   if (nw->cd > 0.0 && nw->dval)
@@ -541,7 +567,7 @@ static int assemble(sw_newton *nw, const sw_model *m, sw_data *d, double a) {
 }
 
 int sw_newton_hessian(sw_newton *nw, const sw_model *m, sw_data *d, double a) {
-  int rc = nw->nblock_terms ? grow_pattern(nw, m, d) : SW_OK;
+  int rc = nw->nblock_terms ? grow_pattern(nw, m, d, 0) : SW_OK;
   if (rc) return rc;
   double *val = sw_chol_values(&nw->chol);
   sw_pattern_fill(&nw->pat, m, d, a, 1.0, val);
@@ -609,10 +635,12 @@ static void use_filtered(sw_newton *nw, const sw_model *m, sw_data *d) {
   }
 }
 
-/* The terms' Hessian at x filtered by `filter` into d->hess (gradient and energy untouched). */
-static int eval_hessian(const sw_model *m, sw_data *d, const double *x, double t, int filter) {
+/* The terms' Hessian at x filtered by `filter` into d->hess, or with into straight into
+ * nw->sval (gradient and energy untouched). */
+static int eval_hessian(sw_newton *nw, const sw_model *m, sw_data *d, const double *x, double t,
+                        int filter, int into) {
   double u, t0 = sw_now();
-  int rc = sw_eval_terms(m, d, x, t, 0, 1, filter, &u);
+  int rc = eval_terms(nw, m, d, x, t, 0, 1, filter, into, &u);
   d->time_assemble += sw_now() - t0;
   return rc;
 }
@@ -623,26 +651,27 @@ static int progressive_hessian(sw_newton *nw, const sw_model *m, sw_data *d, con
   long nflag = flag_stencils(nw, m, o);
   int rc;
   if (nflag > 0) {
-    if ((rc = eval_hessian(m, d, x, o->t, SW_FILTER_CLAMP))) return rc;
+    if ((rc = eval_hessian(nw, m, d, x, o->t, SW_FILTER_CLAMP, 0))) return rc;
     memcpy(nw->hfilt, d->hess, (size_t)d->hoff[m->nterm] * sizeof(double));
   }
-  if ((rc = eval_hessian(m, d, x, o->t, SW_FILTER_NONE))) return rc;
+  if ((rc = eval_hessian(nw, m, d, x, o->t, SW_FILTER_NONE, 0))) return rc;
   if (nflag > 0) use_filtered(nw, m, d);
   return SW_OK;
 }
 
-/* Phi, its gradient and the Hessian at x as the mode asks, assembled into S (nw->sval). */
+/* Phi, its gradient and the Hessian at x as the mode asks, assembled into S (nw->sval): the
+ * blocks straight into it, but for progressive, which mixes two evaluations' blocks. */
 static int linearise(sw_newton *nw, const sw_model *m, sw_data *d, const double *x,
                      const double *xhat, const sw_newton_opts *o, double *phi) {
   int mode = o->hessian, first = sw_hessian_filter(mode);
   if (mode == SW_HESSIAN_ABS && nw->iter >= SW_NEWTON_ABS_ITERS) first = SW_FILTER_CLAMP;
-  int with_hess = mode != SW_HESSIAN_PROGRESSIVE;
+  int into = mode != SW_HESSIAN_PROGRESSIVE;
   double t0 = sw_now();
-  int rc = sw_newton_phi(nw, m, d, x, xhat, o->a, o->t, 1, with_hess, first, phi);
+  int rc = phi_eval(nw, m, d, x, xhat, o->a, o->t, 1, into, first, into, phi);
   d->time_assemble += sw_now() - t0;
   if (rc) return rc;
   if (mode == SW_HESSIAN_PROGRESSIVE && (rc = progressive_hessian(nw, m, d, x, o))) return rc;
-  return assemble(nw, m, d, o->a);
+  return assemble(nw, m, d, o->a, into);
 }
 
 /* A fresh factorisation of S and dx = S^-1 b, b = -grad Phi in nw->g (auto and progressive:
@@ -653,7 +682,9 @@ static int direct(sw_newton *nw, const sw_model *m, sw_data *d, const double *x,
   int rc = factor(nw, d), mode = o->hessian;
   if (rc == SW_RECOVER && (mode == SW_HESSIAN_AUTO || mode == SW_HESSIAN_PROGRESSIVE)) {
     if (nw->flag) memset(nw->flag, 1, (size_t)nw->soff[m->nterm]);
-    if (!(rc = eval_hessian(m, d, x, o->t, SW_FILTER_CLAMP)) && !(rc = assemble(nw, m, d, o->a)))
+    int into = mode != SW_HESSIAN_PROGRESSIVE;
+    if (!(rc = eval_hessian(nw, m, d, x, o->t, SW_FILTER_CLAMP, into)) &&
+        !(rc = assemble(nw, m, d, o->a, into)))
       rc = factor(nw, d);
   }
   if (rc) return rc;

@@ -114,10 +114,10 @@ static long find_slot(const sw_pattern *p, int r, int c) {
 }
 
 /* The slots of term k's block entries (upper triangles: entry (i, j), i <= j, goes to the
- * slot of (min, max) of its DOFs); an off-diagonal entry whose two DOFs are one also goes to
- * the duplicate list when dup is not NULL (counted in *ndup either way).  hoff: where the term's
- * blocks start in d->hess. */
-static void term_map(sw_pattern *p, const sw_model *m, int k, long hoff, long *ndup, int fill) {
+ * slot of (min, max) of its DOFs); an off-diagonal entry whose two DOFs are one stands for
+ * that diagonal entry twice (itself and its mirror below), and is mapped to -2 - its slot
+ * (sw_hsink). */
+static void term_map(sw_pattern *p, const sw_model *m, int k) {
   const int d = m->dim;
   const sw_term *t = &m->term[k];
   for (int s = 0; s < t->nstencil; s++) {
@@ -132,9 +132,7 @@ static void term_map(sw_pattern *p, const sw_model *m, int k, long hoff, long *n
           continue;
         }
         *mp = (int)find_slot(p, r, c);
-        if (r != c || i == j) continue;
-        if (fill) p->dupsrc[*ndup] = hoff + (mp - p->map[k]), p->dupslot[*ndup] = *mp;
-        ++*ndup;
+        if (r == c && i != j) *mp = -2 - *mp;
       }
   }
 }
@@ -144,24 +142,12 @@ static int build_maps(sw_pattern *p, const sw_model *m) {
   p->maplen = sw_calloc((size_t)m->nterm + 1, sizeof(long));
   if (!p->map || !p->maplen) return -1;
   p->nterm = m->nterm;
-  long hoff = 0;
   for (int k = 0; k < m->nterm; k++) {
     const sw_term *t = &m->term[k];
     p->maplen[k] = t->hptr[t->nstencil];
     p->map[k] = sw_calloc((size_t)t->hptr[t->nstencil] + 1, sizeof(int));
     if (!p->map[k]) return -1;
-    term_map(p, m, k, hoff, &p->ndup, 0);
-    hoff += t->hptr[t->nstencil];
-  }
-  if (!p->ndup) return 0;
-  p->dupsrc = sw_calloc((size_t)p->ndup, sizeof(long));
-  p->dupslot = sw_calloc((size_t)p->ndup, sizeof(long));
-  if (!p->dupsrc || !p->dupslot) return -1;
-  long n = 0;
-  hoff = 0;
-  for (int k = 0; k < m->nterm; k++) {
-    term_map(p, m, k, hoff, &n, 1);
-    hoff += m->term[k].hptr[m->term[k].nstencil];
+    term_map(p, m, k);
   }
   return 0;
 }
@@ -229,8 +215,6 @@ void sw_pattern_free(sw_pattern *p, int nterm) {
   sw_free(p->colptr);
   sw_free(p->rowind);
   sw_free(p->diag);
-  sw_free(p->dupsrc);
-  sw_free(p->dupslot);
   sw_free(p->lrptr);
   sw_free(p->lrrow);
   sw_free(p->lrsrc);
@@ -240,14 +224,21 @@ void sw_pattern_free(sw_pattern *p, int nterm) {
 void sw_pattern_fill(const sw_pattern *p, const sw_model *m, const sw_data *d, double mass_coef,
                      double hess_coef, double *values) {
   memset(values, 0, (size_t)p->nnz * sizeof(double));
-  for (int k = 0; k < m->nterm; k++) {
+  for (int k = 0; k < m->nterm; k++) { /* the arithmetic of sw_ev_block_done (sw_hsink) */
     const int *mp = p->map[k];
     const double *h = d->hess + d->hoff[k];
     long len = d->hoff[k + 1] - d->hoff[k];
-    for (long q = 0; q < len; q++)
-      if (mp[q] >= 0) values[mp[q]] += h[q];
+    for (long q = 0; q < len; q++) {
+      int sl = mp[q];
+      if (sl >= 0) values[sl] += h[q];
+      else if (sl < -1) values[-2 - sl] += 2.0 * h[q];
+    }
   }
-  for (long q = 0; q < p->ndup; q++) values[p->dupslot[q]] += d->hess[p->dupsrc[q]];
+  sw_pattern_finish(p, m, mass_coef, hess_coef, values);
+}
+
+void sw_pattern_finish(const sw_pattern *p, const sw_model *m, double mass_coef,
+                       double hess_coef, double *values) {
   if (hess_coef != 1.0)
     for (long q = 0; q < p->nnz; q++) values[q] *= hess_coef;
   for (int i = 0; i < m->nv; i++)
@@ -382,9 +373,11 @@ int sw_pattern_order(sw_pattern *p, const long *perm, int lower) {
     p->diag[c] = slot[p->diag[c]];
   }
   for (int k = 0; k < p->nterm; k++)
-    for (long q = 0; q < p->maplen[k]; q++)
-      if (p->map[k][q] >= 0) p->map[k][q] = (int)slot[p->map[k][q]];
-  for (long q = 0; q < p->ndup; q++) p->dupslot[q] = slot[p->dupslot[q]];
+    for (long q = 0; q < p->maplen[k]; q++) {
+      int *mq = &p->map[k][q];
+      if (*mq >= 0) *mq = (int)slot[*mq];
+      else if (*mq < -1) *mq = -2 - (int)slot[-2 - *mq]; /* added twice */
+    }
   sw_free(slot), sw_free(inv);
   sw_free(p->colptr), sw_free(p->rowind), sw_free(p->pos), sw_free(p->dofat);
   p->colptr = colptr, p->rowind = rowind, p->pos = pos, p->dofat = dofat;

@@ -28,11 +28,9 @@ typedef struct sw_pattern {
   long *maplen;          /* (nterm) entries of map[k] */
   int nterm;
   int **map;             /* (nterm) for term k: the slot of each entry of its blocks' upper
-                            triangles (sw_hess_upper), or -1 (a pinned component) */
-  long ndup;             /* entries off a block's diagonal that land on the matrix's diagonal
-                            (a vertex twice in one stencil): added a second time */
-  long *dupsrc;          /* (ndup) index of each in d->hess */
-  long *dupslot;         /* (ndup) its slot */
+                            triangles (sw_hess_upper), -1 (a pinned component), or -2 - the
+                            slot for an entry off a block's diagonal that lands on the matrix's
+                            diagonal (a vertex twice in one stencil: added twice); sw_hsink */
   /* The terms' low-rank vectors (sw_term.lptr) on the free DOFs: the system is
    * S = (values on the pattern) + sum_r v_r v_r^T, v_r stored sparse (CSC, n x nlr). */
   int nlr;               /* vectors of all terms */
@@ -68,6 +66,10 @@ void sw_pattern_free(sw_pattern *p, int nterm);
 /* values = mass_coef * M + hess_coef * (sum of the terms' blocks in d->hess), on the pattern. */
 void sw_pattern_fill(const sw_pattern *p, const sw_model *m, const sw_data *d, double mass_coef,
                      double hess_coef, double *values);
+/* Its last part, for values that hold the sum of the blocks already (sw_eval_terms_into
+ * through p->map from zero): values = mass_coef * M + hess_coef * values. */
+void sw_pattern_finish(const sw_pattern *p, const sw_model *m, double mass_coef,
+                       double hess_coef, double *values);
 /* The slot of entry (r, c) = (c, r) of DOFs r and c, or -1 if not in the pattern. */
 long sw_pattern_slot(const sw_pattern *p, int r, int c);
 /* The DOF at position i (the index arrays hold positions). */

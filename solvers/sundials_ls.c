@@ -86,9 +86,11 @@ static int eval_hessian(sw_sunls *sys, int project) {
   const sw_model *m = sys->m;
   sw_data *d = sys->d;
   double t0 = sw_now(), u;
-  int rc = sw_eval_terms(m, d, sys->xlin, sys->tlin, 0, 1, project, &u);
+  memset(sys->hval, 0, (size_t)sys->pat.nnz * sizeof(double)); /* the blocks straight in */
+  int rc = sw_eval_terms_into(m, d, sys->xlin, sys->tlin, 0, project, sys->hval,
+                              sys->pat.map, &u);
   if (rc == SW_OK) {
-    sw_pattern_fill(&sys->pat, m, d, 0.0, 1.0, sys->hval);
+    sw_pattern_finish(&sys->pat, m, 0.0, 1.0, sys->hval);
     sw_pattern_fill_lowrank(&sys->pat, d, sys->hlr);
     if (!all_finite(sys->hval, sys->pat.nnz) ||
         !all_finite(sys->hlr, sys->pat.lrptr[sys->pat.nlr])) {

@@ -113,6 +113,40 @@ static void check_projection(probe *p) {
   free(blk), free(H), free(w), free(work);
 }
 
+/* A term that takes a sink (sink_ok) hands it every block, as it writes them in place: with
+ * the map q -> q (even q) and q -> -2 - q (odd q: added twice) the sink's values are the
+ * blocks, the odd entries doubled, exactly; the energy and gradient are the same. */
+static void check_sink(probe *p, int project) {
+  const sw_term *t = &p->m->term[p->k];
+  if (!t->ops->sink_ok) return;
+  const long len = t->hptr[t->nstencil];
+  long wmax = 1;
+  for (int s = 0; s < t->nstencil; s++) wmax = fmax(wmax, t->hptr[s + 1] - t->hptr[s]);
+  double *blk = calloc((size_t)len + 1, sizeof *blk), *val = calloc((size_t)len + 1, sizeof *val);
+  double *scratch = malloc(sizeof *scratch * (size_t)wmax), *g = calloc((size_t)p->n, sizeof *g);
+  double *g2 = calloc((size_t)p->n, sizeof *g2);
+  int *map = calloc((size_t)len + 1, sizeof *map);
+  for (long q = 0; q < len; q++) map[q] = q % 2 ? -2 - (int)q : (int)q;
+  for (long q = 0; q < wmax; q++) scratch[q] = NAN; /* what a term must not read */
+  double e = term_energy(p, p->x, g, blk, project);
+  sw_hsink sink = {.values = val, .map = map, .blk = scratch};
+  sw_eval ev = {.x = p->x, .grad = g2, .hess = scratch, .sink = &sink, .lowrank = p->lr,
+                .project = project};
+  double e2 = 0.0;
+  assert_int_equal(t->ops->eval(t, p->m, &ev, &e2), SW_OK);
+  long differ = 0;
+  for (long q = 0; q < len; q++) {
+    double want = q % 2 ? 2.0 * blk[q] : blk[q];
+    differ += !(want == val[q]); /* 0 + -0 is +0: == compares */
+  }
+  if (differ)
+    print_error("%s: %ld of %ld block entries differ through a sink\n", t->name, differ, len);
+  assert_int_equal(differ, 0);
+  assert_true(e2 == e);
+  assert_memory_equal(g, g2, sizeof *g * (size_t)p->n);
+  free(blk), free(val), free(scratch), free(g), free(g2), free(map);
+}
+
 /* Rotation about a random axis (3D) or in the plane (2D) and a translation. */
 static void rigid(const probe *p, const double *x, double *y, unsigned long *rs) {
   const int d = p->m->dim;
@@ -201,6 +235,7 @@ void th_conformance_at(const sw_model *m, const char *name, int flags, double si
   check_gradient(&p, 1e-6 * size);
   check_hessian(&p, 1e-6 * size);
   if (!(flags & TH_NO_PROJECTION)) check_projection(&p);
+  for (int f = SW_FILTER_NONE; f <= SW_FILTER_ABS; f++) check_sink(&p, f);
   free(p.x);
   free(p.lr);
 }
@@ -218,6 +253,7 @@ void th_conformance(const sw_model *m, const char *name, int flags, double size,
       check_hessian(&p, 1e-6 * size);
       if (!(flags & TH_NO_PROJECTION)) check_projection(&p);
       if (flags & TH_INTERNAL) check_rigid(&p, &rs);
+      check_sink(&p, rep % 3); /* each filter (SW_FILTER_*) at each kind of state */
     }
   free(p.x);
   free(p.lr);

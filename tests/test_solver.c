@@ -127,6 +127,34 @@ static void check_sets_blocks(const sw_model *m, const sw_data *d, const char *l
   }
 }
 
+/* The blocks added straight into the system (sw_eval_terms_into, as Newton assembles) give
+ * the values of the kept blocks filled in (sw_eval_terms, sw_pattern_fill) bit for bit, and the
+ * same energy, with each filter. */
+static void check_into(const sw_model *m, sw_data *d, const sw_pattern *p, double a,
+                       const char *label) {
+  double *want = calloc((size_t)p->nnz + 1, sizeof *want);
+  double *got = calloc((size_t)p->nnz + 1, sizeof *got);
+  assert_non_null(want), assert_non_null(got);
+  for (int f = SW_FILTER_NONE; f <= SW_FILTER_ABS; f++) {
+    double e, e2;
+    assert_int_equal(sw_eval_terms(m, d, d->x, 0.0, 0, 1, f, &e), SW_OK);
+    sw_pattern_fill(p, m, d, a, 1.0, want);
+    memset(got, 0, sizeof(double) * (size_t)p->nnz); /* sw_eval_terms_into adds */
+    assert_int_equal(sw_eval_terms_into(m, d, d->x, 0.0, 0, f, got, p->map, &e2), SW_OK);
+    sw_pattern_finish(p, m, a, 1.0, got);
+    long differ = 0, nonzero = 0;
+    for (long q = 0; q < p->nnz; q++) {
+      differ += memcmp(&got[q], &want[q], sizeof *got) != 0;
+      nonzero += want[q] != 0.0;
+    }
+    if (differ || e2 != e)
+      fail_msg("%s, filter %d: %ld of %ld entries differ, energy %.17g vs %.17g", label, f,
+               differ, p->nnz, e2, e);
+    assert_true(nonzero > 0);
+  }
+  free(want), free(got);
+}
+
 /* The assembled S = a M + sum of the terms' blocks, as a product S v on the pattern
  * (sw_pattern_symv of sw_pattern_fill), against the blocks multiplied out one by one, each
  * read in full (both halves of its stored upper triangle): every term of the model, every
@@ -174,6 +202,7 @@ static void check_fill_products(sw_model *m, const char *label) {
                 "of %.2e\n", label, m->nterm, entries, p.nnz, err_max, scale);
   assert_true(err_max <= 1e-12 * scale);
   check_sets_blocks(m, d, label);
+  check_into(m, d, &p, a, label);
   free(val), free(v), free(y), free(want);
   sw_pattern_free(&p, m->nterm);
   sw_data_free(d);

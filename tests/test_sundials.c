@@ -97,7 +97,11 @@ static void reduction_solves_full_system(void **st) {
     double *y2 = calloc(2 * (size_t)n, sizeof(double));
     sw_sunls_gather(&sys, d->x, d->v, y2);
     assert_int_equal(sw_sunls_hessian(&sys, y2, 0.0), 0);
-    /* dense H on all DOFs, summed over the terms (d->hess holds the blocks just evaluated) */
+    /* dense H on all DOFs, summed over the terms: their blocks at the same state and filter
+     * (sw_sunls_hessian adds them straight into its system) */
+    double u;
+    assert_int_equal(
+        sw_eval_terms(m, d, sys.xlin, 0.0, 0, 1, sw_hessian_filter(m->opt.hessian), &u), 0);
     double *H = calloc((size_t)nd * nd, sizeof(double));
     double *Hk = calloc((size_t)nd * nd, sizeof(double));
     for (int k = 0; k < m->nterm; k++) {
