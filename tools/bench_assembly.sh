@@ -33,7 +33,7 @@ done
 import csv, statistics, sys
 rows = list(csv.reader(open(sys.argv[1])))
 med = {}
-for b, r, scene, dofs, nnz, nb, mib, ev, fi, rss in rows:
+for b, r, scene, dofs, nnz, nb, mib, ev, fi, rss, *into in rows:
     med.setdefault((scene, b), []).append((float(ev), float(fi), float(mib), float(rss), int(dofs)))
 print("\n| scene | DOFs | blocks+map+values MiB old / new | peak RSS of this program (no factor) KiB/DOF old / new | eval ms old / new | fill ms old / new | eval ratio | fill ratio | eval+fill ratio |")
 print("|---|--:|--:|--:|--:|--:|--:|--:|--:|")
