@@ -78,9 +78,7 @@ int sw_newton_init(sw_newton *nw, const sw_model *m, char *err, size_t errsz) {
   if (nw->n > 0) nw->sval = sw_chol_values(&nw->chol); /* sval_for sets it per solve */
   else nw->sval = nw->sown = sw_calloc(1, sizeof(double));
   nw->lrcur = sw_calloc(nlrent + 1, sizeof(double));
-  double **cg[4] = {&nw->cr, &nw->cz, &nw->cp, &nw->cq};
-  int nocg = !nw->sval || !nw->lrcur;
-  for (int k = 0; k < 4; k++) nocg |= !(*cg[k] = sw_calloc((size_t)nw->n + 1, sizeof(double)));
+  int nocg = !nw->sval || !nw->lrcur; /* CG's own vectors at its first solve (pcg) */
   int damped = sw_damped(m);
   if (damped) {
     nw->dval = sw_calloc((size_t)nw->pat.nnz + 1, sizeof(double));
@@ -725,6 +723,12 @@ static void apply_s(const sw_newton *nw, const double *x, double *y) {
 static int pcg(sw_newton *nw, sw_data *d, const sw_newton_opts *o, double rel) {
   const int n = nw->n, kmax = SW_CG_MAX;
   const double eta = SW_CG_ETA, cabs = o->reuse == SW_REUSE_STEP ? SW_CG_STEP_ABS : SW_CG_ABS;
+  double **cg[4] = {&nw->cr, &nw->cz, &nw->cp, &nw->cq}; /* allocated once, when first needed */
+  for (int k = 0; k < 4; k++)
+    if (!*cg[k] && !(*cg[k] = sw_calloc((size_t)n + 1, sizeof(double)))) {
+      sw_errf(d->err, sizeof d->err, "out of memory for conjugate gradients (%d DOFs)", n);
+      return SW_FATAL;
+    }
   double *x = nw->dx, *r = nw->cr, *z = nw->cz, *p = nw->cp, *q = nw->cq;
   double t0 = sw_now();
   memset(x, 0, (size_t)n * sizeof(double));
