@@ -1,5 +1,6 @@
-/* cholmod.c — the one sparse Cholesky of every implicit method (CHOLMOD, cholmod_l_* API since
- * SUNDIALS' sunindextype is 64-bit here).  Analysed once per run (fill-reducing ordering and
+/* cholmod.c — the one sparse Cholesky of every implicit method (CHOLMOD's 32-bit interface,
+ * cholmod_*: 4-byte indices in the system and its factor, so at most 2^31 - 1 entries in
+ * either; docs/performance.md).  Analysed once per run (fill-reducing ordering and
  * symbolic factor), refactorised numerically per Newton iteration, solved with persistent
  * workspaces so a solve allocates nothing.  The pattern is then stored in the elimination
  * order the analysis found, in the triangle each kind of factorisation reads as it stands
@@ -36,7 +37,8 @@ static int chol_failed(const sw_chol *ch, const char *what, char *err, size_t er
     sw_errf(err, errsz, "CHOLMOD %s: the ordering %s is not available (this CHOLMOD was built "
             "without METIS); use ordering: amd", what, sw_ordering_names()[ch->ordering]);
   else if (ch->c.status == CHOLMOD_TOO_LARGE)
-    sw_errf(err, errsz, "CHOLMOD: the problem is too large for %s%s", what, size);
+    sw_errf(err, errsz, "CHOLMOD: the problem is too large for %s%s: more than the 2^31 - 1 "
+            "entries its 32-bit indices address", what, size);
   else sw_errf(err, errsz, "CHOLMOD %s failed (status %d)%s", what, ch->c.status, size);
   return SW_FATAL;
 }
@@ -52,8 +54,8 @@ static int lowrank_init(sw_chol *ch, const sw_pattern *p) {
   ch->lrval = sw_calloc(nent + 1, sizeof(double));
   ch->C = sw_calloc(r * r, sizeof(double));
   ch->z = sw_calloc(r, sizeof(double));
-  ch->V = cholmod_l_zeros(n, r, CHOLMOD_REAL, &ch->c);
-  ch->W = cholmod_l_zeros(n, r, CHOLMOD_REAL, &ch->c);
+  ch->V = cholmod_zeros(n, r, CHOLMOD_REAL, &ch->c);
+  ch->W = cholmod_zeros(n, r, CHOLMOD_REAL, &ch->c);
   if (!ch->lrptr || !ch->lrrow || !ch->lrval || !ch->C || !ch->z || !ch->V || !ch->W) return -1;
   memcpy(ch->lrptr, p->lrptr, (r + 1) * sizeof(long));
   for (size_t q = 0; q < nent; q++) /* positions, as CHOLMOD's vectors */
@@ -79,15 +81,15 @@ static int chol_auto(sw_chol *ch, char *err, size_t errsz) {
   const double fl = ch->c.fl, lnz = ch->c.lnz;
   if (ch->ordering != SW_ORDERING_AUTO || ch->A->nrow < SW_ORDERING_SWITCH) return SW_OK;
   ch->c.method[0].ordering = CHOLMOD_NESDIS;
-  cholmod_factor *nd = cholmod_l_analyze(ch->A, &ch->c);
+  cholmod_factor *nd = cholmod_analyze(ch->A, &ch->c);
   if (nd && ch->c.status >= CHOLMOD_OK && ch->c.fl < fl) {
-    cholmod_l_free_factor(&ch->L, &ch->c);
+    cholmod_free_factor(&ch->L, &ch->c);
     ch->L = nd;
     return SW_OK;
   }
   if (!nd && ch->c.status != CHOLMOD_NOT_INSTALLED && ch->c.status != CHOLMOD_OUT_OF_MEMORY)
     return chol_failed(ch, "analyze", err, errsz);
-  cholmod_l_free_factor(&nd, &ch->c);
+  cholmod_free_factor(&nd, &ch->c);
   ch->c.status = CHOLMOD_OK;
   ch->c.fl = fl, ch->c.lnz = lnz; /* AMD's stays */
   ch->c.method[0].ordering = CHOLMOD_AMD;
@@ -106,7 +108,7 @@ void sw_chol_mode(sw_chol *ch, int mode) {
    * supernodal"). */
   static const size_t coarse_n[3] = {16, 48, 128};
   static const double coarse_z[3] = {0.8, 0.3, 0.1};
-  if (!ch->A || ch->A->nrow < SW_RELAX_SWITCH) /* else cholmod_l_start's own stay */
+  if (!ch->A || ch->A->nrow < SW_RELAX_SWITCH) /* else cholmod_start's own stay */
     for (int j = 0; j < 3; j++) ch->c.nrelax[j] = coarse_n[j], ch->c.zrelax[j] = coarse_z[j];
   chol_ordering(ch, mode >= 0 ? mode / SW_FACTOR_N : SW_ORDERING_AUTO);
 }
@@ -137,7 +139,7 @@ static cholmod_sparse *system_view(sw_chol *ch, const sw_pattern *p, double *x) 
   A->i = (void *)p->rowind;
   A->x = x ? x : sw_calloc((size_t)p->nnz + 1, sizeof(double));
   A->stype = p->lower ? -1 : 1; /* the triangle stored */
-  A->itype = CHOLMOD_LONG;
+  A->itype = CHOLMOD_INT;
   A->xtype = CHOLMOD_REAL;
   A->dtype = CHOLMOD_DOUBLE;
   A->sorted = 1;
@@ -163,14 +165,14 @@ static int natural_order(sw_chol *ch, sw_pattern *p, char *err, size_t errsz) {
     sw_errf(err, errsz, "out of memory storing the system in its elimination order");
     return SW_FATAL;
   }
-  cholmod_l_free_factor(&ch->L, &ch->c);
+  cholmod_free_factor(&ch->L, &ch->c);
   system_view(ch, p, ch->A->x);
   identity_values(ch, p);
   const double fl = ch->c.fl, lnz = ch->c.lnz;
   ch->c.method[0].ordering = CHOLMOD_NATURAL;
   ch->c.postorder = 0;
   ch->c.supernodal = super ? CHOLMOD_SUPERNODAL : CHOLMOD_SIMPLICIAL;
-  ch->L = cholmod_l_analyze(ch->A, &ch->c);
+  ch->L = cholmod_analyze(ch->A, &ch->c);
   if (!ch->L || ch->c.status < CHOLMOD_OK) return chol_failed(ch, "analyze", err, errsz);
   ch->c.fl = fl, ch->c.lnz = lnz; /* the ordering's (the same factor) */
   return SW_OK;
@@ -180,7 +182,7 @@ static int natural_order(sw_chol *ch, sw_pattern *p, char *err, size_t errsz) {
  * it): each analysis starts from the same matrix, whatever was analysed before. */
 static int dof_order(sw_pattern *p) {
   if (!p->pos) return 0;
-  long *perm = sw_calloc((size_t)p->n + 1, sizeof(long));
+  int *perm = sw_calloc((size_t)p->n + 1, sizeof(int));
   if (!perm) return -1;
   for (int c = 0; c < p->n; c++) perm[c] = p->pos[c]; /* position c gets DOF c */
   int rc = sw_pattern_order(p, perm, 0);
@@ -191,21 +193,21 @@ static int dof_order(sw_pattern *p) {
 int sw_chol_init(sw_chol *ch, sw_pattern *p, int mode, char *err, size_t errsz) {
   memset(ch, 0, sizeof *ch);
   if (dof_order(p)) return sw_errf(err, errsz, "out of memory reordering the system"), SW_FATAL;
-  cholmod_l_start(&ch->c);
+  cholmod_start(&ch->c);
   ch->started = 1;
   ch->c.print = 0;
   ch->c.error_handler = NULL;
   ch->c.final_ll = 1; /* simplicial factors as LL^T too, so an indefinite S is detected */
   size_t n = (size_t)p->n;
   ch->A = system_view(ch, p, NULL);
-  ch->b = cholmod_l_zeros(n, 1, CHOLMOD_REAL, &ch->c);
+  ch->b = cholmod_zeros(n, 1, CHOLMOD_REAL, &ch->c);
   if (!ch->A->x || !ch->b) {
     sw_errf(err, errsz, "CHOLMOD: out of memory allocating a %zu x %zu system", n, n);
     return SW_FATAL;
   }
   identity_values(ch, p);
   sw_chol_mode(ch, mode);
-  ch->L = cholmod_l_analyze(ch->A, &ch->c);
+  ch->L = cholmod_analyze(ch->A, &ch->c);
   if (!ch->L || ch->c.status < CHOLMOD_OK) return chol_failed(ch, "analyze", err, errsz);
   int rc = chol_auto(ch, err, errsz);
   if (!rc) rc = natural_order(ch, p, err, errsz);
@@ -239,7 +241,7 @@ static int lowrank_factor(sw_chol *ch, char *err, size_t errsz) {
   memset(V, 0, (size_t)(n * r) * sizeof(double));
   for (int k = 0; k < r; k++)
     for (long q = ch->lrptr[k]; q < ch->lrptr[k + 1]; q++) V[k * n + ch->lrrow[q]] += ch->lrval[q];
-  if (!cholmod_l_solve2(CHOLMOD_A, ch->L, ch->V, NULL, &ch->W, NULL, &ch->Y2, &ch->E2, &ch->c))
+  if (!cholmod_solve2(CHOLMOD_A, ch->L, ch->V, NULL, &ch->W, NULL, &ch->Y2, &ch->E2, &ch->c))
     return chol_failed(ch, "the solve for the low-rank part", err, errsz);
   const double *W = ch->W->x;
   for (int k = 0; k < r; k++)
@@ -259,7 +261,7 @@ static int lowrank_factor(sw_chol *ch, char *err, size_t errsz) {
 }
 
 int sw_chol_factor(sw_chol *ch, char *err, size_t errsz) {
-  int ok = cholmod_l_factorize(ch->A, ch->L, &ch->c);
+  int ok = cholmod_factorize(ch->A, ch->L, &ch->c);
   if (ch->c.status == CHOLMOD_NOT_POSDEF || (ok && ch->L->minor < ch->L->n)) {
     sw_errf(err, errsz, "CHOLMOD: the system matrix is not positive definite (column %ld)",
             (long)ch->L->minor);
@@ -295,7 +297,7 @@ int sw_chol_solve(sw_chol *ch, const double *rhs, double *sol, char *err, size_t
   const long n = (long)ch->A->nrow;
   double *b = ch->b->x;
   for (long c = 0; c < n; c++) b[ch->pos ? ch->pos[c] : c] = rhs[c]; /* DOFs -> positions */
-  if (!cholmod_l_solve2(CHOLMOD_A, ch->L, ch->b, NULL, &ch->x, NULL, &ch->Y, &ch->E, &ch->c))
+  if (!cholmod_solve2(CHOLMOD_A, ch->L, ch->b, NULL, &ch->x, NULL, &ch->Y, &ch->E, &ch->c))
     return chol_failed(ch, "solve", err, errsz);
   double *x = ch->x->x;
   if (ch->nlr) lowrank_correct(ch, x);
@@ -307,20 +309,20 @@ void sw_chol_free(sw_chol *ch) {
   if (!ch->started) return;
   if (ch->A) sw_free(ch->A->x); /* the index arrays are the pattern's */
   ch->A = NULL;
-  cholmod_l_free_factor(&ch->L, &ch->c);
-  cholmod_l_free_dense(&ch->b, &ch->c);
-  cholmod_l_free_dense(&ch->x, &ch->c);
-  cholmod_l_free_dense(&ch->Y, &ch->c);
-  cholmod_l_free_dense(&ch->E, &ch->c);
-  cholmod_l_free_dense(&ch->V, &ch->c);
-  cholmod_l_free_dense(&ch->W, &ch->c);
-  cholmod_l_free_dense(&ch->Y2, &ch->c);
-  cholmod_l_free_dense(&ch->E2, &ch->c);
+  cholmod_free_factor(&ch->L, &ch->c);
+  cholmod_free_dense(&ch->b, &ch->c);
+  cholmod_free_dense(&ch->x, &ch->c);
+  cholmod_free_dense(&ch->Y, &ch->c);
+  cholmod_free_dense(&ch->E, &ch->c);
+  cholmod_free_dense(&ch->V, &ch->c);
+  cholmod_free_dense(&ch->W, &ch->c);
+  cholmod_free_dense(&ch->Y2, &ch->c);
+  cholmod_free_dense(&ch->E2, &ch->c);
   sw_free(ch->lrptr);
   sw_free(ch->lrrow);
   sw_free(ch->lrval);
   sw_free(ch->C);
   sw_free(ch->z);
-  cholmod_l_finish(&ch->c);
+  cholmod_finish(&ch->c);
   ch->started = 0;
 }

@@ -3,6 +3,7 @@
  * sorted rows -> for every entry of the upper triangle of every term's Hessian blocks (the
  * half they store), the slot it adds into.  The factorisation then stores it in its
  * elimination order (sw_pattern_order), the triangle CHOLMOD factorises without a copy. */
+#include <limits.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -65,7 +66,7 @@ static int vertex_graph(const sw_model *m, const int *extra, long nextra, long *
  * the elimination order.) */
 static int build_csc(sw_pattern *p, const sw_model *m, const long *vptr, const int *adj) {
   const int d = m->dim;
-  p->colptr = sw_calloc((size_t)p->n + 1, sizeof(long));
+  p->colptr = sw_calloc((size_t)p->n + 1, sizeof(int));
   p->diag = sw_calloc((size_t)p->n, sizeof(long));
   if (!p->colptr || !p->diag) return -1;
   for (int pass = 0; pass < 2; pass++) {
@@ -74,7 +75,7 @@ static int build_csc(sw_pattern *p, const sw_model *m, const long *vptr, const i
       for (int be = 0; be < d; be++) {
         int c = m->dof[b * d + be];
         if (c < 0) continue;
-        if (pass == 0) p->colptr[c] = nz;
+        if (pass == 0) p->colptr[c] = (int)nz;
         for (long q = vptr[b]; q < vptr[b + 1]; q++)
           for (int al = 0; al < d; al++) {
             int r = m->dof[adj[q] * d + al];
@@ -87,8 +88,10 @@ static int build_csc(sw_pattern *p, const sw_model *m, const long *vptr, const i
           }
       }
     if (pass == 0) {
-      p->colptr[p->n] = p->nnz = nz;
-      p->rowind = sw_calloc((size_t)nz, sizeof(long));
+      if (nz > INT_MAX) return -1; /* more than 32-bit indices hold */
+      p->colptr[p->n] = (int)nz;
+      p->nnz = nz;
+      p->rowind = sw_calloc((size_t)nz, sizeof(int));
       if (!p->rowind) return -1;
     }
   }
@@ -192,7 +195,7 @@ int sw_pattern_build_ex(sw_pattern *p, const sw_model *m, const int *extra, long
   p->n = m->ndof;
   long *vptr = NULL;
   int *adj = NULL;
-  if (vertex_graph(m, extra, nextra, &vptr, &adj) || build_csc(p, m, vptr, adj) || p->nnz > 2147483647L ||
+  if (vertex_graph(m, extra, nextra, &vptr, &adj) || build_csc(p, m, vptr, adj) ||
       build_maps(p, m) || build_lowrank(p, m)) {
     sw_free(vptr);
     sw_free(adj);
@@ -334,14 +337,15 @@ static void sort_moved(moved *e, long n) {
   }
 }
 
-int sw_pattern_order(sw_pattern *p, const long *perm, int lower) {
+int sw_pattern_order(sw_pattern *p, const int *perm, int lower) {
   const int n = p->n;
   int *inv = sw_calloc((size_t)n + 1, sizeof(int)), *pos = sw_calloc((size_t)n + 1, sizeof(int));
   int *dofat = sw_calloc((size_t)n + 1, sizeof(int));
-  long *colptr = sw_calloc((size_t)n + 2, sizeof(long)), *rowind = NULL, *slot = NULL;
+  int *colptr = sw_calloc((size_t)n + 2, sizeof(int)), *rowind = NULL;
+  long *slot = NULL;
   moved *e = NULL;
   if (inv && pos && dofat && colptr) {
-    rowind = sw_calloc((size_t)p->nnz + 1, sizeof(long));
+    rowind = sw_calloc((size_t)p->nnz + 1, sizeof(int));
     slot = sw_calloc((size_t)p->nnz + 1, sizeof(long));
     e = sw_calloc((size_t)p->nnz + 1, sizeof(moved));
   }

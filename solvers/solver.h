@@ -19,8 +19,8 @@
 typedef struct sw_pattern {
   int n;                 /* free DOFs */
   long nnz;              /* stored entries (one triangle) */
-  long *colptr;          /* (n + 1) by position */
-  long *rowind;          /* (nnz) positions, sorted within each column */
+  int *colptr;           /* (n + 1) by position (nnz < 2^31: CHOLMOD's 32-bit interface) */
+  int *rowind;           /* (nnz) positions, sorted within each column */
   long *diag;            /* (n) slot of each DOF's diagonal entry */
   int lower;             /* 1: column j holds rows i >= j; 0: i <= j */
   int *pos, *dofat;      /* (n) position of each DOF and DOF at each position, or NULL (the
@@ -79,7 +79,7 @@ static inline int sw_pattern_dof(const sw_pattern *p, long i) {
 /* Store the pattern in a new order: position k holds what position perm[k] held (CHOLMOD's
  * Perm), and the triangle of the new positions that lower says; the slots of the maps, the
  * diagonal and the duplicates follow.  -1 when out of memory (p unchanged). */
-int sw_pattern_order(sw_pattern *p, const long *perm, int lower);
+int sw_pattern_order(sw_pattern *p, const int *perm, int lower);
 /* y = A x for the symmetric A whose triangle is values on the pattern (n each, DOFs). */
 void sw_pattern_symv(const sw_pattern *p, const double *values, const double *x, double *y);
 
