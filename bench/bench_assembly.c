@@ -55,7 +55,7 @@ int main(int argc, char **argv) {
     sw_pattern_fill(&p, m, d, 1e4, 1.0, val);
     double t2 = sw_cpu_now();
     memset(val2, 0, (size_t)p.nnz * sizeof *val2);
-    if (sw_eval_terms_into(m, d, d->x, 0.0, 1, SW_FILTER_CLAMP, val2, p.map, &e))
+    if (sw_eval_terms_into(m, d, d->x, 0.0, 1, SW_FILTER_CLAMP, val2, &p.slots, &e))
       return fprintf(stderr, "%s\n", d->err), 1;
     sw_pattern_finish(&p, m, 1e4, 1.0, val2);
     ti += sw_cpu_now() - t2, tf += t2 - t1, te += t1 - t0;
@@ -69,7 +69,7 @@ int main(int argc, char **argv) {
   printf("%s,%d,%ld,%ld,%.2f,%.4f,%.4f,%.1f,%.4f\n", base ? base + 1 : path, m->ndof, p.nnz, nb,
          mib, 1e3 * te / reps, 1e3 * tf / reps, bench_peak_rss_mib(), 1e3 * ti / reps);
   free(val), free(val2);
-  sw_pattern_free(&p, m->nterm);
+  sw_pattern_free(&p);
   sw_data_free(d);
   sw_model_free(m);
   return 0;

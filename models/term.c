@@ -122,6 +122,58 @@ static void membrane_block(const double *cu, const double *cv, double area, cons
     }
 }
 
+/* The index of the pair (a, b), a <= b, in sl, or -1 when it holds none: (a, a) first, then
+ * the b > a in increasing order (a scan for the short lists of a mesh, a bisection past). */
+static long slots_pair(const sw_slots *sl, int a, int b) {
+  long lo = sl->pptr[a], hi = sl->pptr[a + 1] - 1;
+  if (a == b) return lo <= hi && sl->pvert[lo] == a ? lo : -1;
+  if (hi - lo < 16) {
+    for (long e = lo + 1; e <= hi; e++)
+      if (sl->pvert[e] == b) return e;
+    return -1;
+  }
+  while (lo <= hi) {
+    long mid = lo + (hi - lo) / 2;
+    if (sl->pvert[mid] == b) return mid;
+    if (sl->pvert[mid] < b) lo = mid + 1;
+    else hi = mid - 1;
+  }
+  return -1;
+}
+
+/* The slots of the pair of stencil vertices a and b (stored as (min, max)), or NULL. */
+static const int *pair_slots(const sw_slots *sl, int a, int b) {
+  const long e = a > b ? slots_pair(sl, b, a) : slots_pair(sl, a, b);
+  return e < 0 ? NULL : sl->pslot + (size_t)(sl->dim * sl->dim) * (size_t)e;
+}
+
+/* Stencils of at most this many vertices have their pairs' slots looked up once (a mesh's
+ * elements); longer ones (a dense tendon's) once per row. */
+#define SLOTS_CACHE 8
+
+void sw_slots_add(const sw_slots *sl, const int *v, int nv, const double *blk, double *values) {
+  const int d = sl->dim, cache = nv <= SLOTS_CACHE;
+  const int *pc[SLOTS_CACHE * SLOTS_CACHE];
+  for (int i = 0; cache && i < nv; i++)
+    for (int j = i; j < nv; j++) pc[i * nv + j] = pair_slots(sl, v[i], v[j]);
+  const double *h = blk; /* the entries in their stored order: rows (i, al), columns >= */
+  for (int i = 0; i < nv; i++)
+    for (int al = 0; al < d; al++)
+      for (int j = i; j < nv; j++) {
+        const int a = v[i], b = v[j], swap = a > b, dup = a == b && i != j;
+        const int *ps = cache ? pc[i * nv + j] : pair_slots(sl, a, b);
+        const int be0 = j == i ? al : 0;
+        if (!ps) {
+          h += d - be0;
+          continue;
+        }
+        for (int be = be0; be < d; be++, h++) {
+          const int s = swap ? ps[be * d + al] : ps[al * d + be];
+          if (s >= 0) values[s] += dup && al == be ? 2.0 * *h : *h; /* its mirror lands too */
+        }
+      }
+}
+
 void sw_eval_why(const sw_eval *ev, const char *fmt, ...) {
   if (!ev->why || !ev->whysz || ev->why[0]) return; /* none asked, or the first one kept */
   va_list ap;

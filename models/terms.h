@@ -37,19 +37,20 @@ static inline double *sw_ev_block(const sw_eval *ev, const sw_term *t, long s) {
     memset(ev->sink->blk, 0, (size_t)(t->hptr[s + 1] - t->hptr[s]) * sizeof(double));
   return ev->sink->blk;
 }
-/* With a sink, block s (at blk, from sw_ev_block) added into its system: values[map[q]] +=
- * blk[q] in entry order (twice for map[q] <= -2, none for -1); nothing without one. */
+/* The block blk over the nv vertices v (its upper triangle, sw_hess_upper) added into values
+ * through sl, entry by entry in their stored order: entry (r, c) of vertices a = v[r / dim],
+ * b = v[c / dim] into the slot of its DOFs (the pair (min, max)), and twice when its two DOFs
+ * are one and r != c (a vertex twice in the stencil: the entry and its mirror both land on
+ * that diagonal entry).  Pinned components are dropped (models/term.c). */
+void sw_slots_add(const sw_slots *sl, const int *v, int nv, const double *blk, double *values);
+
+/* With a sink, block s (at blk, from sw_ev_block) added into its system (sw_slots_add);
+ * nothing without one. */
 static inline void sw_ev_block_done(const sw_eval *ev, const sw_term *t, long s,
                                     const double *blk) {
   if (!ev->sink) return;
-  const int *mp = ev->sink->map + t->hptr[s];
-  double *val = ev->sink->values;
-  const long len = t->hptr[s + 1] - t->hptr[s];
-  for (long q = 0; q < len; q++) {
-    int sl = mp[q];
-    if (sl >= 0) val[sl] += blk[q];
-    else if (sl < -1) val[-2 - sl] += 2.0 * blk[q];
-  }
+  sw_slots_add(ev->sink->slots, t->sidx + t->sptr[s], t->sptr[s + 1] - t->sptr[s], blk,
+               ev->sink->values);
 }
 
 /* Allocate nstencil stencils of `per` vertices each (sidx left for the caller to fill) and

@@ -135,20 +135,20 @@ static int kept_blocks(const sw_model *m, sw_data *d, int k) {
   return rc;
 }
 
-/* ... then added through its map as sw_ev_block_done adds (sw_hsink). */
-static void add_kept(const sw_data *d, int k, double *values, const int *mp) {
+/* ... then added through the slots as sw_ev_block_done adds (sw_hsink). */
+static void add_kept(const sw_model *m, const sw_data *d, int k, double *values,
+                     const sw_slots *slots) {
+  const sw_term *t = &m->term[k];
   const double *h = d->hess + d->hoff[k];
-  for (long q = 0, len = d->hoff[k + 1] - d->hoff[k]; q < len; q++) {
-    int sl = mp[q];
-    if (sl >= 0) values[sl] += h[q];
-    else if (sl < -1) values[-2 - sl] += 2.0 * h[q];
-  }
+  for (int s = 0; s < t->nstencil; s++)
+    sw_slots_add(slots, t->sidx + t->sptr[s], t->sptr[s + 1] - t->sptr[s], h + t->hptr[s],
+                 values);
 }
 
 /* The terms' energies (and gradient, Hessian as asked) at x, t: the blocks into d->hess, or
- * with values into that system through map (sw_hsink). */
+ * with values into that system through its slots (sw_hsink). */
 static int eval_all(const sw_model *m, sw_data *d, const double *x, double t, int want_grad,
-                    int want_hess, int project, double *values, int *const *map,
+                    int want_hess, int project, double *values, const sw_slots *slots,
                     double *energy) {
   size_t nd = (size_t)m->nv * (size_t)m->dim;
   if (want_grad) memset(d->grad, 0, nd * sizeof(double));
@@ -157,7 +157,7 @@ static int eval_all(const sw_model *m, sw_data *d, const double *x, double t, in
   double total = 0.0;
   for (int k = 0; k < m->nterm; k++) {
     const sw_term *tm = &m->term[k];
-    sw_hsink sink = {.values = values, .map = map ? map[k] : NULL, .blk = d->hblk};
+    sw_hsink sink = {.values = values, .slots = slots, .blk = d->hblk};
     int into = want_hess && values;
     int kept = into && !tm->ops->sink_ok && d->hoff[k + 1] > d->hoff[k];
     if (kept && (rc = kept_blocks(m, d, k))) return rc;
@@ -172,7 +172,7 @@ static int eval_all(const sw_model *m, sw_data *d, const double *x, double t, in
     double t0 = sw_now();
     rc = tm->ops->eval(tm, m, &ev, &e);
     d->term_time[k] += sw_now() - t0;
-    if (kept) add_kept(d, k, values, map[k]);
+    if (kept) add_kept(m, d, k, values, slots);
     if (rc) {
       sw_errf(d->err, sizeof d->err, "term %s failed at t = %g s: %s", m->term[k].name, t,
               why[0] ? why : "its energy is not finite (no element named)");
@@ -200,8 +200,8 @@ int sw_eval_terms(const sw_model *m, sw_data *d, const double *x, double t, int 
 }
 
 int sw_eval_terms_into(const sw_model *m, sw_data *d, const double *x, double t, int want_grad,
-                       int project, double *values, int *const *map, double *energy) {
-  return eval_all(m, d, x, t, want_grad, 1, project, values, map, energy);
+                       int project, double *values, const sw_slots *slots, double *energy) {
+  return eval_all(m, d, x, t, want_grad, 1, project, values, slots, energy);
 }
 
 double sw_kinetic(const sw_model *m, const double *v) {

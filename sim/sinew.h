@@ -74,16 +74,27 @@ SW_API int sw_mesh_grid(sw_mesh *mesh, const double size[2], int nx, int ny, con
 enum { SW_FILTER_NONE = 0, SW_FILTER_CLAMP = 1, SW_FILTER_ABS = 2 };
 
 /* What a term is asked to evaluate.  grad and hess are accumulated into (+=), not overwritten. */
+/* Where each entry of a sparse symmetric system on the mesh's vertices is stored, by vertex
+ * pair: vertex a's pairs (a, b), b >= a, are pptr[a] .. pptr[a+1]-1, the first (a, a), their
+ * b in pvert (increasing); pair e holds the slots (indices into the system's values) of its
+ * dim x dim entries, row a's component alpha and column b's component beta at
+ * pslot[dim^2 e + alpha dim + beta], -1 for a pinned component (a (a, a) pair holds both
+ * halves).  A block over stencil vertices v is added through it by sw_slots_add
+ * (models/terms.h). */
+typedef struct sw_slots {
+  int dim;
+  const long *pptr;            /* (nv + 1) */
+  const int *pvert;            /* (pptr[nv]) */
+  const int *pslot;            /* (pptr[nv] dim^2) */
+} sw_slots;
+
 /* Where an evaluation puts the Hessian blocks instead of d->hess (sw_eval_terms_into): straight
- * into the values of a sparse system.  Entry q of a term's blocks (laid out as in d->hess,
- * sw_term.hptr) is added to values[map[q]]; map[q] = -1 drops it (a pinned component) and
- * map[q] <= -2 adds it twice to values[-2 - map[q]] (an off-diagonal entry whose two DOFs are
- * one: a vertex twice in a stencil).  A term writes each block through sw_ev_block and hands
- * it over with sw_ev_block_done (models/terms.h), into blk, a scratch block as large as the
- * term's largest. */
+ * into the values of a sparse system, through its slots.  A term writes each block through
+ * sw_ev_block and hands it over with sw_ev_block_done (models/terms.h), into blk, a scratch
+ * block as large as the term's largest. */
 typedef struct sw_hsink {
   double *values;
-  const int *map;              /* this term's */
+  const sw_slots *slots;
   double *blk;
 } sw_hsink;
 
@@ -819,12 +830,12 @@ SW_API void sw_data_free(sw_data *d);
  * when d->hess cannot be allocated). */
 SW_API int sw_eval_terms(const sw_model *m, sw_data *d, const double *x, double t, int want_grad,
                          int want_hess, int project, double *energy);
-/* The same with the Hessian added straight into a system's values instead of d->hess: term
- * k's blocks through map[k] (sw_hsink), the arithmetic of adding d->hess's blocks through the
- * same maps in term and entry order. */
+/* The same with the Hessian added straight into a system's values instead of d->hess, through
+ * its slots (sw_hsink): the arithmetic of adding d->hess's blocks through the same slots in
+ * term, stencil and entry order. */
 SW_API int sw_eval_terms_into(const sw_model *m, sw_data *d, const double *x, double t,
-                              int want_grad, int project, double *values, int *const *map,
-                              double *energy);
+                              int want_grad, int project, double *values,
+                              const sw_slots *slots, double *energy);
 SW_API double sw_kinetic(const sw_model *m, const double *v);
 /* Nonzero when the model has Rayleigh damping (damping: {mass, stiffness}). */
 SW_API int sw_damped(const sw_model *m);

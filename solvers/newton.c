@@ -95,7 +95,7 @@ int sw_newton_init(sw_newton *nw, const sw_model *m, char *err, size_t errsz) {
 
 void sw_newton_free(sw_newton *nw) {
   sw_chol_free(&nw->chol);
-  sw_pattern_free(&nw->pat, nw->nterm);
+  sw_pattern_free(&nw->pat);
   sw_free(nw->g);
   sw_free(nw->dx);
   sw_free(nw->xtry);
@@ -154,7 +154,7 @@ int sw_newton_damping(sw_newton *nw, const sw_model *m, sw_data *d, const double
   double u, beta = m->damp_stiffness, t0 = sw_now();
   if (beta > 0.0) { /* the clamped blocks straight into D */
     memset(nw->dval, 0, (size_t)nw->pat.nnz * sizeof(double));
-    int rc = sw_eval_terms_into(m, d, x, t, 0, 1, nw->dval, nw->pat.map, &u);
+    int rc = sw_eval_terms_into(m, d, x, t, 0, 1, nw->dval, &nw->pat.slots, &u);
     if (rc) return rc;
     sw_pattern_finish(&nw->pat, m, m->damp_mass, beta, nw->dval);
   } else { /* alpha M alone: no Hessian needed */
@@ -186,7 +186,7 @@ static int eval_terms(sw_newton *nw, const sw_model *m, sw_data *d, const double
                       int want_grad, int want_hess, int project, int into, double *u) {
   if (!want_hess || !into) return sw_eval_terms(m, d, x, t, want_grad, want_hess, project, u);
   memset(nw->sval, 0, (size_t)nw->pat.nnz * sizeof(double));
-  return sw_eval_terms_into(m, d, x, t, want_grad, project, nw->sval, nw->pat.map, u);
+  return sw_eval_terms_into(m, d, x, t, want_grad, project, nw->sval, &nw->pat.slots, u);
 }
 
 /* sw_newton_phi, the Hessian into nw->sval with into. */
@@ -454,7 +454,7 @@ static int regrow(sw_newton *nw, const sw_model *m, sw_data *d, int carry) {
   if (rc) return rc;
   double *kept = carry ? sw_calloc((size_t)nw->pat.nnz + 1, sizeof(double)) : NULL;
   if (carry && !kept) {
-    sw_pattern_free(&np, m->nterm);
+    sw_pattern_free(&np);
     sw_errf(d->err, sizeof d->err, "out of memory growing the sparsity pattern");
     return SW_FATAL;
   }
@@ -465,7 +465,7 @@ static int regrow(sw_newton *nw, const sw_model *m, sw_data *d, int carry) {
   if ((nw->sown && !sv) || (nw->dval && !dv)) {
     sw_free(dv);
     sw_free(kept);
-    sw_pattern_free(&np, m->nterm);
+    sw_pattern_free(&np);
     sw_errf(d->err, sizeof d->err, "out of memory growing the sparsity pattern");
     return SW_FATAL;
   }
@@ -480,7 +480,7 @@ static int regrow(sw_newton *nw, const sw_model *m, sw_data *d, int carry) {
   nw->sval = nw->sown ? nw->sown : sw_chol_values(&nw->chol);
   if (kept && !rc2) sw_pattern_remap(&nw->pat, kept, &np, nw->sval);
   sw_free(kept);
-  sw_pattern_free(&nw->pat, m->nterm);
+  sw_pattern_free(&nw->pat);
   nw->pat = np; /* the factorisation holds np's arrays, not its struct */
   nw->fac_valid = 0;
   forget_slots(nw); /* the kept slots were the old pattern's */

@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "solver.h"
+#include "terms.h"
 #include "util.h"
 
 static int cmp_long(const void *a, const void *b) {
@@ -116,42 +117,34 @@ static long find_slot(const sw_pattern *p, int r, int c) {
   return -1;
 }
 
-/* The slots of term k's block entries (upper triangles: entry (i, j), i <= j, goes to the
- * slot of (min, max) of its DOFs); an off-diagonal entry whose two DOFs are one stands for
- * that diagonal entry twice (itself and its mirror below), and is mapped to -2 - its slot
- * (sw_hsink). */
-static void term_map(sw_pattern *p, const sw_model *m, int k) {
+/* The slots of every vertex pair (a, b), b >= a, of the vertex graph (sw_slots): its dim x dim
+ * entries, each at the slot of its two DOFs (either order), -1 where one is pinned. */
+static int build_slots(sw_pattern *p, const sw_model *m, const long *vptr, const int *adj) {
   const int d = m->dim;
-  const sw_term *t = &m->term[k];
-  for (int s = 0; s < t->nstencil; s++) {
-    int w = (t->sptr[s + 1] - t->sptr[s]) * d;
-    const int *v = t->sidx + t->sptr[s];
-    int *mp = p->map[k] + t->hptr[s];
-    for (int i = 0; i < w; i++)
-      for (int j = i; j < w; j++, mp++) {
-        int r = m->dof[v[i / d] * d + i % d], c = m->dof[v[j / d] * d + j % d];
-        if (r < 0 || c < 0) {
-          *mp = -1;
-          continue;
+  long npair = 0;
+  for (int a = 0; a < m->nv; a++)
+    for (long q = vptr[a]; q < vptr[a + 1]; q++) npair += adj[q] >= a;
+  p->nv = m->nv;
+  p->pptr = sw_calloc((size_t)m->nv + 1, sizeof(long));
+  p->pvert = sw_calloc((size_t)npair + 1, sizeof(int));
+  p->pslot = sw_calloc((size_t)npair * (size_t)(d * d) + 1, sizeof(int));
+  if (!p->pptr || !p->pvert || !p->pslot) return -1;
+  long e = 0;
+  for (int a = 0; a < m->nv; a++) {
+    for (long q = vptr[a]; q < vptr[a + 1]; q++) {
+      const int b = adj[q];
+      if (b < a) continue;
+      int *ps = p->pslot + (size_t)(d * d) * e;
+      for (int al = 0; al < d; al++)
+        for (int be = 0; be < d; be++) {
+          int r = m->dof[a * d + al], c = m->dof[b * d + be];
+          ps[al * d + be] = r < 0 || c < 0 ? -1 : (int)find_slot(p, r, c);
         }
-        *mp = (int)find_slot(p, r, c);
-        if (r == c && i != j) *mp = -2 - *mp;
-      }
+      p->pvert[e++] = b;
+    }
+    p->pptr[a + 1] = e;
   }
-}
-
-static int build_maps(sw_pattern *p, const sw_model *m) {
-  p->map = sw_calloc((size_t)m->nterm + 1, sizeof(int *));
-  p->maplen = sw_calloc((size_t)m->nterm + 1, sizeof(long));
-  if (!p->map || !p->maplen) return -1;
-  p->nterm = m->nterm;
-  for (int k = 0; k < m->nterm; k++) {
-    const sw_term *t = &m->term[k];
-    p->maplen[k] = t->hptr[t->nstencil];
-    p->map[k] = sw_calloc((size_t)t->hptr[t->nstencil] + 1, sizeof(int));
-    if (!p->map[k]) return -1;
-    term_map(p, m, k);
-  }
+  p->slots = (sw_slots){.dim = d, .pptr = p->pptr, .pvert = p->pvert, .pslot = p->pslot};
   return 0;
 }
 
@@ -196,10 +189,10 @@ int sw_pattern_build_ex(sw_pattern *p, const sw_model *m, const int *extra, long
   long *vptr = NULL;
   int *adj = NULL;
   if (vertex_graph(m, extra, nextra, &vptr, &adj) || build_csc(p, m, vptr, adj) ||
-      build_maps(p, m) || build_lowrank(p, m)) {
+      build_slots(p, m, vptr, adj) || build_lowrank(p, m)) {
     sw_free(vptr);
     sw_free(adj);
-    sw_pattern_free(p, m->nterm);
+    sw_pattern_free(p);
     sw_errf(err, errsz, "cannot build the sparsity pattern (out of memory or too large)");
     return SW_FATAL;
   }
@@ -208,11 +201,10 @@ int sw_pattern_build_ex(sw_pattern *p, const sw_model *m, const int *extra, long
   return SW_OK;
 }
 
-void sw_pattern_free(sw_pattern *p, int nterm) {
-  if (p->map)
-    for (int k = 0; k < nterm; k++) sw_free(p->map[k]);
-  sw_free(p->map);
-  sw_free(p->maplen);
+void sw_pattern_free(sw_pattern *p) {
+  sw_free(p->pptr);
+  sw_free(p->pvert);
+  sw_free(p->pslot);
   sw_free(p->pos);
   sw_free(p->dofat);
   sw_free(p->colptr);
@@ -228,14 +220,11 @@ void sw_pattern_fill(const sw_pattern *p, const sw_model *m, const sw_data *d, d
                      double hess_coef, double *values) {
   memset(values, 0, (size_t)p->nnz * sizeof(double));
   for (int k = 0; k < m->nterm; k++) { /* the arithmetic of sw_ev_block_done (sw_hsink) */
-    const int *mp = p->map[k];
+    const sw_term *t = &m->term[k];
     const double *h = d->hess + d->hoff[k];
-    long len = d->hoff[k + 1] - d->hoff[k];
-    for (long q = 0; q < len; q++) {
-      int sl = mp[q];
-      if (sl >= 0) values[sl] += h[q];
-      else if (sl < -1) values[-2 - sl] += 2.0 * h[q];
-    }
+    for (int s = 0; s < t->nstencil; s++)
+      sw_slots_add(&p->slots, t->sidx + t->sptr[s], t->sptr[s + 1] - t->sptr[s], h + t->hptr[s],
+                   values);
   }
   sw_pattern_finish(p, m, mass_coef, hess_coef, values);
 }
@@ -376,12 +365,10 @@ int sw_pattern_order(sw_pattern *p, const int *perm, int lower) {
     dofat[pos[c]] = c;
     p->diag[c] = slot[p->diag[c]];
   }
-  for (int k = 0; k < p->nterm; k++)
-    for (long q = 0; q < p->maplen[k]; q++) {
-      int *mq = &p->map[k][q];
-      if (*mq >= 0) *mq = (int)slot[*mq];
-      else if (*mq < -1) *mq = -2 - (int)slot[-2 - *mq]; /* added twice */
-    }
+  const int dd = p->slots.dim * p->slots.dim;
+  const size_t nps = p->pptr ? (size_t)p->pptr[p->nv] * (size_t)dd : 0;
+  for (size_t q = 0; q < nps; q++) /* the pairs' slots follow */
+    if (p->pslot[q] >= 0) p->pslot[q] = (int)slot[p->pslot[q]];
   sw_free(slot), sw_free(inv);
   sw_free(p->colptr), sw_free(p->rowind), sw_free(p->pos), sw_free(p->dofat);
   p->colptr = colptr, p->rowind = rowind, p->pos = pos, p->dofat = dofat;
@@ -397,6 +384,6 @@ long sw_system_nnz(const sw_model *m) {
   sw_pattern p;
   if (sw_pattern_build(&p, m, NULL, 0)) return -1;
   long nnz = p.nnz;
-  sw_pattern_free(&p, m->nterm);
+  sw_pattern_free(&p);
   return nnz;
 }

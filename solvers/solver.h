@@ -25,12 +25,11 @@ typedef struct sw_pattern {
   int lower;             /* 1: column j holds rows i >= j; 0: i <= j */
   int *pos, *dofat;      /* (n) position of each DOF and DOF at each position, or NULL (the
                             identity) */
-  long *maplen;          /* (nterm) entries of map[k] */
-  int nterm;
-  int **map;             /* (nterm) for term k: the slot of each entry of its blocks' upper
-                            triangles (sw_hess_upper), -1 (a pinned component), or -2 - the
-                            slot for an entry off a block's diagonal that lands on the matrix's
-                            diagonal (a vertex twice in one stencil: added twice); sw_hsink */
+  int nv;                /* the model's vertices */
+  long *pptr;            /* (nv + 1) the vertex pairs' slots (sw_slots, sinew.h): where every */
+  int *pvert;            /* entry of the terms' blocks adds, by its two vertices; built from */
+  int *pslot;            /* the same vertex graph as the pattern */
+  sw_slots slots;        /* a view of the three */
   /* The terms' low-rank vectors (sw_term.lptr) on the free DOFs: the system is
    * S = (values on the pattern) + sum_r v_r v_r^T, v_r stored sparse (CSC, n x nlr). */
   int nlr;               /* vectors of all terms */
@@ -62,7 +61,7 @@ void sw_pattern_block_slots(const sw_pattern *p, const sw_model *m, const int *v
                             int *slot);
 void sw_pattern_add_slots(const int *slot, int w, const double *block, double coef,
                           double *values);
-void sw_pattern_free(sw_pattern *p, int nterm);
+void sw_pattern_free(sw_pattern *p);
 /* values = mass_coef * M + hess_coef * (sum of the terms' blocks in d->hess), on the pattern. */
 void sw_pattern_fill(const sw_pattern *p, const sw_model *m, const sw_data *d, double mass_coef,
                      double hess_coef, double *values);

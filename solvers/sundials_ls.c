@@ -88,7 +88,7 @@ static int eval_hessian(sw_sunls *sys, int project) {
   double t0 = sw_now(), u;
   memset(sys->hval, 0, (size_t)sys->pat.nnz * sizeof(double)); /* the blocks straight in */
   int rc = sw_eval_terms_into(m, d, sys->xlin, sys->tlin, 0, project, sys->hval,
-                              sys->pat.map, &u);
+                              &sys->pat.slots, &u);
   if (rc == SW_OK) {
     sw_pattern_finish(&sys->pat, m, 0.0, 1.0, sys->hval);
     sw_pattern_fill_lowrank(&sys->pat, d, sys->hlr);
@@ -278,7 +278,7 @@ void sw_sunls_free(sw_sunls *sys) {
   if (sys->A) SUNMatDestroy(sys->A);
   if (sys->ctx) SUNContext_Free(&sys->ctx);
   sw_chol_free(&sys->chol);
-  sw_pattern_free(&sys->pat, sys->m ? sys->m->nterm : 0);
+  sw_pattern_free(&sys->pat);
   sw_free(sys->mdiag);
   sw_free(sys->hval);
   sw_free(sys->hlr);

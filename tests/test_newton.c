@@ -202,7 +202,7 @@ static void size_rule(void **state) {
       assert_true(th_max_diff(y[0], y[1], p.n) < 1e-12);
       free(b), free(y[0]), free(y[1]);
     }
-    sw_pattern_free(&p, m->nterm);
+    sw_pattern_free(&p);
     sw_model_free(m);
   }
 }

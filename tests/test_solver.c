@@ -72,7 +72,7 @@ static void fill_matches_dense(int dim) {
   assert_true(res < 1e-9);
   sw_chol_free(&ch);
   free(b), free(y), free(val), free(H);
-  sw_pattern_free(&p, m->nterm);
+  sw_pattern_free(&p);
   sw_data_free(d);
   sw_model_free(m);
 }
@@ -140,7 +140,7 @@ static void check_into(const sw_model *m, sw_data *d, const sw_pattern *p, doubl
     assert_int_equal(sw_eval_terms(m, d, d->x, 0.0, 0, 1, f, &e), SW_OK);
     sw_pattern_fill(p, m, d, a, 1.0, want);
     memset(got, 0, sizeof(double) * (size_t)p->nnz); /* sw_eval_terms_into adds */
-    assert_int_equal(sw_eval_terms_into(m, d, d->x, 0.0, 0, f, got, p->map, &e2), SW_OK);
+    assert_int_equal(sw_eval_terms_into(m, d, d->x, 0.0, 0, f, got, &p->slots, &e2), SW_OK);
     sw_pattern_finish(p, m, a, 1.0, got);
     long differ = 0, nonzero = 0;
     for (long q = 0; q < p->nnz; q++) {
@@ -204,7 +204,7 @@ static void check_fill_products(sw_model *m, const char *label) {
   check_sets_blocks(m, d, label);
   check_into(m, d, &p, a, label);
   free(val), free(v), free(y), free(want);
-  sw_pattern_free(&p, m->nterm);
+  sw_pattern_free(&p);
   sw_data_free(d);
 }
 
@@ -260,7 +260,7 @@ static int factor_diagonal(double neg, int oom, char *err, size_t errsz, int *n)
   SuiteSparse_config = saved;
   *n = p.n;
   sw_chol_free(&ch);
-  sw_pattern_free(&p, m->nterm);
+  sw_pattern_free(&p);
   sw_model_free(m);
   return rc;
 }
@@ -421,7 +421,7 @@ static void ordering_rule(void **st) {
     assert_true(!j || fl[SW_ORDERING_NESDIS] < fl[SW_ORDERING_AMD]);
     for (int o = 0; o < SW_ORDERING_N; o++) free(y[o]);
     free(b);
-    sw_pattern_free(&p, m->nterm);
+    sw_pattern_free(&p);
     sw_model_free(m);
   }
 }
@@ -531,8 +531,8 @@ static void elimination_order(void **st) {
     cholmod_finish(&c);
     sw_chol_free(&ch);
     free(b), free(y0), free(y1), free(v0);
-    sw_pattern_free(&p0, m->nterm);
-    sw_pattern_free(&p1, m->nterm);
+    sw_pattern_free(&p0);
+    sw_pattern_free(&p1);
     sw_data_free(d);
     sw_model_free(m);
   }
