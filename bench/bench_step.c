@@ -216,8 +216,9 @@ int main(int argc, char **argv) {
   double sum = 0.0;
   for (int i = 0; i < m->nv * m->dim; i++) sum += d->x[i];
   fprintf(stderr, "bench_step: N = %ld %s: setup (pattern + analysis) %.4g s, "
-                  "line-search halvings %ld, retried steps %ld, sum of x at t = %g s: %.17g\n",
-          n, method, t_init, d->nlinesearch, d->nretry, d->t, sum);
+                  "line-search halvings %ld, retried steps %ld, factor nonzeros %ld, "
+                  "sum of x at t = %g s: %.17g\n",
+          n, method, t_init, d->nlinesearch, d->nretry, d->factor_nnz, d->t, sum);
   sw_data_free(d);
   sw_model_free(m);
   return 0;
