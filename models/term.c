@@ -151,7 +151,42 @@ static const int *pair_slots(const sw_slots *sl, int a, int b) {
  * elements); longer ones (a dense tendon's) once per row. */
 #define SLOTS_CACHE 8
 
+/* sw_slots_add for a short stencil in 3D (a mesh's elements), its loops of constant length:
+ * row (i, al) of the block is the rest of vertex i's pair, then each pair (i, j > i) in full,
+ * the pairs' slots looked up once. */
+static void add_short3(const sw_slots *sl, const int *v, int nv, const double *h, double *values) {
+  const int *pc[SLOTS_CACHE * SLOTS_CACHE];
+  for (int i = 0; i < nv; i++)
+    for (int j = i; j < nv; j++) pc[i * nv + j] = pair_slots(sl, v[i], v[j]);
+  for (int i = 0; i < nv; i++)
+    for (int al = 0; al < 3; al++) {
+      const int *pd = pc[i * nv + i];
+      for (int be = al; be < 3; be++, h++) { /* its own vertex: (a, a) holds both halves */
+        const int s = pd ? pd[3 * al + be] : -1;
+        if (s >= 0) values[s] += *h;
+      }
+      for (int j = i + 1; j < nv; j++, h += 3) {
+        const int *ps = pc[i * nv + j];
+        if (!ps) continue;
+        if (v[i] < v[j]) { /* row al of the pair's slots */
+          for (int be = 0; be < 3; be++)
+            if (ps[3 * al + be] >= 0) values[ps[3 * al + be]] += h[be];
+        } else if (v[i] > v[j]) { /* its column al */
+          for (int be = 0; be < 3; be++)
+            if (ps[3 * be + al] >= 0) values[ps[3 * be + al]] += h[be];
+        } else { /* one vertex twice: the mirror lands on the diagonal too */
+          for (int be = 0; be < 3; be++)
+            if (ps[3 * al + be] >= 0) values[ps[3 * al + be]] += be == al ? 2.0 * h[be] : h[be];
+        }
+      }
+    }
+}
+
 void sw_slots_add(const sw_slots *sl, const int *v, int nv, const double *blk, double *values) {
+  if (sl->dim == 3 && nv <= SLOTS_CACHE) {
+    add_short3(sl, v, nv, blk, values);
+    return;
+  }
   const int d = sl->dim, cache = nv <= SLOTS_CACHE;
   const int *pc[SLOTS_CACHE * SLOTS_CACHE];
   for (int i = 0; cache && i < nv; i++)
