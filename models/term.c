@@ -154,7 +154,8 @@ static const int *pair_slots(const sw_slots *sl, int a, int b) {
 /* sw_slots_add for a short stencil in 3D (a mesh's elements), its loops of constant length:
  * row (i, al) of the block is the rest of vertex i's pair, then each pair (i, j > i) in full,
  * the pairs' slots looked up once. */
-static void add_short3(const sw_slots *sl, const int *v, int nv, const double *h, double *values) {
+static void add_short3(const sw_slots *sl, const int *v, int nv, const double *h,
+                       double *values) {
   const int *pc[SLOTS_CACHE * SLOTS_CACHE];
   for (int i = 0; i < nv; i++)
     for (int j = i; j < nv; j++) pc[i * nv + j] = pair_slots(sl, v[i], v[j]);
