@@ -172,7 +172,7 @@ static int eval_all(const sw_model *m, sw_data *d, const double *x, double t, in
     double t0 = sw_now();
     rc = tm->ops->eval(tm, m, &ev, &e);
     d->term_time[k] += sw_now() - t0;
-    if (kept) add_kept(m, d, k, values, slots);
+    if (kept && !rc) add_kept(m, d, k, values, slots);
     if (rc) {
       sw_errf(d->err, sizeof d->err, "term %s failed at t = %g s: %s", m->term[k].name, t,
               why[0] ? why : "its energy is not finite (no element named)");

@@ -73,7 +73,6 @@ SW_API int sw_mesh_grid(sw_mesh *mesh, const double size[2], int nx, int ny, con
  * Projected Newton", SIGGRAPH 2024).  Either filtered block is positive semi-definite. */
 enum { SW_FILTER_NONE = 0, SW_FILTER_CLAMP = 1, SW_FILTER_ABS = 2 };
 
-/* What a term is asked to evaluate.  grad and hess are accumulated into (+=), not overwritten. */
 /* Where each entry of a sparse symmetric system on the mesh's vertices is stored, by vertex
  * pair: vertex a's pairs (a, b), b >= a, are pptr[a] .. pptr[a+1]-1, the first (a, a), their
  * b in pvert (increasing); pair e holds the slots (indices into the system's values) of its
@@ -98,14 +97,15 @@ typedef struct sw_hsink {
   double *blk;
 } sw_hsink;
 
+/* What a term is asked to evaluate.  grad and hess are accumulated into (+=), not overwritten. */
 typedef struct sw_eval {
   double t;                    /* time, s */
   const double *x;             /* (nv x dim) positions, m (pinned ones included) */
   double *grad;                /* (nv x dim) += dE/dx, N; or NULL */
   double *hess;                /* += d2E/dx2 per stencil block (see sw_term.hptr), N/m, or set
                                   (=) by a term with sets_blocks; or NULL.  Not NULL means the
-                                  Hessian is wanted: a term finds block s's place with
-                                  sw_ev_block (models/terms.h), never as hess + hptr[s] */
+                                  Hessian is wanted: a term with sink_ok finds block s's place
+                                  with sw_ev_block (models/terms.h), not as hess + hptr[s] */
   const sw_hsink *sink;        /* or NULL: the blocks go into this system (hess is then its
                                   scratch block) */
   double *lowrank;             /* the low-rank vectors u_r of the Hessian (see sw_term.lptr),

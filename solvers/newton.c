@@ -152,13 +152,12 @@ void sw_newton_history(sw_newton *nw, sw_io *io) {
 int sw_newton_damping(sw_newton *nw, const sw_model *m, sw_data *d, const double *x, double t) {
   if (!nw->dval) return SW_OK;
   double u, beta = m->damp_stiffness, t0 = sw_now();
+  memset(nw->dval, 0, (size_t)nw->pat.nnz * sizeof(double));
   if (beta > 0.0) { /* the clamped blocks straight into D */
-    memset(nw->dval, 0, (size_t)nw->pat.nnz * sizeof(double));
     int rc = sw_eval_terms_into(m, d, x, t, 0, 1, nw->dval, &nw->pat.slots, &u);
     if (rc) return rc;
     sw_pattern_finish(&nw->pat, m, m->damp_mass, beta, nw->dval);
   } else { /* alpha M alone: no Hessian needed */
-    memset(nw->dval, 0, (size_t)nw->pat.nnz * sizeof(double));
     for (int i = 0; i < m->nv * m->dim; i++)
       if (m->dof[i] >= 0) nw->dval[nw->pat.diag[m->dof[i]]] = m->damp_mass * m->mass[i / m->dim];
   }
@@ -181,7 +180,7 @@ static double damping_phi(sw_newton *nw, const sw_model *m, const double *x) {
 }
 
 /* The terms at x, their Hessian (when asked) into d->hess, or with into straight into nw->sval
- * from zero (sw_eval_terms_into through the pattern's maps). */
+ * from zero (sw_eval_terms_into through the pattern's slots). */
 static int eval_terms(sw_newton *nw, const sw_model *m, sw_data *d, const double *x, double t,
                       int want_grad, int want_hess, int project, int into, double *u) {
   if (!want_hess || !into) return sw_eval_terms(m, d, x, t, want_grad, want_hess, project, u);

@@ -1,8 +1,9 @@
 /* pattern.c — the fixed sparsity pattern of S = c^2 M + c D + H on the free DOFs.
  * Built once per run from the terms' stencils: vertex adjacency -> upper-triangle CSC with
- * sorted rows -> for every entry of the upper triangle of every term's Hessian blocks (the
- * half they store), the slot it adds into.  The factorisation then stores it in its
- * elimination order (sw_pattern_order), the triangle CHOLMOD factorises without a copy. */
+ * sorted rows -> for every coupled vertex pair, the slots of its dim x dim entries, through
+ * which every term's Hessian blocks add into the system (sw_slots).  The factorisation then
+ * stores it in its elimination order (sw_pattern_order), the triangle CHOLMOD factorises
+ * without a copy. */
 #include <limits.h>
 #include <stdlib.h>
 #include <string.h>
