@@ -979,8 +979,11 @@ int sw_newton_solve(sw_newton *nw, const sw_model *m, sw_data *d, double *x, con
      * never counted above the step itself (CVODE's test, Hindmarsh et al. 2005) */
     double rate = prev > 0.0 ? step / prev : 1.0;
     double left = rate < 0.5 ? step * rate / (1.0 - rate) : step;
+    /* converged: the last update is taken whole, so it must also pass the collision
+     * detection every other update passes (a pair outside the barrier's reach at x is not
+     * one settled looks at, and a loose tolerance admits a last update longer than d-hat) */
     if ((left <= o->tol_dx || dxmax <= xfloor || stalled) &&
-        settled(nw, m, d, x, o->t) == 1.0) {
+        settled(nw, m, d, x, o->t) == 1.0 && ccd(nw, m, d, x, o->t, 1.0) >= 1.0) {
       add_step(m, x, nw->dx, 1.0, x);
       /* step: CG's preconditioner is this solve's own factorisation, no correction
        * (docs/integrators.md, "Newton-Krylov") */
