@@ -1,16 +1,18 @@
 #!/usr/bin/env bash
 # tools/bench_fit.sh [SINEW] — the fit stage as dynamics or as an optimisation (docs/garments.md,
-# `fit.mode`), on the shipped garments with seams (scenes/garment_{skirt,tank,tshirt,skirt_dxf,
-# tshirt_dxf}.yaml; the gather and the drawstring have none, so no fit), REPS times (default 1), the
-# runs interleaved per garment and repetition: the dynamic fit, the two optimisation fits
-# (`optimize`, `settle`), and the dynamic fit followed by a static solve (`--method static`),
-# the reference.  Each is the fit
-# alone (`--duration 0`, one BLAS thread, positions.bin at every step: its last record is the
-# end); CPU time is the process's user time.  Writes
-# docs/bench/fit/fit.csv (one row per run) and docs/bench/fit/fit.md (the table: CPU and Newton
-# iterations of each fit, their ratios, and each optimisation fit against the reference: RMS and
-# largest distance of the final positions, relative change of tension XY's mean and 95th
-# percentile, largest seam gap, self-intersections).  GARMENTS="skirt tank" runs some of them.
+# `fit.mode`, `fit.dt`), on the shipped garments with seams (scenes/garment_{skirt,tank,tshirt,
+# skirt_dxf,tshirt_dxf}.yaml; the gather and the drawstring have none, so no fit), REPS times
+# (default 1), the runs interleaved per garment and repetition.  RUNS lists them (default
+# "dynamic optimize settle"): `dynamic`, `optimize` and `settle` are the fit modes, `dt=H` the
+# dynamic fit with steps of H s; the reference, the dynamic fit at the scene's own fit step
+# followed by a static solve (`--method static`, with the dynamic fit's compact bending
+# matrix), is always run.  Each is the fit alone
+# (`--duration 0`, one BLAS thread, positions.bin at every step: its last record is the end);
+# CPU time is the process's user time.  Writes docs/bench/fit/fit.csv (one row per run) and
+# docs/bench/fit/fit.md (the table: CPU and Newton iterations of each fit, their ratios to the
+# dynamic fit's, and each fit against the reference: RMS and largest distance of the final
+# positions, relative change of tension XY's mean and 95th percentile, largest seam gap,
+# self-intersections); OUT=DIR writes them elsewhere.  GARMENTS="skirt tank" runs some of them.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bin=${1:-build/sinew}
@@ -24,15 +26,18 @@ csv=$out/fit.csv
 echo "garment,rep,run,status,cpu_s,fit_steps,fit_end_s,newton_iterations,static_iterations,retries,seam_gap_max_m,self_intersections,txy_mean,txy_p95,txy_max" >"$csv"
 for r in $(seq "$reps"); do
   for g in ${GARMENTS:-skirt tank tshirt skirt_dxf tshirt_dxf}; do
-    for run in dynamic optimize settle static; do
+    for run in ${RUNS:-dynamic optimize settle} static; do
       # the scene beside the shipped one (its files are found from its folder)
       sc=scenes/.bench_fit_${g}_$run.yaml
       scenes+=("$sc")
       cp "scenes/garment_$g.yaml" "$sc"
-      mode=dynamic extra=()
+      mode=dynamic extra=() step=""
       [ "$run" = optimize ] || [ "$run" = settle ] && mode=$run
-      [ "$run" = static ] && extra=(--method static)
-      echo "fit: {mode: $mode}" >>"$sc"
+      # the reference's fit is the dynamic one's: with --method static the automatic bending
+      # matrix would be the exact one for the fit too (docs/integrators.md, "The bending matrix")
+      [ "$run" = static ] && extra=(--method static --bending-matrix compact)
+      case $run in dt=*) step=", dt: ${run#dt=}" ;; esac
+      echo "fit: {mode: $mode$step}" >>"$sc"
       d=$work/$g-$run-$r
       /usr/bin/time -f %U -o "$d.cpu" "$bin" run "$sc" --out "$d" --duration 0 --no-frames \
         --positions-every 1e-6 --threads 1 --quiet "${extra[@]}" >/dev/null 2>"$d.err" || true

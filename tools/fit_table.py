@@ -1,6 +1,7 @@
 #!/usr/bin/python3
 """fit_table.py CSV POSDIR -- the table of tools/bench_fit.sh: per garment and fit mode the
-median CPU time and Newton iterations over the repetitions, their ratios to the dynamic fit's,
+median CPU time and Newton iterations over the repetitions, their ratios to the dynamic fit's
+(the runs in the order of the CSV: the fit modes, `dt=H` the dynamic fit with steps of H s),
 and each fit's last state against the reference (the dynamic fit followed by a static
 solve) of the same repetition: RMS and largest distance of the positions (m), the relative
 change of tension XY's mean and 95th percentile, its seam gap and self-intersections."""
@@ -35,8 +36,8 @@ def main():
     for g, by in runs.items():
         med = lambda run, k: statistics.median(float(r[k]) for r in by[run])
         cd, nd = med("dynamic", "cpu_s"), med("dynamic", "newton_iterations")
-        for run in ("dynamic", "optimize", "settle"):
-            if run not in by:
+        for run in by:
+            if run == "static":
                 continue
             dist, dmax, dm, dp = [], [], [], []
             for o, ref in zip(by[run], by["static"]):
