@@ -103,10 +103,18 @@ static double form_d2(const pform *f, const double *x, double *gf) {
 }
 
 double sw_pair_d2_form(int edge_edge, const double *x, sw_pair_form *pf) {
+  return sw_pair_d2_form_near(edge_edge, x, INFINITY, pf);
+}
+
+double sw_pair_d2_form_near(int edge_edge, const double *x, double d2max, sw_pair_form *pf) {
   pform f = edge_edge ? ee_form(x) : pt_form(x);
   double gf[12], r[3], c[4], R[2][3];
-  memset(pf, 0, sizeof *pf);
   double d2 = form_d2(&f, x, gf);
+  if (!(d2 < d2max)) { /* beyond reach: the distance alone */
+    pf->d2 = d2;
+    return d2;
+  }
+  memset(pf, 0, sizeof *pf);
   pf->d2 = d2;
   for (int i = 0; i < f.n; i++)
     for (int a = 0; a < 3; a++) pf->g[3 * f.idx[i] + a] = gf[3 * i + a];

@@ -119,7 +119,13 @@ typedef struct sw_pair_form {
 } sw_pair_form;
 /* The form of a point-triangle (edge_edge 0: p, t0, t1, t2) or edge-edge (1: a0, a1, b0, b1)
  * pair at x (12 values); returns d2 (as sw_d2_point_triangle / sw_d2_edge_edge). */
+/* 1 when the point-triangle (edge_edge 0: p, t0, t1, t2) or edge-edge (1: a0, a1, b0, b1) pair
+ * at p (12 values) is certainly farther apart than r (m): a cheap test, 0 does not mean closer. */
+int sw_pair_apart(int edge_edge, const double *p, double r);
 double sw_pair_d2_form(int edge_edge, const double *x, sw_pair_form *pf);
+/* The same, but when d2 is at least d2max (m^2) only pf->d2 is set: a pair beyond the
+ * barrier's reach needs no more of its form. */
+double sw_pair_d2_form_near(int edge_edge, const double *x, double d2max, sw_pair_form *pf);
 /* The exact Hessian of d2 from its form (144), for tests. */
 void sw_pair_hess_d2(const sw_pair_form *pf, double *H);
 /* The exact Hessian of the barrier w b(d2 - xi^2) (db = b', d2b = b'' at d2 - xi^2) with its

@@ -426,3 +426,22 @@ double sw_barrier_of(int n, double d2, const double *g2, const double *H2, doubl
       for (int j = 0; j < n; j++) H[i * n + j] = b1 * H2[i * n + j] + b2 * g2[i] * g2[j];
   return b;
 }
+
+/* ------------------------------------------------------------------ separation */
+
+/* The separation of the two primitives along the line between their centroids (a direction
+ * separates two convex hulls by no more than their distance), compared without a square root
+ * or a division: sep > r |n| as sep^2 > r^2 |n|^2 with sep > 0. */
+int sw_pair_apart(int edge_edge, const double *p, double r) {
+  const int na = edge_edge ? 2 : 1;
+  double n[3];
+  for (int a = 0; a < 3; a++)
+    n[a] = na == 1 ? (p[3 + a] + p[6 + a] + p[9 + a]) - 3.0 * p[a]
+                   : (p[6 + a] + p[9 + a]) - (p[a] + p[3 + a]);
+  double t[4];
+  for (int k = 0; k < 4; k++) t[k] = p[3 * k] * n[0] + p[3 * k + 1] * n[1] + p[3 * k + 2] * n[2];
+  double amax = na == 1 ? t[0] : fmax(t[0], t[1]);
+  double bmin = na == 1 ? fmin(t[1], fmin(t[2], t[3])) : fmin(t[2], t[3]);
+  double sep = bmin - amax, nn = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
+  return sep > 0.0 && sep * sep > r * r * nn;
+}

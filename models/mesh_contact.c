@@ -104,6 +104,8 @@ struct sw_mcontact {
                            vertices at most, are from the candidates' x0, m */
   double umax;          /* the largest of umove, m */
   double slack;         /* m */
+  double far;           /* a listing's pairs apart by more than this (less their thickness)
+                           at x0 stay beyond every evaluation's reach while it is kept, m */
   sw_mfriction *fr;     /* the step's lagged friction (contact.friction > 0), or NULL */
   int nsewn;            /* the seams' sewn vertices (sw_model.sewn_ptr): pairs skipped */
   const int *sewn_ptr, *sewn_idx;
@@ -697,8 +699,12 @@ static int covered(const sw_model *m, const sw_mcontact *mc, const mc_place *x) 
 }
 
 /* Append the pair to the candidates with its distance at arg (an mc_place) less its
- * thickness; -1 when out of memory. */
+ * thickness, unless a bound puts it farther than mc->far; -1 when out of memory. */
 static int add_candidate(const sw_model *m, sw_mcontact *mc, int kind, const int *v, void *arg) {
+  double p[12], xi = pair_xi(m, mc->p, v);
+  gather(m, mc, arg, v, p);
+  /* 1e-9 m: more than the bound's round-off, far below the distances compared */
+  if (sw_pair_apart(kind == SW_MC_EE, p, mc->far + xi + 1e-9)) return 0;
   if (mc->ncand == mc->capcand) {
     int cap = mc->capcand + mc->capcand / 2 + 256;
     sw_mc_pair *c = sw_realloc(mc->cand, (size_t)cap, sizeof *c);
@@ -706,14 +712,29 @@ static int add_candidate(const sw_model *m, sw_mcontact *mc, int kind, const int
     mc->cand = c, mc->capcand = cap;
   }
   sw_mc_pair *c = &mc->cand[mc->ncand++];
-  double p[12];
   c->kind = kind;
   memcpy(c->v, v, sizeof c->v);
-  gather(m, mc, arg, v, p);
   c->gap = sqrt(kind == SW_MC_PT ? sw_d2_point_triangle(p, p + 3, p + 6, p + 9, NULL, NULL)
-                                 : sw_d2_edge_edge(p, p + 3, p + 6, p + 9, NULL, NULL)) -
-           pair_xi(m, mc->p, v);
+                                 : sw_d2_edge_edge(p, p + 3, p + 6, p + 9, NULL, NULL)) - xi;
   return 0;
+}
+
+/* mc->far for the candidates over x0 -> x1: while they are kept every vertex lies within the
+ * slack of its box over that motion on each axis, so within |x1 - x0| + sqrt(3) slack of x0
+ * (an obstacle's within the pose gap of its two poses plus the slack), and a pair comes at most
+ * twice that closer than at x0; no evaluation reaches farther than d-hat (each_candidate). */
+static double far_reach(const sw_model *m, const sw_mcontact *mc, const mc_place *x0,
+                        const mc_place *x1) {
+  double u = 0.0;
+  for (int i = 0; i < m->nv; i++) {
+    const double *a = x0->x + 3 * (size_t)i, *b = x1->x + 3 * (size_t)i;
+    u = fmax(u, (b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]) +
+                    (b[2] - a[2]) * (b[2] - a[2]));
+  }
+  u = sqrt(u) + sqrt(3.0) * mc->slack;
+  for (int k = 0; x0->pose && x1->pose && k < mc->p->nobst; k++)
+    u = fmax(u, pose_gap(mc->p, k, x0->pose, x1->pose) + mc->slack);
+  return m->contact.dhat + 2.0 * u;
 }
 
 /* The candidates over the motion x0 -> x1 (x1 == x0 for places at rest); -1 when the broad
@@ -723,6 +744,7 @@ static int find_candidates(const sw_model *m, sw_mcontact *mc, const mc_place *x
   mc->cand_ok = 0;
   mc->ncand = 0;
   double reach = 0.5 * (max_thickness(m) + m->contact.dhat) + mc->slack;
+  mc->far = far_reach(m, mc, x0, x1);
   if (broad_phase(m, mc, x0, x1, reach, SW_BP_PT | SW_BP_EE) ||
       each_pair(m, mc, add_candidate, (void *)x0))
     return -1;
@@ -821,14 +843,17 @@ static double pair_energy(const sw_model *m, const sw_mcontact *mc, int kind, co
   sw_pair_form pf;
   gather(m, mc, x, v, p);
   double *gd = g ? g2 : NULL; /* the energy alone (a line search's) needs no gradient */
-  double d2 = H ? sw_pair_d2_form(kind == SW_MC_EE, p, &pf)
+  double xi = pair_xi(m, pm, v), shat = shat_of(xi, c->dhat);
+  /* with H, a pair beyond the barrier's reach (s >= shat below; the factor 1 + 1e-12 keeps
+   * the round-off of s - shat on the safe side) gets its distance alone, not its form */
+  double d2 = H ? sw_pair_d2_form_near(kind == SW_MC_EE, p, (xi * xi + shat) * (1.0 + 1e-12), &pf)
           : kind == SW_MC_PT ? sw_d2_point_triangle(p, p + 3, p + 6, p + 9, gd, NULL)
                              : sw_d2_edge_edge(p, p + 3, p + 6, p + 9, gd, NULL);
-  if (H) memcpy(g2, pf.g, sizeof g2);
-  double xi = pair_xi(m, pm, v), s = d2 - xi * xi, shat = shat_of(xi, c->dhat);
+  double s = d2 - xi * xi;
   *gap = sqrt(fmax(d2, 0.0)) - xi;
   if (!(s > 0.0)) return INFINITY;
   if (s >= shat) return 0.0;
+  if (H) memcpy(g2, pf.g, sizeof g2);
   double w = pair_weight(m, mc, v), db, d2b, b = sw_barrier(s, shat, &db, &d2b);
   double mo = 1.0, mg[12], mH[144], r[12];
   if (kind == SW_MC_EE) { /* the mollifier vanishes as the edges become parallel (IPC sec. 4.3) */

@@ -87,6 +87,12 @@ static void form_matches_distance(void **st) {
     sw_pair_form pf;
     assert_true(sw_pair_d2_form(kind, x, &pf) == d2);
     for (int i = 0; i < 12; i++) assert_true(pf.g[i] == g[i]); /* -0 == 0 */
+    /* within reach the near form is the whole form, bit for bit; beyond it the distance */
+    sw_pair_form pn, pb;
+    memset(&pb, 0xff, sizeof pb);
+    assert_true(sw_pair_d2_form_near(kind, x, nextafter(d2, INFINITY), &pn) == d2);
+    assert_memory_equal(&pn, &pf, sizeof pf);
+    assert_true(sw_pair_d2_form_near(kind, x, d2, &pb) == d2 && pb.d2 == d2);
     sw_pair_hess_d2(&pf, K);
     double err = 0.0;
     for (int i = 0; i < 144; i++) err = fmax(err, fabs(K[i] - H[i]));

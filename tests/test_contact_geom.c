@@ -3,6 +3,7 @@
  *    and edge-edge) against central finite differences of its value and gradient, at random
  *    states and near-degenerate ones (nearly parallel edges, a point near a triangle's edge, a
  *    point exactly above a vertex), and its value against a dense sampling of the primitives;
+ *  - the cheap separation test of two primitives never calls a pair farther apart than it is;
  *  - IPC's mollifier, the mollified edge-edge distance and the barrier likewise, and their
  *    12 x 12 Hessian blocks made PSD by sw_psd_project (LAPACK eigenvalues);
  *  - additive CCD: a trajectory through a triangle or across an edge is always caught (toi
@@ -191,6 +192,30 @@ static void distances_edge_edge(void **st) {
     seen[t]++;
   }
   for (int t = 0; t < 9; t++) assert_int_equal(seen[t], 20);
+}
+
+/* sw_pair_apart never calls a pair farther apart than r when its distance is not: random
+ * pairs at random separations, r just below and above their distance, and it does call some
+ * apart (it is not vacuous). */
+static void pair_apart(void **st) {
+  (void)st;
+  unsigned long rs = 17;
+  int called[2] = {0, 0};
+  for (int rep = 0; rep < 200000; rep++) {
+    int ee = rep % 2;
+    double x[12];
+    rand_pts(&rs, x, 12, 0.02); /* primitives of about 2 cm */
+    double shift = 0.05 * th_rand(&rs);
+    for (int k = ee ? 2 : 1; k < 4; k++) x[3 * k] += shift; /* the second primitive moved off */
+    double d = sqrt(ee ? sw_d2_edge_edge(x, x + 3, x + 6, x + 9, NULL, NULL)
+                       : sw_d2_point_triangle(x, x + 3, x + 6, x + 9, NULL, NULL));
+    assert_false(sw_pair_apart(ee, x, d * (1.0 + 1e-12) + 1e-15));
+    double r = d * (0.5 + 0.5 * (th_rand(&rs) + 1.0) / 2.0);
+    if (sw_pair_apart(ee, x, r)) called[ee]++, assert_true(d > r);
+  }
+  print_message("pair_apart: point-triangle %d, edge-edge %d of 100000 called apart\n", called[0],
+                called[1]);
+  assert_true(called[0] > 10000 && called[1] > 10000);
 }
 
 /* Near-degenerate states: nearly parallel edges (line-line and end-point cases), a point near
@@ -774,7 +799,7 @@ int main(void) {
       cmocka_unit_test(ccd_random),           cmocka_unit_test(ccd_small),
       cmocka_unit_test(broadphase_brute),     cmocka_unit_test(predicates_constructed),
       cmocka_unit_test(predicates_random),    cmocka_unit_test(orient3d_exact),
-      cmocka_unit_test(mesh_intersections),
+      cmocka_unit_test(mesh_intersections),   cmocka_unit_test(pair_apart),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
