@@ -117,11 +117,11 @@ typedef struct sw_pair_form {
   int k;            /* parameters of the closest features (0, 1, 2) */
   double v[2][12];  /* the sliding directions' factors (dimensionless) */
 } sw_pair_form;
-/* The form of a point-triangle (edge_edge 0: p, t0, t1, t2) or edge-edge (1: a0, a1, b0, b1)
- * pair at x (12 values); returns d2 (as sw_d2_point_triangle / sw_d2_edge_edge). */
 /* 1 when the point-triangle (edge_edge 0: p, t0, t1, t2) or edge-edge (1: a0, a1, b0, b1) pair
  * at p (12 values) is certainly farther apart than r (m): a cheap test, 0 does not mean closer. */
 int sw_pair_apart(int edge_edge, const double *p, double r);
+/* The form of a point-triangle (edge_edge 0: p, t0, t1, t2) or edge-edge (1: a0, a1, b0, b1)
+ * pair at x (12 values); returns d2 (as sw_d2_point_triangle / sw_d2_edge_edge). */
 double sw_pair_d2_form(int edge_edge, const double *x, sw_pair_form *pf);
 /* The same, but when d2 is at least d2max (m^2) only pf->d2 is set: a pair beyond the
  * barrier's reach needs no more of its form. */
