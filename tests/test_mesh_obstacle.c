@@ -180,6 +180,13 @@ static int run_with(const double *lo, const double *hi, int n, const char *integ
   return bad;
 }
 
+/* The height of the cloth's lowest vertex, m. */
+static double lowest(const sw_model *m, const sw_data *d) {
+  double z = INFINITY;
+  for (int i = 0; i < m->nv; i++) z = fmin(z, d->x[3 * i + 2]);
+  return z;
+}
+
 static int run_on_box(const double *lo, const double *hi, int n, const char *more, sw_sim **out) {
   return run_with(lo, hi, n, "{method: backward-euler, dt: 0.01}", more, out);
 }
@@ -222,8 +229,7 @@ static void loose_tolerance(void **st) {
                      "}]\ncontact: {distance: 2e-3}\ndamping: {mass: 5.0}\nduration: 0.5", &s);
   const sw_model *m = sw_sim_model(s);
   const sw_data *d = sw_sim_data(s);
-  double zmin = INFINITY;
-  for (int i = 0; i < m->nv; i++) zmin = fmin(zmin, d->x[3 * i + 2]);
+  double zmin = lowest(m, d);
   print_message("loose tolerance: lowest vertex %.6g m (box top %.6g m), crossings %d\n", zmin,
                 hi[2], bad);
   assert_int_equal(bad, 0);
@@ -241,8 +247,7 @@ static void rising_box(void **st) {
                        "duration: 0.6", &s);
   const sw_model *m = sw_sim_model(s);
   const sw_data *d = sw_sim_data(s);
-  double zmin = INFINITY;
-  for (int i = 0; i < m->nv; i++) zmin = fmin(zmin, d->x[3 * i + 2]);
+  double zmin = lowest(m, d);
   print_message("rising mesh box: lowest vertex %.6g m (box top %.6g m), crossings %d\n", zmin,
                 hi[2] + 0.05, bad);
   assert_int_equal(bad, 0);

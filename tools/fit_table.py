@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """fit_table.py CSV POSDIR -- the table of tools/bench_fit.sh: per garment and fit mode the
 median CPU time and Newton iterations over the repetitions, their ratios to the dynamic fit's
-(the runs in the order of the CSV: the fit modes, `dt=H` the dynamic fit with steps of H s),
+(the runs in the order of the CSV: the fit modes, `dt=H` the dynamic fit with steps of H s;
+without a dynamic run the ratios are to the first run listed),
 and each fit's last state against the reference (the dynamic fit followed by a static
 solve) of the same repetition: RMS and largest distance of the positions (m), the relative
 change of tension XY's mean and 95th percentile, its seam gap and self-intersections."""
@@ -35,7 +36,9 @@ def main():
     print("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
     for g, by in runs.items():
         med = lambda run, k: statistics.median(float(r[k]) for r in by[run])
-        cd, nd = med("dynamic", "cpu_s"), med("dynamic", "newton_iterations")
+        # the ratios' base: the dynamic fit, or without it in RUNS the first run listed
+        base = "dynamic" if "dynamic" in by else next(iter(by))
+        cd, nd = med(base, "cpu_s"), med(base, "newton_iterations")
         for run in by:
             if run == "static":
                 continue
