@@ -318,3 +318,60 @@ int sw_broadphase_query(sw_broadphase *bp, const sw_bp_input *in, int want) {
   }
   return 0;
 }
+
+/* ------------------------------------------------------------------------- marked pairs */
+
+/* Whether primitive i of kind k has a marked vertex. */
+static int touches(const sw_bp_input *in, const unsigned char *mark, int k, int i) {
+  int v[3], n = verts_of(in, k, i, v);
+  for (int j = 0; j < n; j++)
+    if (mark[v[j]]) return 1;
+  return 0;
+}
+
+/* Pair primitive a of kind ka with every primitive of kind kb whose box meets its own, as
+ * pair_lists does; b_marked: also those of kb that touch a marked vertex (else they are
+ * left to their own turn), and for ka == kb only those above a. */
+static int pair_one(sw_broadphase *bp, const sw_bp_input *in, const unsigned char *mark,
+                    int ka, int a, int kb, int first_b, int nb, int b_marked) {
+  const double *ba = bp->box + 6 * ((ka == KIND_V ? 0 : ka == KIND_E ? in->nv : in->nv + in->ne) + a);
+  int u[3], w[3], nu = verts_of(in, ka, a, u);
+  for (int b = 0; b < nb; b++) {
+    if (!boxes_overlap(ba, bp->box + 6 * (first_b + b))) continue;
+    if (ka == kb ? b <= a && touches(in, mark, kb, b) : !b_marked && touches(in, mark, kb, b))
+      continue; /* found from b's side */
+    int nw = verts_of(in, kb, b, w);
+    if (skip_pair(in, u, nu, w, nw)) continue;
+    int lo = ka == kb && b < a ? b : a, hi = ka == kb && b < a ? a : b;
+    int rc = ka == KIND_V ? push_pair(&bp->pt, &bp->cap_pt, &bp->npt, lo, hi)
+                          : push_pair(&bp->ee, &bp->cap_ee, &bp->nee, lo, hi);
+    if (rc) return -1;
+  }
+  return 0;
+}
+
+int sw_broadphase_query_marked(sw_broadphase *bp, const sw_bp_input *in, int want,
+                               const unsigned char *mark) {
+  bp->npt = bp->nee = bp->nff = 0;
+  if (in->nv < 0 || in->ne < 0 || in->nf < 0 || (want & SW_BP_FF)) return -1;
+  size_t nbox = (size_t)in->nv + (size_t)in->ne + (size_t)in->nf;
+  if (reserve((void **)&bp->box, &bp->cap_box, 6 * nbox, sizeof(double)) || make_boxes(bp, in))
+    return -1;
+  int fe = in->nv, ff = in->nv + in->ne, rc = 0;
+  for (int v = 0; !rc && (want & SW_BP_PT) && v < in->nv; v++) /* a marked vertex, any face */
+    if (mark[v]) rc = pair_one(bp, in, mark, KIND_V, v, KIND_F, ff, in->nf, 1);
+  for (int f = 0; !rc && (want & SW_BP_PT) && f < in->nf; f++) /* a marked face, the others */
+    if (touches(in, mark, KIND_F, f)) {
+      const double *bf = bp->box + 6 * (ff + f);
+      int w[3], nw = verts_of(in, KIND_F, f, w);
+      for (int v = 0; !rc && v < in->nv; v++) {
+        if (mark[v] || !boxes_overlap(bp->box + 6 * v, bf) || skip_pair(in, &v, 1, w, nw))
+          continue;
+        rc = push_pair(&bp->pt, &bp->cap_pt, &bp->npt, v, f);
+      }
+    }
+  for (int e = 0; !rc && (want & SW_BP_EE) && e < in->ne; e++)
+    if (touches(in, mark, KIND_E, e)) rc = pair_one(bp, in, mark, KIND_E, e, KIND_E, fe, in->ne, 0);
+  if (rc) bp->npt = bp->nee = 0;
+  return rc ? -1 : 0;
+}

@@ -149,6 +149,11 @@ int sw_mcontact_adapt(const sw_model *m, sw_mcontact *mc);
 double sw_mcontact_kappa_scale(const sw_mcontact *mc);
 void sw_mcontact_set_kappa_scale(sw_mcontact *mc, double s);
 sw_mcontact *sw_mcontact_new(const sw_model *m);
+/* The candidate listings so far: made anew (*made) and renewed for the few vertices that left
+ * their boxes (*renewed); 0 for mc NULL. */
+void sw_mcontact_listings(const sw_mcontact *mc, long *made, long *renewed);
+/* on 0: every listing made anew (for comparisons: the default renews). */
+void sw_mcontact_set_renew(sw_mcontact *mc, int on);
 void sw_mcontact_free(sw_mcontact *mc);
 /* The active pairs of the last evaluation (0 for mc NULL) and their filtered Hessian blocks
  * (144 doubles each, vertex-major over v[0..3]; NULL unless that evaluation asked for the

@@ -206,6 +206,12 @@ void sw_broadphase_init(sw_broadphase *bp);
 /* Find the pairs `want` (SW_BP_* bits): vertex-face, edge-edge, face-face.  0, or -1 when out
  * of memory or the input is not finite (no pairs then). */
 int sw_broadphase_query(sw_broadphase *bp, const sw_bp_input *in, int want);
+/* The pairs of sw_broadphase_query (SW_BP_PT and SW_BP_EE only) that have a vertex v with
+ * mark[v] != 0, each once, by testing the primitives that touch one against all: the cost
+ * grows with the marked primitives times all, for a few moved vertices (models/mesh_contact.c).
+ * -1 as sw_broadphase_query, or with SW_BP_FF. */
+int sw_broadphase_query_marked(sw_broadphase *bp, const sw_bp_input *in, int want,
+                               const unsigned char *mark);
 void sw_broadphase_free(sw_broadphase *bp);
 
 /* ---------------------------------------------------- bounding-volume hierarchy (bvh.c) */

@@ -46,6 +46,13 @@
 /* Mesh obstacles of at most this many triangles in all keep each triangle's box (48 bytes a
  * triangle) beside their tree, so a query reads it instead of placing the triangle's corners
  * (docs/contact.md, "What it costs a garment"). */
+/* A listing is renewed for the vertices that left their boxes alone (renew_candidates) while
+ * they are at most nv / SW_MC_RENEW of the cloth's, else made anew (docs/contact.md,
+ * "Candidates"). */
+#ifndef SW_MC_RENEW
+#define SW_MC_RENEW 16
+#endif
+
 #ifndef SW_MC_KEEP_BOXES
 #define SW_MC_KEEP_BOXES 65536
 #endif
@@ -99,7 +106,12 @@ struct sw_mcontact {
                            thickness (m, in gap) */
   int ncand, capcand, cand_ok;
   double *cbox;         /* (nv x 6) each cloth vertex's box over x0 -> x1, m */
-  double *xref;         /* (nv x 3) x0 of the candidates' motion, m */
+  double *xref;         /* (nv x 3) each cloth vertex's x0 of the motion its box was swept
+                           over, m (renew: not one motion for all) */
+  unsigned char *moved; /* (nv) renew's vertices out of their boxes */
+  double *blo, *bhi;    /* (nv x 3) renew's boxes' corners, m */
+  int renew;            /* 1: listings may be renewed (renew_candidates; the default) */
+  long nrenew, nfind;   /* candidate listings renewed for a few vertices, and made anew */
   double *umove;        /* (nv + nobst) how far each cloth vertex, and each obstacle's
                            vertices at most, are from the candidates' x0, m */
   double umax;          /* the largest of umove, m */
@@ -250,6 +262,9 @@ sw_mcontact *sw_mcontact_new(const sw_model *m) {
   mc->vforce = sw_calloc(nv + 1, sizeof(double));
   mc->cbox = sw_calloc(6 * nv + 1, sizeof(double));
   mc->xref = sw_calloc(3 * nv + 1, sizeof(double));
+  mc->moved = sw_calloc(nv + 1, 1);
+  mc->blo = sw_calloc(3 * nv + 1, sizeof(double));
+  mc->bhi = sw_calloc(3 * nv + 1, sizeof(double));
   mc->umove = sw_calloc(nv + no + 1, sizeof(double));
   mc->slack = SW_MC_SLACK * m->contact.dhat;
   if (p->nvt > m->nv && !(mc->near_ptr = sw_calloc((size_t)m->nf + 1, sizeof(int))))
@@ -260,7 +275,7 @@ sw_mcontact *sw_mcontact_new(const sw_model *m) {
       !(mc->pbox = sw_calloc(6 * (size_t)p->tree.n + 1, sizeof(double))))
     return sw_mcontact_free(mc), NULL;
   if (!mc->fixed || !mc->pose || !mc->z || !mc->carrier || !mc->f || !mc->vforce ||
-      !mc->cbox || !mc->xref || !mc->umove)
+      !mc->cbox || !mc->xref || !mc->moved || !mc->blo || !mc->bhi || !mc->umove)
     return sw_mcontact_free(mc), NULL;
   for (int i = 0; i < m->nv; i++) mc->fixed[i] = (unsigned char)m->pinned[i];
   if (sw_contact_friction_on(m) && !(mc->fr = sw_mfriction_new()))
@@ -268,6 +283,7 @@ sw_mcontact *sw_mcontact_new(const sw_model *m) {
   mc->nsewn = m->nv, mc->sewn_ptr = m->sewn_ptr, mc->sewn_idx = m->sewn_idx;
   mc->kscale = 1.0;
   mc->gap_min = INFINITY;
+  mc->renew = 1;
   return mc;
 }
 
@@ -285,6 +301,9 @@ void sw_mcontact_free(sw_mcontact *mc) {
   sw_free(mc->cand);
   sw_free(mc->cbox);
   sw_free(mc->xref);
+  sw_free(mc->moved);
+  sw_free(mc->blo);
+  sw_free(mc->bhi);
   sw_free(mc->umove);
   sw_mfriction_free(mc->fr);
   sw_free(mc->tbox);
@@ -580,14 +599,19 @@ static int visit_faces(sw_mcontact *mc, hit_arg *h, int f, int own) {
  * primitives h->what, through the near list of its face face[i] (face NULL: the primitive is
  * that face); -1 when out of memory or not finite. */
 static int query_tree(sw_mcontact *mc, const sw_bp_input *in, const int *idx, int per, int n,
-                      const int *face, hit_arg *h) {
+                      const int *face, const unsigned char *mark, hit_arg *h) {
   for (int i = 0; i < n; i++) {
     double b[6];
-    int v = i, rc = cloth_box(mc, in, idx ? idx + per * (size_t)i : &v, per, 2.0 * in->inflate, b);
+    int v = i, hit = !mark;
+    const int *iv = idx ? idx + per * (size_t)i : &v;
+    for (int j = 0; !hit && j < per; j++) hit = mark[iv[j]];
+    if (!hit) continue;
+    int rc = cloth_box(mc, in, iv, per, 2.0 * in->inflate, b);
     if (rc < 0) return -1;
     if (!rc) continue;
     h->cloth = i, h->b = b, h->ndup = 0;
-    if (visit_faces(mc, h, face ? face[i] : i, !face)) return -1;
+    /* marked: the tree itself (the faces' near lists are of the last full listing's boxes) */
+    if (visit_faces(mc, h, mark ? -1 : face ? face[i] : i, !face && !mark)) return -1;
     if (h->what == 2) continue;
     sort_dup(mc->dup, h->ndup);
     for (size_t k = 0; k < h->ndup; k++)
@@ -620,10 +644,11 @@ static int broad_phase(const sw_model *m, sw_mcontact *mc, const mc_place *x0,
   const mc_param *p = mc->p;
   int rc = near_faces(mc, &in, &c, 2.0 * inflate);
   if (!rc && (want & SW_BP_PT))
-    rc = query_tree(mc, &in, NULL, 1, m->nv, p->vface, &pt) ||
-         query_tree(mc, &in, m->face, 3, m->nf, NULL, &tp);
-  if (!rc && (want & SW_BP_EE)) rc = query_tree(mc, &in, p->edge, 2, p->ne_cloth, p->eface, &ee);
-  if (!rc && (want & SW_BP_FF)) rc = query_tree(mc, &in, m->face, 3, m->nf, NULL, &ff);
+    rc = query_tree(mc, &in, NULL, 1, m->nv, p->vface, NULL, &pt) ||
+         query_tree(mc, &in, m->face, 3, m->nf, NULL, NULL, &tp);
+  if (!rc && (want & SW_BP_EE))
+    rc = query_tree(mc, &in, p->edge, 2, p->ne_cloth, p->eface, NULL, &ee);
+  if (!rc && (want & SW_BP_FF)) rc = query_tree(mc, &in, m->face, 3, m->nf, NULL, NULL, &ff);
   if (rc) bp->npt = bp->nee = bp->nff = 0;
   return rc ? -1 : 0;
 }
@@ -743,6 +768,7 @@ static int find_candidates(const sw_model *m, sw_mcontact *mc, const mc_place *x
                            const mc_place *x1) {
   mc->cand_ok = 0;
   mc->ncand = 0;
+  mc->nfind++;
   double reach = 0.5 * (max_thickness(m) + m->contact.dhat) + mc->slack;
   mc->far = far_reach(m, mc, x0, x1);
   if (broad_phase(m, mc, x0, x1, reach, SW_BP_PT | SW_BP_EE) ||
@@ -793,12 +819,93 @@ static int stays_beyond(const sw_model *m, const sw_mcontact *mc, const sw_mc_pa
   return c->gap - ua - ub > reach;
 }
 
+/* mc->moved: the cloth's vertices out of their boxes by more than the slack at x0 or x1; how
+ * many, counting stopped past lim. */
+static int mark_moved(const sw_model *m, sw_mcontact *mc, const mc_place *x0,
+                      const mc_place *x1, int lim) {
+  const double h = mc->slack;
+  int n = 0;
+  for (int i = 0; i < m->nv && n <= lim; i++) {
+    const double *b = mc->cbox + 6 * (size_t)i;
+    int out = 0;
+    for (int k = 0; k < 2; k++) {
+      const double *p = (k ? x1 : x0)->x + 3 * (size_t)i;
+      for (int a = 0; a < 3; a++) out |= !(p[a] >= b[a] - h && p[a] <= b[3 + a] + h);
+    }
+    mc->moved[i] = (unsigned char)out, n += out;
+  }
+  return n;
+}
+
+/* The pairs of a moved vertex (mc->moved) in the broad phase's lists, from every primitive's
+ * box (mc->cbox) padded by reach: the cloth's own pairs and those with the obstacles' tree. */
+static int moved_pairs(const sw_model *m, sw_mcontact *mc, const mc_place *x0,
+                       const mc_place *x1, double reach) {
+  for (int i = 0; i < 3 * m->nv; i++)
+    mc->blo[i] = mc->cbox[6 * (i / 3) + i % 3], mc->bhi[i] = mc->cbox[6 * (i / 3) + 3 + i % 3];
+  mc_place lo = {mc->blo, x0->pose}, hi = {mc->bhi, x1->pose};
+  sw_bp_input in = bp_input(m, mc, &lo, &hi, reach);
+  sw_broadphase *bp = &mc->bp;
+  bp->npt = bp->nee = bp->nff = 0;
+  if (m->contact.self &&
+      sw_broadphase_query_marked(bp, &in, SW_BP_PT | SW_BP_EE, mc->moved))
+    return -1;
+  if (mc->p->nvt == m->nv) return 0;
+  const mc_param *p = mc->p;
+  tree_ctx c = {m, p, x0, x1}; /* the obstacles' places (they do not move) */
+  hit_arg pt = {mc, &c, &bp->pt, &bp->npt, &bp->cap_pt, 2, 0, 0, NULL, 0};
+  hit_arg tp = {mc, &c, &bp->pt, &bp->npt, &bp->cap_pt, 0, 0, 1, NULL, 0};
+  hit_arg ee = {mc, &c, &bp->ee, &bp->nee, &bp->cap_ee, 1, 0, 0, NULL, 0};
+  return query_tree(mc, &in, NULL, 1, m->nv, NULL, mc->moved, &pt) ||
+                 query_tree(mc, &in, m->face, 3, m->nf, NULL, mc->moved, &tp) ||
+                 query_tree(mc, &in, p->edge, 2, p->ne_cloth, NULL, mc->moved, &ee)
+             ? -1 : 0;
+}
+
+/* The kept candidates renewed for the motion x0 -> x1 when at most nv / SW_MC_RENEW cloth
+ * vertices left their boxes (and no obstacle moves): those vertices' boxes are swept over
+ * x0 -> x1 from their own xref = x0, their pairs are dropped and listed again against every
+ * primitive's box, the others' as they were.  A pair with no moved vertex keeps its boxes, so
+ * its listing (or its absence) holds as it did, and every pair within reach at positions
+ * within the slack of the boxes is listed, as after find_candidates.  mc->far is the larger of
+ * the listings' bounds (a pair's vertices each stay within its own).  1: renewed; 0: too many
+ * moved; -1 as find_candidates (the listing dropped). */
+static int renew_candidates(const sw_model *m, sw_mcontact *mc, const mc_place *x0,
+                            const mc_place *x1) {
+  int lim = m->nv / SW_MC_RENEW, n;
+  if (!mc->renew || !mc->cand_ok || mc->p->moving || (n = mark_moved(m, mc, x0, x1, lim)) == 0 || n > lim)
+    return 0;
+  for (int i = 0; i < m->nv; i++)
+    for (int a = 0; mc->moved[i] && a < 3; a++) {
+      double *bi = mc->cbox + 6 * (size_t)i + a, p = x0->x[3 * i + a], q = x1->x[3 * i + a];
+      bi[0] = p < q ? p : q, bi[3] = p < q ? q : p;
+      mc->xref[3 * i + a] = p;
+    }
+  int k = 0;
+  for (int j = 0; j < mc->ncand; j++) {
+    const int *v = mc->cand[j].v;
+    int keep = 1;
+    for (int q = 0; q < 4; q++) keep = keep && !(v[q] < m->nv && mc->moved[v[q]]);
+    if (keep) mc->cand[k++] = mc->cand[j];
+  }
+  mc->ncand = k;
+  mc->far = fmax(mc->far, far_reach(m, mc, x0, x1));
+  double reach = 0.5 * (max_thickness(m) + m->contact.dhat) + mc->slack;
+  mc_place ref = {mc->xref, x0->pose};
+  if (moved_pairs(m, mc, x0, x1, reach) || each_pair(m, mc, add_candidate, &ref))
+    return mc->cand_ok = 0, -1;
+  mc->nrenew++;
+  return 1;
+}
+
 /* The candidates for the motion x0 -> x1: the kept ones when they cover both ends (so every
- * position between: the boxes are convex), else new ones; -1 as find_candidates. */
+ * position between: the boxes are convex), renewed for a few vertices out of them, else new
+ * ones; -1 as find_candidates. */
 static int candidates(const sw_model *m, sw_mcontact *mc, const mc_place *x0,
                       const mc_place *x1) {
   if (covered(m, mc, x0) && (x1 == x0 || covered(m, mc, x1))) return 0;
-  return find_candidates(m, mc, x0, x1);
+  int rc = renew_candidates(m, mc, x0, x1);
+  return rc < 0 ? -1 : rc ? 0 : find_candidates(m, mc, x0, x1);
 }
 
 /* Call visit on every candidate that may come within its thickness plus `dhat` (m) on the
@@ -1569,6 +1676,14 @@ static void state_friction(const sw_model *m, sw_data *d, const mc_place *x) {
       d->friction_power += g[j] * d->v[3 * v[j / 3] + j % 3];
     }
   }
+}
+
+void sw_mcontact_listings(const sw_mcontact *mc, long *made, long *renewed) {
+  *made = mc ? mc->nfind : 0, *renewed = mc ? mc->nrenew : 0;
+}
+
+void sw_mcontact_set_renew(sw_mcontact *mc, int on) {
+  if (mc) mc->renew = on != 0;
 }
 
 /* ------------------------------------------------------------ adaptive stiffness */

@@ -629,6 +629,60 @@ static void broadphase_brute(void **st) {
   sw_broadphase_free(&bp);
 }
 
+/* The pairs (n, as a, b) with a vertex marked: a is a vertex (kind 0) or an edge, b a face or
+ * an edge; as sorted keys into k, their number. */
+static int marked_keys(const mesh *M, const int *q, int n, int kind, const unsigned char *mark,
+                       long long *k) {
+  int m = 0;
+  for (int i = 0; i < n; i++) {
+    int a = q[2 * i], b = q[2 * i + 1], hit = kind == 0 ? mark[a] : 0;
+    for (int j = 0; kind == 1 && j < 2; j++) hit |= mark[M->edge[2 * a + j]] | mark[M->edge[2 * b + j]];
+    for (int j = 0; kind == 0 && j < 3; j++) hit |= mark[M->face[3 * b + j]];
+    if (hit) k[m++] = (long long)a * 1000003 + b;
+  }
+  for (int i = 1; i < m; i++) /* insertion sort: small lists */
+    for (int j = i; j > 0 && k[j - 1] > k[j]; j--) { long long t = k[j]; k[j] = k[j - 1], k[j - 1] = t; }
+  return m;
+}
+
+/* The marked query lists exactly the full query's pairs that have a marked vertex, once each,
+ * with the lower edge first: marks of none, a few, half and all of the free vertices. */
+static void broadphase_marked(void **st) {
+  (void)st;
+  unsigned long rs = 77;
+  sw_broadphase bp, bq;
+  sw_broadphase_init(&bp), sw_broadphase_init(&bq);
+  for (int rep = 0; rep < 8; rep++) {
+    mesh M = random_mesh(&rs, 6 + rep, 0.05);
+    sw_bp_input in = {M.nv, M.x0, M.x1, M.ne, M.edge, M.nf, M.face, M.fixed, 0.02, 0, NULL, NULL};
+    unsigned char *mark = calloc((size_t)M.nv, 1);
+    int every = rep % 4 == 0 ? 0 : rep % 4 == 1 ? 17 : rep % 4 == 2 ? 2 : 1;
+    for (int v = 0; every && v < M.nv / 2; v++) mark[v] = v % every == 0; /* the free grid's */
+    assert_int_equal(sw_broadphase_query(&bp, &in, SW_BP_PT | SW_BP_EE), 0);
+    assert_int_equal(sw_broadphase_query_marked(&bq, &in, SW_BP_PT | SW_BP_EE, mark), 0);
+    for (int kind = 0; kind < 2; kind++) {
+      int n = kind ? bp.nee : bp.npt, nq = kind ? bq.nee : bq.npt;
+      const int *p = kind ? bp.ee : bp.pt, *q = kind ? bq.ee : bq.pt;
+      long long *kp = malloc(sizeof *kp * (size_t)(n + 1)), *kq = malloc(sizeof *kq * (size_t)(nq + 1));
+      int mp = marked_keys(&M, p, n, kind, mark, kp), mq = marked_keys(&M, q, nq, kind, mark, kq);
+      assert_int_equal(mq, nq); /* every pair listed has a marked vertex */
+      assert_int_equal(mp, mq);
+      for (int i = 0; i < mp; i++) assert_true(kp[i] == kq[i]);
+      for (int i = 0; kind && i < nq; i++) assert_true(q[2 * i] < q[2 * i + 1]);
+      if (every == 1) assert_true(mq > 0);
+      free(kp), free(kq);
+    }
+    free(mark);
+    free_mesh(&M);
+  }
+  double bad[3] = {NAN, 0, 0};
+  int f[3] = {0, 0, 0};
+  unsigned char one = 1;
+  sw_bp_input in = {1, bad, bad, 0, NULL, 1, f, NULL, 0.0, 0, NULL, NULL};
+  assert_int_equal(sw_broadphase_query_marked(&bq, &in, SW_BP_PT, &one), -1);
+  sw_broadphase_free(&bp), sw_broadphase_free(&bq);
+}
+
 /* -------------------------------------------------------------------- exact predicates */
 
 static int seg_tri(const double *x) { return sw_segment_triangle_intersect(x, x + 3, x + 6, x + 9, x + 12); }
@@ -797,7 +851,7 @@ int main(void) {
       cmocka_unit_test(mollifier),            cmocka_unit_test(barrier),
       cmocka_unit_test(barrier_blocks),       cmocka_unit_test(ccd_crossing),
       cmocka_unit_test(ccd_random),           cmocka_unit_test(ccd_small),
-      cmocka_unit_test(broadphase_brute),     cmocka_unit_test(predicates_constructed),
+      cmocka_unit_test(broadphase_brute),     cmocka_unit_test(broadphase_marked),     cmocka_unit_test(predicates_constructed),
       cmocka_unit_test(predicates_random),    cmocka_unit_test(orient3d_exact),
       cmocka_unit_test(mesh_intersections),   cmocka_unit_test(pair_apart),
   };

@@ -152,6 +152,8 @@ static int crossings(const sw_model *m, const double *x, double t, const double 
   return bad;
 }
 
+static int renew_listings = 1; /* sw_mcontact_set_renew for run_with's simulations */
+
 /* A cloth of n x n vertices (20 cm) at z = 0 over the mesh box lo..hi (`more`: its motion and
  * the scene's other keys; `integrator`: the integrator key's value), run to its duration: the
  * crossings summed over every step; the simulation in *out. */
@@ -171,6 +173,7 @@ static int run_with(const double *lo, const double *hi, int n, const char *integ
   sw_sim *s = sw_sim_new(m, 0, err, sizeof err);
   assert_non_null(s);
   const sw_data *d = sw_sim_data(s);
+  sw_mcontact_set_renew(d->mc, renew_listings);
   int bad = 0;
   while (d->t < m->opt.duration - 1e-9) {
     assert_int_equal(sw_sim_step(s, err, sizeof err), 0);
@@ -236,6 +239,41 @@ static void loose_tolerance(void **st) {
   assert_true(zmin > hi[2] && zmin < hi[2] + 2e-3);
   sw_sim_free(s);
   sw_model_free((sw_model *)m);
+}
+
+/* A cloth dropped half over the edge of a mesh box, so that it folds down the side, with
+ * the candidate listings renewed for the vertices that left their boxes (the default) and
+ * every listing made anew: the same positions to round-off, no crossing, renewals taken. */
+static void renewed_listings(void **st) {
+  (void)st;
+  const double lo[3] = {0.06, -0.1, -0.41}, hi[3] = {0.14, 0.3, -0.01};
+  sw_sim *s[2];
+  long made[2], renewed[2];
+  int bad[2];
+  for (int k = 0; k < 2; k++) {
+    renew_listings = k == 0;
+    bad[k] = run_on_box(lo, hi, 11, "}]\ncontact: {distance: 2e-3}\ndamping: {mass: 2.0}\n"
+                        "duration: 1.0", &s[k]);
+    sw_mcontact_listings(sw_sim_data(s[k])->mc, &made[k], &renewed[k]);
+  }
+  renew_listings = 1;
+  const sw_model *m = sw_sim_model(s[0]);
+  const double *x0 = sw_sim_data(s[0])->x, *x1 = sw_sim_data(s[1])->x;
+  double dx = 0.0;
+  for (int i = 0; i < 3 * m->nv; i++) dx = fmax(dx, fabs(x0[i] - x1[i]));
+  print_message("over the edge of a mesh box: listings %ld made, %ld renewed; made anew %ld; "
+                "largest difference of the positions %.3g m, lowest vertex %.4g m, crossings "
+                "%d %d\n", made[0], renewed[0], made[1], dx, lowest(m, sw_sim_data(s[0])),
+                bad[0], bad[1]);
+  assert_true(renewed[0] > 0 && renewed[1] == 0);
+  assert_true(dx < 1e-9); /* m */
+  assert_true(lowest(m, sw_sim_data(s[0])) < hi[2] - 0.05); /* it did fold down the side */
+  assert_int_equal(bad[0], 0);
+  for (int k = 0; k < 2; k++) {
+    const sw_model *mk = sw_sim_model(s[k]);
+    sw_sim_free(s[k]);
+    sw_model_free((sw_model *)mk);
+  }
 }
 
 /* A mesh box rising 5 cm in 0.5 s under a cloth lying on it lifts the cloth. */
@@ -350,6 +388,7 @@ int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(gradient),   cmocka_unit_test(drop_on_box),
       cmocka_unit_test(loose_tolerance),
+      cmocka_unit_test(renewed_listings),
       cmocka_unit_test(rising_box), cmocka_unit_test(squeeze),
       cmocka_unit_test(scene_errors),
   };

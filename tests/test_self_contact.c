@@ -544,6 +544,50 @@ static void flap_on_sheet(void **st) {
   assert_int_equal(cmax, 0);
 }
 
+/* The flap run with the candidate listings renewed for the vertices that left their boxes
+ * (the default) and with every listing made anew: the same trajectory to round-off, the
+ * distance of every pair beyond the thickness in both, and renewals taken (so that path is
+ * what the first run tested). */
+static void renewed_listings(void **st) {
+  (void)st;
+  write_sheets();
+  char text[2048];
+  snprintf(text, sizeof text, flap_scene, "{mass: 1.0}", "contact: {self: true, thickness: 1e-3}\n");
+  sw_model *m[2];
+  sw_sim *s[2];
+  char err[SW_ERRSZ];
+  for (int k = 0; k < 2; k++) {
+    m[k] = parse_ok(text);
+    s[k] = sw_sim_new(m[k], 0, err, sizeof err);
+    assert_non_null(s[k]);
+    sw_mcontact_set_renew(sw_sim_data(s[k])->mc, k == 0);
+  }
+  int ne, *edge = mesh_edges(m[0], &ne);
+  double dmin = INFINITY, dx = 0.0;
+  const sw_data *d0 = sw_sim_data(s[0]), *d1 = sw_sim_data(s[1]);
+  while (d0->t < m[0]->opt.duration - 1e-9) {
+    for (int k = 0; k < 2; k++) {
+      int rc = sw_sim_step(s[k], err, sizeof err);
+      if (rc) print_error("%s\n", err);
+      assert_int_equal(rc, 0);
+      closest c = {.x = sw_sim_data(s[k])->x, .d2 = INFINITY};
+      each_pair(m[k], edge, ne, min_pair, &c);
+      dmin = fmin(dmin, sqrt(c.d2));
+    }
+    for (int i = 0; i < 3 * m[0]->nv; i++) dx = fmax(dx, fabs(d0->x[i] - d1->x[i]));
+  }
+  long made[2], renewed[2];
+  for (int k = 0; k < 2; k++) sw_mcontact_listings(sw_sim_data(s[k])->mc, &made[k], &renewed[k]);
+  print_message("flap, listings renewed: %ld made, %ld renewed; made anew: %ld; largest "
+                "difference of the positions %.3g m, smallest distance %.6g m\n", made[0],
+                renewed[0], made[1], dx, dmin);
+  assert_true(renewed[0] > 0 && renewed[1] == 0);
+  assert_true(dx < 1e-9); /* m: round-off (the pairs are visited in another order) */
+  assert_true(dmin > 1e-3); /* the thickness */
+  free(edge);
+  for (int k = 0; k < 2; k++) sw_sim_free(s[k]), sw_model_free(m[k]);
+}
+
 /* ------------------------------------------------------------------------ scene errors */
 
 static void scene_errors(void **st) {
@@ -611,6 +655,7 @@ int main(void) {
       cmocka_unit_test(derivatives),
       cmocka_unit_test(stiffness_continuous),
       cmocka_unit_test(flap_on_sheet),
+      cmocka_unit_test(renewed_listings),
       cmocka_unit_test(scene_errors),
   };
   return cmocka_run_group_tests(tests, make_tmpdir, remove_tmpdir);

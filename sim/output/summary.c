@@ -142,6 +142,10 @@ static void summary_counters(out_file *w, const sw_model *m, const sw_data *d, d
     w_json_num(w, "time_self_broadphase_s", d->time_broadphase);
     w_json_num(w, "time_pattern_s", d->time_pattern);
     w_json_long(w, "pattern_growths", d->npattern);
+    long made, renewed;
+    sw_mcontact_listings(d->mc, &made, &renewed);
+    w_json_long(w, "candidate_listings", made);
+    w_json_long(w, "candidate_renewals", renewed);
   }
   summary_terms(w, m, d, SW_SUMMARY_RUN); /* the adapted contact stiffness's factor */
   w_json_num(w, "time_step_s", d->time_step);
