@@ -46,11 +46,19 @@
 /* Mesh obstacles of at most this many triangles in all keep each triangle's box (48 bytes a
  * triangle) beside their tree, so a query reads it instead of placing the triangle's corners
  * (docs/contact.md, "What it costs a garment"). */
-/* A listing is renewed for the vertices that left their boxes alone (renew_candidates) while
- * they are at most nv / SW_MC_RENEW of the cloth's, else made anew (docs/contact.md,
- * "Candidates"). */
+/* When the candidates no longer cover a motion, the listing is renewed for the vertices out
+ * of their boxes by more than SW_MC_RENEW_MARGIN of the slack alone (renew_candidates) while
+ * they are at most nv / SW_MC_RENEW of the cloth's, else made anew; a kept pair's gap is
+ * computed again where a bound puts it within SW_MC_REGAP d-hat.  By measurement
+ * (docs/contact.md, "Renewed listings"). */
 #ifndef SW_MC_RENEW
 #define SW_MC_RENEW 16
+#endif
+#ifndef SW_MC_RENEW_MARGIN
+#define SW_MC_RENEW_MARGIN 0.75
+#endif
+#ifndef SW_MC_REGAP
+#define SW_MC_REGAP 2.0
 #endif
 
 #ifndef SW_MC_KEEP_BOXES
@@ -106,8 +114,7 @@ struct sw_mcontact {
                            thickness (m, in gap) */
   int ncand, capcand, cand_ok;
   double *cbox;         /* (nv x 6) each cloth vertex's box over x0 -> x1, m */
-  double *xref;         /* (nv x 3) each cloth vertex's x0 of the motion its box was swept
-                           over, m (renew: not one motion for all) */
+  double *xref;         /* (nv x 3) x0 of the last listing or renewal, m */
   unsigned char *moved; /* (nv) renew's vertices out of their boxes */
   double *blo, *bhi;    /* (nv x 3) renew's boxes' corners, m */
   int renew;            /* 1: listings may be renewed (renew_candidates; the default) */
@@ -723,6 +730,20 @@ static int covered(const sw_model *m, const sw_mcontact *mc, const mc_place *x) 
   return 1;
 }
 
+/* The distance of a pair's primitives at p (12), m. */
+static double pair_d(int kind, const double *p) {
+  return sqrt(kind == SW_MC_PT ? sw_d2_point_triangle(p, p + 3, p + 6, p + 9, NULL, NULL)
+                               : sw_d2_edge_edge(p, p + 3, p + 6, p + 9, NULL, NULL));
+}
+
+/* A pair's distance at x less its thickness, m. */
+static double pair_gap(const sw_model *m, const sw_mcontact *mc, int kind, const int *v,
+                       const mc_place *x) {
+  double p[12];
+  gather(m, mc, x, v, p);
+  return pair_d(kind, p) - pair_xi(m, mc->p, v);
+}
+
 /* Append the pair to the candidates with its distance at arg (an mc_place) less its
  * thickness, unless a bound puts it farther than mc->far; -1 when out of memory. */
 static int add_candidate(const sw_model *m, sw_mcontact *mc, int kind, const int *v, void *arg) {
@@ -739,8 +760,7 @@ static int add_candidate(const sw_model *m, sw_mcontact *mc, int kind, const int
   sw_mc_pair *c = &mc->cand[mc->ncand++];
   c->kind = kind;
   memcpy(c->v, v, sizeof c->v);
-  c->gap = sqrt(kind == SW_MC_PT ? sw_d2_point_triangle(p, p + 3, p + 6, p + 9, NULL, NULL)
-                                 : sw_d2_edge_edge(p, p + 3, p + 6, p + 9, NULL, NULL)) - xi;
+  c->gap = pair_d(kind, p) - xi;
   return 0;
 }
 
@@ -760,6 +780,23 @@ static double far_reach(const sw_model *m, const sw_mcontact *mc, const mc_place
   for (int k = 0; x0->pose && x1->pose && k < mc->p->nobst; k++)
     u = fmax(u, pose_gap(mc->p, k, x0->pose, x1->pose) + mc->slack);
   return m->contact.dhat + 2.0 * u;
+}
+
+/* mc->far from the boxes and xref (renew_candidates): while the listing is kept every cloth
+ * vertex lies within the slack of its box, so within the farthest corner of that box padded by
+ * the slack from its xref, and a pair comes at most twice the largest of those closer. */
+static double far_boxes(const sw_model *m, const sw_mcontact *mc) {
+  double u = 0.0, h = mc->slack;
+  for (int i = 0; i < m->nv; i++) {
+    const double *b = mc->cbox + 6 * (size_t)i, *r = mc->xref + 3 * (size_t)i;
+    double s = 0.0;
+    for (int a = 0; a < 3; a++) {
+      double d = fmax(r[a] - (b[a] - h), b[3 + a] + h - r[a]);
+      s += d * d;
+    }
+    u = fmax(u, s);
+  }
+  return m->contact.dhat + 2.0 * sqrt(u);
 }
 
 /* The candidates over the motion x0 -> x1 (x1 == x0 for places at rest); -1 when the broad
@@ -819,11 +856,10 @@ static int stays_beyond(const sw_model *m, const sw_mcontact *mc, const sw_mc_pa
   return c->gap - ua - ub > reach;
 }
 
-/* mc->moved: the cloth's vertices out of their boxes by more than the slack at x0 or x1; how
+/* mc->moved: the cloth's vertices out of their boxes by more than h (m) at x0 or x1; how
  * many, counting stopped past lim. */
 static int mark_moved(const sw_model *m, sw_mcontact *mc, const mc_place *x0,
-                      const mc_place *x1, int lim) {
-  const double h = mc->slack;
+                      const mc_place *x1, double h, int lim) {
   int n = 0;
   for (int i = 0; i < m->nv && n <= lim; i++) {
     const double *b = mc->cbox + 6 * (size_t)i;
@@ -862,37 +898,62 @@ static int moved_pairs(const sw_model *m, sw_mcontact *mc, const mc_place *x0,
              ? -1 : 0;
 }
 
+/* The kept candidates on the way to a renewal at x0: each cloth vertex's xref moved to x0 and
+ * mc->far made from the boxes (far_boxes); the pairs of a moved vertex dropped (they are listed
+ * again), and those a bound puts beyond mc->far (they stay beyond every evaluation's reach).
+ * A kept pair's gap at x0 is at least its gap at the old xref less its primitives' largest
+ * drifts from there; that bound stands as its gap (a lower bound serves each_candidate's
+ * test as the gap does), or, below SW_MC_REGAP d-hat, where pairs are visited, its gap at x0. */
+static void rebase_kept(const sw_model *m, sw_mcontact *mc, const mc_place *x0) {
+  double *drift = mc->umove; /* m; scratch here: each_candidate makes its own */
+  for (int i = 0; i < m->nv; i++) {
+    const double *r = mc->xref + 3 * (size_t)i, *p = x0->x + 3 * (size_t)i;
+    drift[i] = sqrt((p[0] - r[0]) * (p[0] - r[0]) + (p[1] - r[1]) * (p[1] - r[1]) +
+                    (p[2] - r[2]) * (p[2] - r[2]));
+  }
+  memcpy(mc->xref, x0->x, 3 * (size_t)m->nv * sizeof(double));
+  mc->far = far_boxes(m, mc);
+  int k = 0;
+  for (int j = 0; j < mc->ncand; j++) {
+    sw_mc_pair *c = &mc->cand[j];
+    int keep = 1, na = c->kind == SW_MC_PT ? 1 : 2;
+    double da = 0.0, db = 0.0; /* m */
+    for (int q = 0; q < 4; q++) {
+      int v = c->v[q];
+      keep = keep && !(v < m->nv && mc->moved[v]);
+      double u = v < m->nv ? drift[v] : 0.0; /* the obstacles do not move */
+      if (q < na) da = fmax(da, u);
+      else db = fmax(db, u);
+    }
+    double bound = c->gap - da - db;
+    if (!keep || bound > mc->far) continue;
+    c->gap = bound < SW_MC_REGAP * m->contact.dhat ? pair_gap(m, mc, c->kind, c->v, x0) : bound;
+    mc->cand[k++] = *c;
+  }
+  mc->ncand = k;
+}
+
 /* The kept candidates renewed for the motion x0 -> x1 when at most nv / SW_MC_RENEW cloth
- * vertices left their boxes (and no obstacle moves): those vertices' boxes are swept over
- * x0 -> x1 from their own xref = x0, their pairs are dropped and listed again against every
- * primitive's box, the others' as they were.  A pair with no moved vertex keeps its boxes, so
- * its listing (or its absence) holds as it did, and every pair within reach at positions
- * within the slack of the boxes is listed, as after find_candidates.  mc->far is the larger of
- * the listings' bounds (a pair's vertices each stay within its own).  1: renewed; 0: too many
- * moved; -1 as find_candidates (the listing dropped). */
+ * vertices are out of their boxes by more than SW_MC_RENEW_MARGIN of the slack (and no
+ * obstacle moves): those vertices' boxes are swept over x0 -> x1, their pairs listed again
+ * against every primitive's box, the others' boxes as they were.  A pair with no moved vertex
+ * keeps its boxes, so its listing (or its absence) holds as it did, and every pair within
+ * reach at positions within the slack of the boxes is listed, as after find_candidates.
+ * 1: renewed; 0: too many moved; -1 as find_candidates (the listing dropped). */
 static int renew_candidates(const sw_model *m, sw_mcontact *mc, const mc_place *x0,
                             const mc_place *x1) {
   int lim = m->nv / SW_MC_RENEW, n;
-  if (!mc->renew || !mc->cand_ok || mc->p->moving || (n = mark_moved(m, mc, x0, x1, lim)) == 0 || n > lim)
+  if (!mc->renew || !mc->cand_ok || mc->p->moving ||
+      (n = mark_moved(m, mc, x0, x1, SW_MC_RENEW_MARGIN * mc->slack, lim)) == 0 || n > lim)
     return 0;
   for (int i = 0; i < m->nv; i++)
     for (int a = 0; mc->moved[i] && a < 3; a++) {
       double *bi = mc->cbox + 6 * (size_t)i + a, p = x0->x[3 * i + a], q = x1->x[3 * i + a];
       bi[0] = p < q ? p : q, bi[3] = p < q ? q : p;
-      mc->xref[3 * i + a] = p;
     }
-  int k = 0;
-  for (int j = 0; j < mc->ncand; j++) {
-    const int *v = mc->cand[j].v;
-    int keep = 1;
-    for (int q = 0; q < 4; q++) keep = keep && !(v[q] < m->nv && mc->moved[v[q]]);
-    if (keep) mc->cand[k++] = mc->cand[j];
-  }
-  mc->ncand = k;
-  mc->far = fmax(mc->far, far_reach(m, mc, x0, x1));
+  rebase_kept(m, mc, x0);
   double reach = 0.5 * (max_thickness(m) + m->contact.dhat) + mc->slack;
-  mc_place ref = {mc->xref, x0->pose};
-  if (moved_pairs(m, mc, x0, x1, reach) || each_pair(m, mc, add_candidate, &ref))
+  if (moved_pairs(m, mc, x0, x1, reach) || each_pair(m, mc, add_candidate, (void *)x0))
     return mc->cand_ok = 0, -1;
   mc->nrenew++;
   return 1;
