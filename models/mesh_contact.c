@@ -43,9 +43,6 @@
 #define SW_MC_SLACK 2.0
 #endif
 
-/* Mesh obstacles of at most this many triangles in all keep each triangle's box (48 bytes a
- * triangle) beside their tree, so a query reads it instead of placing the triangle's corners
- * (docs/contact.md, "What it costs a garment"). */
 /* When the candidates no longer cover a motion, the listing is renewed for the vertices out
  * of their boxes by more than SW_MC_RENEW_MARGIN of the slack alone (renew_candidates) while
  * they are at most nv / SW_MC_RENEW of the cloth's, else made anew; a kept pair's gap is
@@ -61,6 +58,9 @@
 #define SW_MC_REGAP 2.0
 #endif
 
+/* Mesh obstacles of at most this many triangles in all keep each triangle's box (48 bytes a
+ * triangle) beside their tree, so a query reads it instead of placing the triangle's corners
+ * (docs/contact.md, "What it costs a garment"). */
 #ifndef SW_MC_KEEP_BOXES
 #define SW_MC_KEEP_BOXES 65536
 #endif
