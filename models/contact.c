@@ -104,9 +104,10 @@ static double friction_f0(double y, double eps, double *f1_over_y) {
 }
 
 /* Friction of vertex i against obstacle o: energy (J), gradient and Hessian block (dim x dim,
- * its upper triangle; positive semi-definite as it is) added. */
+ * its upper triangle; positive semi-definite as it is) added; bound: the bound q P above it
+ * (sw_eval.bound, as for the mesh pairs: models/mesh_friction.c). */
 static double friction_add(const sw_model *m, const sw_contact_lag *lag, int i, int o,
-                           const double *x, double t, double *g, double *H) {
+                           const double *x, double t, double *g, double *H, int bound) {
   const int dim = m->dim;
   double lam = lag->lambda[(size_t)i * m->nobstacle + o];
   if (lam <= 0.0 || m->contact.friction <= 0.0) return 0.0;
@@ -117,7 +118,7 @@ static double friction_add(const sw_model *m, const sw_contact_lag *lag, int i, 
   for (int a = 0; a < dim; a++) g[a] += mul * q * u[a];
   if (!H) return e;
   /* d2/dx2 of f0(|P dx|): q P + c u u^T / y^2, c = -y / eps^2 below eps, -1/y above */
-  double c = y <= 0.0 ? 0.0 : (y >= eps ? -1.0 / y : -y / (eps * eps)) / (y * y);
+  double c = y <= 0.0 || bound ? 0.0 : (y >= eps ? -1.0 / y : -y / (eps * eps)) / (y * y);
   for (int a = 0; a < dim; a++)
     for (int b = 0; b < dim; b++)
       sw_hess_add(H, dim, a, b, mul * (q * ((a == b) - n0[a] * n0[b]) + c * u[a] * u[b]));
@@ -166,7 +167,7 @@ static int contact_eval(const sw_term *t, const sw_model *m, const sw_eval *ev, 
     for (int o = 0; o < m->nobstacle; o++) {
       int rc = barrier_add(m, ev, i, o, &e, g, H);
       if (rc) return rc;
-      if (lag) e += friction_add(m, lag, i, o, ev->x, ev->t, g, H);
+      if (lag) e += friction_add(m, lag, i, o, ev->x, ev->t, g, H, ev->bound);
     }
     if (H) sw_ev_block_done(ev, t, s, H);
     if (ev->grad)
@@ -432,7 +433,7 @@ void sw_contact_state(const sw_model *m, sw_data *d) {
       if (dist < m->contact.dhat) d->contact_count++;
       sw_contact_barrier(dist, m->contact.dhat, &db, &d2b);
       for (int a = 0; isfinite(db) && a < dim; a++) fi[a] -= m->contact.kappa * m->mass[i] * db * n[a];
-      if (d->lag->h > 0.0) friction_add(m, d->lag, i, o, d->x, d->t, ff, NULL);
+      if (d->lag->h > 0.0) friction_add(m, d->lag, i, o, d->x, d->t, ff, NULL, 0);
       for (int a = 0; a < dim; a++) {
         d->friction_force[a] -= ff[a];
         d->friction_power += ff[a] * d->v[i * dim + a]; /* W dissipated: -f.v */

@@ -234,9 +234,10 @@ const int *sw_mfriction_vertices(const sw_mfriction *f, int k);
 /* Pair k's friction mu lambda_k f0(|P_k u_k|) with its 4 vertices at p (12; J; the slip u_k
  * from their places when it was lagged), its gradient over the pair's
  * 4 vertices (12, when g is not NULL) and its positive semi-definite Hessian (144, when H is
- * not NULL); eps_v in m/s. */
+ * not NULL; bound 1: the bound above it of sw_eval.bound, models/mesh_friction.c); eps_v in
+ * m/s. */
 double sw_mfriction_pair(const sw_mfriction *f, double eps_v, int k, const double *x, double *g,
-                         double *H);
+                         double *H, int bound);
 /* Whether the model has friction anywhere: contact.friction > 0, or self_friction > 0 with
  * self-contact. */
 int sw_contact_friction_on(const sw_model *m);

@@ -1093,7 +1093,7 @@ static int eval_friction(const sw_model *m, sw_mcontact *mc, const sw_eval *ev,
     if (ev->hess && reserve_pair(mc)) return SW_FATAL;
     if (ev->hess) H = mc->block + (size_t)mc->npair * 144;
     gather(m, mc, x, v, p);
-    *e += sw_mfriction_pair(mc->fr, m->contact.eps_v, k, p, g, H);
+    *e += sw_mfriction_pair(mc->fr, m->contact.eps_v, k, p, g, H, ev->bound);
     for (int j = 0; ev->grad && j < 12; j++)
       if (v[j / 3] < m->nv) ev->grad[3 * v[j / 3] + j % 3] += g[j];
     if (!ev->hess) continue;
@@ -1730,7 +1730,7 @@ static void state_friction(const sw_model *m, sw_data *d, const mc_place *x) {
     const int *v = sw_mfriction_vertices(mc->fr, k);
     double g[12], p[12];
     gather(m, mc, x, v, p);
-    sw_mfriction_pair(mc->fr, m->contact.eps_v, k, p, g, NULL);
+    sw_mfriction_pair(mc->fr, m->contact.eps_v, k, p, g, NULL, 0);
     for (int j = 0; j < 12; j++) {
       if (v[j / 3] >= m->nv) continue;
       d->friction_force[j % 3] -= g[j];

@@ -17,7 +17,11 @@
  * with the obstacle, so the slip is relative to the obstacle's motion.  f0 is IPC's C1
  * smoothing of |u| below eps = eps_v h, as for the analytic obstacles (models/contact.c):
  * the Hessian mu lambda (c c^T) (x) (f1/y P + (f1' - f1/y) uhat uhat^T) is positive
- * semi-definite as it is (f1' >= 0, f1/y > 0). */
+ * semi-definite as it is (f1' >= 0, f1/y > 0).  Beyond eps it has no curvature along the slip
+ * uhat, where the energy's slope turns as the slip does; with sw_eval.bound it is replaced by
+ * mu lambda (c c^T) (x) f1/y P, the Hessian of the quadratic f0(y) + (|P u|^2 - y^2) f1(y) / 2y
+ * that touches f0(|P u|) at u and lies above it (f1(y)/y >= f1'(y)), as in iteratively
+ * reweighted least squares (docs/contact.md, "Friction's matrix"). */
 #include <math.h>
 #include <string.h>
 
@@ -95,7 +99,7 @@ static double f0_of(double y, double eps, double *q, double *c) {
 }
 
 double sw_mfriction_pair(const sw_mfriction *f, double eps_v, int k, const double *p, double *g,
-                         double *H) {
+                         double *H, int bound) {
   const mf_pair *q = &f->pair[k];
   double u[3] = {0.0, 0.0, 0.0}, un = 0.0, y = 0.0;
   for (int j = 0; j < 4; j++)
@@ -110,7 +114,7 @@ double sw_mfriction_pair(const sw_mfriction *f, double eps_v, int k, const doubl
       for (int a = 0; a < 3; a++) g[3 * j + a] = mul * qy * q->c[j] * u[a];
   if (!H) return e;
   double B[9]; /* d2 f0(|P u|) / du2 */
-  double cyy = y > 0.0 ? cy / (y * y) : 0.0;
+  double cyy = y > 0.0 && !bound ? cy / (y * y) : 0.0;
   for (int a = 0; a < 3; a++)
     for (int b = 0; b < 3; b++)
       B[3 * a + b] = mul * (qy * ((a == b) - q->n[a] * q->n[b]) + cyy * u[a] * u[b]);

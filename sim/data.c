@@ -165,6 +165,7 @@ static int eval_all(const sw_model *m, sw_data *d, const double *x, double t, in
                   .hess = !want_hess ? NULL : into && !kept ? d->hblk : d->hess + d->hoff[k],
                   .sink = into && !kept ? &sink : NULL,
                   .lowrank = want_hess ? d->lowrank + d->loff[k] : NULL, .project = project,
+                  .bound = want_hess && project != SW_FILTER_NONE && d->hess_bound,
                   .data = d->tdata[k]};
     double e = 0.0;
     char why[192] = "";

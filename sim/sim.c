@@ -621,7 +621,7 @@ static void sim_io(sw_sim *s, sw_io *io) {
   IO(d->damp_power), IO(d->dissipated), IO(d->actuation_power), IO(d->work_in);
   IO(d->nstep), IO(d->nnewton), IO(d->nfactor), IO(d->nassemble), IO(d->nforce);
   IO(d->nretry), IO(d->nlinesearch), IO(d->nerrfail), IO(d->nsetup), IO(d->nstep_order);
-  IO(d->ncg);
+  IO(d->ncg), IO(d->nbound);
   IO(d->energy_bound), IO(d->last_newton), IO(d->last_dt);
   IO(d->fit_end), IO(d->fit_steps);
   if (s->fitting && !io->load) d->fit_wall = sw_now() - s->fit_wall0; /* s: the fit's so far */

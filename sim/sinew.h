@@ -113,6 +113,10 @@ typedef struct sw_eval {
                                   for; never NULL then for a term with nlowrank > 0 */
   int project;                 /* SW_FILTER_*: how each block is made positive semi-definite
                                   (SW_FILTER_NONE: the exact Hessian) */
+  int bound;                   /* 1 (with a filter): a block flat along a direction its energy
+                                  bends may be replaced by a positive semi-definite bound above
+                                  it: friction beyond its stick speed (models/mesh_friction.c),
+                                  after a line search backtracked (solvers/newton.c) */
   const struct sw_contact_lag *lag; /* contact friction lagged for the current step, or NULL
                                   (models/contact.c): for a caller that evaluates the term
                                   contact alone; else its workspace in data, when lagged */
@@ -798,6 +802,8 @@ struct sw_data {
   /* counters (cumulative over the run) */
   long nstep, nnewton, nfactor, nassemble, nforce, nretry, nlinesearch;
   long ncg;                    /* conjugate-gradient iterations of Newton-Krylov (reuse) */
+  long nbound;                 /* Newton iterations with friction's bound in their matrix */
+  int hess_bound;              /* 1: the next linearisation asks for sw_eval.bound (Newton) */
   long nerrfail;               /* error-test failures of adaptive methods */
   long nsetup;                 /* linear-solver setups of SUNDIALS methods */
   long nstep_order[5];         /* adaptive methods: steps taken at BDF order 1..5 */

@@ -17,6 +17,7 @@
 #include <string.h>
 
 #include "solver.h"
+#include "terms.h"
 #include "util.h"
 
 /* The per-stencil flags and the buffer of clamped blocks of `hessian: progressive`. */
@@ -54,6 +55,7 @@ int sw_newton_init(sw_newton *nw, const sw_model *m, char *err, size_t errsz) {
   memset(nw, 0, sizeof *nw);
   nw->n = m->ndof;
   nw->nterm = m->nterm;
+  nw->friction = sw_terms_dissipate(m);
   int rc = sw_pattern_build(&nw->pat, m, err, errsz);
   if (rc) return rc;
   nw->factor_mode = SW_CHOL_MODE(m->opt.factorization, m->opt.ordering);
@@ -946,6 +948,8 @@ int sw_newton_solve(sw_newton *nw, const sw_model *m, sw_data *d, double *x, con
   for (int k = 0; k < m->nterm; k++) nw->tfrac[k] = 1.0;
   double prev = 0.0, phi = 0.0; /* max |dx| of the last iteration; Phi at x */
   int redo = 0; /* 1: the same iterate again, with a fresh factorisation */
+  int use_bound = 0; /* 1: friction's bound in the matrix (sw_eval.bound), from a line search that
+                    backtracked until an iteration with it passes the convergence test */
   for (int it = 0; it < o->max_iter; it++) {
     int rc, fresh;
     nw->iter = it;
@@ -953,7 +957,11 @@ int sw_newton_solve(sw_newton *nw, const sw_model *m, sw_data *d, double *x, con
       nw->fac_stale = 1;
       redo = 0;
     } else {
-      if ((rc = linearise(nw, m, d, x, xhat, o, &phi))) return rc;
+      d->hess_bound = use_bound;
+      rc = linearise(nw, m, d, x, xhat, o, &phi);
+      d->hess_bound = 0;
+      if (rc) return rc;
+      d->nbound += use_bound;
       for (int c = 0; c < nw->n; c++) nw->g[c] = -nw->g[c];
     }
 #ifdef SW_NEWTON_PROBE
@@ -982,15 +990,19 @@ int sw_newton_solve(sw_newton *nw, const sw_model *m, sw_data *d, double *x, con
     /* converged: the last update is taken whole, so it must also pass the collision
      * detection every other update passes (a pair outside the barrier's reach at x is not
      * one settled looks at, and a loose tolerance admits a last update longer than d-hat) */
-    if ((left <= o->tol_dx || dxmax <= xfloor || stalled) &&
-        settled(nw, m, d, x, o->t) == 1.0 && ccd(nw, m, d, x, o->t, 1.0) >= 1.0) {
+    int small = left <= o->tol_dx || dxmax <= xfloor || stalled;
+    if (small && use_bound) small = use_bound = 0; /* the update that ends a solve is Newton's own */
+    if (small && settled(nw, m, d, x, o->t) == 1.0 && ccd(nw, m, d, x, o->t, 1.0) >= 1.0) {
       add_step(m, x, nw->dx, 1.0, x);
       /* step: CG's preconditioner is this solve's own factorisation, no correction
        * (docs/integrators.md, "Newton-Krylov") */
       return fresh || o->reuse == SW_REUSE_STEP ? SW_OK : polish(nw, m, d, x, xhat, o);
     }
     if (o->line_search) {
+      long halved = d->nlinesearch;
       rc = sw_newton_line_search(nw, m, d, x, xhat, o, phi, slope);
+      /* friction (the terms that dissipate) has a bound to offer (sw_eval.bound) */
+      use_bound = use_bound || (d->nlinesearch > halved && nw->friction);
       if (rc == SW_RECOVER && !fresh) { /* CG's direction led nowhere: an exact one */
         redo = 1;
         continue;

@@ -212,6 +212,7 @@ typedef struct sw_newton {
   double theta;          /* the last observed contraction |dx_k| / |dx_k-1| */
   double *wdof;          /* (n) each free DOF's share of the free mass, m_i / sum m_i */
   int iter;              /* the current iteration of the solve */
+  int friction;          /* 1: a term dissipates (friction): its bound after a backtrack */
   /* the terms' step limits (sw_term_ops bound, clip, ccd) */
   double *vfrac;         /* (nv) with a term that clips: each vertex's allowed fraction of a
                             step */

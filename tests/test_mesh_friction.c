@@ -80,7 +80,7 @@ static void pair_case(int kind, const double *p0, double slip) {
   double x[12], g[12], H[144];
   const double dir[12] = {0.8, -0.6, 0.3, -0.2, 0.1, 0.0, 0.05, 0.3, -0.1, -0.4, 0.2, 0.1};
   for (int i = 0; i < 12; i++) x[i] = p0[i] + slip * dir[i];
-  double e = sw_mfriction_pair(f, eps_v, 0, x, g, H);
+  double e = sw_mfriction_pair(f, eps_v, 0, x, g, H, 0);
   assert_true(e > 0.0);
   const double h = 1e-3 * fmin(slip, 1e-5); /* m */
   double gmax = 0.0, hmax = 0.0;
@@ -90,9 +90,9 @@ static void pair_case(int kind, const double *p0, double slip) {
     double xp[12], gp[12], gm[12];
     memcpy(xp, x, sizeof xp);
     xp[c] += h;
-    double ep = sw_mfriction_pair(f, eps_v, 0, xp, gp, NULL);
+    double ep = sw_mfriction_pair(f, eps_v, 0, xp, gp, NULL, 0);
     xp[c] -= 2 * h;
-    double em = sw_mfriction_pair(f, eps_v, 0, xp, gm, NULL);
+    double em = sw_mfriction_pair(f, eps_v, 0, xp, gm, NULL, 0);
     double fd = (ep - em) / (2 * h);
     if (fabs(fd - g[c]) > 1e-6 * gmax) print_error("g[%d]: %g fd %g\n", c, g[c], fd);
     assert_true(fabs(fd - g[c]) <= 1e-6 * gmax);
@@ -104,6 +104,24 @@ static void pair_case(int kind, const double *p0, double slip) {
     }
   }
   assert_true(min_eig12(H) >= -1e-12 * hmax);
+  /* the bound Newton's matrix may take instead (sw_eval.bound): the same energy and
+   * gradient, positive semi-definite, above the exact Hessian, and the Hessian of a quadratic
+   * above the energy along the slip (f0 majorised: checked at slips 0.5, 2 and 4 times) */
+  double gb[12], Hb[144], D[144];
+  assert_true(sw_mfriction_pair(f, eps_v, 0, x, gb, Hb, 1) == e);
+  assert_memory_equal(g, gb, sizeof g);
+  for (int i = 0; i < 144; i++) D[i] = Hb[i] - H[i];
+  assert_true(min_eig12(Hb) >= -1e-12 * hmax);
+  assert_true(min_eig12(D) >= -1e-12 * hmax);
+  for (int s = 0; s < 3; s++) {
+    double t = s == 0 ? -0.5 : s == 1 ? 1.0 : 3.0, xq[12], q = e; /* x + t (x - p0) */
+    for (int i = 0; i < 12; i++) xq[i] = x[i] + t * (x[i] - p0[i]);
+    for (int i = 0; i < 12; i++) q += gb[i] * t * (x[i] - p0[i]);
+    for (int i = 0; i < 12; i++)
+      for (int j = 0; j < 12; j++) q += 0.5 * t * t * (x[i] - p0[i]) * Hb[i * 12 + j] * (x[j] - p0[j]);
+    double eq = sw_mfriction_pair(f, eps_v, 0, xq, NULL, NULL, 0);
+    assert_true(eq <= q * (1.0 + 1e-9) + 1e-18);
+  }
   sw_mfriction_free(f);
 }
 

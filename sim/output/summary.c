@@ -118,6 +118,7 @@ static void summary_counters(out_file *w, const sw_model *m, const sw_data *d, d
   w_json_long(w, "retries", d->nretry);
   w_json_long(w, "linesearch_backtracks", d->nlinesearch);
   w_json_long(w, "cg_iterations", d->ncg);
+  w_json_long(w, "newton_bound_iterations", d->nbound);
   w_json_long(w, "error_test_failures", d->nerrfail);
   w_json_long(w, "linear_setups", d->nsetup);
   if (sw_method_adaptive(m->opt.method) == 1) { /* steps at BDF order 1..5 */
