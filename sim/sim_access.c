@@ -80,13 +80,14 @@ int *sw_sim_iarray(sw_sim *s, const char *name, int *rows, int *cols) {
 
 static const char *const counter_names[] = {"nstep",  "nnewton",     "nfactor",  "nassemble",
                                             "nforce", "nretry",      "nlinesearch", "nerrfail",
-                                            "nsetup", "ncg"};
+                                            "nsetup", "ncg", "nbound"};
 #define NCOUNTER (int)(sizeof counter_names / sizeof *counter_names)
 
 int sw_sim_counters(const sw_sim *s, long *out, int n) {
   const sw_data *d = sw_sim_data(s);
   const long vals[NCOUNTER] = {d->nstep,  d->nnewton,     d->nfactor,  d->nassemble, d->nforce,
-                               d->nretry, d->nlinesearch, d->nerrfail, d->nsetup,    d->ncg};
+                               d->nretry, d->nlinesearch, d->nerrfail, d->nsetup,    d->ncg,
+                               d->nbound};
   for (int k = 0; k < n && k < NCOUNTER; k++) out[k] = vals[k];
   return NCOUNTER;
 }

@@ -990,7 +990,7 @@ SW_API int sw_term_find(const sw_model *m, const char *name);
 SW_API double *sw_sim_array(sw_sim *s, const char *name, int *rows, int *cols);
 SW_API int *sw_sim_iarray(sw_sim *s, const char *name, int *rows, int *cols);
 /* A counter of sw_data by its field name ("nstep", "nnewton", "nfactor", "nassemble",
- * "nforce", "nretry", "nlinesearch", "nerrfail", "nsetup", "ncg"), or -1. */
+ * "nforce", "nretry", "nlinesearch", "nerrfail", "nsetup", "ncg", "nbound"), or -1. */
 SW_API long sw_sim_counter(const sw_sim *s, const char *name);
 /* The first n of those counters, in that order, into out; returns how many there are. */
 SW_API int sw_sim_counters(const sw_sim *s, long *out, int n);

@@ -364,7 +364,7 @@ static void dt_times_close(void **state) {
   rest[0] = -1.0;
   assert_int_not_equal(sw_sim_set_rests(s, rest, err, sizeof err), 0);
   long c[16];
-  assert_int_equal(sw_sim_counters(s, c, 16), 10);
+  assert_int_equal(sw_sim_counters(s, c, 16), 11);
   assert_int_equal(c[0], sw_sim_counter(s, "nstep"));
   assert_int_equal(sw_sim_close(s, err, sizeof err), 0);
   assert_int_not_equal(sw_sim_step(s, err, sizeof err), 0);

@@ -251,7 +251,7 @@ class State:
 
 
 _COUNTERS = ("nstep", "nnewton", "nfactor", "nassemble", "nforce", "nretry", "nlinesearch",
-             "nerrfail", "nsetup", "ncg")  # sw_sim_counters' order
+             "nerrfail", "nsetup", "ncg", "nbound")  # sw_sim_counters' order
 _READ_VIEWS = {"positions": "x", "velocities": "v", "initial_positions": "x0", "masses": "mass",
                "tension_xy": "tension_xy", "stretch_u": "stretch_u", "stretch_v": "stretch_v",
                "shear": "shear", "tendon_length": "tendon_length",
