@@ -633,6 +633,27 @@ static int query_tree(sw_mcontact *mc, const sw_bp_input *in, const int *idx, in
  * the cloth's swept boxes in the obstacles' tree (the vertices and edges of the faces found,
  * each once), so the cost grows with the cloth and the part of a body near it.  -1 when the
  * places are not finite or out of memory. */
+/* The pairs `want` of the cloth's primitives with the obstacles' tree appended to mc->bp's
+ * lists: every primitive through its face's near list (near_faces first), or with mark those
+ * with a marked vertex alone, each by a query of the tree itself; -1 as query_tree. */
+static int tree_pairs(const sw_model *m, sw_mcontact *mc, const sw_bp_input *in,
+                      const tree_ctx *c, const unsigned char *mark, int want) {
+  sw_broadphase *bp = &mc->bp;
+  const mc_param *p = mc->p;
+  hit_arg pt = {mc, c, &bp->pt, &bp->npt, &bp->cap_pt, 2, 0, 0, NULL, 0};
+  hit_arg tp = {mc, c, &bp->pt, &bp->npt, &bp->cap_pt, 0, 0, 1, NULL, 0};
+  hit_arg ee = {mc, c, &bp->ee, &bp->nee, &bp->cap_ee, 1, 0, 0, NULL, 0};
+  hit_arg ff = {mc, c, &bp->ff, &bp->nff, &bp->cap_ff, 2, 0, 0, NULL, 0};
+  int rc = 0;
+  if (want & SW_BP_PT)
+    rc = query_tree(mc, in, NULL, 1, m->nv, mark ? NULL : p->vface, mark, &pt) ||
+         query_tree(mc, in, m->face, 3, m->nf, NULL, mark, &tp);
+  if (!rc && (want & SW_BP_EE))
+    rc = query_tree(mc, in, p->edge, 2, p->ne_cloth, mark ? NULL : p->eface, mark, &ee);
+  if (!rc && (want & SW_BP_FF)) rc = query_tree(mc, in, m->face, 3, m->nf, NULL, mark, &ff);
+  return rc ? -1 : 0;
+}
+
 static int broad_phase(const sw_model *m, sw_mcontact *mc, const mc_place *x0,
                        const mc_place *x1, double inflate, int want) {
   sw_broadphase *bp = &mc->bp;
@@ -644,18 +665,7 @@ static int broad_phase(const sw_model *m, sw_mcontact *mc, const mc_place *x0,
   if (mc->p->nvt == m->nv) return 0;
   fit_tree(m, mc, x0, x1);
   tree_ctx c = {m, mc->p, x0, x1};
-  hit_arg pt = {mc, &c, &bp->pt, &bp->npt, &bp->cap_pt, 2, 0, 0, NULL, 0};
-  hit_arg tp = {mc, &c, &bp->pt, &bp->npt, &bp->cap_pt, 0, 0, 1, NULL, 0};
-  hit_arg ee = {mc, &c, &bp->ee, &bp->nee, &bp->cap_ee, 1, 0, 0, NULL, 0};
-  hit_arg ff = {mc, &c, &bp->ff, &bp->nff, &bp->cap_ff, 2, 0, 0, NULL, 0};
-  const mc_param *p = mc->p;
-  int rc = near_faces(mc, &in, &c, 2.0 * inflate);
-  if (!rc && (want & SW_BP_PT))
-    rc = query_tree(mc, &in, NULL, 1, m->nv, p->vface, NULL, &pt) ||
-         query_tree(mc, &in, m->face, 3, m->nf, NULL, NULL, &tp);
-  if (!rc && (want & SW_BP_EE))
-    rc = query_tree(mc, &in, p->edge, 2, p->ne_cloth, p->eface, NULL, &ee);
-  if (!rc && (want & SW_BP_FF)) rc = query_tree(mc, &in, m->face, 3, m->nf, NULL, NULL, &ff);
+  int rc = near_faces(mc, &in, &c, 2.0 * inflate) || tree_pairs(m, mc, &in, &c, NULL, want);
   if (rc) bp->npt = bp->nee = bp->nff = 0;
   return rc ? -1 : 0;
 }
@@ -887,15 +897,8 @@ static int moved_pairs(const sw_model *m, sw_mcontact *mc, const mc_place *x0,
       sw_broadphase_query_marked(bp, &in, SW_BP_PT | SW_BP_EE, mc->moved))
     return -1;
   if (mc->p->nvt == m->nv) return 0;
-  const mc_param *p = mc->p;
-  tree_ctx c = {m, p, x0, x1}; /* the obstacles' places (they do not move) */
-  hit_arg pt = {mc, &c, &bp->pt, &bp->npt, &bp->cap_pt, 2, 0, 0, NULL, 0};
-  hit_arg tp = {mc, &c, &bp->pt, &bp->npt, &bp->cap_pt, 0, 0, 1, NULL, 0};
-  hit_arg ee = {mc, &c, &bp->ee, &bp->nee, &bp->cap_ee, 1, 0, 0, NULL, 0};
-  return query_tree(mc, &in, NULL, 1, m->nv, NULL, mc->moved, &pt) ||
-                 query_tree(mc, &in, m->face, 3, m->nf, NULL, mc->moved, &tp) ||
-                 query_tree(mc, &in, p->edge, 2, p->ne_cloth, NULL, mc->moved, &ee)
-             ? -1 : 0;
+  tree_ctx c = {m, mc->p, x0, x1}; /* the obstacles' places (they do not move) */
+  return tree_pairs(m, mc, &in, &c, mc->moved, SW_BP_PT | SW_BP_EE);
 }
 
 /* The kept candidates on the way to a renewal at x0: each cloth vertex's xref moved to x0 and
