@@ -36,6 +36,19 @@ void GOMP_parallel(void (*fn)(void *), void *data, unsigned num_threads, unsigne
   else fn(data);
 }
 
+/* OpenBLAS' pthreads build starts its worker threads as it is loaded (one on 2 cores), and a
+ * worker with no work spins on sched_yield for its timeout (2^28 clock ticks, about 0.1 s here)
+ * before it sleeps: 0.1 s of CPU for every process, 5 % of a garment's run.  With one BLAS
+ * thread they never get work, so they are stopped (blas_thread_shutdown_, OpenBLAS'
+ * driver/others/blas_server.c); a later request for more threads starts them again (its
+ * exec_blas re-creates the pool).  Looked up at run time: absent from the OpenMP and serial
+ * builds of OpenBLAS and from other BLAS, which have no such threads. */
+static void idle_blas_workers_stop(void) {
+  int (*shutdown)(void);
+  *(void **)&shutdown = dlsym(RTLD_DEFAULT, "blas_thread_shutdown_");
+  if (shutdown) (void)shutdown();
+}
+
 /* Threads (docs/performance.md).  Debian's CHOLMOD runs small loops of its factorisation on 4
  * OpenMP threads, compiled in; on 2 cores they fight and a step got 2.3x slower, so nested
  * OpenMP parallelism is switched off unless the user sets OMP_MAX_ACTIVE_LEVELS or
@@ -48,6 +61,8 @@ void sw_set_threads(int blas_threads) {
     *(void **)&set_levels = dlsym(RTLD_DEFAULT, "omp_set_max_active_levels");
     if (set_levels) set_levels(0);
   }
+  int one = blas_threads == 1 || (blas_threads <= 0 && !getenv("OPENBLAS_NUM_THREADS"));
   if (blas_threads > 0) openblas_set_num_threads(blas_threads);
-  else if (!getenv("OPENBLAS_NUM_THREADS")) openblas_set_num_threads(1);
+  else if (one) openblas_set_num_threads(1);
+  if (one) idle_blas_workers_stop();
 }

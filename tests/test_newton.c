@@ -1,7 +1,7 @@
 /* test_newton.c — Newton-Krylov on a lagged factorisation (the direction conjugate gradients
  * give against a fresh factorisation's, runs with and without reuse), the factorisation chosen
- * by size, one copy of the system without reuse, CHOLMOD's OpenMP regions run serially, and
- * the gathered garment that used to fail. */
+ * by size, one copy of the system without reuse, CHOLMOD's OpenMP regions run serially,
+ * the idle BLAS workers stopped, and the gathered garment that used to fail. */
 #define _GNU_SOURCE /* dlsym(RTLD_DEFAULT) */
 #include <math.h>
 #include <setjmp.h>
@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <cmocka.h>
+#include <dirent.h>
 #include <dlfcn.h>
 
 #include "harness.h"
@@ -270,6 +271,31 @@ static void openmp_regions_serial(void **state) {
   assert_int_equal(c[1], 1);
 }
 
+/* The threads of this process (/proc/self/task), or -1 where that cannot be read. */
+static int task_count(void) {
+  DIR *dir = opendir("/proc/self/task");
+  if (!dir) return -1;
+  int n = 0;
+  for (struct dirent *e; (e = readdir(dir));) n += e->d_name[0] != '.';
+  closedir(dir);
+  return n;
+}
+
+/* One BLAS thread (sim/threads.c): OpenBLAS' idle workers, which spin for 0.1 s of CPU after
+ * they start, are stopped, so the process is left with its own thread alone; a factorisation
+ * after that still runs (garment_gather, next). */
+static void idle_blas_workers_stopped(void **state) {
+  (void)state;
+  const char *env = getenv("OPENBLAS_NUM_THREADS");
+  if (env && atoi(env) != 1) skip(); /* the user's threads are kept */
+  int before = task_count();
+  if (before < 0) skip();
+  sw_set_threads(1);
+  int after = task_count();
+  print_message("threads before and after sw_set_threads(1): %d, %d\n", before, after);
+  assert_int_equal(after, 1);
+}
+
 /* scenes/garment_gather.yaml (StVK and bw98 panels, quadratic bending, a cable drawstring
  * gathering the hem to 60 %): every step of 10 ms converges without halving, and the hem is
  * gathered (the drawstring's length below 70 % of its initial length at the end). */
@@ -303,6 +329,7 @@ int main(void) {
       cmocka_unit_test(size_rule),
       cmocka_unit_test(one_copy_of_system),
       cmocka_unit_test(openmp_regions_serial),
+      cmocka_unit_test(idle_blas_workers_stopped),
       cmocka_unit_test(garment_gather),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
