@@ -214,9 +214,10 @@ typedef struct sw_term_ops {
    * t1) passed through a constraint on the way */
   int (*swept)(const sw_term *term, const sw_model *m, sw_data *d, void *data,
                const double *y, double t1);
-  /* after Newton failed at x, time t: 1 when the term held the last update below half (frac:
-   * what its ccd allowed, vfrac: the clip's fractions or NULL), with the obstacle (scene
-   * item, or -1) into *item, the vertex into *vertex and its fraction into *held */
+  /* after Newton failed at x, time t: 1 when the term held an update of the solve below half
+   * (frac: what its ccd allowed of the last update, vfrac: each vertex's smallest clip
+   * fraction over the solve, or NULL), with the obstacle (scene item, or -1) into *item, the
+   * vertex into *vertex and its fraction into *held */
   int (*held)(const sw_term *term, const sw_model *m, const sw_data *d, const void *data,
               const double *x, double t, const double *vfrac, double frac, int *item,
               int *vertex, double *held);

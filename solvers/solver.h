@@ -217,6 +217,8 @@ typedef struct sw_newton {
   double *vfrac;         /* (nv) with a term that clips: each vertex's allowed fraction of a
                             step */
   double *vtmp;          /* (nv) with two or more such terms: the next one's fractions */
+  double *vheld;         /* (nv) with a term that clips: each vertex's smallest fraction in
+                            this solve, what a failure names (sw_term_ops held) */
   double *tfrac;         /* (nterm) the fraction of the last update each term's ccd allowed */
   int nblock_terms;      /* terms with extra Hessian blocks (sw_term_ops.blocks) */
   /* the vertex pairs the terms' extra blocks have coupled so far, on top of the stencils'
