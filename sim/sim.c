@@ -646,6 +646,18 @@ static void sim_io(sw_sim *s, sw_io *io) {
   if (s->ops->history) s->ops->history(s->st, s->m, io);
 }
 
+uint64_t sw_sim_restart_shape(sw_sim *s) {
+  sw_io io = {0};
+  restart_head h;
+  head_of(s->m, &h);
+  sw_io_bytes(&io, &h, sizeof h);
+  sw_io_bytes(&io, s->m->input, (size_t)s->m->ninput * sizeof *s->m->input);
+  sim_io(s, &io);
+  uint64_t shape = io.shape;
+  sw_io_free(&io);
+  return shape;
+}
+
 /* restart.bin of the current state (with a frame, and when the run stops). */
 static int write_restart(sw_sim *s, char *err, size_t errsz) {
   if (!s->started || !s->out || !s->ops) return SW_OK; /* a static solve: nothing to resume */

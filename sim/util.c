@@ -112,6 +112,8 @@ void sw_names_free(sw_names *t) {
 /* ------------------------------------------------ restart files (util.h) */
 
 void sw_io_bytes(sw_io *io, void *p, size_t n) {
+  uint64_t size = n;
+  io->shape = sw_hash64(io->shape ? io->shape : SW_HASH0, &size, sizeof size);
   if (io->bad || n == 0) return; /* n == 0: p may be NULL (an empty array) */
   if (io->load) {
     if (n > io->len - io->pos) {

@@ -50,11 +50,19 @@ typedef struct sw_io {
   unsigned char *buf;      /* the file's bytes */
   size_t len, cap, pos;    /* bytes held, allocated, read so far */
   int bad;                 /* loading: past the end, or a check failed; saving: out of memory */
+  uint64_t shape;          /* FNV-1a of the pieces' sizes in order: the layout (its test) */
 } sw_io;
 
 /* restart.bin begins with this magic, whose last two characters are the format's version, and
  * ends with the FNV-1a 64 of all the bytes before it (restart.c). */
-#define SW_RESTART_MAGIC "SWREST05"
+#define SW_RESTART_MAGIC "SWREST06"
+/* The layout of the run loop's part of restart.bin for test_sim's scene: any change of it
+ * (a field, an option, a counter) is a new format, so this and the magic's version change
+ * together (test_sim's restart_layout). */
+#define SW_RESTART_SHAPE 0xa00c2419ffe906b3u
+struct sw_sim;
+/* The shape (sw_io.shape) of the header and the run loop's part of a restart file of sim s. */
+uint64_t sw_sim_restart_shape(struct sw_sim *s);
 
 /* n bytes at p into (saving) or out of (loading) io. */
 void sw_io_bytes(sw_io *io, void *p, size_t n);

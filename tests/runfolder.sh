@@ -248,7 +248,7 @@ resume_refused "two flipped bits" "sq/restart.bin: damaged: its checksum does no
 head -c 1000 "$tmp/restart.good" >"$tmp/sq/restart.bin"
 resume_refused "a cut restart.bin" "sq/restart.bin: damaged"
 printf 'SWREST01' | dd of="$tmp/sq/restart.bin" conv=notrunc status=none
-resume_refused "an older format" "a restart file of format 01; expected format 05"
+resume_refused "an older format" "a restart file of format 01; expected format 06"
 cp "$tmp/restart.good" "$tmp/sq/restart.bin"
 sed -i 's/density: 0.1/density: 5/' "$tmp/sq.yaml"
 resume_refused "an edited scene" "the model changed: the scene file '.*sq.yaml' changed since the run"

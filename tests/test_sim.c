@@ -14,6 +14,7 @@
 #include <cmocka.h>
 
 #include "harness.h"
+#include "util.h"
 
 /* A 6 x 6 cloth hung from its top edge, a spring tendon through its bottom row whose rest
  * length is REST (printed into the text), membrane stiffness k (N/m; the tendon k/6, shear
@@ -374,6 +375,40 @@ static void dt_times_close(void **state) {
   sw_model_free(m);
 }
 
+/* The layout of restart.bin's header and run loop part (sim.c sim_io: every field's size, in
+ * order) for a cloth with self-contact over a sphere, a tendon, backward Euler: a resumed run
+ * reads the bytes of its own format's layout, so a change of it (a counter, an option, a
+ * term's state) must come with a new format version, which refuses the older files
+ * ("format 05; expected format 06") instead of reading them shifted.  When this fails: bump
+ * SW_RESTART_MAGIC's version and set SW_RESTART_SHAPE (sim/util.h) to the shape printed.  On
+ * LP64 only (the sizes of the structs are the platform's). */
+static void restart_layout(void **state) {
+  (void)state;
+  if (sizeof(void *) != 8 || sizeof(long) != 8) skip();
+  sw_model *m = th_scene("layout.yaml",
+      "dimension: 3\n"
+      "mesh: {grid: {size: [0.5, 0.5], vertices: [6, 6], plane: xy}}\n"
+      "material: {density: 0.1, membrane: {model: bw98, k_u: 500, k_v: 500, k_shear: 20}}\n"
+      "gravity: [0, 0, -9.81]\n"
+      "obstacles: [{shape: sphere, center: [0.25, 0.25, -0.21], radius: 0.2}]\n"
+      "contact: {self: true, thickness: 1e-3, friction: 0.3}\n"
+      "tendons: [{name: hem, waypoints: [0, 1, 2, 3, 4, 5], law: spring, stiffness: 50}]\n"
+      "integrator: {method: backward-euler, dt: 0.01}\n"
+      "duration: 0.05\n");
+  assert_non_null(m);
+  char err[SW_ERRSZ];
+  sw_sim *s = sw_sim_new(m, 0, err, sizeof err);
+  assert_non_null(s);
+  assert_int_equal(sw_sim_step(s, err, sizeof err), 0);
+  uint64_t shape = sw_sim_restart_shape(s);
+  print_message("restart format %s, layout 0x%016llx (recorded: 0x%016llx)\n",
+                SW_RESTART_MAGIC + 6, (unsigned long long)shape,
+                (unsigned long long)SW_RESTART_SHAPE);
+  assert_true(shape == SW_RESTART_SHAPE);
+  sw_sim_free(s);
+  sw_model_free(m);
+}
+
 int main(void) {
   const struct CMUnitTest tests[] = {
       cmocka_unit_test(state_copy_and_reset_be),
@@ -389,6 +424,7 @@ int main(void) {
       cmocka_unit_test(cvode_pin_move),
       cmocka_unit_test(static_after_rest_change),
       cmocka_unit_test(bad_changes),
+      cmocka_unit_test(restart_layout),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
