@@ -9,7 +9,7 @@
 # candidate listings made and renewed, the self-contact CCD and broad-phase wall time, the
 # contact term's evaluation time, the step time, status and intersections (summary.json).
 # OUT=file (default /tmp/bench_builds.csv).  docs/contact.md, "Renewed listings" and
-# "Friction's matrix".
+# "Friction's matrix"; docs/performance.md, "On another machine, with round-off variants".
 set -euo pipefail
 cd "$(dirname "$0")/.."
 [ $# -ge 1 ] || { echo "usage: tools/bench_builds.sh BUILD_DIR..." >&2; exit 2; }
