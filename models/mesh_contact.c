@@ -628,11 +628,6 @@ static int query_tree(sw_mcontact *mc, const sw_bp_input *in, const int *idx, in
   return 0;
 }
 
-/* The term's broad phase into mc->bp: the cloth's own pairs from the spatial hash
- * (sw_broadphase_query, with self-contact only), its pairs with the obstacles from queries of
- * the cloth's swept boxes in the obstacles' tree (the vertices and edges of the faces found,
- * each once), so the cost grows with the cloth and the part of a body near it.  -1 when the
- * places are not finite or out of memory. */
 /* The pairs `want` of the cloth's primitives with the obstacles' tree appended to mc->bp's
  * lists: every primitive through its face's near list (near_faces first), or with mark those
  * with a marked vertex alone, each by a query of the tree itself; -1 as query_tree. */
@@ -654,6 +649,11 @@ static int tree_pairs(const sw_model *m, sw_mcontact *mc, const sw_bp_input *in,
   return rc ? -1 : 0;
 }
 
+/* The term's broad phase into mc->bp: the cloth's own pairs from the spatial hash
+ * (sw_broadphase_query, with self-contact only), its pairs with the obstacles from queries of
+ * the cloth's swept boxes in the obstacles' tree (the vertices and edges of the faces found,
+ * each once), so the cost grows with the cloth and the part of a body near it.  -1 when the
+ * places are not finite or out of memory. */
 static int broad_phase(const sw_model *m, sw_mcontact *mc, const mc_place *x0,
                        const mc_place *x1, double inflate, int want) {
   sw_broadphase *bp = &mc->bp;
