@@ -804,13 +804,13 @@ struct sw_data {
   long nstep, nnewton, nfactor, nassemble, nforce, nretry, nlinesearch;
   long ncg;                    /* conjugate-gradient iterations of Newton-Krylov (reuse) */
   long nbound;                 /* Newton iterations with friction's bound in their matrix */
-  int hess_bound;              /* 1: the next linearisation asks for sw_eval.bound (Newton) */
   long nerrfail;               /* error-test failures of adaptive methods */
   long nsetup;                 /* linear-solver setups of SUNDIALS methods */
   long nstep_order[5];         /* adaptive methods: steps taken at BDF order 1..5 */
   double energy_bound;         /* J: a step whose K + U exceeds this fails (0: no check; sw_run
                                   sets it from opt.energy_bound) */
   int last_newton;             /* Newton iterations of the last step */
+  int hess_bound;              /* 1: the next linearisation asks for sw_eval.bound (Newton) */
   sw_static_info static_info;  /* where the last static solve stopped (sw_static_solve) */
   double last_dt;              /* size of the last accepted step, s */
   double time_assemble, time_factor, time_solve, time_step; /* s of wall time */
