@@ -4,9 +4,13 @@
 # skirt_dxf,tshirt_dxf}.yaml; the gather and the drawstring have none, so no fit), REPS times
 # (default 1), the runs interleaved per garment and repetition.  RUNS lists them (default
 # "dynamic optimize settle"): `dynamic`, `optimize` and `settle` are the fit modes, `dt=H` the
-# dynamic fit with steps of H s; the reference, the dynamic fit at the scene's own fit step
-# followed by a static solve (`--method static`, with the dynamic fit's compact bending
-# matrix), is always run.  Each is the fit alone
+# dynamic fit with steps of H s, `tol=T` the dynamic fit with Newton's tolerance `fit.newton_tol`
+# T m/s, and `+` joins them (`tol=1e-4+dt=0.005`); the reference, the dynamic fit at the scene's
+# own fit step followed by a static solve (`--method static`, with the dynamic fit's compact
+# bending matrix), is always run.  REFS lists accurate fits in the same notation (say "tol=1e-4
+# tol=1e-5 tol=1e-4+dt=0.005"), each followed by the static solve like the reference: the table
+# then measures every run against each of them and prints their spread among themselves (a
+# garment whose rest state the fit's own accuracy does not decide to 1 mm).  Each is the fit alone
 # (`--duration 0`, one BLAS thread, positions.bin at every step: its last record is the end);
 # CPU time is the process's user time.  Writes docs/bench/fit/fit.csv (one row per run) and
 # docs/bench/fit/fit.md (the table: CPU and Newton iterations of each fit, their ratios to the
@@ -26,18 +30,26 @@ csv=$out/fit.csv
 echo "garment,rep,run,status,cpu_s,fit_steps,fit_end_s,newton_iterations,static_iterations,retries,seam_gap_max_m,self_intersections,txy_mean,txy_p95,txy_max" >"$csv"
 for r in $(seq "$reps"); do
   for g in ${GARMENTS:-skirt tank tshirt skirt_dxf tshirt_dxf}; do
-    for run in ${RUNS:-dynamic optimize settle} static; do
+    refs=()
+    for x in ${REFS:-}; do refs+=("ref:$x"); done
+    for run in ${RUNS:-dynamic optimize settle} static "${refs[@]}"; do
       # the scene beside the shipped one (its files are found from its folder)
       sc=scenes/.bench_fit_${g}_$run.yaml
       scenes+=("$sc")
       cp "scenes/garment_$g.yaml" "$sc"
-      mode=dynamic extra=() step=""
-      [ "$run" = optimize ] || [ "$run" = settle ] && mode=$run
+      mode=dynamic extra=() opts=""
       # the reference's fit is the dynamic one's: with --method static the automatic bending
       # matrix would be the exact one for the fit too (docs/integrators.md, "The bending matrix")
-      [ "$run" = static ] && extra=(--method static --bending-matrix compact)
-      case $run in dt=*) step=", dt: ${run#dt=}" ;; esac
-      echo "fit: {mode: $mode$step}" >>"$sc"
+      case $run in static | ref:*) extra=(--method static --bending-matrix compact) ;; esac
+      IFS=+ read -ra parts <<<"${run#ref:}"
+      for p in "${parts[@]}"; do
+        case $p in
+          optimize | settle) mode=$p ;;
+          dt=*) opts+=", dt: ${p#dt=}" ;;
+          tol=*) opts+=", newton_tol: ${p#tol=}" ;;
+        esac
+      done
+      echo "fit: {mode: $mode$opts}" >>"$sc"
       d=$work/$g-$run-$r
       /usr/bin/time -f %U -o "$d.cpu" "$bin" run "$sc" --out "$d" --duration 0 --no-frames \
         --positions-every 1e-6 --threads 1 --quiet "${extra[@]}" >/dev/null 2>"$d.err" || true
