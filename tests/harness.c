@@ -230,6 +230,13 @@ sw_model *th_scene(const char *name, const char *text) {
   return m;
 }
 
+sw_model *th_scene_file(const char *path) {
+  char err[SW_ERRSZ];
+  sw_model *m = sw_scene_load(path, err, sizeof err);
+  if (!m) fprintf(stderr, "%s\n", err);
+  return m;
+}
+
 double th_peirce_angle(const sw_model *m) {
   char err[SW_ERRSZ];
   sw_data *d = sw_data_new(m);

@@ -40,6 +40,9 @@ void th_add_tendon(sw_model *m, const int *way, int nway, int law, double K, dou
                    double density);
 /* A scene from YAML text (the name is used in messages); NULL with the message printed. */
 sw_model *th_scene(const char *name, const char *text);
+/* The scene file at path (relative to the source root, where the tests run); NULL with the
+ * message printed. */
+sw_model *th_scene_file(const char *path);
 /* Fails the test unless |got - want| <= tol, printing both. */
 void th_near(double got, double want, double tol);
 /* The measured fabric NAME of the shipped presets (docs/fabrics.md), read from its file's text;

@@ -229,8 +229,7 @@ static void drop_on_sphere(void **st) {
 static void drape_line_search(void **st) {
   (void)st;
   char err[SW_ERRSZ];
-  sw_model *m = sw_scene_load("scenes/drape_mesh.yaml", err, sizeof err);
-  if (!m) print_error("%s\n", err);
+  sw_model *m = th_scene_file("scenes/drape_mesh.yaml");
   assert_non_null(m);
   sw_sim *s = sw_sim_new(m, 0, err, sizeof err);
   assert_non_null(s);

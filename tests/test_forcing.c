@@ -245,8 +245,7 @@ static void point_mass_hangs(void **st) {
  * over the vertices at the end, and x (nv x 3) into xout. */
 static double drawstring_y(double amplitude, unsigned long seed, double *xout) {
   char err[SW_ERRSZ];
-  sw_model *m = sw_scene_load("scenes/cloth_drawstring.yaml", err, sizeof err);
-  if (!m) print_error("%s\n", err);
+  sw_model *m = th_scene_file("scenes/cloth_drawstring.yaml");
   assert_non_null(m);
   if (amplitude != m->perturb_amplitude || seed != m->perturb_seed) { /* again, perturbed anew */
     sw_model_free(m);

@@ -51,8 +51,7 @@ static void static_reactions_2d(void **st) { (void)st, static_reactions(2); }
 static void default_scene_corner_drops(void **st) {
   (void)st;
   char err[SW_ERRSZ];
-  sw_model *m = sw_scene_load("scenes/hanging_cloth.yaml", err, sizeof err);
-  if (!m) print_error("%s\n", err);
+  sw_model *m = th_scene_file("scenes/hanging_cloth.yaml");
   assert_non_null(m);
   sw_data *d = sw_data_new(m);
   const sw_integrator_ops *ops = sw_integrator_find(m->opt.method);

@@ -97,8 +97,7 @@ static void pairing(void **st) {
 static void tube_fit(void **st) {
   (void)st;
   char err[SW_ERRSZ];
-  sw_model *m = sw_scene_load("tests/data/tube_seams.yaml", err, sizeof err);
-  if (!m) print_error("%s\n", err);
+  sw_model *m = th_scene_file("tests/data/tube_seams.yaml");
   assert_non_null(m);
   assert_int_equal(m->opt.tx_reference_uv, 1); /* the default with seams */
   assert_true(m->fit.on);
@@ -360,9 +359,7 @@ static int is_sewn(const sw_model *m, int a, int b) {
  * only near its partner. */
 static void junction(void **st) {
   (void)st;
-  char err[SW_ERRSZ];
-  sw_model *m = sw_scene_load("scenes/garment_tshirt.yaml", err, sizeof err);
-  if (!m) print_error("%s\n", err);
+  sw_model *m = th_scene_file("scenes/garment_tshirt.yaml");
   assert_non_null(m);
   /* the left underarm: sleeve corners 566, 578; front armpit 112, back armpit 379 */
   const int at[4] = {566, 578, 112, 379};
