@@ -16,13 +16,15 @@
 # docs/bench/fit/fit.md (the table: CPU and Newton iterations of each fit, their ratios to the
 # dynamic fit's, and each fit against the reference: RMS and largest distance of the final
 # positions, relative change of tension XY's mean and 95th percentile, largest seam gap,
-# self-intersections); OUT=DIR writes them elsewhere.  GARMENTS="skirt tank" runs some of them.
+# self-intersections); OUT=DIR writes them elsewhere, KEEP=DIR keeps the final positions there
+# (GARMENT-RUN-REP.bin, for tools/fit_table.py).  GARMENTS="skirt tank" runs some of them.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bin=${1:-build/sinew}
 reps=${REPS:-1}
 out=${OUT:-docs/bench/fit}
 work=$(mktemp -d)
+pos=${KEEP:-$work/pos}
 scenes=()
 trap 'rm -rf "$work" "${scenes[@]}"' EXIT
 mkdir -p "$out"
@@ -63,11 +65,11 @@ print(",".join(str(v) for v in (g, rep, run, s["status"], cpu, s["fit_steps"], s
       s["newton_iterations"], s.get("static_iterations", 0), s.get("retries", 0),
       s["seam_gap_max"], s["self_intersections"], t["txy_mean"], t["txy_p95"], t["txy_max"])))
 PY
-      mkdir -p "$work/pos"
-      cp "$d/positions.bin" "$work/pos/$g-$run-$r.bin" 2>/dev/null || true
+      mkdir -p "$pos"
+      cp "$d/positions.bin" "$pos/$g-$run-$r.bin" 2>/dev/null || true
       rm -rf "$d"
     done
   done
 done
-/usr/bin/python3 tools/fit_table.py "$csv" "$work/pos" >"$out/fit.md"
+/usr/bin/python3 tools/fit_table.py "$csv" "$pos" >"$out/fit.md"
 cat "$out/fit.md"
