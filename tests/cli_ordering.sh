@@ -8,19 +8,16 @@
 # factor (fewer nonzeros than with the exact one) and the exact matrix's positions to Newton's
 # tolerance; a bad value is refused, naming the choices, and writes nothing.
 . "$(dirname "$0")/lib.sh"
-py=/usr/bin/python3
+py="/usr/bin/python3 -B"
 json() { $py -c "import json,sys; print(json.load(open('$1')).get('$2'))"; }
 # last_apart A B LO HI: the largest coordinate difference of two positions.bin files' last
 # records, printed, and whether LO <= it < HI (m)
 last_apart() {
   $py - "$@" <<'PY'
 import sys, numpy as np
-def last(p):
-    raw = open(p, "rb").read()
-    nv, dim = np.frombuffer(raw[8:16], dtype=np.int32)
-    rec = 1 + int(nv) * int(dim)
-    return np.frombuffer(raw[16:], dtype=np.float64).reshape(-1, rec)[-1, 1:]
-a, b = last(sys.argv[1]), last(sys.argv[2])
+sys.path.insert(0, "tools")
+from positions_diff import records
+a, b = (records(p)[1][-1] for p in sys.argv[1:3])
 d = np.abs(a - b).max()
 print(f"max |x_a - x_b| = {d:.3g} m")
 sys.exit(not float(sys.argv[3]) <= d < float(sys.argv[4]))

@@ -71,5 +71,5 @@ PY
     done
   done
 done
-/usr/bin/python3 tools/fit_table.py "$csv" "$pos" >"$out/fit.md"
+/usr/bin/python3 -B tools/fit_table.py "$csv" "$pos" >"$out/fit.md"
 cat "$out/fit.md"

@@ -17,15 +17,12 @@ import sys
 
 import numpy as np
 
+from positions_diff import records
+
 
 def last_positions(path):
     """The last record of a positions.bin (nv x dim)."""
-    raw = open(path, "rb").read()
-    nv, dim = np.frombuffer(raw[8:16], dtype=np.int32)
-    rec = 1 + int(nv) * int(dim)
-    n = (len(raw) - 16) // (8 * rec)
-    data = np.frombuffer(raw[16:16 + 8 * rec * n], dtype=np.float64).reshape(n, rec)
-    return data[-1, 1:].reshape(int(nv), int(dim))
+    return records(path)[1][-1]
 
 
 def main():

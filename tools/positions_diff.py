@@ -10,7 +10,9 @@ import sys
 import numpy as np
 
 
-def read(path):
+def records(path):
+    """The whole records of a positions.bin (or of a run folder's): their times (s, n) and
+    positions (m, n x nv x dim), in the order written."""
     if os.path.isdir(path):
         path = os.path.join(path, "positions.bin")
     raw = open(path, "rb").read()
@@ -20,7 +22,13 @@ def read(path):
     rec = 1 + int(nv) * int(dim)
     n = (len(raw) - 16) // (8 * rec)
     data = np.frombuffer(raw[16:16 + 8 * rec * n], dtype=np.float64).reshape(n, rec)
-    return {round(r[0], 9): r[1:].reshape(int(nv), int(dim)) for r in data}
+    return data[:, 0], data[:, 1:].reshape(n, int(nv), int(dim))
+
+
+def read(path):
+    """The records by time (rounded to 1e-9 s; of records at one time, the last)."""
+    times, x = records(path)
+    return {round(t, 9): p for t, p in zip(times, x)}
 
 
 def main():
