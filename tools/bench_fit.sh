@@ -49,6 +49,9 @@ for r in $(seq "$reps"); do
           optimize | settle) mode=$p ;;
           dt=*) opts+=", dt: ${p#dt=}" ;;
           tol=*) opts+=", newton_tol: ${p#tol=}" ;;
+          dynamic | static) ;;
+          *) echo "tools/bench_fit.sh: run '$run': unknown setting '$p' (dynamic, optimize, settle, dt=H, tol=T)" >&2
+             exit 2 ;;
         esac
       done
       echo "fit: {mode: $mode$opts}" >>"$sc"
